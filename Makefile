@@ -1,0 +1,89 @@
+# instess -- tessellation through instancing, on the CPU.
+#
+#   make            install missing Debian packages (scripts/setup.sh), build the library and build/instess
+#   make figures    render every figure of the source documents into out/ with out/index.html
+#   make test       build and run every test (tests/run.sh prints "N passed, N failed")
+#   make bench      the benchmark of design.md section 6 against Mesa's llvmpipe
+#   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why)
+#
+# The fixed build configuration (goldens are rendered with it; do not change it casually):
+#   gcc, -O2 -march=x86-64-v3 -ffp-contract=off.  -ffp-contract=off forbids the compiler from fusing a*b+c
+#   into FMA behind our back, so the scalar reference path and the SIMD path round identically and images are
+#   the same bytes on every machine of this kind.
+
+CC       ?= gcc
+CXX      ?= g++
+ARCH     ?= -march=x86-64-v3
+OPT      ?= -O2
+CFLAGS_BASE = -std=c17 $(OPT) -g $(ARCH) -ffp-contract=off -fopenmp -Wall -Wextra -Wno-unused-parameter \
+              -Wshadow -Wstrict-prototypes -D_POSIX_C_SOURCE=200809L
+CFLAGS   ?= $(CFLAGS_BASE)
+CXXFLAGS ?= -std=c++17 $(OPT) -g $(ARCH) -ffp-contract=off -Wall -Wextra
+B        ?= build
+
+PKGS_ALL = OpenImageIO cmocka assimp
+LDLIBS_IMG  = $(shell pkg-config --libs OpenImageIO 2>/dev/null) -lstdc++
+CXXFLAGS_IMG = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
+LDLIBS_MESH = $(shell pkg-config --libs assimp 2>/dev/null) -lmeshoptimizer -lstdc++
+LDLIBS_TEST = $(shell pkg-config --libs cmocka 2>/dev/null)
+# --as-needed: a binary that never calls an image function does not load OpenImageIO (0.2 s start-up).
+LDFLAGS  ?= -fopenmp -Wl,--as-needed
+LDLIBS   = $(LDLIBS_MESH) $(LDLIBS_IMG) -lm
+
+LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c)
+LIB_OBJ  = $(LIB_SRC:%.c=$(B)/%.o)
+IMG_OBJ  = $(B)/core/image.o
+TEST_SRC = $(wildcard tests/test_*.c)
+TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
+TEST_UTIL_SRC = $(wildcard tests/util/*.c)
+TEST_UTIL_OBJ = $(TEST_UTIL_SRC:%.c=$(B)/%.o)
+CLI_SRC  = $(wildcard cli/*.c)
+CLI_OBJ  = $(CLI_SRC:%.c=$(B)/%.o)
+SETUP    = $(B)/.setup-done
+
+.PHONY: all setup test figures bench goldens clean
+.DEFAULT_GOAL := all
+
+all: $(B)/instess
+
+setup: $(SETUP)
+$(SETUP): scripts/setup.sh
+	@bash scripts/setup.sh
+	@mkdir -p $(B) && touch $@
+
+$(B)/%.o: %.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(B)/core/image.o: core/image.cpp $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CXX) $(CXXFLAGS) $(CXXFLAGS_IMG) -MMD -MP -c $< -o $@
+
+$(B)/libinstess.a: $(LIB_OBJ) $(IMG_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(B)/instess: $(CLI_OBJ) $(B)/libinstess.a
+	$(CC) $(LDFLAGS) $(CLI_OBJ) $(B)/libinstess.a $(LDLIBS) -o $@
+
+$(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess.a
+	$(CC) $(LDFLAGS) $< $(TEST_UTIL_OBJ) $(B)/libinstess.a $(LDLIBS_TEST) $(LDLIBS) -o $@
+
+test: $(TEST_BIN) $(B)/instess
+	@bash tests/run.sh $(TEST_BIN)
+
+figures: $(B)/instess
+	@mkdir -p out
+	$(B)/instess figures --out out
+
+goldens: $(B)/instess $(TEST_BIN)
+	INSTESS_REGENERATE_GOLDENS=1 bash tests/run.sh $(TEST_BIN)
+
+bench: $(B)/instess
+	@bash scripts/setup.sh --bench
+	@echo "bench: see issue 5 (not built yet)"; exit 1
+
+clean:
+	rm -rf $(B)
+
+-include $(shell find $(B) -name '*.d' 2>/dev/null)

@@ -1,0 +1,366 @@
+/* core/core.h -- a device modelled on IDirect3DDevice9, D3DX-style math, and image files.
+ *
+ * Conventions:
+ *  - Spaces: left-handed, as D3D9.  Object -> world -> view -> clip with row vectors: v' = mul(v, M), so a
+ *    matrix's translation is its 4th row and M = World * View * Proj transforms in that order.
+ *  - Clip volume -w <= x, y <= w, 0 <= z <= w; the viewport maps z/w to [MinZ, MaxZ].
+ *  - Pixel centres at integer coordinates, top-left fill rule, clockwise front faces, default cull CCW:
+ *    see raster/raster.h, which is the interface between this device and the rasterizer.
+ *  - Names: a D3D9 method becomes dev_<snake_case>(dev, ...) (SetStreamSourceFreq -> dev_set_stream_source_freq);
+ *    a D3D9 constant D3DXXX_YYY becomes IS_XXX_YYY (D3DCULL_CCW -> IS_CULL_CCW, D3DRS_CULLMODE -> IS_RS_CULLMODE).
+ *    Values of render states equal D3D9's.
+ *  - Errors: every dev_* call returns IS_OK (0) or a negative IS_ERR_* code; an invalid call changes nothing and
+ *    leaves a message in dev_last_error(dev).  Image functions return 0 or -1 with a message in err.
+ *  - No globals: all state lives in the device (the context passed first).  Threads: dev_set_threads.
+ */
+#ifndef INSTESS_CORE_H
+#define INSTESS_CORE_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../raster/raster.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define INSTESS_VERSION "0.1.0"
+
+/* ================================ HLSL-like math (D3DX conventions) ================================ */
+
+typedef struct float2 { float x, y; } float2;
+typedef struct float3 { float x, y, z; } float3;
+typedef rs_vec4 float4;                       /* { x, y, z, w } */
+typedef struct float4x4 { float m[4][4]; } float4x4; /* m[row][col], row vectors */
+
+static inline float2 f2(float x, float y) { return (float2){x, y}; }
+static inline float3 f3(float x, float y, float z) { return (float3){x, y, z}; }
+static inline float4 f4(float x, float y, float z, float w) { return (float4){x, y, z, w}; }
+static inline float3 f3_of(float4 v) { return (float3){v.x, v.y, v.z}; }   /* v.xyz */
+static inline float2 f2_of(float4 v) { return (float2){v.x, v.y}; }        /* v.xy  */
+static inline float4 f4_of(float3 v, float w) { return (float4){v.x, v.y, v.z, w}; }
+
+static inline float3 add3(float3 a, float3 b) { return f3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline float3 sub3(float3 a, float3 b) { return f3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline float3 scale3(float3 a, float s) { return f3(a.x * s, a.y * s, a.z * s); }
+static inline float3 neg3(float3 a) { return f3(-a.x, -a.y, -a.z); }
+static inline float dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline float3 cross3(float3 a, float3 b)
+{
+    return f3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline float length3(float3 a) { return sqrtf(dot3(a, a)); }
+/* HLSL normalize(); a zero vector stays zero instead of becoming NaN. */
+static inline float3 normalize3(float3 a)
+{
+    float l = length3(a);
+    return l > 0.0f ? scale3(a, 1.0f / l) : a;
+}
+static inline float3 lerp3(float3 a, float3 b, float t) { return add3(a, scale3(sub3(b, a), t)); }
+static inline float saturate(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x); }
+static inline float2 add2(float2 a, float2 b) { return f2(a.x + b.x, a.y + b.y); }
+static inline float2 scale2(float2 a, float s) { return f2(a.x * s, a.y * s); }
+static inline float4 scale4(float4 a, float s) { return f4(a.x * s, a.y * s, a.z * s, a.w * s); }
+
+/* mul(v, M) for a row vector v. */
+static inline float4 mul4(float4 v, const float4x4 *M)
+{
+    float4 r;
+    r.x = v.x * M->m[0][0] + v.y * M->m[1][0] + v.z * M->m[2][0] + v.w * M->m[3][0];
+    r.y = v.x * M->m[0][1] + v.y * M->m[1][1] + v.z * M->m[2][1] + v.w * M->m[3][1];
+    r.z = v.x * M->m[0][2] + v.y * M->m[1][2] + v.z * M->m[2][2] + v.w * M->m[3][2];
+    r.w = v.x * M->m[0][3] + v.y * M->m[1][3] + v.z * M->m[2][3] + v.w * M->m[3][3];
+    return r;
+}
+/* mul(v, (float3x3)M): direction transform by the upper 3x3. */
+static inline float3 mul3x3(float3 v, const float4x4 *M)
+{
+    return f3(v.x * M->m[0][0] + v.y * M->m[1][0] + v.z * M->m[2][0],
+              v.x * M->m[0][1] + v.y * M->m[1][1] + v.z * M->m[2][1],
+              v.x * M->m[0][2] + v.y * M->m[1][2] + v.z * M->m[2][2]);
+}
+
+float4x4 mat_identity(void);
+/* A * B (apply A first, then B, for row vectors). */
+float4x4 mat_mul(const float4x4 *a, const float4x4 *b);
+float4x4 mat_translation(float x, float y, float z);
+float4x4 mat_scaling(float x, float y, float z);
+/* D3DXMatrixRotationX/Y/Z: angle in radians, left-handed (clockwise looking down the axis to the origin). */
+float4x4 mat_rotation_x(float a);
+float4x4 mat_rotation_y(float a);
+float4x4 mat_rotation_z(float a);
+/* D3DXMatrixLookAtLH. */
+float4x4 mat_look_at_lh(float3 eye, float3 at, float3 up);
+/* D3DXMatrixPerspectiveFovLH: fovy in radians, aspect = width / height, z in [zn, zf] -> [0, 1]. */
+float4x4 mat_perspective_fov_lh(float fovy, float aspect, float zn, float zf);
+/* D3DXMatrixOrthoLH. */
+float4x4 mat_ortho_lh(float w, float h, float zn, float zf);
+/* Transpose; inverse (returns false, and identity, when singular). */
+float4x4 mat_transpose(const float4x4 *a);
+bool mat_inverse(const float4x4 *a, float4x4 *out);
+
+/* ================================ the device ================================ */
+
+typedef enum is_result {
+    IS_OK = 0,
+    IS_ERR_INVALIDCALL = -1,        /* D3DERR_INVALIDCALL                          */
+    IS_ERR_OUTOFMEMORY = -2,        /* E_OUTOFMEMORY / D3DERR_OUTOFVIDEOMEMORY     */
+    IS_ERR_NOTAVAILABLE = -3        /* D3DERR_NOTAVAILABLE (unsupported format...) */
+} is_result;
+
+/* --- vertex declarations (D3DVERTEXELEMENT9) --- */
+typedef enum is_decltype {
+    IS_DECLTYPE_FLOAT1 = 0, IS_DECLTYPE_FLOAT2 = 1, IS_DECLTYPE_FLOAT3 = 2, IS_DECLTYPE_FLOAT4 = 3,
+    IS_DECLTYPE_D3DCOLOR = 4, IS_DECLTYPE_UBYTE4 = 5, IS_DECLTYPE_SHORT2 = 6, IS_DECLTYPE_SHORT4 = 7,
+    IS_DECLTYPE_UBYTE4N = 8, IS_DECLTYPE_SHORT2N = 9, IS_DECLTYPE_SHORT4N = 10,
+    IS_DECLTYPE_USHORT2N = 11, IS_DECLTYPE_USHORT4N = 12,
+    IS_DECLTYPE_UNUSED = 17
+} is_decltype;
+
+typedef enum is_declusage {
+    IS_DECLUSAGE_POSITION = 0, IS_DECLUSAGE_BLENDWEIGHT = 1, IS_DECLUSAGE_BLENDINDICES = 2,
+    IS_DECLUSAGE_NORMAL = 3, IS_DECLUSAGE_PSIZE = 4, IS_DECLUSAGE_TEXCOORD = 5, IS_DECLUSAGE_TANGENT = 6,
+    IS_DECLUSAGE_BINORMAL = 7, IS_DECLUSAGE_TESSFACTOR = 8, IS_DECLUSAGE_POSITIONT = 9,
+    IS_DECLUSAGE_COLOR = 10, IS_DECLUSAGE_FOG = 11, IS_DECLUSAGE_DEPTH = 12, IS_DECLUSAGE_SAMPLE = 13,
+    IS_DECLUSAGE_COUNT = 14
+} is_declusage;
+
+typedef struct is_vertex_element {
+    uint16_t stream;   /* 0..IS_MAX_STREAMS-1, or 0xFF in the end marker */
+    uint16_t offset;   /* bytes from the start of the vertex */
+    uint8_t type;      /* is_decltype */
+    uint8_t method;    /* D3DDECLMETHOD_DEFAULT (0) only */
+    uint8_t usage;     /* is_declusage */
+    uint8_t usage_index;
+} is_vertex_element;
+#define IS_DECL_END { 0xFF, 0, IS_DECLTYPE_UNUSED, 0, 0, 0 } /* D3DDECL_END() */
+
+#define IS_MAX_STREAMS 16
+#define IS_MAX_ELEMENTS 64
+#define IS_USAGE_INDICES 16        /* usage indices 0..15 per usage */
+#define IS_MAX_VS_CONSTANTS 256    /* float4 registers c0..c255 (vs_3_0) */
+
+/* --- stream frequencies (D3DSTREAMSOURCE_*) --- */
+#define IS_STREAMSOURCE_INDEXEDDATA (1u << 30)
+#define IS_STREAMSOURCE_INSTANCEDATA (2u << 30)
+
+/* --- primitives, formats, render states --- */
+typedef enum is_primtype {
+    IS_PT_POINTLIST = 1, IS_PT_LINELIST = 2, IS_PT_LINESTRIP = 3,
+    IS_PT_TRIANGLELIST = 4, IS_PT_TRIANGLESTRIP = 5, IS_PT_TRIANGLEFAN = 6
+} is_primtype;
+
+typedef enum is_format { IS_FMT_INDEX16 = 101, IS_FMT_INDEX32 = 102 } is_format;
+
+typedef enum is_rs {
+    IS_RS_ZENABLE = 7, IS_RS_FILLMODE = 8, IS_RS_SHADEMODE = 9, IS_RS_ZWRITEENABLE = 14,
+    IS_RS_SRCBLEND = 19, IS_RS_DESTBLEND = 20, IS_RS_CULLMODE = 22, IS_RS_ZFUNC = 23,
+    IS_RS_ALPHABLENDENABLE = 27, IS_RS_MULTISAMPLEANTIALIAS = 161, IS_RS_POSITIONDEGREE = 172,
+    IS_RS_NORMALDEGREE = 173, IS_RS_SLOPESCALEDEPTHBIAS = 175, IS_RS_DEPTHBIAS = 195,
+    IS_RS_PATCHEDGESTYLE = 163
+} is_rs;
+
+enum { IS_CULL_NONE = 1, IS_CULL_CW = 2, IS_CULL_CCW = 3 };
+enum { IS_FILL_POINT = 1, IS_FILL_WIREFRAME = 2, IS_FILL_SOLID = 3 };
+enum { IS_SHADE_FLAT = 1, IS_SHADE_GOURAUD = 2 };
+enum { IS_ZB_FALSE = 0, IS_ZB_TRUE = 1 };
+enum {
+    IS_CMP_NEVER = 1, IS_CMP_LESS, IS_CMP_EQUAL, IS_CMP_LESSEQUAL,
+    IS_CMP_GREATER, IS_CMP_NOTEQUAL, IS_CMP_GREATEREQUAL, IS_CMP_ALWAYS
+};
+enum {
+    IS_BLEND_ZERO = 1, IS_BLEND_ONE = 2, IS_BLEND_SRCCOLOR = 3, IS_BLEND_INVSRCCOLOR = 4,
+    IS_BLEND_SRCALPHA = 5, IS_BLEND_INVSRCALPHA = 6, IS_BLEND_DESTALPHA = 7, IS_BLEND_INVDESTALPHA = 8,
+    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10
+};
+enum { IS_DEGREE_LINEAR = 1, IS_DEGREE_QUADRATIC = 2, IS_DEGREE_CUBIC = 3 };
+enum { IS_PATCHEDGE_DISCRETE = 0, IS_PATCHEDGE_CONTINUOUS = 1 };
+enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2 };
+#define IS_RS_COUNT 256
+
+/* D3DCOLOR_ARGB -> is stored as packed RGBA8 in the target; these helpers build a D3DCOLOR (ARGB). */
+#define IS_COLOR_ARGB(a, r, g, b) \
+    ((uint32_t)((((a) & 0xffu) << 24) | (((r) & 0xffu) << 16) | (((g) & 0xffu) << 8) | ((b) & 0xffu)))
+
+typedef struct is_viewport { uint32_t x, y, width, height; float min_z, max_z; } is_viewport;
+
+/* --- vertex shaders: plain C functions --- */
+
+/* The input registers of one vertex, filled by the device from the vertex declaration: an element with
+ * usage U and index i lands in the register of (U, i), expanded to float4 with D3D9's defaults (0, 0, 0, 1).
+ * A shader reads in->texcoord[3], not byte offsets.  Registers not in the declaration read (0, 0, 0, 1). */
+typedef struct is_vs_input {
+    float4 position[2];
+    float4 blendweight[1];
+    float4 blendindices[1];
+    float4 normal[2];
+    float4 psize[1];
+    float4 texcoord[IS_USAGE_INDICES];
+    float4 tangent[1];
+    float4 binormal[1];
+    float4 color[2];
+} is_vs_input;
+
+/* The outputs: oPos, oD0/oD1, oT0..oT7 (the rasterizer's vertex). */
+typedef rs_vertex is_vs_output;
+#define IS_OUT_COLOR0 (1u << RS_ATTR_COLOR0)
+#define IS_OUT_COLOR1 (1u << RS_ATTR_COLOR1)
+#define IS_OUT_TEXCOORD(k) (1u << (RS_ATTR_TEXCOORD0 + (k)))
+
+/* Shader constants c0..c255 (SetVertexShaderConstantF). */
+typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constants;
+
+/* A shader's function: reads constants and one vertex's inputs, writes its outputs.  The shader must write
+ * oPos and every output named in its `outputs` mask; the device zeroes the others. */
+typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
+
+typedef struct is_vertex_shader {
+    const char *name;
+    is_vs_fn main;
+    uint32_t outputs;   /* IS_OUT_* mask of written outputs (what the rasterizer interpolates) */
+} is_vertex_shader;
+
+/* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */
+static inline float4x4 vs_const_matrix(const is_vs_constants *c, int r)
+{
+    float4x4 m;
+    for (int i = 0; i < 4; i++) {
+        m.m[i][0] = c->c[r + i].x; m.m[i][1] = c->c[r + i].y;
+        m.m[i][2] = c->c[r + i].z; m.m[i][3] = c->c[r + i].w;
+    }
+    return m;
+}
+
+/* --- resources --- */
+typedef struct is_device is_device;
+typedef struct is_vertex_buffer is_vertex_buffer;
+typedef struct is_index_buffer is_index_buffer;
+typedef struct is_vertex_declaration is_vertex_declaration;
+
+/* Create a device with a w x h back buffer with `samples` (1 or 4) samples and a float depth buffer.
+ * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
+is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
+void dev_destroy(is_device *dev);
+/* The message of the last failed call ("" if none). */
+const char *dev_last_error(const is_device *dev);
+/* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
+void dev_set_threads(is_device *dev, int threads);
+
+/* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
+is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
+is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out);
+void *vb_lock(is_vertex_buffer *vb);
+void vb_unlock(is_vertex_buffer *vb);
+size_t vb_size(const is_vertex_buffer *vb);
+void vb_release(is_vertex_buffer *vb);
+void *ib_lock(is_index_buffer *ib);
+void ib_unlock(is_index_buffer *ib);
+size_t ib_size(const is_index_buffer *ib);
+void ib_release(is_index_buffer *ib);
+
+/* CreateVertexDeclaration: elements ended by IS_DECL_END; validates types, usages and overlaps. */
+is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
+                                        is_vertex_declaration **out);
+void decl_release(is_vertex_declaration *decl);
+
+/* State setters, as IDirect3DDevice9. */
+is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl);
+is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
+                                unsigned stride);
+is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting);
+is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting);
+is_result dev_set_indices(is_device *dev, is_index_buffer *ib);
+is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs);
+is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
+is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
+is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
+is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
+is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
+/* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
+is_result dev_set_npatch_mode(is_device *dev, float segments);
+float dev_get_npatch_mode(const is_device *dev);
+
+/* Clear(flags, color (D3DCOLOR ARGB), z). */
+is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z);
+/* DrawPrimitive / DrawIndexedPrimitive, with D3D9 instancing (stream frequencies) on indexed draws. */
+is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count);
+is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                     unsigned prim_count);
+
+/* The render target (for output and tests) and statistics accumulated since the last dev_clear. */
+rs_target *dev_render_target(is_device *dev);
+const rs_stats *dev_stats(const is_device *dev);
+/* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */
+uint64_t dev_vertices_shaded(const is_device *dev);
+
+/* N-patch mode (SetNPatchMode, POSITIONDEGREE, NORMALDEGREE, PATCHEDGESTYLE).  With segments >= 1, indexed
+ * triangle-list draws are tessellated by the device before the vertex shader, as D3D9's tessellator did: each
+ * input triangle becomes the regular barycentric grid of level round(segments) (core_grid_regular, same vertex
+ * and triangle order as the instanced path), and at each grid point the evaluator below computes the object-space
+ * position and normal from the triangle's POSITION0 / NORMAL0; every other input register is interpolated
+ * linearly in the barycentrics.  The evaluator is the patch code of vs/ (vs_npatch_evaluate), plugged in by the
+ * application so that core does not depend on vs/.  b = (b0, b1, b2) weights v[0], v[1], v[2]. */
+typedef void (*is_npatch_eval_fn)(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
+                                  uint32_t normal_degree, float3 *pos, float3 *nrm);
+is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
+
+/* ================================ tessellation grids (core/grid.c) ================================ */
+
+/* The regular barycentric grid of a triangle at level L >= 1 (seed 000, Fig. 1.1.6): (L+1)(L+2)/2 points and
+ * L*L triangles.  Point (i, j) with i + j <= L has b = ((L-i-j)/L, i/L, j/L) stored at index
+ * core_grid_index(L, i, j) (rows of constant j); triangles wind like the input triangle (v0, v1, v2).
+ * Each coordinate is computed as (integer)/L, so mirrored points of an edge hold the same floats swapped.
+ * bary gets the points, idx gets 3*L*L indices.  Returns the number of points. */
+size_t core_grid_regular(int level, float3 *bary, uint32_t *idx);
+static inline size_t core_grid_points(int level) { return (size_t)(level + 1) * (size_t)(level + 2) / 2; }
+static inline size_t core_grid_triangles(int level) { return (size_t)level * (size_t)level; }
+static inline uint32_t core_grid_index(int level, int i, int j)
+{
+    /* rows j = 0..L hold L+1-j points each */
+    return (uint32_t)(j * (level + 1) - j * (j - 1) / 2 + i);
+}
+
+/* ================================ images (OpenImageIO, core/image.cpp) ================================ */
+
+#define IS_IMAGE_MAX_CHANNELS 32
+typedef struct is_image {
+    int width, height, channels;
+    char channel_names[IS_IMAGE_MAX_CHANNELS][16];  /* "R", "G", "B", "A", "Z", "N.X", ... */
+    float *data;  /* width*height*channels floats, row-major, top row first, colour in [0, 1] */
+} is_image;
+
+typedef struct is_image_meta {
+    const char *software;     /* "instess 0.1.0" */
+    const char *description;  /* the exact command line */
+} is_image_meta;
+
+/* Allocate an image with the given channel names (comma-separated, e.g. "R,G,B,A,Z"); 0 or -1. */
+int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen);
+void image_free(is_image *img);
+/* Fill RGBA of img from packed RGBA8 pixels (alpha forced to 1 where opaque is asked). */
+void image_from_rgba8(is_image *img, const uint32_t *rgba);
+/* Write atomically (temporary file beside the target, then rename): .png (8-bit RGBA; other channels dropped)
+ * or .exr (RGBA half, other channels float).  On failure nothing is left at path; returns 0 or -1. */
+int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
+/* Read any file OpenImageIO reads into floats; 0 or -1. */
+int image_read(is_image *img, const char *path, char *err, size_t errlen);
+
+typedef struct is_image_diff {
+    float max_error;        /* largest per-channel absolute difference */
+    double mean_error;
+    long n_fail, n_warn;    /* values above the fail / warn thresholds */
+    long n_pixels;
+} is_image_diff;
+/* Compare a and b (same size and channel count) through OpenImageIO; if diff_path is not NULL, also write a
+ * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
+int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
+                  const char *diff_path, char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

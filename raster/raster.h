@@ -1,0 +1,143 @@
+/* raster/raster.h -- the one interface between the device (front end, core/) and the rasterizer (back end).
+ *
+ * Conventions (read these before anything else):
+ *  - Input vertices are post-vertex-shader: pos is clip space (x, y, z, w) with Direct3D's clip volume
+ *    -w <= x <= w, -w <= y <= w, 0 <= z <= w.  Every other output is an attribute slot (float4).
+ *  - Viewport (D3D9): screen X = vp.x + (1 + x/w) * vp.width / 2, screen Y = vp.y + (1 - y/w) * vp.height / 2,
+ *    depth = vp.min_z + (z/w) * (vp.max_z - vp.min_z).  Screen y grows downwards.
+ *  - Pixel centres are at integer screen coordinates (D3D9; D3D10 and OpenGL put them at +0.5).  Pixel (i, j)
+ *    is sampled at (i, j); with 4x multisampling at (i, j) + {(-2,-6), (6,-2), (-6,2), (2,6)} / 16.
+ *  - Fill rule: top-left.  A sample exactly on an edge belongs to the triangle only if the edge is a top edge
+ *    (horizontal, interior below it) or a left edge.  Abutting triangles therefore cover every sample once.
+ *  - Winding: screen-space clockwise triangles are front faces.  RS_CULL_CCW (the D3D9 default) drops
+ *    counter-clockwise ones, RS_CULL_CW drops clockwise ones.
+ *  - Fixed point: screen positions snap to 1/256 pixel (8 sub-pixel bits).  Triangles must lie inside the guard
+ *    band |x|, |y| < RS_GUARD_BAND pixels after clipping; edge functions are evaluated in int64 (budget in
+ *    raster/setup.c).  Triangles outside the guard band are clipped against it, never overflowed.
+ *  - Depth: float32 in [min_z, max_z] (normally [0, 1]), smaller is nearer with RS_CMP_LESS.
+ *  - Colour: attribute slot RS_ATTR_COLOR0 is the pixel colour (RGBA, saturated to [0, 1], stored as 8 bits per
+ *    channel, rounded to nearest).  Interpolation is perspective-correct for every slot (SHADEMODE GOURAUD); with
+ *    FLAT the colour of the triangle's first vertex is used (D3D9's rule).
+ *  - Errors: functions return 0 on success or a negative RS_E* code.  Degenerate, non-finite or fully clipped
+ *    primitives are silently dropped (counted in rs_stats) -- they are not errors.
+ *  - Determinism: the same draw gives the same bytes for any thread count (tiles are owned by one thread and
+ *    walk primitives in submission order).
+ */
+#ifndef INSTESS_RASTER_H
+#define INSTESS_RASTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- the vertex the front end hands over: exactly the vertex shader's outputs ---- */
+enum {
+    RS_ATTR_COLOR0 = 0,    /* oD0: diffuse, the pixel colour           */
+    RS_ATTR_COLOR1 = 1,    /* oD1: specular (carried, not used in colour) */
+    RS_ATTR_TEXCOORD0 = 2, /* oT0 .. oT7 are slots 2 .. 9                */
+    RS_MAX_ATTR = 10
+};
+
+typedef struct rs_vec4 { float x, y, z, w; } rs_vec4;
+
+typedef struct rs_vertex {
+    rs_vec4 pos;               /* oPos, clip space */
+    rs_vec4 attr[RS_MAX_ATTR]; /* oD0, oD1, oT0..oT7 */
+} rs_vertex;
+
+/* ---- render states the rasterizer needs (a copy of the device's, values as in D3D9) ---- */
+enum { RS_CULL_NONE = 1, RS_CULL_CW = 2, RS_CULL_CCW = 3 };
+enum { RS_FILL_POINT = 1, RS_FILL_WIREFRAME = 2, RS_FILL_SOLID = 3 };
+enum { RS_SHADE_FLAT = 1, RS_SHADE_GOURAUD = 2 };
+enum {
+    RS_CMP_NEVER = 1, RS_CMP_LESS, RS_CMP_EQUAL, RS_CMP_LESSEQUAL,
+    RS_CMP_GREATER, RS_CMP_NOTEQUAL, RS_CMP_GREATEREQUAL, RS_CMP_ALWAYS
+};
+enum {
+    RS_BLEND_ZERO = 1, RS_BLEND_ONE = 2, RS_BLEND_SRCCOLOR = 3, RS_BLEND_INVSRCCOLOR = 4,
+    RS_BLEND_SRCALPHA = 5, RS_BLEND_INVSRCALPHA = 6, RS_BLEND_DESTALPHA = 7, RS_BLEND_INVDESTALPHA = 8,
+    RS_BLEND_DESTCOLOR = 9, RS_BLEND_INVDESTCOLOR = 10
+};
+enum { RS_PRIM_POINTS = 1, RS_PRIM_LINES = 2, RS_PRIM_TRIANGLES = 4 };
+
+#define RS_GUARD_BAND 16384.0f /* pixels from the origin; see setup.c for the bit budget */
+#define RS_MAX_SIZE 16384      /* largest render target side */
+
+typedef struct rs_viewport { int x, y, width, height; float min_z, max_z; } rs_viewport;
+
+typedef struct rs_state {
+    int cull_mode;            /* RS_CULL_*  */
+    int fill_mode;            /* RS_FILL_*  */
+    int shade_mode;           /* RS_SHADE_* */
+    bool z_enable, z_write;
+    int z_func;               /* RS_CMP_*   */
+    bool blend_enable;
+    int src_blend, dst_blend; /* RS_BLEND_* */
+    bool multisample;         /* MULTISAMPLEANTIALIAS: use all samples of a 4-sample target */
+    float depth_bias;         /* added to depth before the test (D3DRS_DEPTHBIAS) */
+    float slope_scale_depth_bias; /* times max |dz/dx|, |dz/dy| (D3DRS_SLOPESCALEDEPTHBIAS) */
+    uint32_t attr_mask;       /* bit k set: slot k is written by the shader and is interpolated */
+    rs_viewport viewport;
+} rs_state;
+
+/* ---- the render target: colour and depth per sample, optional float AOV planes per pixel ---- */
+#define RS_MAX_AOV 8
+typedef struct rs_aov {
+    int slot;     /* attribute slot copied into this plane (e.g. RS_ATTR_TEXCOORD0 + 1) */
+    int comps;    /* 1..4 components taken from x, y, z, w */
+    float *data;  /* width * height * comps floats, row-major, top row first */
+} rs_aov;
+
+typedef struct rs_target {
+    int width, height;
+    int samples;        /* 1 or 4 */
+    uint32_t *color;    /* width*height*samples, sample-major inside a pixel: [(y*w + x)*samples + s],
+                           packed R | G<<8 | B<<16 | A<<24 (byte order R, G, B, A in memory) */
+    float *depth;       /* same layout as color */
+    int n_aov;          /* AOV planes, written only when samples == 1, by the fragment that passes depth */
+    rs_aov aov[RS_MAX_AOV];
+} rs_target;
+
+/* Counters of one rs_draw call (for tests and the benchmark). */
+typedef struct rs_stats {
+    uint64_t prims_in, prims_culled, prims_clipped_away, prims_degenerate, prims_drawn;
+    uint64_t samples_tested, samples_written;
+} rs_stats;
+
+typedef struct rs_context rs_context;
+
+enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2 };
+
+/* Create a rasterizer that uses up to `threads` threads (0: all cores). NULL when out of memory. */
+rs_context *rs_create(int threads);
+/* Free the rasterizer and its scratch memory. */
+void rs_destroy(rs_context *rs);
+/* Change the thread count (0: all cores). */
+void rs_set_threads(rs_context *rs, int threads);
+
+/* Allocate a target of w x h pixels with `samples` (1 or 4) samples; RS_EINVAL for bad sizes. */
+int rs_target_init(rs_target *rt, int width, int height, int samples);
+/* Free a target's planes (also its AOV planes). */
+void rs_target_free(rs_target *rt);
+/* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
+int rs_target_add_aov(rs_target *rt, int slot, int comps);
+/* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: 1 colour, 2 depth). */
+void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
+/* Average the samples of each pixel into out (width*height packed RGBA8), rounding to nearest. */
+void rs_target_resolve(const rs_target *rt, uint32_t *out);
+
+/* Draw n_prims primitives of `prim` (points, lines or triangles) whose vertices are verts[idx[k]]
+ * (idx == NULL: consecutive).  Triangles obey fill_mode (wireframe draws each triangle's three edges as
+ * lines, point fill its three vertices).  Returns RS_OK, or RS_EINVAL / RS_ENOMEM with nothing drawn. */
+int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim,
+            const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims,
+            rs_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# scripts/setup.sh [--bench] -- install what instess needs from Debian's packages, only when missing.
+# Checks pkg-config (and a few files) first; runs apt-get through sudo when not root.  Idempotent and quiet
+# when everything is there.  --bench also installs what `make bench` needs (Mesa's llvmpipe, EGL, GLES/GL).
+set -euo pipefail
+
+need=()
+have_pc() { pkg-config --exists "$1" 2>/dev/null; }
+command -v pkg-config >/dev/null 2>&1 || need+=(pkg-config)
+command -v g++ >/dev/null 2>&1 || need+=(g++)
+command -v make >/dev/null 2>&1 || need+=(make)
+have_pc OpenImageIO || need+=(libopenimageio-dev)
+command -v oiiotool >/dev/null 2>&1 || need+=(openimageio-tools)
+have_pc cmocka || need+=(libcmocka-dev)
+have_pc assimp || need+=(libassimp-dev)
+[ -f /usr/include/meshoptimizer.h ] || need+=(libmeshoptimizer-dev)
+[ -f /usr/share/assimp/models/MD2/faerie.md2 ] || need+=(assimp-testmodels)
+[ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || need+=(fonts-dejavu-core)
+if [ "${1:-}" = "--bench" ]; then
+  have_pc egl || need+=(libegl-dev)
+  have_pc gl || need+=(libgl-dev)
+  [ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || need+=(libgl1-mesa-dri)
+  [ -e /usr/lib/x86_64-linux-gnu/libEGL_mesa.so.0 ] || need+=(libegl-mesa0)
+fi
+if [ "${1:-}" = "--sanitize" ]; then
+  command -v clang >/dev/null 2>&1 || need+=(clang)
+  command -v valgrind >/dev/null 2>&1 || need+=(valgrind)
+fi
+
+[ ${#need[@]} -eq 0 ] && exit 0
+
+echo "setup: installing ${need[*]}" >&2
+sudo=""
+if [ "$(id -u)" != 0 ]; then
+  command -v sudo >/dev/null 2>&1 || { echo "setup: need root or sudo to install: ${need[*]}" >&2; exit 1; }
+  sudo=sudo
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+echo "setup: done" >&2
