@@ -11,8 +11,12 @@
 #   into FMA behind our back, so the scalar reference path and the SIMD path round identically and images are
 #   the same bytes on every machine of this kind.
 
-CC       ?= gcc
-CXX      ?= g++
+ifeq ($(origin CC),default)
+CC       = gcc
+endif
+ifeq ($(origin CXX),default)
+CXX      = g++
+endif
 ARCH     ?= -march=x86-64-v3
 OPT      ?= -O2
 CFLAGS_BASE = -std=c17 $(OPT) -g $(ARCH) -ffp-contract=off -fopenmp -Wall -Wextra -Wno-unused-parameter \
@@ -37,11 +41,13 @@ TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
 TEST_UTIL_SRC = $(wildcard tests/util/*.c)
 TEST_UTIL_OBJ = $(TEST_UTIL_SRC:%.c=$(B)/%.o)
-CLI_SRC  = $(wildcard cli/*.c)
-CLI_OBJ  = $(CLI_SRC:%.c=$(B)/%.o)
+# cli/: the program's main (cli/main.c) and the scene layer every program and golden test shares.
+APP_SRC  = $(filter-out cli/main.c,$(wildcard cli/*.c))
+APP_OBJ  = $(APP_SRC:%.c=$(B)/%.o)
 SETUP    = $(B)/.setup-done
 
 .PHONY: all setup test figures bench goldens clean
+.SECONDARY:
 .DEFAULT_GOAL := all
 
 all: $(B)/instess
@@ -63,11 +69,15 @@ $(B)/libinstess.a: $(LIB_OBJ) $(IMG_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(B)/instess: $(CLI_OBJ) $(B)/libinstess.a
-	$(CC) $(LDFLAGS) $(CLI_OBJ) $(B)/libinstess.a $(LDLIBS) -o $@
+$(B)/libinstess_app.a: $(APP_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
 
-$(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess.a
-	$(CC) $(LDFLAGS) $< $(TEST_UTIL_OBJ) $(B)/libinstess.a $(LDLIBS_TEST) $(LDLIBS) -o $@
+$(B)/instess: $(B)/cli/main.o $(B)/libinstess_app.a $(B)/libinstess.a
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a
+	$(CC) $(LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
 test: $(TEST_BIN) $(B)/instess
 	@bash tests/run.sh $(TEST_BIN)

@@ -324,6 +324,29 @@ static inline uint32_t core_grid_index(int level, int i, int j)
     return (uint32_t)(j * (level + 1) - j * (j - 1) / 2 + i);
 }
 
+/* The pattern of the OpenGL 4 / Direct3D 11 primitive generator for triangles (seed 001, Figs. 10-11):
+ * concentric rings from the inner level, outer edges subdivided by the three outer levels (outer[k] belongs to
+ * edge k: 0 = v0-v1, 1 = v1-v2, 2 = v2-v0 in instess's edge order), with equal, fractional_odd or
+ * fractional_even spacing (core/grid_pg.c has the rules).  Points are barycentric like core_grid_regular's and
+ * wind the same way; a point on an edge has exactly one coordinate 0, and its two others are each computed
+ * from the count of segments from its own end, so a neighbour with the same outer level holds the same floats
+ * swapped (watertight).  Levels are clamped to [1, 64] (fractional_even: [2, 64]); non-finite levels are
+ * an error.  Memory is allocated here: free with core_grid_free. */
+typedef enum core_grid_kind {
+    CORE_GRID_REGULAR = 0, CORE_GRID_PG_EQUAL, CORE_GRID_PG_FRACTIONAL_ODD, CORE_GRID_PG_FRACTIONAL_EVEN
+} core_grid_kind;
+typedef struct core_grid {
+    size_t n_points, n_triangles;
+    float3 *bary;   /* n_points */
+    uint32_t *idx;  /* 3 * n_triangles */
+} core_grid;
+#define CORE_PG_MAX_LEVEL 64.0f
+/* Primitive-generator grid with an inner level and three outer levels; 0 or -1 (bad level, no memory). */
+int core_grid_pg(core_grid_kind spacing, float inner, const float outer[3], core_grid *out);
+/* Any grid at one level: regular (level rounded to the nearest integer >= 1) or pg with inner = outer = level. */
+int core_grid_make(core_grid_kind kind, float level, core_grid *out);
+void core_grid_free(core_grid *g);
+
 /* ================================ images (OpenImageIO, core/image.cpp) ================================ */
 
 #define IS_IMAGE_MAX_CHANNELS 32
@@ -359,6 +382,22 @@ typedef struct is_image_diff {
  * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
 int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
                   const char *diff_path, char *err, size_t errlen);
+/* Notes on the above (core/image.cpp): n_fail / n_warn count PIXELS (a pixel counts once however many of its
+ * channels exceed the threshold); mean_error is over all values.  The diff image shows the dimmed first image
+ * plus |a - b| scaled so the largest difference is full brightness; failing pixels pure red, warning yellow.
+ * image_read overwrites *img without freeing it (image_free an earlier image first).  PNG colour is stored as
+ * given (unassociated alpha: no premultiplication either way), channels 8-bit k/255. */
+
+/* Text for diagrams, in DejaVu Sans (/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf), rendered by
+ * OpenImageIO's render_text and composited "over" the channels R, G, B (and A if present) with colour rgba
+ * (not premultiplied; rgba[3] is the opacity); other channels (Z, AOVs) are untouched.  (x, y) is the left end
+ * of the first line's baseline; '\n' starts a new line size_px lower; size_px is rounded to whole pixels
+ * (1..4096).  Text must be printable ASCII (OpenImageIO 2.4 draws other characters wrongly: write "alpha",
+ * "b0").  Pixels outside the image are clipped.  Returns 0, or -1 with a message in err. */
+int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
+                    size_t errlen);
+/* Width and height in pixels of the box that image_draw_text(text, size_px) covers (0 x 0 for ""); 0 or -1. */
+int image_text_size(const char *text, float size_px, int *w, int *h);
 
 #ifdef __cplusplus
 }

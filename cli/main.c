@@ -1,0 +1,134 @@
+/* cli/main.c -- the `instess` program: option parsing and exit codes.  The rendering is in cli/scene.c.
+ *
+ * Exit codes: 0 success (image written atomically), 1 input error (names the input, nothing written),
+ * 2 usage error (message on stderr). */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene.h"
+
+static const char usage_text[] =
+    "usage: instess [OPTION]... -o FILE.png|FILE.exr\n"
+    "       instess figures [--out DIR] [--only ID[,ID...]] [--small]\n"
+    "       instess smoothness [--level N]\n"
+    "Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n"
+    "\n"
+    "  --mesh NAME|FILE     built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, cylinder)\n"
+    "                       or a mesh file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...)   [cube]\n"
+    "  --patch P            flat | npatch | smooth-initial | smooth | phong | pn-aen           [smooth]\n"
+    "  --normals N          linear | quadratic | real                                           [linear]\n"
+    "  --level N            tessellation level (fractional with the pg-* grids)                 [8]\n"
+    "  --grid G             regular | pg-equal | pg-fractional-odd | pg-fractional-even          [regular]\n"
+    "  --path P             instanced | npatch-mode | cpu (the last two: N-Patch or flat only)   [instanced]\n"
+    "  --size WxH           image size in pixels                                                 [512x512]\n"
+    "  --yaw DEG --pitch DEG  rotation of the object                                            [30, 20]\n"
+    "  --distance D         camera distance in units of the mesh's bounding radius              [3.2]\n"
+    "  --fill F             solid | wire | solid+wire | point                                   [solid]\n"
+    "  --msaa 1|4           samples per pixel                                                    [4]\n"
+    "  --threads N          threads (0: all cores; the image does not depend on it)              [0]\n"
+    "  --recompute-normals  ignore the file's normals and recompute them (angle-weighted)\n"
+    "  --aov LIST           EXR only: extra channels, comma-separated: normal,bary,instance,gregory\n"
+    "  --export-obj FILE    also write the tessellated surface as OBJ (object space)\n"
+    "  -o, --output FILE    the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)\n"
+    "  -q, --quiet          no statistics on stderr\n"
+    "  -h, --help           this text       -V, --version   the version\n";
+
+/* Print msg and the usage hint; exit code 2. */
+static int usage_error(const char *msg, const char *arg)
+{
+    fprintf(stderr, "instess: %s%s%s\nTry 'instess --help'.\n", msg, arg ? ": " : "", arg ? arg : "");
+    return 2;
+}
+
+enum {
+    OPT_MESH = 256, OPT_PATCH, OPT_NORMALS, OPT_LEVEL, OPT_GRID, OPT_PATH, OPT_SIZE, OPT_YAW, OPT_PITCH,
+    OPT_DISTANCE, OPT_FILL, OPT_MSAA, OPT_THREADS, OPT_AOV, OPT_EXPORT_OBJ, OPT_RECOMPUTE
+};
+
+static const struct option long_opts[] = {
+    {"mesh", required_argument, 0, OPT_MESH},       {"patch", required_argument, 0, OPT_PATCH},
+    {"normals", required_argument, 0, OPT_NORMALS}, {"level", required_argument, 0, OPT_LEVEL},
+    {"grid", required_argument, 0, OPT_GRID},       {"path", required_argument, 0, OPT_PATH},
+    {"size", required_argument, 0, OPT_SIZE},       {"yaw", required_argument, 0, OPT_YAW},
+    {"pitch", required_argument, 0, OPT_PITCH},     {"distance", required_argument, 0, OPT_DISTANCE},
+    {"fill", required_argument, 0, OPT_FILL},       {"msaa", required_argument, 0, OPT_MSAA},
+    {"threads", required_argument, 0, OPT_THREADS}, {"aov", required_argument, 0, OPT_AOV},
+    {"export-obj", required_argument, 0, OPT_EXPORT_OBJ},
+    {"recompute-normals", no_argument, 0, OPT_RECOMPUTE},
+    {"output", required_argument, 0, 'o'},          {"quiet", no_argument, 0, 'q'},
+    {"help", no_argument, 0, 'h'},                  {"version", no_argument, 0, 'V'},
+    {0, 0, 0, 0}};
+
+/* Apply one option to opts; returns NULL or the text of a usage error. */
+static const char *apply_option(scene_opts *o, int c, const char *arg)
+{
+    switch (c) {
+    case OPT_MESH: o->mesh = arg; return NULL;
+    case OPT_PATCH: return scene_parse_patch(arg, &o->patch) ? NULL : "unknown --patch";
+    case OPT_NORMALS: return scene_parse_normals(arg, &o->normals) ? NULL : "unknown --normals";
+    case OPT_LEVEL: return scene_parse_float(arg, 1.0f, SCENE_MAX_LEVEL, &o->level) ? NULL : SCENE_LEVEL_MSG;
+    case OPT_GRID: return scene_parse_grid(arg, &o->grid) ? NULL : "unknown --grid";
+    case OPT_PATH: return scene_parse_path(arg, &o->path) ? NULL : "unknown --path";
+    case OPT_SIZE: return scene_parse_size(arg, &o->width, &o->height) ? NULL : SCENE_SIZE_MSG;
+    case OPT_YAW: return scene_parse_float(arg, -1e6f, 1e6f, &o->yaw) ? NULL : "--yaw needs a number of degrees";
+    case OPT_PITCH: return scene_parse_float(arg, -1e6f, 1e6f, &o->pitch) ? NULL : "--pitch needs a number of degrees";
+    case OPT_DISTANCE:
+        return scene_parse_float(arg, 1.01f, 1000.0f, &o->distance) ? NULL : "--distance must be 1.01..1000";
+    case OPT_FILL: return scene_parse_fill(arg, &o->fill) ? NULL : "unknown --fill";
+    case OPT_MSAA: return scene_parse_msaa(arg, &o->msaa) ? NULL : "--msaa must be 1 or 4";
+    case OPT_THREADS: return scene_parse_int(arg, 0, 256, &o->threads) ? NULL : "--threads must be 0..256";
+    case OPT_AOV: return scene_parse_aovs(arg, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
+    case OPT_EXPORT_OBJ: o->export_obj = arg; return NULL;
+    case OPT_RECOMPUTE: o->recompute_normals = true; return NULL;
+    case 'o': o->output = arg; return NULL;
+    case 'q': o->quiet = true; return NULL;
+    default: return "unknown option";
+    }
+}
+
+/* The exact command line, for the image's ImageDescription. */
+static void join_args(int argc, char **argv, char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < argc && n + 1 < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? " " : "", argv[i]);
+}
+
+/* Render one image from the options. */
+static int cmd_render(int argc, char **argv)
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qhV", long_opts, NULL)) != -1) {
+        if (c == 'h') return fputs(usage_text, stdout), 0;
+        if (c == 'V') return printf("instess %s\n", INSTESS_VERSION), 0;
+        if (c == '?') return usage_error("unknown option or missing value", argv[optind - 1]);
+        const char *msg = apply_option(&o, c, optarg);
+        if (msg) return usage_error(msg, optarg);
+    }
+    if (optind < argc) return usage_error("unexpected argument", argv[optind]);
+    if (!o.output) return usage_error("no output file (-o FILE.png or FILE.exr)", NULL);
+    const char *msg = scene_check_opts(&o);
+    if (msg) return usage_error(msg, NULL);
+    char cmdline[4096];
+    join_args(argc, argv, cmdline, sizeof cmdline);
+    o.command_line = cmdline;
+    char err[1024];
+    if (scene_render_to_file(&o, err, sizeof err) != 0) {
+        fprintf(stderr, "instess: %s\n", err);
+        return 1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && strcmp(argv[1], "figures") == 0) return scene_cmd_figures(argc - 1, argv + 1);
+    if (argc > 1 && strcmp(argv[1], "smoothness") == 0) return scene_cmd_smoothness(argc - 1, argv + 1);
+    return cmd_render(argc, argv);
+}

@@ -1,0 +1,592 @@
+/* cli/scene.c -- render one scene through the device: options, camera, the three paths to a patch
+ * (instanced, the device's N-patch mode, CPU tessellation), image assembly (RGBA, Z, AOVs) and output. */
+#include "scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define PI_F 3.14159265358979f
+
+/* ---------------------------------------- options ---------------------------------------- */
+
+void scene_opts_default(scene_opts *o)
+{
+    *o = (scene_opts){
+        .mesh = "cube", .patch = VS_PATCH_SMOOTH, .normals = VS_NORMALS_LINEAR, .level = 8.0f,
+        .grid = CORE_GRID_REGULAR, .path = SCENE_PATH_INSTANCED, .width = 512, .height = 512, .yaw = 30.0f,
+        .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
+        .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
+        .background = IS_COLOR_ARGB(255, 46, 52, 64),
+    };
+}
+
+/* Index of s in a NULL-terminated name table, or -1. */
+static int lookup(const char *s, const char *const *names)
+{
+    for (int k = 0; s && names[k]; k++)
+        if (strcmp(s, names[k]) == 0) return k;
+    return -1;
+}
+
+bool scene_parse_patch(const char *s, vs_patch *out)
+{
+    int k = lookup(s, (const char *const[]){"flat", "npatch", "smooth-initial", "smooth", "phong", "pn-aen", NULL});
+    static const vs_patch map[] = {VS_PATCH_FLAT, VS_PATCH_NPATCH, VS_PATCH_SMOOTH_INITIAL, VS_PATCH_SMOOTH,
+                                   VS_PATCH_PHONG, VS_PATCH_PN_AEN};
+    if (k < 0) return false;
+    *out = map[k];
+    return true;
+}
+
+bool scene_parse_normals(const char *s, vs_normals *out)
+{
+    int k = lookup(s, (const char *const[]){"linear", "quadratic", "real", NULL});
+    static const vs_normals map[] = {VS_NORMALS_LINEAR, VS_NORMALS_QUADRATIC, VS_NORMALS_REAL};
+    if (k < 0) return false;
+    *out = map[k];
+    return true;
+}
+
+bool scene_parse_grid(const char *s, core_grid_kind *out)
+{
+    int k = lookup(s, (const char *const[]){"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL});
+    if (k < 0) return false;
+    *out = (core_grid_kind)k;
+    return true;
+}
+
+bool scene_parse_path(const char *s, scene_path *out)
+{
+    int k = lookup(s, (const char *const[]){"instanced", "npatch-mode", "cpu", NULL});
+    if (k < 0) return false;
+    *out = (scene_path)k;
+    return true;
+}
+
+bool scene_parse_fill(const char *s, scene_fill *out)
+{
+    int k = lookup(s, (const char *const[]){"solid", "wire", "solid+wire", "point", NULL});
+    if (k < 0) return false;
+    *out = (scene_fill)k;
+    return true;
+}
+
+/* A whole decimal integer in [lo, hi]. */
+bool scene_parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = s ? strtol(s, &end, 10) : 0;
+    if (!s || end == s || *end || errno || v < lo || v > hi) return false;
+    *out = (int)v;
+    return true;
+}
+
+/* A finite number in [lo, hi]. */
+bool scene_parse_float(const char *s, float lo, float hi, float *out)
+{
+    char *end;
+    errno = 0;
+    double v = s ? strtod(s, &end) : 0;
+    if (!s || end == s || *end || errno || !isfinite(v) || v < lo || v > hi) return false;
+    *out = (float)v;
+    return true;
+}
+
+/* WxH with both sides in 1..SCENE_MAX_SIDE and at most SCENE_MAX_PIXELS pixels. */
+bool scene_parse_size(const char *s, int *w, int *h)
+{
+    char buf[64];
+    if (!s || strlen(s) >= sizeof buf) return false;
+    strcpy(buf, s);
+    char *x = strchr(buf, 'x');
+    if (!x) return false;
+    *x = 0;
+    int a, b;
+    if (!scene_parse_int(buf, 1, SCENE_MAX_SIDE, &a) || !scene_parse_int(x + 1, 1, SCENE_MAX_SIDE, &b)) return false;
+    if ((unsigned long long)a * (unsigned long long)b > SCENE_MAX_PIXELS) return false;
+    *w = a, *h = b;
+    return true;
+}
+
+bool scene_parse_msaa(const char *s, int *out)
+{
+    int v;
+    if (!scene_parse_int(s, 1, 4, &v) || (v != 1 && v != 4)) return false;
+    *out = v;
+    return true;
+}
+
+/* Comma-separated AOV names into a SCENE_AOV_* mask. */
+bool scene_parse_aovs(const char *s, unsigned *out)
+{
+    static const char *const names[] = {"normal", "bary", "instance", "gregory", NULL};
+    char buf[256];
+    if (!s || !*s || strlen(s) >= sizeof buf) return false;
+    strcpy(buf, s);
+    unsigned m = 0;
+    for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+        int k = lookup(t, names);
+        if (k < 0) return false;
+        m |= 1u << k;
+    }
+    *out = m;
+    return m != 0;
+}
+
+/* True if path ends with ext (case-insensitive ASCII). */
+static bool has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), e = strlen(ext);
+    if (n < e) return false;
+    for (size_t k = 0; k < e; k++) {
+        char a = path[n - e + k], b = ext[k];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != b) return false;
+    }
+    return true;
+}
+
+const char *scene_check_opts(const scene_opts *o)
+{
+    if (o->output && !has_ext(o->output, ".png") && !has_ext(o->output, ".exr"))
+        return "the output must end in .png or .exr";
+    if (o->aovs && (!o->output || !has_ext(o->output, ".exr"))) return "--aov needs an .exr output";
+    if (o->path != SCENE_PATH_INSTANCED && o->patch != VS_PATCH_NPATCH && o->patch != VS_PATCH_FLAT)
+        return "--path npatch-mode and cpu draw the N-Patch (or flat): use --patch npatch or flat";
+    if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
+        return "--path npatch-mode and cpu offer linear and quadratic normals (as D3D9's NORMALDEGREE)";
+    if (o->path != SCENE_PATH_INSTANCED && o->grid != CORE_GRID_REGULAR)
+        return "--path npatch-mode and cpu use the regular grid";
+    if (o->path != SCENE_PATH_INSTANCED && o->level != floorf(o->level))
+        return "--path npatch-mode and cpu need a whole --level (D3D9's discrete N-patch segments)";
+    if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level))
+        return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
+    return NULL;
+}
+
+/* ---------------------------------------- camera and constants ---------------------------------------- */
+
+/* Centre of the bounding box and the largest distance from it to a vertex. */
+static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
+{
+    float3 lo = m->positions[0], hi = lo;
+    for (size_t k = 1; k < m->n_vertices; k++) {
+        float3 p = m->positions[k];
+        lo = f3(fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z));
+        hi = f3(fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z));
+    }
+    *centre = scale3(add3(lo, hi), 0.5f);
+    double r2 = 0;
+    for (size_t k = 0; k < m->n_vertices; k++) {
+        float3 d = sub3(m->positions[k], *centre);
+        double l = (double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z;
+        if (l > r2) r2 = l;
+    }
+    *radius = r2 > 0 ? (float)sqrt(r2) : 1.0f;
+}
+
+/* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
+ * listing's unnormalized mul(normal, (float3x3)g_mWorld) keeps unit length); positions are first centred and
+ * scaled to a unit bounding radius. */
+typedef struct scene_camera { float4x4 world, wvp; } scene_camera;
+
+static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
+{
+    float3 c;
+    float r;
+    mesh_bounds(m, &c, &r);
+    float4x4 fit = mat_translation(-c.x, -c.y, -c.z), s = mat_scaling(1.0f / r, 1.0f / r, 1.0f / r);
+    fit = mat_mul(&fit, &s);
+    float4x4 ry = mat_rotation_y(o->yaw * PI_F / 180.0f), rx = mat_rotation_x(o->pitch * PI_F / 180.0f);
+    scene_camera cam;
+    cam.world = mat_mul(&ry, &rx);
+    float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
+    float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
+    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
+    float4x4 t = mat_mul(&fit, &cam.world);
+    t = mat_mul(&t, &view);
+    cam.wvp = mat_mul(&t, &proj);
+    return cam;
+}
+
+/* Upload the listing's constants (matrices, diffuse colour, patch options). */
+static void set_constants(is_device *dev, const scene_opts *o, const scene_camera *cam, const float diffuse[4])
+{
+    vs_params p;
+    vs_params_default(&p);
+    p.normals = o->normals;
+    vs_set_constants(dev, &cam->wvp, &cam->world, diffuse, &p);
+}
+
+/* ---------------------------------------- buffers ---------------------------------------- */
+
+/* The resources of one draw (released by scene_resources_free). */
+typedef struct scene_resources {
+    is_vertex_buffer *vb0, *vb1;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    unsigned n_vertices, n_prims, n_instances;
+} scene_resources;
+
+static void scene_resources_free(scene_resources *r)
+{
+    vb_release(r->vb0);
+    vb_release(r->vb1);
+    ib_release(r->ib);
+    decl_release(r->decl);
+    memset(r, 0, sizeof *r);
+}
+
+/* An index buffer with n indices (16-bit when max_index fits), filled from idx. */
+static is_result make_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index,
+                                   is_index_buffer **out)
+{
+    bool small = max_index < 65536;
+    is_result r = dev_create_index_buffer(dev, n * (small ? 2 : 4), small ? IS_FMT_INDEX16 : IS_FMT_INDEX32, out);
+    if (r != IS_OK) return r;
+    void *p = ib_lock(*out);
+    for (size_t k = 0; k < n; k++) {
+        if (small) ((uint16_t *)p)[k] = (uint16_t)idx[k];
+        else ((uint32_t *)p)[k] = idx[k];
+    }
+    ib_unlock(*out);
+    return IS_OK;
+}
+
+/* Tessellation through instancing: the grid in stream 0 (INDEXEDDATA | n_triangles), one instance per mesh
+ * triangle in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's declaration. */
+static is_result build_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r)
+{
+    is_result e = dev_create_vertex_buffer(dev, g->n_points * sizeof(float3), &r->vb0);
+    if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
+    if (e == IS_OK) e = make_index_buffer(dev, g->idx, 3 * g->n_triangles, g->n_points, &r->ib);
+    if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
+    if (e != IS_OK) return e;
+    memcpy(vb_lock(r->vb0), g->bary, g->n_points * sizeof(float3));
+    mesh_build_instances(m, vb_lock(r->vb1));
+    dev_set_vertex_declaration(dev, r->decl);
+    dev_set_stream_source(dev, 0, r->vb0, 0, sizeof(float3));
+    dev_set_stream_source(dev, 1, r->vb1, 0, sizeof(is_patch_instance));
+    dev_set_indices(dev, r->ib);
+    dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | (uint32_t)m->n_triangles);
+    dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+    r->n_vertices = (unsigned)g->n_points, r->n_prims = (unsigned)g->n_triangles;
+    r->n_instances = (unsigned)m->n_triangles;
+    return IS_OK;
+}
+
+/* The vertex of the non-instanced paths: position, normal, texcoord (declaration vs_tnl_declaration). */
+typedef struct tnl_vertex { float3 p, n; float2 t; } tnl_vertex;
+static const is_vertex_element tnl_declaration[] = {
+    {0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0},
+    {0, 12, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_NORMAL, 0},
+    {0, 24, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0},
+    IS_DECL_END};
+
+/* Bind a non-instanced vertex buffer of tnl_vertex and an index buffer. */
+static is_result bind_tnl(is_device *dev, scene_resources *r, const uint32_t *idx, size_t n_idx, size_t n_vtx)
+{
+    is_result e = make_index_buffer(dev, idx, n_idx, n_vtx, &r->ib);
+    if (e == IS_OK) e = dev_create_vertex_declaration(dev, tnl_declaration, &r->decl);
+    if (e != IS_OK) return e;
+    dev_set_vertex_declaration(dev, r->decl);
+    dev_set_stream_source(dev, 0, r->vb0, 0, sizeof(tnl_vertex));
+    dev_set_indices(dev, r->ib);
+    r->n_vertices = (unsigned)n_vtx, r->n_prims = (unsigned)(n_idx / 3), r->n_instances = 1;
+    return IS_OK;
+}
+
+/* The device's N-patch mode: the mesh itself in stream 0, SetNPatchMode(level) and the degrees. */
+static is_result build_npatch_mode(is_device *dev, const scene_opts *o, const is_mesh *m, scene_resources *r)
+{
+    is_result e = dev_create_vertex_buffer(dev, m->n_vertices * sizeof(tnl_vertex), &r->vb0);
+    if (e != IS_OK) return e;
+    tnl_vertex *v = vb_lock(r->vb0);
+    for (size_t k = 0; k < m->n_vertices; k++) v[k] = (tnl_vertex){m->positions[k], m->normals[k], m->texcoords[k]};
+    e = bind_tnl(dev, r, m->indices, 3 * m->n_triangles, m->n_vertices);
+    if (e != IS_OK) return e;
+    dev_set_npatch_evaluator(dev, vs_npatch_evaluate);
+    dev_set_npatch_mode(dev, o->level);
+    dev_set_render_state(dev, IS_RS_POSITIONDEGREE, o->patch == VS_PATCH_FLAT ? IS_DEGREE_LINEAR : IS_DEGREE_CUBIC);
+    dev_set_render_state(dev, IS_RS_NORMALDEGREE,
+                         o->normals == VS_NORMALS_QUADRATIC ? IS_DEGREE_QUADRATIC : IS_DEGREE_LINEAR);
+    return IS_OK;
+}
+
+/* CPU tessellation (D3DXTessellateNPatches-style): every grid point of every triangle evaluated on all cores
+ * into a dynamic vertex buffer, drawn without instancing. */
+static is_result build_cpu(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+                           scene_resources *r)
+{
+    const size_t np = g->n_points, nt = g->n_triangles, T = m->n_triangles;
+    is_result e = dev_create_vertex_buffer(dev, T * np * sizeof(tnl_vertex), &r->vb0);
+    uint32_t *idx = e == IS_OK ? malloc(T * nt * 3 * sizeof *idx) : NULL;
+    if (!idx) return e == IS_OK ? IS_ERR_OUTOFMEMORY : e;
+    tnl_vertex *v = vb_lock(r->vb0);
+    uint32_t pdeg = o->patch == VS_PATCH_FLAT ? IS_DEGREE_LINEAR : IS_DEGREE_CUBIC;
+    uint32_t ndeg = o->normals == VS_NORMALS_QUADRATIC ? IS_DEGREE_QUADRATIC : IS_DEGREE_LINEAR;
+#pragma omp parallel for schedule(static) num_threads(o->threads > 0 ? o->threads : 2)
+    for (long t = 0; t < (long)T; t++) {
+        const uint32_t *tri = &m->indices[3 * t];
+        float3 p[3] = {m->positions[tri[0]], m->positions[tri[1]], m->positions[tri[2]]};
+        float3 n[3] = {m->normals[tri[0]], m->normals[tri[1]], m->normals[tri[2]]};
+        for (size_t k = 0; k < np; k++) {
+            float3 b = g->bary[k];
+            tnl_vertex *out = &v[(size_t)t * np + k];
+            vs_npatch_evaluate(p, n, b, pdeg, ndeg, &out->p, &out->n);
+            for (int c = 0; c < 2; c++) {
+                const float *t0 = &m->texcoords[tri[0]].x, *t1 = &m->texcoords[tri[1]].x, *t2 = &m->texcoords[tri[2]].x;
+                (&out->t.x)[c] = b.x * t0[c] + b.y * t1[c] + b.z * t2[c];
+            }
+        }
+        for (size_t k = 0; k < 3 * nt; k++) idx[(size_t)t * 3 * nt + k] = (uint32_t)((size_t)t * np) + g->idx[k];
+    }
+    e = bind_tnl(dev, r, idx, T * nt * 3, T * np);
+    free(idx);
+    return e;
+}
+
+/* ---------------------------------------- drawing ---------------------------------------- */
+
+/* The shader of a path: the patch's own on the instanced path, fixed transform-and-light otherwise. */
+static const is_vertex_shader *path_shader(const scene_opts *o)
+{
+    return o->path == SCENE_PATH_INSTANCED ? vs_shader(o->patch) : &vs_tnl_shader;
+}
+
+/* Issue the draw(s) of the fill mode on a device whose buffers are bound. */
+static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_resources *r)
+{
+    const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
+    dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
+    set_constants(dev, o, cam, o->diffuse);
+    is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
+    if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
+    /* the overlay: the same triangles' edges, pulled slightly towards the eye so they win the depth test */
+    float bias = -2e-5f, slope = -1.0f;
+    uint32_t bb, sb;
+    memcpy(&bb, &bias, 4), memcpy(&sb, &slope, 4);
+    dev_set_render_state(dev, IS_RS_FILLMODE, IS_FILL_WIREFRAME);
+    dev_set_render_state(dev, IS_RS_DEPTHBIAS, bb);
+    dev_set_render_state(dev, IS_RS_SLOPESCALEDEPTHBIAS, sb);
+    set_constants(dev, o, cam, o->wire_color);
+    return dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
+}
+
+/* Bind the buffers of o->path on dev. */
+static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+                            scene_resources *r)
+{
+    switch (o->path) {
+    case SCENE_PATH_NPATCH_MODE: return build_npatch_mode(dev, o, m, r);
+    case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
+    default: return build_instanced(dev, m, g, r);
+    }
+}
+
+/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
+static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
+                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+{
+    is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
+    if (!dev) return NULL;
+    dev_set_threads(dev, o->threads);
+    static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
+        {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
+        {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
+    for (size_t k = 0; k < 4; k++)
+        if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
+                                                       aov_slots[k].comps);
+    scene_camera cam = make_camera(o, m);
+    scene_resources r = {0};
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
+    dev_set_vertex_shader(dev, path_shader(o));
+    is_result e = build_path(dev, o, m, g, &r);
+    if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
+    if (e != IS_OK) {
+        snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
+        scene_resources_free(&r);
+        dev_destroy(dev);
+        return NULL;
+    }
+    if (st) {
+        st->vertices_shaded += dev_vertices_shaded(dev);
+        st->triangles_drawn += dev_stats(dev)->prims_drawn;
+        st->raster = *dev_stats(dev);
+    }
+    scene_resources_free(&r);
+    return dev;
+}
+
+/* Channel names of the image: R,G,B,A,Z then the AOVs in SCENE_AOV_* order. */
+static void channel_list(unsigned aovs, char *buf, size_t len)
+{
+    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
+             aovs & SCENE_AOV_BARY ? ",bary.X,bary.Y,bary.Z" : "", aovs & SCENE_AOV_INSTANCE ? ",instance" : "",
+             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "");
+}
+
+/* Copy the resolved colour and the nearest depth of each pixel into img's R, G, B, A, Z. */
+static void copy_color_depth(const rs_target *rt, is_image *img)
+{
+    size_t n = (size_t)rt->width * rt->height;
+    uint32_t *rgba = malloc(n * sizeof *rgba);
+    if (rgba) {
+        rs_target_resolve(rt, rgba);
+        image_from_rgba8(img, rgba);
+        free(rgba);
+    }
+    for (size_t p = 0; p < n; p++) {
+        float z = rt->depth[p * rt->samples];
+        for (int s = 1; s < rt->samples; s++) z = fminf(z, rt->depth[p * rt->samples + s]);
+        img->data[p * img->channels + 4] = z;
+    }
+}
+
+/* Copy the AOV planes of rt into img's channels from `first` on. */
+static void copy_aovs(const rs_target *rt, is_image *img, int first)
+{
+    size_t n = (size_t)rt->width * rt->height;
+    int c = first;
+    for (int a = 0; a < rt->n_aov; a++) {
+        for (size_t p = 0; p < n; p++)
+            for (int k = 0; k < rt->aov[a].comps; k++)
+                img->data[p * img->channels + c + k] = rt->aov[a].data[p * rt->aov[a].comps + k];
+        c += rt->aov[a].comps;
+    }
+}
+
+int scene_render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
+                      size_t errlen)
+{
+    core_grid g;
+    if (core_grid_make(o->grid, o->level, &g) != 0) {
+        snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level);
+        return -1;
+    }
+    if ((unsigned long long)g.n_points * m->n_triangles > SCENE_MAX_VERTICES) {
+        snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu", m->name,
+                 m->n_triangles, (double)o->level, (unsigned long long)g.n_points * m->n_triangles,
+                 (unsigned long long)SCENE_MAX_VERTICES);
+        core_grid_free(&g);
+        return -1;
+    }
+    if (st) *st = (scene_stats){m->n_triangles, g.n_points, g.n_triangles, 0, 0, {0}};
+    char names[256];
+    channel_list(o->aovs, names, sizeof names);
+    int rc = -1;
+    is_device *dev = render_device(o, m, &g, o->msaa, 0, st, err, errlen);
+    if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
+        copy_color_depth(dev_render_target(dev), img);
+        rc = 0;
+        if (o->aovs) {
+            is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
+            if (adev) copy_aovs(dev_render_target(adev), img, 5);
+            else rc = -1, image_free(img);
+            dev_destroy(adev);
+        }
+    }
+    dev_destroy(dev);
+    core_grid_free(&g);
+    return rc;
+}
+
+/* ---------------------------------------- files ---------------------------------------- */
+
+/* Evaluate the patch shader at every grid point of every triangle with identity matrices, as the renderer
+ * does, and write positions, normals and faces as OBJ (atomically: temporary file, then rename). */
+static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t errlen)
+{
+    core_grid g;
+    if (core_grid_make(o->grid, o->level, &g) != 0) return snprintf(err, errlen, "cannot build the grid"), -1;
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", o->export_obj, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, strerror(errno));
+        core_grid_free(&g);
+        return -1;
+    }
+    is_vs_constants c;
+    float4x4 id = mat_identity();
+    vs_params p;
+    vs_params_default(&p);
+    p.normals = o->normals;
+    vs_fill_constants(&c, &id, &id, o->diffuse, &p);
+    const is_vertex_shader *vs = vs_shader(o->patch);
+    is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
+    int ok = inst != NULL;
+    if (ok) mesh_build_instances(m, inst);
+    fprintf(f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION, m->name,
+            vs->name, (double)o->level, m->n_triangles, g.n_points);
+    for (size_t t = 0; ok && t < m->n_triangles; t++) {
+        for (size_t k = 0; k < g.n_points; k++) {
+            is_vs_input in;
+            is_vs_output out;
+            vs_input_from_instance(&inst[t], g.bary[k], &in);
+            memset(&out, 0, sizeof out);
+            vs->main(&c, &in, &out);
+            float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
+            fprintf(f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
+        }
+        size_t base = t * g.n_points + 1;
+        for (size_t k = 0; k < g.n_triangles; k++)
+            fprintf(f, "f %zu//%zu %zu//%zu %zu//%zu\n", base + g.idx[3 * k], base + g.idx[3 * k],
+                    base + g.idx[3 * k + 1], base + g.idx[3 * k + 1], base + g.idx[3 * k + 2], base + g.idx[3 * k + 2]);
+    }
+    free(inst);
+    core_grid_free(&g);
+    ok = ok && fflush(f) == 0 && !ferror(f);
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, o->export_obj) != 0) {
+        snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, ok ? strerror(errno) : "write error");
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+/* Warnings of the mesh loader go to stderr (the program's choice; the library never prints). */
+static void warn_stderr(void *user, const char *msg)
+{
+    if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
+{
+    is_mesh m = {0};
+    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
+                          .warn_user = (void *)&o->quiet};
+    if (mesh_open(o->mesh, &mo, &m, err, errlen) != 0) return -1;
+    double t0 = now_seconds();
+    is_image img = {0};
+    scene_stats st;
+    int rc = scene_render_mesh(o, &m, &img, &st, err, errlen);
+    double t1 = now_seconds();
+    if (rc == 0) {
+        is_image_meta meta = {"instess " INSTESS_VERSION, o->command_line ? o->command_line : ""};
+        rc = image_write(&img, o->output, &meta, err, errlen);
+    }
+    if (rc == 0 && o->export_obj) rc = export_obj(o, &m, err, errlen);
+    if (rc == 0 && !o->quiet)
+        fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
+                        "%.1f ms -> %s\n",
+                m.name, st.mesh_triangles, st.grid_points, (unsigned long long)st.vertices_shaded,
+                (unsigned long long)st.triangles_drawn, (t1 - t0) * 1e3, o->output);
+    image_free(&img);
+    mesh_free(&m);
+    return rc;
+}

@@ -1,0 +1,86 @@
+/* cli/scene.h -- one rendered scene: a mesh, a patch, a grid, a path, a camera; the programs' shared layer
+ * (the instess command, figures, bench and the golden tests all render through it).
+ *
+ * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then rotated by
+ * yaw (about y) and pitch (about x) -- the world matrix -- and seen by a left-handed camera at (0, 0, -distance)
+ * looking at the origin with a 45 degree vertical field of view.  The listing's light direction (0, 0, -1) is in
+ * world space, so the lit side faces the camera (a headlight).  Errors: functions return 0 or -1 with a message
+ * in err naming the input and what is wrong. */
+#ifndef INSTESS_SCENE_H
+#define INSTESS_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "../core/core.h"
+#include "../meshes/meshes.h"
+#include "../vs/vs.h"
+
+#define SCENE_MAX_LEVEL 256.0f
+#define SCENE_LEVEL_MSG "--level must be a number in 1..256"
+#define SCENE_MAX_SIDE 16384
+#define SCENE_MAX_PIXELS (64u * 1024u * 1024u)
+#define SCENE_SIZE_MSG "--size must be WxH with each side 1..16384 and at most 64 Mpixels"
+/* Largest number of tessellated vertices one render may evaluate (triangles x grid points). */
+#define SCENE_MAX_VERTICES (64ull * 1024 * 1024)
+
+typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_FILL_POINT } scene_fill;
+typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
+enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8 };
+
+typedef struct scene_opts {
+    const char *mesh;           /* built-in name or file */
+    vs_patch patch;
+    vs_normals normals;
+    float level;
+    core_grid_kind grid;
+    scene_path path;
+    int width, height;
+    float yaw, pitch, distance; /* degrees, degrees, bounding radii */
+    scene_fill fill;
+    int msaa;
+    int threads;
+    bool recompute_normals;
+    unsigned aovs;              /* SCENE_AOV_* */
+    float diffuse[4];           /* g_vDiffuse */
+    float wire_color[4];        /* g_vDiffuse of the wireframe overlay */
+    uint32_t background;        /* D3DCOLOR (ARGB) */
+    const char *output, *export_obj, *command_line;
+    bool quiet;
+} scene_opts;
+
+/* What a render did (for statistics and the benchmark). */
+typedef struct scene_stats {
+    size_t mesh_triangles, grid_points, grid_triangles;
+    uint64_t vertices_shaded, triangles_drawn;
+    rs_stats raster;
+} scene_stats;
+
+/* Defaults: the welded cube, smoothed patch, level 8, 512x512, 4x MSAA, solid. */
+void scene_opts_default(scene_opts *o);
+/* NULL if the options are consistent, else the usage error (e.g. --aov without an .exr output). */
+const char *scene_check_opts(const scene_opts *o);
+
+/* Option parsers: true on success. */
+bool scene_parse_patch(const char *s, vs_patch *out);
+bool scene_parse_normals(const char *s, vs_normals *out);
+bool scene_parse_grid(const char *s, core_grid_kind *out);
+bool scene_parse_path(const char *s, scene_path *out);
+bool scene_parse_fill(const char *s, scene_fill *out);
+bool scene_parse_size(const char *s, int *w, int *h);
+bool scene_parse_msaa(const char *s, int *out);
+bool scene_parse_int(const char *s, int lo, int hi, int *out);
+bool scene_parse_float(const char *s, float lo, float hi, float *out);
+bool scene_parse_aovs(const char *s, unsigned *out);
+
+/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
+int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
+                      size_t errlen);
+/* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
+int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
+
+/* Subcommands: `instess figures` (cli/figures.c) and `instess smoothness` (cli/smoothness.c). */
+int scene_cmd_figures(int argc, char **argv);
+int scene_cmd_smoothness(int argc, char **argv);
+
+#endif

@@ -1,0 +1,282 @@
+/* core/device.c -- device creation and state: streams, frequencies, render states, constants, viewport, clear. */
+#include "device_internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Record a printf-style message for dev_last_error; returns code so callers can `return dev_fail(...)`. */
+is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...)
+{
+    if (dev) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(dev->err, sizeof dev->err, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+/* Bits of a float, as D3D9 passes float render states through a DWORD. */
+static uint32_t float_bits(float f) { uint32_t u; memcpy(&u, &f, 4); return u; }
+static float bits_float(uint32_t u) { float f; memcpy(&f, &u, 4); return f; }
+
+/* D3D9's defaults for the render states this device knows (an auto depth buffer exists, so ZENABLE is TRUE). */
+static void set_default_states(is_device *dev)
+{
+    uint32_t *s = dev->rs_state;
+    s[IS_RS_ZENABLE] = IS_ZB_TRUE;
+    s[IS_RS_FILLMODE] = IS_FILL_SOLID;
+    s[IS_RS_SHADEMODE] = IS_SHADE_GOURAUD;
+    s[IS_RS_ZWRITEENABLE] = 1;
+    s[IS_RS_SRCBLEND] = IS_BLEND_ONE;
+    s[IS_RS_DESTBLEND] = IS_BLEND_ZERO;
+    s[IS_RS_CULLMODE] = IS_CULL_CCW;
+    s[IS_RS_ZFUNC] = IS_CMP_LESSEQUAL;
+    s[IS_RS_ALPHABLENDENABLE] = 0;
+    s[IS_RS_MULTISAMPLEANTIALIAS] = 1;
+    s[IS_RS_POSITIONDEGREE] = IS_DEGREE_CUBIC;
+    s[IS_RS_NORMALDEGREE] = IS_DEGREE_LINEAR;
+    s[IS_RS_PATCHEDGESTYLE] = IS_PATCHEDGE_DISCRETE;
+    s[IS_RS_DEPTHBIAS] = float_bits(0.0f);
+    s[IS_RS_SLOPESCALEDEPTHBIAS] = float_bits(0.0f);
+}
+
+/* Create a device with a w x h target of `samples` samples, cleared to black and depth 1. */
+is_device *dev_create(int width, int height, int samples, char *err, size_t errlen)
+{
+    is_device *dev = calloc(1, sizeof *dev);
+    if (!dev) {
+        if (err) snprintf(err, errlen, "out of memory for the device");
+        return NULL;
+    }
+    if (samples != 1 && samples != 4) {
+        if (err) snprintf(err, errlen, "%d samples per pixel: this device supports 1 or 4", samples);
+        free(dev);
+        return NULL;
+    }
+    if (width < 1 || height < 1 || width > RS_MAX_SIZE || height > RS_MAX_SIZE) {
+        if (err) snprintf(err, errlen, "target size %dx%d: each side must be 1..%d", width, height, RS_MAX_SIZE);
+        free(dev);
+        return NULL;
+    }
+    dev->rs = rs_create(0);
+    if (!dev->rs || rs_target_init(&dev->rt, width, height, samples) != RS_OK) {
+        if (err) snprintf(err, errlen, "out of memory for a %dx%d target with %d samples", width, height, samples);
+        rs_destroy(dev->rs);
+        free(dev);
+        return NULL;
+    }
+    set_default_states(dev);
+    for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
+    dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
+    rs_target_clear(&dev->rt, 3, 0xff000000u, 1.0f);
+    return dev;
+}
+
+/* Destroy the device (buffers and declarations are the caller's to release). */
+void dev_destroy(is_device *dev)
+{
+    if (!dev) return;
+    rs_target_free(&dev->rt);
+    rs_destroy(dev->rs);
+    free(dev->out_v);
+    free(dev->out_i);
+    free(dev);
+}
+
+const char *dev_last_error(const is_device *dev) { return dev ? dev->err : "no device"; }
+
+/* Threads for shading and rasterization (0: all cores). */
+void dev_set_threads(is_device *dev, int threads)
+{
+    dev->threads = threads < 0 ? 0 : threads;
+    rs_set_threads(dev->rs, dev->threads);
+}
+
+is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
+{
+    dev->decl = decl;
+    return IS_OK;
+}
+
+/* SetStreamSource: stride 0 is allowed (every vertex reads the same data), as in D3D9. */
+is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
+                                unsigned stride)
+{
+    if (stream >= IS_MAX_STREAMS)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: stream %u >= %d", stream, IS_MAX_STREAMS);
+    if (offset % 4)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: offset %u not DWORD-aligned", offset);
+    dev->streams[stream].vb = vb;
+    dev->streams[stream].offset = offset;
+    dev->streams[stream].stride = stride;
+    return IS_OK;
+}
+
+/* SetStreamSourceFreq with D3D9's rules: INDEXEDDATA|n (n >= 1) only on stream 0, INSTANCEDATA|d (d >= 1) only
+ * on other streams, never both flags, a plain divider >= 1 anywhere.  An invalid call changes nothing. */
+is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting)
+{
+    const uint32_t flags = setting & (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA);
+    const uint32_t value = setting & ~flags;
+    if (stream >= IS_MAX_STREAMS)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u >= %d", stream, IS_MAX_STREAMS);
+    if (flags == (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: INDEXEDDATA and INSTANCEDATA together",
+                        stream);
+    if (flags == IS_STREAMSOURCE_INSTANCEDATA && stream == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INSTANCEDATA on stream 0");
+    if (flags == IS_STREAMSOURCE_INDEXEDDATA && stream != 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INDEXEDDATA on stream %u (only stream 0)",
+                        stream);
+    if (value == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: %s of 0", stream,
+                        flags == IS_STREAMSOURCE_INDEXEDDATA ? "instance count" : "divider");
+    dev->streams[stream].freq = setting;
+    return IS_OK;
+}
+
+is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting)
+{
+    if (stream >= IS_MAX_STREAMS || !setting) return IS_ERR_INVALIDCALL;
+    *setting = dev->streams[stream].freq;
+    return IS_OK;
+}
+
+is_result dev_set_indices(is_device *dev, is_index_buffer *ib)
+{
+    dev->ib = ib;
+    return IS_OK;
+}
+
+is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs)
+{
+    if (vs && !vs->main) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShader: shader '%s' has no function",
+                                         vs->name ? vs->name : "?");
+    dev->vs = vs;
+    return IS_OK;
+}
+
+/* SetVertexShaderConstantF: count4 float4 registers starting at c[start]. */
+is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4)
+{
+    if (!data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShaderConstantF: registers c%u..c%u out of c0..c%d", start,
+                        start + count4 - 1, IS_MAX_VS_CONSTANTS - 1);
+    memcpy(&dev->consts.c[start], data, count4 * sizeof(float4));
+    return IS_OK;
+}
+
+/* Whether `value` is valid for render state `state` (unknown states are invalid). */
+static bool state_value_ok(is_rs state, uint32_t v)
+{
+    switch (state) {
+    case IS_RS_ZENABLE: return v <= 1;
+    case IS_RS_FILLMODE: return v >= IS_FILL_POINT && v <= IS_FILL_SOLID;
+    case IS_RS_SHADEMODE: return v == IS_SHADE_FLAT || v == IS_SHADE_GOURAUD;
+    case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: return v <= 1;
+    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: return v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR;
+    case IS_RS_CULLMODE: return v >= IS_CULL_NONE && v <= IS_CULL_CCW;
+    case IS_RS_ZFUNC: return v >= IS_CMP_NEVER && v <= IS_CMP_ALWAYS;
+    case IS_RS_POSITIONDEGREE: return v == IS_DEGREE_LINEAR || v == IS_DEGREE_CUBIC;
+    case IS_RS_NORMALDEGREE: return v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC;
+    case IS_RS_PATCHEDGESTYLE: return v <= 1;
+    case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: return isfinite(bits_float(v));
+    default: return false;
+    }
+}
+
+/* SetRenderState: D3D9 values; float states (DEPTHBIAS, SLOPESCALEDEPTHBIAS) as their bits. */
+is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
+{
+    if ((unsigned)state >= IS_RS_COUNT || !state_value_ok(state, value))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: state %d does not take value %u", state, value);
+    dev->rs_state[state] = value;
+    return IS_OK;
+}
+
+is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value)
+{
+    if ((unsigned)state >= IS_RS_COUNT || !value || !state_value_ok(state, dev->rs_state[state]))
+        return IS_ERR_INVALIDCALL;
+    *value = dev->rs_state[state];
+    return IS_OK;
+}
+
+/* SetViewport: must lie inside the target, with 0 <= MinZ <= MaxZ <= 1. */
+is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
+{
+    if (!vp || vp->width == 0 || vp->height == 0 || vp->x > (uint32_t)dev->rt.width ||
+        vp->width > (uint32_t)dev->rt.width - vp->x || vp->y > (uint32_t)dev->rt.height ||
+        vp->height > (uint32_t)dev->rt.height - vp->y || !(vp->min_z >= 0.0f) || !(vp->max_z <= 1.0f) ||
+        !(vp->min_z <= vp->max_z))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: viewport outside the %dx%d target or bad depth range",
+                        dev->rt.width, dev->rt.height);
+    dev->viewport = *vp;
+    return IS_OK;
+}
+
+is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
+{
+    if (!vp) return IS_ERR_INVALIDCALL;
+    *vp = dev->viewport;
+    return IS_OK;
+}
+
+/* SetNPatchMode: segments < 1 disables; non-finite or huge values are invalid. */
+is_result dev_set_npatch_mode(is_device *dev, float segments)
+{
+    if (!isfinite(segments) || segments > 256.0f)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetNPatchMode: %g segments (at most 256)", (double)segments);
+    dev->npatch_segments = segments;
+    return IS_OK;
+}
+
+float dev_get_npatch_mode(const is_device *dev) { return dev->npatch_segments; }
+
+is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn)
+{
+    dev->npatch_eval = fn;
+    return IS_OK;
+}
+
+/* Clear: D3DCOLOR (ARGB) into packed RGBA8; z must be in [0, 1].  Resets the statistics. */
+is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
+{
+    if ((flags & ~3u) || !(z >= 0.0f && z <= 1.0f))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
+    uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
+    rs_target_clear(&dev->rt, flags, r | g << 8 | b << 16 | a << 24, z);
+    memset(&dev->stats, 0, sizeof dev->stats);
+    dev->shaded = 0;
+    return IS_OK;
+}
+
+rs_target *dev_render_target(is_device *dev) { return &dev->rt; }
+const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
+uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
+
+/* The rasterizer's copy of the current states. */
+rs_state dev_rs_state(const is_device *dev)
+{
+    const uint32_t *s = dev->rs_state;
+    rs_state st = {
+        .cull_mode = (int)s[IS_RS_CULLMODE],
+        .fill_mode = (int)s[IS_RS_FILLMODE],
+        .shade_mode = (int)s[IS_RS_SHADEMODE],
+        .z_enable = s[IS_RS_ZENABLE] != 0,
+        .z_write = s[IS_RS_ZWRITEENABLE] != 0,
+        .z_func = (int)s[IS_RS_ZFUNC],
+        .blend_enable = s[IS_RS_ALPHABLENDENABLE] != 0,
+        .src_blend = (int)s[IS_RS_SRCBLEND],
+        .dst_blend = (int)s[IS_RS_DESTBLEND],
+        .multisample = s[IS_RS_MULTISAMPLEANTIALIAS] != 0 && dev->rt.samples > 1,
+        .depth_bias = bits_float(s[IS_RS_DEPTHBIAS]),
+        .slope_scale_depth_bias = bits_float(s[IS_RS_SLOPESCALEDEPTHBIAS]),
+        .attr_mask = dev->vs ? dev->vs->outputs : 0,
+        .viewport = {(int)dev->viewport.x, (int)dev->viewport.y, (int)dev->viewport.width,
+                     (int)dev->viewport.height, dev->viewport.min_z, dev->viewport.max_z},
+    };
+    return st;
+}

@@ -1,0 +1,372 @@
+/* core/draw.c -- DrawPrimitive / DrawIndexedPrimitive: validation, vertex fetch with D3D9 stream frequencies
+ * (instancing), vertex shading through a post-transform cache, primitive assembly, N-patch mode, and the hand-off
+ * to the rasterizer (raster/raster.h).
+ *
+ * Instancing as D3D9 fetched it: with stream 0 set to INDEXEDDATA | n the draw is repeated for instances
+ * 0..n-1; for instance i and index k, a per-vertex stream (frequency 1 or a plain divider d) is read at vertex
+ * (ib[k] + BaseVertexIndex) / d and an INSTANCEDATA | d stream at vertex i / d.
+ *
+ * Post-transform cache: each instance's vertices MinVertexIndex .. MinVertexIndex + NumVertices - 1 are shaded
+ * once, then the instance's primitives index them.  Instances are processed in chunks of at most
+ * DRAW_CHUNK_VERTICES shaded vertices, so memory stays bounded whatever the instance count; chunks are drawn in
+ * order, so the result is the same as one big draw. */
+#include "device_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define DRAW_CHUNK_VERTICES (1u << 16)
+#define DRAW_MAX_VERTICES (1u << 26) /* NumVertices of one draw (one instance must fit in scratch memory) */
+
+/* How one declaration element is read during a draw. */
+typedef struct fetch_elem {
+    const unsigned char *base; /* buffer + stream offset + element offset */
+    size_t stride;
+    uint32_t divider;
+    bool per_instance;
+    uint8_t type;
+    unsigned reg_offset;
+} fetch_elem;
+
+typedef struct fetch_plan {
+    unsigned n;
+    fetch_elem el[IS_MAX_ELEMENTS];
+    unsigned n_instances;
+} fetch_plan;
+
+/* Indices a primitive list of `count` primitives of `type` uses; 0 for an unknown type. */
+static size_t prim_index_count(is_primtype type, unsigned count)
+{
+    switch (type) {
+    case IS_PT_POINTLIST: return count;
+    case IS_PT_LINELIST: return 2 * (size_t)count;
+    case IS_PT_LINESTRIP: return (size_t)count + 1;
+    case IS_PT_TRIANGLELIST: return 3 * (size_t)count;
+    case IS_PT_TRIANGLESTRIP: case IS_PT_TRIANGLEFAN: return (size_t)count + 2;
+    default: return 0;
+    }
+}
+
+/* The rasterizer primitive and vertices per primitive of a D3D9 primitive type. */
+static int prim_raster_type(is_primtype type, unsigned *per_prim)
+{
+    if (type == IS_PT_POINTLIST) return *per_prim = 1, RS_PRIM_POINTS;
+    if (type == IS_PT_LINELIST || type == IS_PT_LINESTRIP) return *per_prim = 2, RS_PRIM_LINES;
+    return *per_prim = 3, RS_PRIM_TRIANGLES;
+}
+
+/* Position in the index stream of vertex c (0..per-1) of primitive p: lists, strips (triangle p is
+ * (p, p+1, p+2) when even and (p, p+2, p+1) when odd, keeping the winding, as D3D9 does) and fans (0, p+1, p+2). */
+static size_t prim_vertex(is_primtype type, size_t p, unsigned c)
+{
+    switch (type) {
+    case IS_PT_LINESTRIP: return p + c;
+    case IS_PT_TRIANGLESTRIP: return (p & 1) && c ? p + 3 - c : p + c;
+    case IS_PT_TRIANGLEFAN: return c == 0 ? 0 : p + c;
+    case IS_PT_POINTLIST: return p;
+    case IS_PT_LINELIST: return 2 * p + c;
+    default: return 3 * p + c;
+    }
+}
+
+/* Check that the shader, declaration and bound streams allow a draw; fill the fetch plan. max_vertex is the
+ * largest per-vertex index the draw reads. */
+static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_vertex, unsigned n_instances,
+                            fetch_plan *fp)
+{
+    const is_vertex_declaration *d = dev->decl;
+    if (!dev->vs) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex shader set", call);
+    if (!d) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    fp->n = d->n;
+    fp->n_instances = n_instances;
+    for (unsigned k = 0; k < d->n; k++) {
+        const decl_element *de = &d->el[k];
+        const stream_source *s = &dev->streams[de->e.stream];
+        if (!s->vb) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: stream %u has no vertex buffer", call, de->e.stream);
+        bool inst = (s->freq & IS_STREAMSOURCE_INSTANCEDATA) != 0;
+        uint32_t div = inst ? (s->freq & ~IS_STREAMSOURCE_INSTANCEDATA)
+                            : ((s->freq & IS_STREAMSOURCE_INDEXEDDATA) ? 1 : s->freq);
+        if (inst && n_instances <= 1 && !(dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA))
+            inst = false, div = 1; /* INSTANCEDATA without an instanced draw: D3D9 reads it per vertex */
+        uint64_t last = inst ? (n_instances - 1) / div : max_vertex / div;
+        uint64_t end = s->offset + de->e.offset + last * s->stride + de->size;
+        if (end > s->vb->size)
+            return dev_fail(dev, IS_ERR_INVALIDCALL,
+                            "%s: element %u reads stream %u vertex %llu, beyond its %zu-byte buffer", call, k,
+                            de->e.stream, (unsigned long long)last, s->vb->size);
+        fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
+                                 de->reg_offset};
+    }
+    return IS_OK;
+}
+
+/* The input registers before fetch: every register (0, 0, 0, 1). */
+static void input_defaults(is_vs_input *in)
+{
+    float4 *r = (float4 *)in;
+    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
+}
+
+/* Fetch vertex `vertex` of instance `instance` into the input registers. */
+static void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instance, is_vs_input *in)
+{
+    input_defaults(in);
+    for (unsigned k = 0; k < fp->n; k++) {
+        const fetch_elem *e = &fp->el[k];
+        size_t i = e->per_instance ? instance / e->divider : vertex / e->divider;
+        *(float4 *)((unsigned char *)in + e->reg_offset) = decl_fetch(e->type, e->base + i * e->stride);
+    }
+}
+
+/* Run the shader on one input; outputs it does not write are zero, as the rasterizer expects. */
+static void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
+{
+    memset(out, 0, sizeof *out);
+    dev->vs->main(&dev->consts, in, out);
+}
+
+/* Make sure the scratch holds nv vertices and ni indices. */
+static is_result reserve_scratch(is_device *dev, size_t nv, size_t ni)
+{
+    if (nv > dev->out_v_cap) {
+        rs_vertex *v = realloc(dev->out_v, nv * sizeof *v);
+        if (!v) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu shaded vertices", nv);
+        dev->out_v = v, dev->out_v_cap = nv;
+    }
+    if (ni > dev->out_i_cap) {
+        uint32_t *i = realloc(dev->out_i, ni * sizeof *i);
+        if (!i) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", ni);
+        dev->out_i = i, dev->out_i_cap = ni;
+    }
+    return IS_OK;
+}
+
+/* Hand n_prims primitives over to the rasterizer and add its counters to the device's. */
+static is_result rasterize(is_device *dev, int prim, size_t n_verts, size_t n_prims)
+{
+    rs_state st = dev_rs_state(dev);
+    rs_stats s = {0};
+    int r = rs_draw(dev->rs, &st, &dev->rt, prim, dev->out_v, n_verts, dev->out_i, n_prims, &s);
+    if (r == RS_ENOMEM) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
+    if (r != RS_OK) return dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
+    dev->stats.prims_in += s.prims_in, dev->stats.prims_culled += s.prims_culled;
+    dev->stats.prims_clipped_away += s.prims_clipped_away, dev->stats.prims_degenerate += s.prims_degenerate;
+    dev->stats.prims_drawn += s.prims_drawn, dev->stats.samples_tested += s.samples_tested;
+    dev->stats.samples_written += s.samples_written;
+    return IS_OK;
+}
+
+/* Read index k of the bound index buffer. */
+static uint32_t read_index(const is_index_buffer *ib, size_t k)
+{
+    if (ib->format == IS_FMT_INDEX16) {
+        uint16_t v;
+        memcpy(&v, ib->data + 2 * k, 2);
+        return v;
+    }
+    uint32_t v;
+    memcpy(&v, ib->data + 4 * k, 4);
+    return v;
+}
+
+/* Shade vertices first..first+count-1 of instances i0..i0+ni-1 into out_v (instance-major), in parallel. */
+static void shade_range(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
+                        uint32_t ni)
+{
+    const long n = (long)count * (long)ni;
+#pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+    for (long v = 0; v < n; v++) {
+        is_vs_input in;
+        fetch_vertex(fp, first + (uint32_t)(v % count), i0 + (uint32_t)(v / count), &in);
+        shade(dev, &in, &dev->out_v[v]);
+    }
+    dev->shaded += (uint64_t)n;
+}
+
+/* Build the rasterizer's index list for ni instances: prims of `type` whose index-stream positions are read
+ * by idx_at(k) and rebased to first, repeated per instance with a stride of `count` vertices. */
+static size_t assemble(is_device *dev, is_primtype type, size_t n_prims, uint32_t ni, uint32_t count,
+                       const uint32_t *stream_idx)
+{
+    unsigned per;
+    prim_raster_type(type, &per);
+    size_t t = 0;
+    for (uint32_t i = 0; i < ni; i++)
+        for (size_t p = 0; p < n_prims; p++)
+            for (unsigned c = 0; c < per; c++)
+                dev->out_i[t++] = i * count + stream_idx[prim_vertex(type, p, c)];
+    return t / per;
+}
+
+/* The draw after validation: stream_idx[k] are index-stream entries already rebased to `first`. */
+static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims,
+                             uint32_t first, uint32_t count, const uint32_t *stream_idx)
+{
+    unsigned per;
+    int prim = prim_raster_type(type, &per);
+    uint32_t chunk = count >= DRAW_CHUNK_VERTICES ? 1 : DRAW_CHUNK_VERTICES / count;
+    if (chunk > fp->n_instances) chunk = fp->n_instances;
+    is_result r = reserve_scratch(dev, (size_t)chunk * count, (size_t)chunk * n_prims * per);
+    for (uint32_t i0 = 0; r == IS_OK && i0 < fp->n_instances; i0 += chunk) {
+        uint32_t ni = fp->n_instances - i0 < chunk ? fp->n_instances - i0 : chunk;
+        shade_range(dev, fp, first, count, i0, ni);
+        size_t np = assemble(dev, type, n_prims, ni, count, stream_idx);
+        r = rasterize(dev, prim, (size_t)ni * count, np);
+    }
+    return r;
+}
+
+/* Common checks of both draw calls: primitive type and count. */
+static is_result check_prims(is_device *dev, const char *call, is_primtype type, unsigned prim_count)
+{
+    if (!prim_index_count(type, 1))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: unknown primitive type %d", call, type);
+    if (prim_count == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: PrimitiveCount is 0", call);
+    return IS_OK;
+}
+
+static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
+                             uint32_t first);
+
+/* DrawPrimitive: non-indexed, never instanced. */
+is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
+{
+    is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
+    if (r != IS_OK) return r;
+    if (dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: instancing (INDEXEDDATA on stream 0) needs "
+                                                 "DrawIndexedPrimitive");
+    size_t n_idx = prim_index_count(type, prim_count);
+    if (n_idx > DRAW_MAX_VERTICES)
+        return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: %zu vertices exceed %u", n_idx, DRAW_MAX_VERTICES);
+    fetch_plan fp;
+    r = plan_fetch(dev, "DrawPrimitive", (uint64_t)start_vertex + n_idx - 1, 1, &fp);
+    if (r != IS_OK) return r;
+    uint32_t *seq = malloc(n_idx * sizeof *seq);
+    if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: out of memory");
+    for (size_t k = 0; k < n_idx; k++) seq[k] = (uint32_t)k;
+    if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
+        r = draw_npatch(dev, &fp, prim_count, seq, start_vertex);
+    else
+        r = draw_shaded(dev, &fp, type, prim_count, start_vertex, (uint32_t)n_idx, seq);
+    free(seq);
+    return r;
+}
+
+/* Read the draw's indices, check them against [min, min + num) and rebase them to min. */
+static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsigned min, unsigned num,
+                              uint32_t *out)
+{
+    const is_index_buffer *ib = dev->ib;
+    size_t isz = ib->format == IS_FMT_INDEX16 ? 2 : 4;
+    if (start > ib->size / isz || n_idx > ib->size / isz - start)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawIndexedPrimitive: indices %u..%zu beyond the %zu-index buffer",
+                        start, start + n_idx - 1, ib->size / isz);
+    for (size_t k = 0; k < n_idx; k++) {
+        uint32_t v = read_index(ib, start + k);
+        if (v < min || v - min >= num)
+            return dev_fail(dev, IS_ERR_INVALIDCALL,
+                            "DrawIndexedPrimitive: index %u at position %zu outside MinVertexIndex %u + NumVertices %u",
+                            v, start + k, min, num);
+        out[k] = v - min;
+    }
+    return IS_OK;
+}
+
+/* DrawIndexedPrimitive with D3D9 instancing: see the top of this file. */
+is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                     unsigned prim_count)
+{
+    const char *call = "DrawIndexedPrimitive";
+    is_result r = check_prims(dev, call, type, prim_count);
+    if (r != IS_OK) return r;
+    if (!dev->ib) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no index buffer set", call);
+    if (num_vertices == 0 || num_vertices > DRAW_MAX_VERTICES)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: NumVertices %u not in 1..%u", call, num_vertices,
+                        DRAW_MAX_VERTICES);
+    int64_t first = (int64_t)base_vertex_index + min_vertex_index;
+    if (first < 0 || first + num_vertices - 1 > UINT32_MAX)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: BaseVertexIndex %d + MinVertexIndex %u out of range", call,
+                        base_vertex_index, min_vertex_index);
+    uint32_t f0 = dev->streams[0].freq;
+    unsigned n_inst = (f0 & IS_STREAMSOURCE_INDEXEDDATA) ? (f0 & ~IS_STREAMSOURCE_INDEXEDDATA) : 1;
+    size_t n_idx = prim_index_count(type, prim_count);
+    uint32_t *idx = malloc(n_idx * sizeof *idx);
+    if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);
+    fetch_plan fp;
+    r = read_indices(dev, start_index, n_idx, min_vertex_index, num_vertices, idx);
+    if (r == IS_OK) r = plan_fetch(dev, call, (uint64_t)first + num_vertices - 1, n_inst, &fp);
+    if (r == IS_OK) {
+        if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
+            r = n_inst > 1 ? dev_fail(dev, IS_ERR_INVALIDCALL, "%s: N-patch mode with instancing", call)
+                           : draw_npatch(dev, &fp, prim_count, idx, (uint32_t)first);
+        else
+            r = draw_shaded(dev, &fp, type, prim_count, (uint32_t)first, num_vertices, idx);
+    }
+    free(idx);
+    return r;
+}
+
+/* ---------------------------------------- N-patch mode ---------------------------------------- */
+
+/* in = b0 * a + b1 * b + b2 * c for every register (the tessellator's linear interpolation). */
+static void lerp_inputs(const is_vs_input *a, const is_vs_input *b, const is_vs_input *c, float3 w,
+                        is_vs_input *in)
+{
+    const float *pa = (const float *)a, *pb = (const float *)b, *pc = (const float *)c;
+    float *po = (float *)in;
+    for (size_t k = 0; k < sizeof *in / sizeof(float); k++) po[k] = w.x * pa[k] + w.y * pb[k] + w.z * pc[k];
+}
+
+/* Shade the grid points of triangle t: the evaluator gives POSITION0 / NORMAL0, the rest is interpolated. */
+static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const uint32_t *tri, const float3 *bary,
+                            size_t n_pts, rs_vertex *out)
+{
+    is_vs_input v[3];
+    float3 p[3], n[3];
+    for (int c = 0; c < 3; c++) {
+        fetch_vertex(fp, tri[c], 0, &v[c]);
+        p[c] = f3_of(v[c].position[0]), n[c] = f3_of(v[c].normal[0]);
+    }
+    for (size_t g = 0; g < n_pts; g++) {
+        is_vs_input in;
+        float3 pos, nrm;
+        lerp_inputs(&v[0], &v[1], &v[2], bary[g], &in);
+        dev->npatch_eval(p, n, bary[g], dev->rs_state[IS_RS_POSITIONDEGREE], dev->rs_state[IS_RS_NORMALDEGREE], &pos,
+                         &nrm);
+        in.position[0] = f4_of(pos, 1.0f), in.normal[0] = f4_of(nrm, 0.0f);
+        shade(dev, &in, &out[g]);
+    }
+}
+
+/* N-patch mode: every triangle becomes the regular grid of level (int)segments (DISCRETE edge style; the
+ * CONTINUOUS style is accepted and tessellated the same way, see README), shaded point by point. */
+static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
+                             uint32_t first)
+{
+    const int L = (int)dev->npatch_segments;
+    const size_t n_pts = core_grid_points(L), n_grid = core_grid_triangles(L);
+    float3 *bary = malloc(n_pts * sizeof *bary);
+    uint32_t *gidx = malloc(3 * n_grid * sizeof *gidx);
+    size_t chunk = n_pts >= DRAW_CHUNK_VERTICES ? 1 : DRAW_CHUNK_VERTICES / n_pts;
+    is_result r = bary && gidx ? reserve_scratch(dev, chunk * n_pts, chunk * 3 * n_grid)
+                               : dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory");
+    if (r == IS_OK) core_grid_regular(L, bary, gidx);
+    for (size_t t0 = 0; r == IS_OK && t0 < n_tris; t0 += chunk) {
+        long nt = (long)(n_tris - t0 < chunk ? n_tris - t0 : chunk);
+#pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+        for (long t = 0; t < nt; t++) {
+            uint32_t tri[3];
+            for (int c = 0; c < 3; c++) tri[c] = first + stream_idx[3 * (t0 + (size_t)t) + (size_t)c];
+            npatch_triangle(dev, fp, tri, bary, n_pts, &dev->out_v[(size_t)t * n_pts]);
+        }
+        dev->shaded += (uint64_t)nt * n_pts;
+        for (long t = 0; t < nt; t++)
+            for (size_t k = 0; k < 3 * n_grid; k++) dev->out_i[(size_t)t * 3 * n_grid + k] = (uint32_t)(t * n_pts) + gidx[k];
+        r = rasterize(dev, RS_PRIM_TRIANGLES, (size_t)nt * n_pts, (size_t)nt * n_grid);
+    }
+    free(bary);
+    free(gidx);
+    return r;
+}

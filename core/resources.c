@@ -1,0 +1,204 @@
+/* core/resources.c -- vertex buffers, index buffers and vertex declarations (CreateVertexBuffer & co.). */
+#include "device_internal.h"
+
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* CreateVertexBuffer: zeroed memory of `bytes` bytes. */
+is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out)
+{
+    if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: NULL output pointer");
+    if (bytes == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: size 0");
+    is_vertex_buffer *vb = calloc(1, sizeof *vb);
+    unsigned char *data = vb ? calloc(1, bytes) : NULL;
+    if (!data) {
+        free(vb);
+        return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexBuffer: out of memory for %zu bytes", bytes);
+    }
+    *vb = (is_vertex_buffer){dev, data, bytes};
+    *out = vb;
+    return IS_OK;
+}
+
+/* CreateIndexBuffer: 16- or 32-bit indices. */
+is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out)
+{
+    if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: NULL output pointer");
+    if (fmt != IS_FMT_INDEX16 && fmt != IS_FMT_INDEX32)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: format %d is not INDEX16 or INDEX32", fmt);
+    if (bytes == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: size 0");
+    is_index_buffer *ib = calloc(1, sizeof *ib);
+    unsigned char *data = ib ? calloc(1, bytes) : NULL;
+    if (!data) {
+        free(ib);
+        return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateIndexBuffer: out of memory for %zu bytes", bytes);
+    }
+    *ib = (is_index_buffer){dev, data, bytes, fmt};
+    *out = ib;
+    return IS_OK;
+}
+
+/* Lock: the buffer's memory (this device has no GPU copy, so Unlock has nothing to upload). */
+void *vb_lock(is_vertex_buffer *vb) { return vb ? vb->data : NULL; }
+void vb_unlock(is_vertex_buffer *vb) { (void)vb; }
+size_t vb_size(const is_vertex_buffer *vb) { return vb ? vb->size : 0; }
+void *ib_lock(is_index_buffer *ib) { return ib ? ib->data : NULL; }
+void ib_unlock(is_index_buffer *ib) { (void)ib; }
+size_t ib_size(const is_index_buffer *ib) { return ib ? ib->size : 0; }
+
+/* Release a vertex buffer; unbinds it from the device's streams. */
+void vb_release(is_vertex_buffer *vb)
+{
+    if (!vb) return;
+    for (int s = 0; s < IS_MAX_STREAMS; s++)
+        if (vb->dev && vb->dev->streams[s].vb == vb) vb->dev->streams[s].vb = NULL;
+    free(vb->data);
+    free(vb);
+}
+
+/* Release an index buffer; unbinds it. */
+void ib_release(is_index_buffer *ib)
+{
+    if (!ib) return;
+    if (ib->dev && ib->dev->ib == ib) ib->dev->ib = NULL;
+    free(ib->data);
+    free(ib);
+}
+
+/* Bytes an element of `type` reads, or 0 for an unknown type. */
+static unsigned decltype_size(uint8_t type)
+{
+    switch (type) {
+    case IS_DECLTYPE_FLOAT1: return 4;
+    case IS_DECLTYPE_FLOAT2: return 8;
+    case IS_DECLTYPE_FLOAT3: return 12;
+    case IS_DECLTYPE_FLOAT4: return 16;
+    case IS_DECLTYPE_D3DCOLOR: case IS_DECLTYPE_UBYTE4: case IS_DECLTYPE_UBYTE4N: return 4;
+    case IS_DECLTYPE_SHORT2: case IS_DECLTYPE_SHORT2N: case IS_DECLTYPE_USHORT2N: return 4;
+    case IS_DECLTYPE_SHORT4: case IS_DECLTYPE_SHORT4N: case IS_DECLTYPE_USHORT4N: return 8;
+    default: return 0;
+    }
+}
+
+/* Byte offset in is_vs_input of the register for (usage, index); -1 if this device has no such register. */
+static long usage_register(uint8_t usage, uint8_t index)
+{
+    size_t base, count;
+    switch (usage) {
+    case IS_DECLUSAGE_POSITION: base = offsetof(is_vs_input, position), count = 2; break;
+    case IS_DECLUSAGE_BLENDWEIGHT: base = offsetof(is_vs_input, blendweight), count = 1; break;
+    case IS_DECLUSAGE_BLENDINDICES: base = offsetof(is_vs_input, blendindices), count = 1; break;
+    case IS_DECLUSAGE_NORMAL: base = offsetof(is_vs_input, normal), count = 2; break;
+    case IS_DECLUSAGE_PSIZE: base = offsetof(is_vs_input, psize), count = 1; break;
+    case IS_DECLUSAGE_TEXCOORD: base = offsetof(is_vs_input, texcoord), count = IS_USAGE_INDICES; break;
+    case IS_DECLUSAGE_TANGENT: base = offsetof(is_vs_input, tangent), count = 1; break;
+    case IS_DECLUSAGE_BINORMAL: base = offsetof(is_vs_input, binormal), count = 1; break;
+    case IS_DECLUSAGE_COLOR: base = offsetof(is_vs_input, color), count = 2; break;
+    default: return -1;
+    }
+    return index < count ? (long)(base + index * sizeof(float4)) : -1;
+}
+
+/* Validate one element e (number k) against the ones before it; message into dev on failure. */
+static is_result check_element(is_device *dev, const is_vertex_declaration *d, unsigned k,
+                               const is_vertex_element *e)
+{
+    if (e->stream >= IS_MAX_STREAMS)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: stream %u >= %d", k,
+                        e->stream, IS_MAX_STREAMS);
+    if (!decltype_size(e->type))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: unknown type %u", k,
+                        e->type);
+    if (e->method != 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: method %u unsupported", k,
+                        e->method);
+    if (e->offset % 4)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: offset %u not DWORD-aligned",
+                        k, e->offset);
+    if (usage_register(e->usage, e->usage_index) < 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: usage %u index %u unsupported",
+                        k, e->usage, e->usage_index);
+    for (unsigned j = 0; j < d->n; j++) {
+        const is_vertex_element *o = &d->el[j].e;
+        if (o->usage == e->usage && o->usage_index == e->usage_index)
+            return dev_fail(dev, IS_ERR_INVALIDCALL,
+                            "CreateVertexDeclaration: element %u repeats usage %u index %u of element %u", k,
+                            e->usage, e->usage_index, j);
+        if (o->stream == e->stream && e->offset < o->offset + d->el[j].size &&
+            o->offset < e->offset + decltype_size(e->type))
+            return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u overlaps element %u", k, j);
+    }
+    return IS_OK;
+}
+
+/* CreateVertexDeclaration: copy and validate the elements up to the end marker. */
+is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
+                                        is_vertex_declaration **out)
+{
+    if (!elements || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: NULL argument");
+    is_vertex_declaration *d = calloc(1, sizeof *d);
+    if (!d) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexDeclaration: out of memory");
+    d->dev = dev;
+    for (unsigned k = 0;; k++) {
+        const is_vertex_element *e = &elements[k];
+        if (e->stream == 0xFF) break;
+        is_result r = k >= IS_MAX_ELEMENTS
+                          ? dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: more than %d elements",
+                                     IS_MAX_ELEMENTS)
+                          : check_element(dev, d, k, e);
+        if (r != IS_OK) {
+            free(d);
+            return r;
+        }
+        d->el[d->n++] = (decl_element){*e, decltype_size(e->type), (unsigned)usage_register(e->usage, e->usage_index)};
+        d->stream_mask |= 1u << e->stream;
+    }
+    if (d->n == 0) {
+        free(d);
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: no elements before the end marker");
+    }
+    *out = d;
+    return IS_OK;
+}
+
+/* Release a declaration; unbinds it. */
+void decl_release(is_vertex_declaration *decl)
+{
+    if (!decl) return;
+    if (decl->dev && decl->dev->decl == decl) decl->dev->decl = NULL;
+    free(decl);
+}
+
+/* Read a little-endian value of a type at p without alignment assumptions. */
+static float rd_f32(const unsigned char *p) { float f; memcpy(&f, p, 4); return f; }
+static int16_t rd_i16(const unsigned char *p) { int16_t v; memcpy(&v, p, 2); return v; }
+static uint16_t rd_u16(const unsigned char *p) { uint16_t v; memcpy(&v, p, 2); return v; }
+/* SHORTnN: -32768 and -32767 both map to -1 (D3D9's SNORM rule). */
+static float snorm16(int16_t v) { return v <= -32767 ? -1.0f : (float)v / 32767.0f; }
+
+/* Expand an element of `type` at src into a float4 register; missing components default to (0, 0, 0, 1). */
+float4 decl_fetch(uint8_t type, const unsigned char *src)
+{
+    switch (type) {
+    case IS_DECLTYPE_FLOAT1: return f4(rd_f32(src), 0, 0, 1);
+    case IS_DECLTYPE_FLOAT2: return f4(rd_f32(src), rd_f32(src + 4), 0, 1);
+    case IS_DECLTYPE_FLOAT3: return f4(rd_f32(src), rd_f32(src + 4), rd_f32(src + 8), 1);
+    case IS_DECLTYPE_FLOAT4: return f4(rd_f32(src), rd_f32(src + 4), rd_f32(src + 8), rd_f32(src + 12));
+    case IS_DECLTYPE_D3DCOLOR: /* bytes B, G, R, A in memory -> (R, G, B, A) */
+        return f4(src[2] / 255.0f, src[1] / 255.0f, src[0] / 255.0f, src[3] / 255.0f);
+    case IS_DECLTYPE_UBYTE4: return f4(src[0], src[1], src[2], src[3]);
+    case IS_DECLTYPE_UBYTE4N: return f4(src[0] / 255.0f, src[1] / 255.0f, src[2] / 255.0f, src[3] / 255.0f);
+    case IS_DECLTYPE_SHORT2: return f4(rd_i16(src), rd_i16(src + 2), 0, 1);
+    case IS_DECLTYPE_SHORT4: return f4(rd_i16(src), rd_i16(src + 2), rd_i16(src + 4), rd_i16(src + 6));
+    case IS_DECLTYPE_SHORT2N: return f4(snorm16(rd_i16(src)), snorm16(rd_i16(src + 2)), 0, 1);
+    case IS_DECLTYPE_SHORT4N:
+        return f4(snorm16(rd_i16(src)), snorm16(rd_i16(src + 2)), snorm16(rd_i16(src + 4)),
+                  snorm16(rd_i16(src + 6)));
+    case IS_DECLTYPE_USHORT2N: return f4(rd_u16(src) / 65535.0f, rd_u16(src + 2) / 65535.0f, 0, 1);
+    case IS_DECLTYPE_USHORT4N:
+        return f4(rd_u16(src) / 65535.0f, rd_u16(src + 2) / 65535.0f, rd_u16(src + 4) / 65535.0f,
+                  rd_u16(src + 6) / 65535.0f);
+    default: return f4(0, 0, 0, 1);
+    }
+}

@@ -1,0 +1,410 @@
+/* tests/test_device.c -- the D3D9-style device: stream frequencies and their invalid calls, declarations, vertex
+ * fetch formats, render states, the instanced fetch order (observed through points drawn at encoded pixels), and
+ * draw-call validation. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "../core/device_internal.h"
+
+enum { W = 64, H = 64 };
+
+/* ---------------- stream frequencies ---------------- */
+
+static void test_freq_valid(void **state)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    uint32_t f = 0;
+    assert_int_equal(dev_get_stream_source_freq(dev, 0, &f), IS_OK);
+    assert_int_equal(f, 1u); /* default */
+    assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 12), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 2, IS_STREAMSOURCE_INSTANCEDATA | 3), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 3, 2), IS_OK); /* a plain divider */
+    dev_get_stream_source_freq(dev, 0, &f);
+    assert_int_equal(f, IS_STREAMSOURCE_INDEXEDDATA | 12);
+    dev_get_stream_source_freq(dev, 2, &f);
+    assert_int_equal(f, IS_STREAMSOURCE_INSTANCEDATA | 3);
+    dev_destroy(dev);
+}
+
+/* Every invalid case returns the error, leaves a message, and changes nothing. */
+static void test_freq_invalid(void **state)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    const struct { unsigned stream; uint32_t setting; } bad[] = {
+        {0, IS_STREAMSOURCE_INSTANCEDATA | 1},                                /* INSTANCEDATA on stream 0 */
+        {1, IS_STREAMSOURCE_INDEXEDDATA | 4},                                 /* INDEXEDDATA off stream 0 */
+        {0, IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA | 1},  /* both flags */
+        {1, IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA | 1},
+        {1, IS_STREAMSOURCE_INSTANCEDATA | 0},                                /* divider 0 */
+        {0, IS_STREAMSOURCE_INDEXEDDATA | 0},                                 /* zero instances */
+        {2, 0},                                                               /* plain divider 0 */
+        {IS_MAX_STREAMS, 1},                                                  /* no such stream */
+    };
+    assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 5), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 2), IS_OK);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        uint32_t before[IS_MAX_STREAMS];
+        for (unsigned s = 0; s < IS_MAX_STREAMS; s++) dev_get_stream_source_freq(dev, s, &before[s]);
+        dev->err[0] = 0;
+        assert_int_equal(dev_set_stream_source_freq(dev, bad[k].stream, bad[k].setting), IS_ERR_INVALIDCALL);
+        assert_true(strlen(dev_last_error(dev)) > 0);
+        for (unsigned s = 0; s < IS_MAX_STREAMS; s++) {
+            uint32_t now;
+            dev_get_stream_source_freq(dev, s, &now);
+            assert_int_equal(now, before[s]);
+        }
+    }
+    dev_destroy(dev);
+}
+
+/* ---------------- declarations and fetch ---------------- */
+
+static void test_declaration_validation(void **state)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    is_vertex_declaration *d = NULL;
+    const is_vertex_element ok[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {1, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 0},
+                                    {1, 12, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 11},
+                                    IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(dev, ok, &d), IS_OK);
+    assert_int_equal(d->n, 3u);
+    assert_int_equal(d->stream_mask, 3u);
+    decl_release(d);
+    const is_vertex_element overlap[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0},
+                                         {0, 8, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    const is_vertex_element dup[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 2},
+                                     {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 2}, IS_DECL_END};
+    const is_vertex_element badtype[] = {{0, 0, 42, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    const is_vertex_element badstream[] = {{16, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    const is_vertex_element badindex[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 16}, IS_DECL_END};
+    const is_vertex_element misaligned[] = {{0, 2, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    const is_vertex_element empty[] = {IS_DECL_END};
+    const is_vertex_element *bad[] = {overlap, dup, badtype, badstream, badindex, misaligned, empty};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        d = NULL;
+        assert_int_equal(dev_create_vertex_declaration(dev, bad[k], &d), IS_ERR_INVALIDCALL);
+        assert_null(d);
+    }
+    dev_destroy(dev);
+}
+
+static void test_fetch_formats(void **state)
+{
+    unsigned char buf[16];
+    float4 r;
+    float fl[4] = {1.5f, -2.0f, 3.25f, 9.0f};
+    memcpy(buf, fl, 16);
+    r = decl_fetch(IS_DECLTYPE_FLOAT2, buf);
+    assert_true(r.x == 1.5f && r.y == -2.0f && r.z == 0.0f && r.w == 1.0f);
+    r = decl_fetch(IS_DECLTYPE_FLOAT3, buf);
+    assert_true(r.z == 3.25f && r.w == 1.0f);
+    r = decl_fetch(IS_DECLTYPE_FLOAT4, buf);
+    assert_true(r.w == 9.0f);
+    const unsigned char bgra[4] = {255, 0, 51, 102}; /* D3DCOLOR in memory: B, G, R, A */
+    r = decl_fetch(IS_DECLTYPE_D3DCOLOR, bgra);
+    assert_float_equal(r.x, 0.2f, 1e-6);
+    assert_float_equal(r.y, 0.0f, 1e-6);
+    assert_float_equal(r.z, 1.0f, 1e-6);
+    assert_float_equal(r.w, 0.4f, 1e-6);
+    r = decl_fetch(IS_DECLTYPE_UBYTE4, bgra);
+    assert_true(r.x == 255.0f && r.z == 51.0f && r.w == 102.0f);
+    const int16_t sh[4] = {-32768, 32767, -5, 7};
+    memcpy(buf, sh, 8);
+    r = decl_fetch(IS_DECLTYPE_SHORT2, buf);
+    assert_true(r.x == -32768.0f && r.y == 32767.0f && r.z == 0.0f && r.w == 1.0f);
+    r = decl_fetch(IS_DECLTYPE_SHORT4, buf);
+    assert_true(r.z == -5.0f && r.w == 7.0f);
+    r = decl_fetch(IS_DECLTYPE_SHORT2N, buf);
+    assert_true(r.x == -1.0f && r.y == 1.0f);
+}
+
+/* ---------------- render states ---------------- */
+
+static void test_render_states(void **state)
+{
+    is_device *dev = dev_create(W, H, 4, NULL, 0);
+    uint32_t v;
+    assert_int_equal(dev_get_render_state(dev, IS_RS_CULLMODE, &v), IS_OK);
+    assert_int_equal(v, IS_CULL_CCW);
+    dev_get_render_state(dev, IS_RS_ZFUNC, &v);
+    assert_int_equal(v, IS_CMP_LESSEQUAL);
+    dev_get_render_state(dev, IS_RS_POSITIONDEGREE, &v);
+    assert_int_equal(v, IS_DEGREE_CUBIC);
+    dev_get_render_state(dev, IS_RS_NORMALDEGREE, &v);
+    assert_int_equal(v, IS_DEGREE_LINEAR);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, 7), IS_ERR_INVALIDCALL);
+    dev_get_render_state(dev, IS_RS_CULLMODE, &v);
+    assert_int_equal(v, IS_CULL_NONE); /* unchanged by the invalid call */
+    assert_int_equal(dev_set_render_state(dev, IS_RS_POSITIONDEGREE, IS_DEGREE_QUADRATIC), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_NORMALDEGREE, IS_DEGREE_CUBIC), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_state(dev, (is_rs)3, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_npatch_mode(dev, NAN), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_npatch_mode(dev, 4.0f), IS_OK);
+    assert_true(dev_get_npatch_mode(dev) == 4.0f);
+    is_viewport vp = {60, 0, 8, 8, 0, 1};
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_ERR_INVALIDCALL);
+    vp = (is_viewport){8, 8, 16, 16, 0.25f, 0.75f};
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_OK);
+    float c[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 255, c, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 254, c, 2), IS_OK);
+    assert_true(dev->consts.c[255].w == 8.0f);
+    assert_null(dev_create(0, 10, 1, NULL, 0));
+    assert_null(dev_create(10, 10, 3, NULL, 0));
+    dev_destroy(dev);
+}
+
+/* ---------------- instanced fetch order ---------------- */
+
+/* A shader that puts a point at pixel (x, y) = (POSITION0.x, TEXCOORD0.x) of a 64x64 target, with colour
+ * R = POSITION0.y (the per-vertex tag) and G = TEXCOORD0.y (the per-instance tag), both / 255. */
+static void vs_point_at(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    float x = in->position[0].x, y = in->texcoord[0].x;
+    out->pos = f4(2.0f * x / W - 1.0f, 1.0f - 2.0f * y / H, 0.5f, 1.0f);
+    out->attr[RS_ATTR_COLOR0] = f4(in->position[0].y / 255.0f, in->texcoord[0].y / 255.0f, 0, 1);
+}
+static const is_vertex_shader vs_point = {"point_at", vs_point_at, IS_OUT_COLOR0};
+
+/* Draw `n_inst` instances (divider `div`) of an index list over 8 per-vertex records, with base vertex `base`;
+ * check that exactly the expected (vertex, instance) combinations appear. */
+static void check_instanced_fetch(unsigned n_inst, unsigned div, int base)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    dev_set_threads(dev, 2);
+    is_vertex_buffer *vb0, *vb1;
+    is_index_buffer *ib;
+    assert_int_equal(dev_create_vertex_buffer(dev, 16 * 8, &vb0), IS_OK);
+    assert_int_equal(dev_create_vertex_buffer(dev, 8 * 16, &vb1), IS_OK);
+    assert_int_equal(dev_create_index_buffer(dev, 4 * 2, IS_FMT_INDEX16, &ib), IS_OK);
+    float (*v0)[2] = vb_lock(vb0), (*v1)[2] = vb_lock(vb1);
+    for (int k = 0; k < 16; k++) v0[k][0] = (float)(3 * k), v0[k][1] = (float)(100 + k); /* x, vertex tag */
+    for (int i = 0; i < 16; i++) v1[i][0] = (float)(2 + 3 * i), v1[i][1] = (float)(10 + i); /* y, instance tag */
+    uint16_t *idx = ib_lock(ib);
+    const uint16_t list[4] = {2, 0, 3, 1};
+    memcpy(idx, list, sizeof list);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_point);
+    dev_set_stream_source(dev, 0, vb0, 0, 8);
+    dev_set_stream_source(dev, 1, vb1, 0, 8);
+    dev_set_indices(dev, ib);
+    assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | n_inst), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | div), IS_OK);
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, base, 0, 4, 0, 4), IS_OK);
+    assert_int_equal(dev_vertices_shaded(dev), 4u * n_inst); /* post-transform cache: once per instance */
+    const rs_target *rt = dev_render_target(dev);
+    int expected = 0, found = 0;
+    for (unsigned i = 0; i < n_inst; i++)
+        for (int k = 0; k < 4; k++) {
+            int vtx = list[k] + base, inst = (int)(i / div);
+            int x = 3 * vtx, y = 2 + 3 * inst;
+            uint32_t px = rt->color[y * W + x];
+            assert_int_equal(px & 0xff, 100 + vtx);
+            assert_int_equal((px >> 8) & 0xff, 10 + inst);
+            expected++;
+        }
+    for (int p = 0; p < W * H; p++) found += (rt->color[p] & 0xffffff) != 0;
+    int distinct_inst = (int)((n_inst + div - 1) / div);
+    assert_int_equal(found, 4 * distinct_inst);
+    (void)expected;
+    decl_release(decl);
+    vb_release(vb0);
+    vb_release(vb1);
+    ib_release(ib);
+    dev_destroy(dev);
+}
+
+static void test_instanced_fetch_order(void **state)
+{
+    check_instanced_fetch(1, 1, 0);
+    check_instanced_fetch(5, 1, 0);
+    check_instanced_fetch(6, 2, 3);
+    check_instanced_fetch(7, 3, 1);
+    check_instanced_fetch(16, 1, 4);
+}
+
+/* ---------------- draw validation ---------------- */
+
+static void test_draw_errors(void **state)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    is_vertex_buffer *vb;
+    is_index_buffer *ib;
+    dev_create_vertex_buffer(dev, 8 * 4, &vb);
+    dev_create_index_buffer(dev, 2 * 6, IS_FMT_INDEX16, &ib);
+    uint16_t *idx = ib_lock(ib);
+    const uint16_t list[6] = {0, 1, 2, 2, 1, 9};
+    memcpy(idx, list, sizeof list);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    dev_create_vertex_declaration(dev, el, &decl);
+    /* no shader / declaration yet */
+    dev_set_indices(dev, ib);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
+    dev_set_vertex_shader(dev, &vs_point);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
+    dev_set_vertex_declaration(dev, decl);
+    /* no stream bound */
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
+    dev_set_stream_source(dev, 0, vb, 0, 8);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_OK);
+    /* index 9 outside MinVertexIndex + NumVertices */
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 2), IS_ERR_INVALIDCALL);
+    assert_non_null(strstr(dev_last_error(dev), "index 9"));
+    /* beyond the vertex buffer */
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 2, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
+    /* beyond the index buffer, zero primitives, unknown type */
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 3, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive(dev, (is_primtype)9, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 2, 1), IS_ERR_INVALIDCALL);
+    /* instancing needs an indexed draw */
+    dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 2);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_OK);
+    /* a released buffer is unbound */
+    vb_release(vb);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
+    decl_release(decl);
+    ib_release(ib);
+    dev_destroy(dev);
+}
+
+/* Strips and fans become the same triangles as the equivalent list (strip winding alternates, as D3D9). */
+static void vs_xy(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    out->pos = f4(in->position[0].x, in->position[0].y, 0.5f, 1.0f);
+    out->attr[RS_ATTR_COLOR0] = f4(1, 1, 1, 1);
+}
+static const is_vertex_shader vs_pass = {"xy", vs_xy, IS_OUT_COLOR0};
+
+static uint64_t count_lit(const rs_target *rt)
+{
+    uint64_t n = 0;
+    for (int p = 0; p < rt->width * rt->height; p++) n += (rt->color[p] & 0xff) != 0;
+    return n;
+}
+
+static void test_strip_fan(void **state)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    is_vertex_buffer *vb;
+    dev_create_vertex_buffer(dev, 8 * 4, &vb);
+    /* a quad as a strip: (-1,1) (1,1) (-1,-1) (1,-1): clockwise on screen for the first triangle */
+    const float strip[8] = {-0.5f, 0.5f, 0.5f, 0.5f, -0.5f, -0.5f, 0.5f, -0.5f};
+    memcpy(vb_lock(vb), strip, sizeof strip);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    dev_create_vertex_declaration(dev, el, &decl);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_pass);
+    dev_set_stream_source(dev, 0, vb, 0, 8);
+    dev_clear(dev, IS_CLEAR_TARGET, 0, 1.0f);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLESTRIP, 0, 2), IS_OK);
+    uint64_t strip_px = count_lit(dev_render_target(dev));
+    assert_int_equal(dev_stats(dev)->prims_culled, 0); /* both triangles front-facing under CULL_CCW */
+    assert_int_equal(strip_px, 32u * 32u);
+    /* the same quad as a fan: (-,+) (+,+) (+,-) (-,-) */
+    const float fan[8] = {-0.5f, 0.5f, 0.5f, 0.5f, 0.5f, -0.5f, -0.5f, -0.5f};
+    memcpy(vb_lock(vb), fan, sizeof fan);
+    dev_clear(dev, IS_CLEAR_TARGET, 0, 1.0f);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLEFAN, 0, 2), IS_OK);
+    assert_int_equal(count_lit(dev_render_target(dev)), strip_px);
+    decl_release(decl);
+    vb_release(vb);
+    dev_destroy(dev);
+}
+
+/* ---------------- math and grid ---------------- */
+
+static void test_math(void **state)
+{
+    float4x4 p = mat_perspective_fov_lh(1.0f, 2.0f, 0.5f, 10.0f);
+    float ys = 1.0f / tanf(0.5f);
+    assert_float_equal(p.m[1][1], ys, 1e-6);
+    assert_float_equal(p.m[0][0], ys / 2.0f, 1e-6);
+    assert_float_equal(p.m[2][2], 10.0f / 9.5f, 1e-6);
+    assert_float_equal(p.m[2][3], 1.0f, 0);
+    assert_float_equal(p.m[3][2], -0.5f * 10.0f / 9.5f, 1e-6);
+    /* near plane maps to z = 0, far to z = w */
+    float4 n = mul4(f4(0, 0, 0.5f, 1), &p), f = mul4(f4(0, 0, 10.0f, 1), &p);
+    assert_float_equal(n.z / n.w, 0.0f, 1e-6);
+    assert_float_equal(f.z / f.w, 1.0f, 1e-6);
+    /* LookAtLH: the eye goes to the origin, the target onto +z */
+    float4x4 v = mat_look_at_lh(f3(1, 2, -5), f3(1, 2, 0), f3(0, 1, 0));
+    float4 e = mul4(f4(1, 2, -5, 1), &v), t = mul4(f4(1, 2, 0, 1), &v);
+    assert_float_equal(e.x, 0, 1e-6);
+    assert_float_equal(e.z, 0, 1e-6);
+    assert_float_equal(t.z, 5.0f, 1e-6);
+    /* RotationY by 90 degrees takes +x to -z (left-handed, D3DX) */
+    float4x4 r = mat_rotation_y(1.57079632679f);
+    float4 x = mul4(f4(1, 0, 0, 1), &r);
+    assert_float_equal(x.z, -1.0f, 1e-6);
+    /* mat_mul applies the left matrix first */
+    float4x4 tr = mat_translation(1, 0, 0), sc = mat_scaling(2, 2, 2), ts = mat_mul(&tr, &sc);
+    float4 o = mul4(f4(0, 0, 0, 1), &ts);
+    assert_float_equal(o.x, 2.0f, 0);
+    float4x4 inv;
+    assert_true(mat_inverse(&ts, &inv));
+    float4x4 id = mat_mul(&ts, &inv);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) assert_float_equal(id.m[i][j], i == j, 1e-6);
+    float4x4 zero = {{{0}}};
+    assert_false(mat_inverse(&zero, &inv));
+}
+
+static void test_grid(void **state)
+{
+    for (int L = 1; L <= 17; L++) {
+        size_t np = core_grid_points(L), nt = core_grid_triangles(L);
+        float3 *b = malloc(np * sizeof *b);
+        uint32_t *idx = malloc(3 * nt * sizeof *idx);
+        assert_int_equal(core_grid_regular(L, b, idx), np);
+        assert_int_equal(np, (size_t)(L + 1) * (L + 2) / 2);
+        double area = 0;
+        for (size_t t = 0; t < nt; t++) {
+            float3 p = b[idx[3 * t]], q = b[idx[3 * t + 1]], s = b[idx[3 * t + 2]];
+            for (int c = 0; c < 3; c++) assert_true(idx[3 * t + c] < np);
+            /* signed area in (b1, b2): all positive = same winding as (v0, v1, v2) */
+            double a = ((double)q.y - p.y) * ((double)s.z - p.z) - ((double)q.z - p.z) * ((double)s.y - p.y);
+            assert_true(a > 0);
+            area += a / 2;
+        }
+        assert_float_equal(area, 0.5, 1e-9);
+        /* mirrored edge points hold the same floats swapped; corners are exact */
+        for (int i = 0; i <= L; i++) {
+            float3 a = b[core_grid_index(L, i, 0)], m = b[core_grid_index(L, L - i, 0)];
+            assert_true(a.x == m.y && a.y == m.x && a.z == 0.0f);
+        }
+        assert_true(b[core_grid_index(L, 0, 0)].x == 1.0f && b[core_grid_index(L, L, 0)].y == 1.0f &&
+                    b[core_grid_index(L, 0, L)].z == 1.0f);
+        free(b);
+        free(idx);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_freq_valid),          cmocka_unit_test(test_freq_invalid),
+        cmocka_unit_test(test_declaration_validation), cmocka_unit_test(test_fetch_formats),
+        cmocka_unit_test(test_render_states),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
+        cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
+    };
+    return cmocka_run_group_tests_name("device", tests, NULL, NULL);
+}
