@@ -12,7 +12,7 @@
 static const char usage_text[] =
     "usage: instess [OPTION]... -o FILE.png|FILE.exr\n"
     "       instess figures [--out DIR] [--only ID[,ID...]] [--small]\n"
-    "       instess smoothness [--level N]\n"
+    "       instess smoothness [--samples N]\n"
     "Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n"
     "\n"
     "  --mesh NAME|FILE     built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, cylinder)\n"

@@ -215,13 +215,25 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     return cam;
 }
 
-/* Upload the listing's constants (matrices, diffuse colour, patch options). */
+/* The AOV outputs of the patch shaders (vs/vs.h): TEXCOORD1 normal, 2 barycentrics, 3 instance, 4 Gregory. */
+enum { VS_OUT_NORMAL = 1, VS_OUT_BARY = 2, VS_OUT_INSTANCE = 3, VS_OUT_GREGORY = 4 };
+
+/* The listing's constants for the scene's matrices, a diffuse colour and the patch options. */
+static void fill_constants(is_vs_constants *c, const scene_opts *o, const float4x4 *wvp, const float4x4 *world,
+                           const float diffuse[4])
+{
+    vs_options vo = vs_default_options();
+    vo.normals = o->normals;
+    vs_set_constants(c, wvp, world, f4(diffuse[0], diffuse[1], diffuse[2], diffuse[3]), &vo);
+}
+
+/* Upload the constants (SetVertexShaderConstantF c0..c9). */
 static void set_constants(is_device *dev, const scene_opts *o, const scene_camera *cam, const float diffuse[4])
 {
-    vs_params p;
-    vs_params_default(&p);
-    p.normals = o->normals;
-    vs_set_constants(dev, &cam->wvp, &cam->world, diffuse, &p);
+    is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    fill_constants(&c, o, &cam->wvp, &cam->world, diffuse);
+    dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, VS_C_COUNT);
 }
 
 /* ---------------------------------------- buffers ---------------------------------------- */
@@ -357,7 +369,7 @@ static is_result build_cpu(is_device *dev, const scene_opts *o, const is_mesh *m
 /* The shader of a path: the patch's own on the instanced path, fixed transform-and-light otherwise. */
 static const is_vertex_shader *path_shader(const scene_opts *o)
 {
-    return o->path == SCENE_PATH_INSTANCED ? vs_shader(o->patch) : &vs_tnl_shader;
+    return o->path == SCENE_PATH_INSTANCED ? vs_patch_shader(o->patch) : &vs_shader_fixed;
 }
 
 /* Issue the draw(s) of the fill mode on a device whose buffers are bound. */
@@ -499,6 +511,21 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scen
 
 /* ---------------------------------------- files ---------------------------------------- */
 
+/* The input registers the device would fetch for grid point b of instance inst (Listing 1.1.2's layout). */
+static void input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in)
+{
+    float4 *r = (float4 *)in;
+    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
+    in->position[0] = f4_of(b, 1.0f);
+    for (int k = 0; k < 3; k++) {
+        in->texcoord[VS_IN_V0 + k] = f4_of(inst->v[k], 1.0f);
+        in->texcoord[VS_IN_N0 + k] = f4_of(inst->n[k], 1.0f);
+        in->texcoord[VS_IN_OPP0 + k] = f4_of(inst->opp[k], 1.0f);
+        in->texcoord[VS_IN_T0 + k] = f4(inst->t[k].x, inst->t[k].y, 0.0f, 1.0f);
+    }
+    in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
+}
+
 /* Evaluate the patch shader at every grid point of every triangle with identity matrices, as the renderer
  * does, and write positions, normals and faces as OBJ (atomically: temporary file, then rename). */
 static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t errlen)
@@ -515,11 +542,9 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
     }
     is_vs_constants c;
     float4x4 id = mat_identity();
-    vs_params p;
-    vs_params_default(&p);
-    p.normals = o->normals;
-    vs_fill_constants(&c, &id, &id, o->diffuse, &p);
-    const is_vertex_shader *vs = vs_shader(o->patch);
+    memset(&c, 0, sizeof c);
+    fill_constants(&c, o, &id, &id, o->diffuse);
+    const is_vertex_shader *vs = vs_patch_shader(o->patch);
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
     int ok = inst != NULL;
     if (ok) mesh_build_instances(m, inst);
@@ -529,7 +554,7 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
         for (size_t k = 0; k < g.n_points; k++) {
             is_vs_input in;
             is_vs_output out;
-            vs_input_from_instance(&inst[t], g.bary[k], &in);
+            input_from_instance(&inst[t], g.bary[k], &in);
             memset(&out, 0, sizeof out);
             vs->main(&c, &in, &out);
             float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
