@@ -240,7 +240,7 @@ static void set_constants(is_device *dev, const scene_opts *o, const scene_camer
 
 /* The resources of one draw (released by scene_resources_free). */
 typedef struct scene_resources {
-    is_vertex_buffer *vb0, *vb1;
+    is_vertex_buffer *vb0, *vb1, *vb2;
     is_index_buffer *ib;
     is_vertex_declaration *decl;
     unsigned n_vertices, n_prims, n_instances;
@@ -250,6 +250,7 @@ static void scene_resources_free(scene_resources *r)
 {
     vb_release(r->vb0);
     vb_release(r->vb1);
+    vb_release(r->vb2);
     ib_release(r->ib);
     decl_release(r->decl);
     memset(r, 0, sizeof *r);
@@ -290,6 +291,83 @@ static is_result build_instanced(is_device *dev, const is_mesh *m, const core_gr
     dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
     r->n_vertices = (unsigned)g->n_points, r->n_prims = (unsigned)g->n_triangles;
     r->n_instances = (unsigned)m->n_triangles;
+    return IS_OK;
+}
+
+/* ---- PN-AEN's extra per-instance stream: the neighbour's normals at each edge's two ends ---- */
+
+/* One triangle edge keyed by its welded end points (a < b). */
+typedef struct edge_rec { uint32_t a, b, tri, k; } edge_rec;
+
+static int edge_cmp(const void *x, const void *y)
+{
+    const edge_rec *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return p->tri < q->tri ? -1 : (p->tri > q->tri);
+}
+
+/* The normal triangle u has at the vertex welded to w (fallback: `own`). */
+static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
+{
+    for (int c = 0; c < 3; c++)
+        if (m->welded[3 * (size_t)u + c] == w) return m->normals[m->indices[3 * (size_t)u + c]];
+    return own;
+}
+
+/* Fill nadj[t][k][j] = the normal that the triangle across edge k has at corner (k + j) % 3 of triangle t; an
+ * edge without exactly one neighbour (boundary, non-manifold) gets t's own normals.  Returns 0 or -1. */
+static int adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
+{
+    const size_t ne = 3 * m->n_triangles;
+    edge_rec *e = malloc(ne * sizeof *e);
+    if (!e) return -1;
+    for (size_t i = 0; i < ne; i++) {
+        uint32_t t = (uint32_t)(i / 3), k = (uint32_t)(i % 3);
+        uint32_t a = m->welded[i], b = m->welded[3 * (size_t)t + (k + 1) % 3];
+        e[i] = (edge_rec){a < b ? a : b, a < b ? b : a, t, k};
+    }
+    qsort(e, ne, sizeof *e, edge_cmp);
+    for (size_t i = 0; i < ne;) {
+        size_t j = i;
+        while (j < ne && e[j].a == e[i].a && e[j].b == e[i].b) j++;
+        for (size_t r = i; r < j; r++) {
+            uint32_t t = e[r].tri, k = e[r].k;
+            for (int c = 0; c < 2; c++) {
+                size_t corner = 3 * (size_t)t + (k + (uint32_t)c) % 3;
+                float3 own = m->normals[m->indices[corner]];
+                uint32_t other = j - i == 2 ? e[r == i ? i + 1 : i].tri : t;
+                nadj[t][k][c] = other == t ? own : normal_at(m, other, m->welded[corner], own);
+            }
+        }
+        i = j;
+    }
+    free(e);
+    return 0;
+}
+
+/* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals and a declaration that adds vs_nadj_regs to
+ * Listing 1.1.2's; replaces the declaration of build_instanced. */
+static is_result bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r)
+{
+    is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
+    if (e != IS_OK) return e;
+    if (adjacent_normals(m, vb_lock(r->vb2)) != 0) return IS_ERR_OUTOFMEMORY;
+    is_vertex_element el[MESH_PATCH_DECLARATION_COUNT + 6];
+    size_t n = 0;
+    while (mesh_patch_declaration[n].stream != 0xFF) el[n] = mesh_patch_declaration[n], n++;
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 2; j++)
+            el[n++] = (is_vertex_element){2, (uint16_t)((k * 2 + j) * sizeof(float3)), IS_DECLTYPE_FLOAT3, 0,
+                                          vs_nadj_regs[k][j].usage, vs_nadj_regs[k][j].usage_index};
+    el[n] = (is_vertex_element)IS_DECL_END;
+    decl_release(r->decl);
+    r->decl = NULL;
+    e = dev_create_vertex_declaration(dev, el, &r->decl);
+    if (e != IS_OK) return e;
+    dev_set_vertex_declaration(dev, r->decl);
+    dev_set_stream_source(dev, 2, r->vb2, 0, sizeof(float3[3][2]));
+    dev_set_stream_source_freq(dev, 2, IS_STREAMSOURCE_INSTANCEDATA | 1u);
     return IS_OK;
 }
 
@@ -398,8 +476,23 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
     switch (o->path) {
     case SCENE_PATH_NPATCH_MODE: return build_npatch_mode(dev, o, m, r);
     case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
-    default: return build_instanced(dev, m, g, r);
+    default: {
+        is_result e = build_instanced(dev, m, g, r);
+        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? bind_adjacent_normals(dev, m, r) : e;
     }
+    }
+}
+
+int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+               const is_vertex_shader *shader)
+{
+    scene_camera cam = make_camera(o, m);
+    scene_resources r = {0};
+    dev_set_vertex_shader(dev, shader ? shader : path_shader(o));
+    is_result e = build_path(dev, o, m, g, &r);
+    if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
+    scene_resources_free(&r);
+    return e == IS_OK ? 0 : -1;
 }
 
 /* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
@@ -415,15 +508,9 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
     for (size_t k = 0; k < 4; k++)
         if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
                                                        aov_slots[k].comps);
-    scene_camera cam = make_camera(o, m);
-    scene_resources r = {0};
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    dev_set_vertex_shader(dev, path_shader(o));
-    is_result e = build_path(dev, o, m, g, &r);
-    if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
-    if (e != IS_OK) {
+    if (scene_draw(dev, o, m, g, NULL) != 0) {
         snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
-        scene_resources_free(&r);
         dev_destroy(dev);
         return NULL;
     }
@@ -432,7 +519,6 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
         st->triangles_drawn += dev_stats(dev)->prims_drawn;
         st->raster = *dev_stats(dev);
     }
-    scene_resources_free(&r);
     return dev;
 }
 

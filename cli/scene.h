@@ -73,6 +73,12 @@ bool scene_parse_int(const char *s, int lo, int hi, int *out);
 bool scene_parse_float(const char *s, float lo, float hi, float *out);
 bool scene_parse_aovs(const char *s, unsigned *out);
 
+/* Draw mesh m with grid g on dev as o says (path, fill, camera, constants c0..c9), with o's shader or, if
+ * shader is not NULL, that one (tests wrap the patch shaders).  The device's other states are left as the
+ * caller set them, apart from FILLMODE, DEPTHBIAS, SLOPESCALEDEPTHBIAS and the N-patch states.  0 or -1
+ * (dev_last_error tells why). */
+int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+               const is_vertex_shader *shader);
 /* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);

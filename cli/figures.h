@@ -1,0 +1,62 @@
+/* cli/figures.h -- the figures of the three source documents (design.md section 5): one table entry per figure,
+ * rendered by `instess figures` (cli/figures.c) into out/<id>.png (+ .exr for renderings) and out/index.html, and
+ * by tests/test_figures.c at a small size against golden images.
+ *
+ * Conventions: a figure's render function fills an image (allocated by it with image_alloc: "R,G,B,A" for
+ * diagrams; "R,G,B,A,Z,N.X,N.Y,N.Z" for renderings, where Z and N come from an AOV pass of the main view) and
+ * returns 0, or -1 with a message in err.  It must be deterministic (same bytes for any thread count) and use
+ * only the project's device for drawing (lines, points, triangles) and image_draw_text for labels (printable
+ * ASCII only: write "b0", "alpha").  `small` asks for the test size: the same picture at about 1/4 of the pixels
+ * (goldens stay small).  No globals except the const tables. */
+#ifndef INSTESS_FIGURES_H
+#define INSTESS_FIGURES_H
+
+#include <stdbool.h>
+
+#include "scene.h"
+
+typedef struct fig_ctx {
+    bool small;   /* test size */
+    int threads;  /* threads for each render (0: all cores) */
+} fig_ctx;
+
+typedef int (*fig_fn)(const fig_ctx *ctx, is_image *out, char *err, size_t errlen);
+
+typedef struct figure {
+    const char *id;        /* "fig-1.1.1a" (design.md section 5) */
+    const char *group;     /* figures shown side by side share a group ("fig-1.1.1"); NULL: alone */
+    const char *source;    /* "Gruen, Smoothed N-Patches (seed 000), Figure 1.1.1a" */
+    const char *caption;   /* the document's caption, as printed (OCR fixed) */
+    const char *shows;     /* what the image shows and how it was made (mesh, patch, level, view, samples) */
+    const char *command;   /* the exact command that reproduces it (an `instess ...` render, or
+                              `instess figures --only ID` for composites and diagrams) */
+    bool rendering;        /* a rendering of a surface: also written as .exr with Z and N.X, N.Y, N.Z */
+    fig_fn render;
+} figure;
+
+/* The two tables, each ended by an entry with id == NULL. */
+extern const figure fig_renders[];   /* cli/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
+extern const figure fig_diagrams[];  /* cli/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
+
+/* ---- a small drawing kit for diagrams and labels (cli/canvas.c) ---- */
+typedef struct fig_canvas fig_canvas;
+/* A w x h canvas with 4x MSAA, background colour bg (RGBA in [0,1]); a 2D coordinate frame maps
+ * [x0, x1] x [y0, y1] (y up) onto the image with equal scale on both axes and a margin. */
+fig_canvas *canvas_create(int w, int h, const float bg[4], float x0, float y0, float x1, float y1, char *err,
+                          size_t errlen);
+void canvas_destroy(fig_canvas *c);
+/* Primitives in frame coordinates (z ignored: later draws are on top), colours RGBA in [0,1]. */
+void canvas_line(fig_canvas *c, float2 a, float2 b, float width_px, const float rgba[4]);
+void canvas_dashed_line(fig_canvas *c, float2 a, float2 b, float width_px, float dash_px, const float rgba[4]);
+void canvas_arrow(fig_canvas *c, float2 a, float2 b, float width_px, const float rgba[4]);
+void canvas_point(fig_canvas *c, float2 p, float radius_px, const float rgba[4]);
+void canvas_triangle(fig_canvas *c, float2 a, float2 b, float2 d, const float rgba[4]);
+/* Text with its baseline's left end at p shifted by (dx, dy) pixels (image_draw_text's font). */
+void canvas_text(fig_canvas *c, float2 p, float dx, float dy, const char *text, float size_px, const float rgba[4]);
+/* A 3D view: project a point through the canvas's matrix set by canvas_set_view (world*view*proj, as scene). */
+void canvas_set_view(fig_canvas *c, const float4x4 *wvp);
+float2 canvas_project(const fig_canvas *c, float3 p);
+/* Resolve into img (allocated "R,G,B,A"); 0 or -1. */
+int canvas_finish(fig_canvas *c, is_image *img, char *err, size_t errlen);
+
+#endif
