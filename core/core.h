@@ -330,7 +330,7 @@ static inline uint32_t core_grid_index(int level, int i, int j)
  * fractional_even spacing (core/grid_pg.c has the rules).  Points are barycentric like core_grid_regular's and
  * wind the same way; a point on an edge has exactly one coordinate 0, and its two others are each computed
  * from the count of segments from its own end, so a neighbour with the same outer level holds the same floats
- * swapped (watertight).  Levels are clamped to [1, 64] (fractional_even: [2, 64]); non-finite levels are
+ * swapped (watertight).  Levels are clamped to [1, 64] (fractional_odd: [1, 63], fractional_even: [2, 64]); non-finite levels are
  * an error.  Memory is allocated here: free with core_grid_free. */
 typedef enum core_grid_kind {
     CORE_GRID_REGULAR = 0, CORE_GRID_PG_EQUAL, CORE_GRID_PG_FRACTIONAL_ODD, CORE_GRID_PG_FRACTIONAL_EVEN
