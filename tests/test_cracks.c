@@ -34,14 +34,15 @@ static const is_vertex_shader count_shader = {"count", vs_count, IS_OUT_COLOR0};
 
 /* Draw the counting image of mesh m with patch p at `level` from (yaw, pitch); returns the number of pixels
  * with an odd count and fills *covered with the pixels covered at all. */
-static long odd_pixels(const is_mesh *m, vs_patch p, int level, float yaw, float pitch, long *covered)
+static long odd_pixels_grid(const is_mesh *m, vs_patch p, core_grid_kind kind, float level, float yaw, float pitch,
+                            long *covered)
 {
     scene_opts o;
     scene_opts_default(&o);
-    o.patch = p, o.level = (float)level, o.yaw = yaw, o.pitch = pitch, o.width = o.height = SIZE, o.msaa = 1;
+    o.patch = p, o.level = level, o.grid = kind, o.yaw = yaw, o.pitch = pitch, o.width = o.height = SIZE, o.msaa = 1;
     o.distance = 2.6f;
     core_grid g;
-    assert_int_equal(core_grid_make(CORE_GRID_REGULAR, o.level, &g), 0);
+    assert_int_equal(core_grid_make(kind, o.level, &g), 0);
     is_device *dev = dev_create(SIZE, SIZE, 1, NULL, 0);
     assert_non_null(dev);
     dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
@@ -64,6 +65,12 @@ static long odd_pixels(const is_mesh *m, vs_patch p, int level, float yaw, float
     dev_destroy(dev);
     core_grid_free(&g);
     return odd;
+}
+
+/* The same on the regular grid of an integer level. */
+static long odd_pixels(const is_mesh *m, vs_patch p, int level, float yaw, float pitch, long *covered)
+{
+    return odd_pixels_grid(m, p, CORE_GRID_REGULAR, (float)level, yaw, pitch, covered);
 }
 
 /* Whether two vertices at the same position carry different normals. */
@@ -133,12 +140,37 @@ static void test_split_normals_crack_the_npatch(void **state)
     mesh_free(&m);
 }
 
+/* The primitive-generator grids at fractional levels: no cracks either (welded meshes, every patch). */
+static void test_no_cracks_pg_grids(void **state)
+{
+    const core_grid_kind kinds[] = {CORE_GRID_PG_EQUAL, CORE_GRID_PG_FRACTIONAL_ODD, CORE_GRID_PG_FRACTIONAL_EVEN};
+    const float levels[] = {1.0f, 2.5f, 3.3f, 4.7f, 7.9f};
+    const char *meshes[] = {"tetrahedron", "cube", "sphere"};
+    for (size_t mi = 0; mi < 3; mi++) {
+        is_mesh m = {0};
+        char err[256];
+        assert_int_equal(mesh_builtin(meshes[mi], &m, err, sizeof err), 0);
+        for (int p = 0; p < VS_PATCH_COUNT; p++)
+            for (size_t k = 0; k < 3; k++)
+                for (size_t l = 0; l < 5; l++) {
+                    long covered;
+                    long odd = odd_pixels_grid(&m, (vs_patch)p, kinds[k], levels[l], 30.0f, 20.0f, &covered);
+                    if (odd) fprintf(stderr, "cracks: %s %s grid %d level %g: %ld odd pixels\n", meshes[mi],
+                                     vs_patch_name((vs_patch)p), (int)kinds[k], (double)levels[l], odd);
+                    assert_int_equal(odd, 0);
+                    assert_true(covered > SIZE * SIZE / 10);
+                }
+        mesh_free(&m);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_detector_finds_a_crack),
         cmocka_unit_test(test_split_normals_crack_the_npatch),
         cmocka_unit_test(test_no_cracks),
+        cmocka_unit_test(test_no_cracks_pg_grids),
     };
     return cmocka_run_group_tests_name("cracks", tests, NULL, NULL);
 }
