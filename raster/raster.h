@@ -11,13 +11,28 @@
  *    (horizontal, interior below it) or a left edge.  Abutting triangles therefore cover every sample once.
  *  - Winding: screen-space clockwise triangles are front faces.  RS_CULL_CCW (the D3D9 default) drops
  *    counter-clockwise ones, RS_CULL_CW drops clockwise ones.
- *  - Fixed point: screen positions snap to 1/256 pixel (8 sub-pixel bits).  Triangles must lie inside the guard
- *    band |x|, |y| < RS_GUARD_BAND pixels after clipping; edge functions are evaluated in int64 (budget in
- *    raster/setup.c).  Triangles outside the guard band are clipped against it, never overflowed.
- *  - Depth: float32 in [min_z, max_z] (normally [0, 1]), smaller is nearer with RS_CMP_LESS.
+ *  - Fixed point: screen positions snap to 1/256 pixel (8 sub-pixel bits).  Primitives are clipped to the guard
+ *    band |X - cx|, |Y - cy| < RS_GUARD_BAND pixels around the viewport centre (cx, cy) (so there is always at
+ *    least 8192 px of band around a viewport); edge functions are evaluated in int64 (budget in
+ *    raster/setup.c).  Triangles outside the guard band are clipped against it, never overflowed.  Rendering is
+ *    scissored to the viewport rectangle.
+ *  - Depth: float32 in [min_z, max_z] (normally [0, 1]), smaller is nearer with RS_CMP_LESS.  Depth bias is
+ *    depth_bias + slope_scale_depth_bias * max(|dz/dx|, |dz/dy|) (per pixel), added before the test; the biased
+ *    depth is clamped to the viewport's depth range.
  *  - Colour: attribute slot RS_ATTR_COLOR0 is the pixel colour (RGBA, saturated to [0, 1], stored as 8 bits per
  *    channel, rounded to nearest).  Interpolation is perspective-correct for every slot (SHADEMODE GOURAUD); with
- *    FLAT the colour of the triangle's first vertex is used (D3D9's rule).
+ *    FLAT the colour of the triangle's first vertex is used (D3D9's rule) for slots COLOR0 and COLOR1.
+ *    Only slots that are both in attr_mask and consumed (COLOR0, and the target's AOV slots) are interpolated;
+ *    a consumed slot missing from attr_mask reads (0, 0, 0, 0), except COLOR0 which reads opaque white.
+ *  - Multisampling (4 samples and MULTISAMPLEANTIALIAS): coverage and depth per sample, colour shaded once per
+ *    pixel at the pixel centre (no centroid).  A 4-sample target without MULTISAMPLEANTIALIAS gives every
+ *    sample the pixel centre's coverage and depth.  Lines and points cover all samples of their pixels.
+ *  - Lines: one pixel per pixel centre crossed on the major axis (|dx| >= |dy|: x), from the first vertex up to
+ *    but excluding the last (D3DRS_LASTPIXEL FALSE); the minor pixel is the nearest pixel centre (ties to +).
+ *    Points and point fill: the pixel whose centre is nearest (ties to +x / +y).  Wireframe draws the edges of
+ *    the clipped polygon that lie on the input triangle's edges (not edges made by clipping); point fill its
+ *    input vertices that survive clipping.
+ *  - Blending: 8-bit math, out = min(255, round(src*fs/255) + round(dst*fd/255)) per channel (raster/frag.c).
  *  - Errors: functions return 0 on success or a negative RS_E* code.  Degenerate, non-finite or fully clipped
  *    primitives are silently dropped (counted in rs_stats) -- they are not errors.
  *  - Determinism: the same draw gives the same bytes for any thread count (tiles are owned by one thread and
@@ -64,7 +79,7 @@ enum {
 };
 enum { RS_PRIM_POINTS = 1, RS_PRIM_LINES = 2, RS_PRIM_TRIANGLES = 4 };
 
-#define RS_GUARD_BAND 16384.0f /* pixels from the origin; see setup.c for the bit budget */
+#define RS_GUARD_BAND 16384.0f /* pixels from the viewport centre; see setup.c for the bit budget */
 #define RS_MAX_SIZE 16384      /* largest render target side */
 
 typedef struct rs_viewport { int x, y, width, height; float min_z, max_z; } rs_viewport;
@@ -102,7 +117,10 @@ typedef struct rs_target {
     rs_aov aov[RS_MAX_AOV];
 } rs_target;
 
-/* Counters of one rs_draw call (for tests and the benchmark). */
+/* Counters of one rs_draw call (for tests and the benchmark).  prims_* count input primitives: culled by
+ * winding, clipped away (entirely outside the clip volume), degenerate (zero area after snapping, zero-length
+ * line, or a non-finite position), drawn (the rest).  samples_tested: covered samples that reached the depth
+ * test; samples_written: those that passed it (colour written).  Zeroed when rs_draw fails. */
 typedef struct rs_stats {
     uint64_t prims_in, prims_culled, prims_clipped_away, prims_degenerate, prims_drawn;
     uint64_t samples_tested, samples_written;
@@ -125,9 +143,10 @@ int rs_target_init(rs_target *rt, int width, int height, int samples);
 void rs_target_free(rs_target *rt);
 /* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
 int rs_target_add_aov(rs_target *rt, int slot, int comps);
-/* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: 1 colour, 2 depth). */
+/* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: 1 colour and AOVs, 2 depth). */
 void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
-/* Average the samples of each pixel into out (width*height packed RGBA8), rounding to nearest. */
+/* Average the samples of each pixel into out (width*height packed RGBA8), per channel, rounding to nearest
+ * (halves up: (sum + 2) / 4). */
 void rs_target_resolve(const rs_target *rt, uint32_t *out);
 
 /* Draw n_prims primitives of `prim` (points, lines or triangles) whose vertices are verts[idx[k]]

@@ -1,0 +1,255 @@
+/* raster/draw.c -- the rasterizer context and rs_draw: validation, the per-draw job, parallel setup and
+ * binning over chunks of primitives, then parallel rasterization over 64x64 tiles.
+ *
+ * Determinism: chunk boundaries depend only on the primitive count and the target size, each chunk keeps its
+ * primitives in submission order, and each tile (owned by one thread) walks the chunks in order and each bin
+ * in order; so every sample sees the same operations in the same order for any thread count.
+ */
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "raster_internal.h"
+
+#define CHUNK_MIN 1024            /* input primitives per chunk, at least */
+#define CHUNK_MAX_COUNT 256       /* chunks per draw, at most */
+#define BIN_OFFSETS_BUDGET (1u << 22) /* chunks * (tiles + 1) bin offsets per draw, at most */
+
+rs_context *rs_create(int threads)
+{
+    rs_context *rs = calloc(1, sizeof *rs);
+    if (rs) rs->threads = threads > 0 ? threads : 0;
+    return rs;
+}
+
+void rs_destroy(rs_context *rs)
+{
+    if (!rs) return;
+    for (size_t i = 0; i < rs->n_chunks_cap; i++) {
+        rs_chunk *c = &rs->chunks[i];
+        free(c->prims);
+        free(c->attr);
+        free(c->bin_off);
+        free(c->bin_idx);
+    }
+    free(rs->chunks);
+    free(rs->tile_stats);
+    free(rs);
+}
+
+void rs_set_threads(rs_context *rs, int threads)
+{
+    if (rs) rs->threads = threads > 0 ? threads : 0;
+}
+
+/* Threads to use for a draw (0 in the context: all cores). */
+static int thread_count(const rs_context *rs)
+{
+    int n = rs->threads > 0 ? rs->threads : omp_get_num_procs();
+    return n > 0 ? n : 1;
+}
+
+/* Are the render states and the viewport valid for target rt? */
+static bool valid_state(const rs_state *st, const rs_target *rt)
+{
+    if (st->cull_mode < RS_CULL_NONE || st->cull_mode > RS_CULL_CCW) return false;
+    if (st->fill_mode < RS_FILL_POINT || st->fill_mode > RS_FILL_SOLID) return false;
+    if (st->shade_mode != RS_SHADE_FLAT && st->shade_mode != RS_SHADE_GOURAUD) return false;
+    if (st->z_enable && (st->z_func < RS_CMP_NEVER || st->z_func > RS_CMP_ALWAYS)) return false;
+    if (st->blend_enable && (st->src_blend < RS_BLEND_ZERO || st->src_blend > RS_BLEND_INVDESTCOLOR ||
+                             st->dst_blend < RS_BLEND_ZERO || st->dst_blend > RS_BLEND_INVDESTCOLOR))
+        return false;
+    if (!isfinite(st->depth_bias) || !isfinite(st->slope_scale_depth_bias)) return false;
+    const rs_viewport *vp = &st->viewport;
+    if (vp->x < 0 || vp->y < 0 || vp->width < 1 || vp->height < 1) return false;
+    if (vp->width > rt->width - vp->x || vp->height > rt->height - vp->y) return false;
+    return isfinite(vp->min_z) && isfinite(vp->max_z);
+}
+
+/* Is the target well formed (sizes, planes, AOV planes)? */
+static bool valid_target(const rs_target *rt)
+{
+    if (!rt->color || !rt->depth || rt->width < 1 || rt->height < 1 || rt->width > RS_MAX_SIZE ||
+        rt->height > RS_MAX_SIZE || (rt->samples != 1 && rt->samples != 4))
+        return false;
+    if (rt->n_aov < 0 || rt->n_aov > RS_MAX_AOV || (rt->n_aov > 0 && rt->samples != 1)) return false;
+    for (int k = 0; k < rt->n_aov; k++) {
+        const rs_aov *a = &rt->aov[k];
+        if (!a->data || a->slot < 0 || a->slot >= RS_MAX_ATTR || a->comps < 1 || a->comps > 4) return false;
+    }
+    return true;
+}
+
+/* Do the primitive type, counts and indices describe vertices that exist? */
+static bool valid_input(int prim, const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims)
+{
+    if (prim != RS_PRIM_POINTS && prim != RS_PRIM_LINES && prim != RS_PRIM_TRIANGLES) return false;
+    if (n_prims == 0) return true;
+    size_t vpp = prim == RS_PRIM_TRIANGLES ? 3 : (prim == RS_PRIM_LINES ? 2 : 1);
+    if (!verts || n_prims > SIZE_MAX / vpp / sizeof(rs_vertex)) return false;
+    size_t n = n_prims * vpp;
+    if (!idx) return n <= n_verts;
+    for (size_t k = 0; k < n; k++)
+        if (idx[k] >= n_verts) return false;
+    return true;
+}
+
+/* Interpolated slots: those of attr_mask that are consumed (COLOR0 and the AOV planes' slots). */
+static void job_slots(rs_job *j)
+{
+    const rs_state *st = j->st;
+    uint32_t need = 1u << RS_ATTR_COLOR0;
+    for (int k = 0; k < j->rt->n_aov; k++) need |= 1u << j->rt->aov[k].slot;
+    need &= st->attr_mask;
+    j->n_slots = 0;
+    int where[RS_MAX_ATTR];
+    for (int k = 0; k < RS_MAX_ATTR; k++) {
+        where[k] = -1;
+        if (need & (1u << k)) { where[k] = j->n_slots; j->slot[j->n_slots++] = k; }
+    }
+    j->color_idx = where[RS_ATTR_COLOR0];
+    for (int k = 0; k < RS_MAX_AOV; k++) j->aov_idx[k] = k < j->rt->n_aov ? where[j->rt->aov[k].slot] : -1;
+    j->stride = j->n_slots * RS_ATTR_STRIDE;
+}
+
+/* Fill the per-draw constants. */
+static void make_job(rs_job *j, const rs_state *st, rs_target *rt, int prim, const rs_vertex *verts,
+                     const uint32_t *idx)
+{
+    static const int32_t pat[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } }; /* 1/16 px */
+    memset(j, 0, sizeof *j);
+    j->st = st;
+    j->rt = rt;
+    j->prim = prim;
+    j->verts = verts;
+    j->idx = idx;
+    j->samples = rt->samples;
+    bool ms = rt->samples == 4 && st->multisample;
+    for (int s = 0; s < 4; s++) {
+        j->sox[s] = ms ? pat[s][0] * (RS_SUB / 16) : 0;
+        j->soy[s] = ms ? pat[s][1] * (RS_SUB / 16) : 0;
+    }
+    j->omax = ms ? 6 * (RS_SUB / 16) : 0;
+    const rs_viewport *vp = &st->viewport;
+    j->sx0 = vp->x; j->sy0 = vp->y; j->sx1 = vp->x + vp->width; j->sy1 = vp->y + vp->height;
+    j->cx = (int64_t)vp->x * RS_SUB + (int64_t)vp->width * (RS_SUB / 2);
+    j->cy = (int64_t)vp->y * RS_SUB + (int64_t)vp->height * (RS_SUB / 2);
+    j->sx_scale = (double)vp->width * (RS_SUB / 2);
+    j->sy_scale = -(double)vp->height * (RS_SUB / 2);
+    j->gx = ((double)RS_GUARD_BAND - 1.0) / (vp->width * 0.5);
+    j->gy = ((double)RS_GUARD_BAND - 1.0) / (vp->height * 0.5);
+    j->zoff = vp->min_z;
+    j->zscale = vp->max_z - vp->min_z;
+    j->zlo = vp->min_z < vp->max_z ? vp->min_z : vp->max_z;
+    j->zhi = vp->min_z < vp->max_z ? vp->max_z : vp->min_z;
+    j->flat = st->shade_mode == RS_SHADE_FLAT;
+    j->tiles_x = (rt->width + RS_TILE - 1) / RS_TILE;
+    j->tiles_y = (rt->height + RS_TILE - 1) / RS_TILE;
+    j->n_tiles = j->tiles_x * j->tiles_y;
+    job_slots(j);
+}
+
+/* Make room for n chunks and the tile counters; false when out of memory. */
+static bool reserve_context(rs_context *rs, size_t n, size_t n_tiles)
+{
+    if (n > rs->n_chunks_cap) {
+        rs_chunk *c = realloc(rs->chunks, n * sizeof *c);
+        if (!c) return false;
+        memset(c + rs->n_chunks_cap, 0, (n - rs->n_chunks_cap) * sizeof *c);
+        rs->chunks = c;
+        rs->n_chunks_cap = n;
+    }
+    if (2 * n_tiles > rs->tile_stats_cap) {
+        uint64_t *s = realloc(rs->tile_stats, 2 * n_tiles * sizeof *s);
+        if (!s) return false;
+        rs->tile_stats = s;
+        rs->tile_stats_cap = 2 * n_tiles;
+    }
+    return true;
+}
+
+/* Number of chunks for n primitives on a target of n_tiles tiles. */
+static size_t chunk_count(size_t n, size_t n_tiles)
+{
+    size_t c = (n + CHUNK_MIN - 1) / CHUNK_MIN;
+    size_t cap = BIN_OFFSETS_BUDGET / (n_tiles + 1);
+    cap = cap < 1 ? 1 : (cap > CHUNK_MAX_COUNT ? CHUNK_MAX_COUNT : cap);
+    return c < 1 ? 1 : (c > cap ? cap : c);
+}
+
+/* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
+static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts)
+{
+    rs_tile t;
+    int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
+    t.x0 = tx * RS_TILE > j->sx0 ? tx * RS_TILE : j->sx0;
+    t.y0 = ty * RS_TILE > j->sy0 ? ty * RS_TILE : j->sy0;
+    t.x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
+    t.y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
+    t.tested = t.written = 0;
+    for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
+        const rs_chunk *ch = &rs->chunks[c];
+        for (uint32_t k = ch->bin_off[tile]; k < ch->bin_off[tile + 1]; k++) {
+            uint32_t i = ch->bin_idx[k];
+            const rs_prim *p = &ch->prims[i];
+            const float *a = ch->attr + (size_t)i * (size_t)j->stride;
+            if (p->kind == RS_K_TRI) rs_tri_tile(j, &t, p, a);
+            else if (p->kind == RS_K_LINE) rs_line_tile(j, &t, p, a);
+            else rs_point_tile(j, &t, p, a);
+        }
+    }
+    ts[0] = t.tested;
+    ts[1] = t.written;
+}
+
+/* Sum the chunk and tile counters into *stats. */
+static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks, size_t n_prims, rs_stats *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    stats->prims_in = n_prims;
+    for (size_t c = 0; c < n_chunks; c++) {
+        const rs_chunk *ch = &rs->chunks[c];
+        stats->prims_culled += ch->culled;
+        stats->prims_clipped_away += ch->clipped;
+        stats->prims_degenerate += ch->degenerate;
+        stats->prims_drawn += ch->drawn;
+    }
+    for (int t = 0; t < j->n_tiles; t++) {
+        stats->samples_tested += rs->tile_stats[2 * (size_t)t];
+        stats->samples_written += rs->tile_stats[2 * (size_t)t + 1];
+    }
+}
+
+int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const rs_vertex *verts, size_t n_verts,
+            const uint32_t *idx, size_t n_prims, rs_stats *stats)
+{
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (!rs || !st || !rt || !valid_target(rt) || !valid_state(st, rt) ||
+        !valid_input(prim, verts, n_verts, idx, n_prims))
+        return RS_EINVAL;
+    if (stats) stats->prims_in = n_prims;
+    if (n_prims == 0) return RS_OK;
+    rs_job j;
+    make_job(&j, st, rt, prim, verts, idx);
+    size_t n_chunks = chunk_count(n_prims, (size_t)j.n_tiles);
+    if (!reserve_context(rs, n_chunks, (size_t)j.n_tiles)) return RS_ENOMEM;
+    size_t per = (n_prims + n_chunks - 1) / n_chunks;
+    for (size_t c = 0; c < n_chunks; c++) {
+        rs->chunks[c].first = c * per < n_prims ? c * per : n_prims;
+        rs->chunks[c].count = c * per < n_prims ? (n_prims - c * per < per ? n_prims - c * per : per) : 0;
+    }
+    int nt = thread_count(rs);
+    long nc = (long)n_chunks;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+    for (long c = 0; c < nc; c++) {
+        rs_setup_chunk(&j, &rs->chunks[c]);
+        rs_bin_chunk(&j, &rs->chunks[c]);
+    }
+    for (size_t c = 0; c < n_chunks; c++)
+        if (rs->chunks[c].oom) return RS_ENOMEM;
+    int ntl = j.n_tiles;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+    for (int t = 0; t < ntl; t++) raster_tile(&j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t);
+    if (stats) gather_stats(&j, rs, n_chunks, n_prims, stats);
+    return RS_OK;
+}

@@ -1,0 +1,223 @@
+/* raster/raster_internal.h -- private types of the rasterizer: the per-draw job, set-up primitives, chunks of
+ * set-up primitives with their tile bins, and the small inline helpers of the per-sample path.
+ *
+ * Pipeline of one rs_draw (draw.c):
+ *   1. validate, build the job (per-draw constants);
+ *   2. in parallel over chunks of input primitives (clip.c, setup.c): clip, project, snap, cull, set up
+ *      triangles / lines / points into the chunk's own arrays (submission order inside the chunk), then bin
+ *      them to 64x64 tiles (per chunk, so no locks);
+ *   3. in parallel over tiles (tri.c, line.c): walk the chunks in order and each chunk's bin in order, so every
+ *      sample sees the primitives in submission order whatever the thread count.
+ */
+#ifndef INSTESS_RASTER_INTERNAL_H
+#define INSTESS_RASTER_INTERNAL_H
+
+#include <math.h>
+#include <stdint.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "raster.h"
+
+#define RS_SUB_BITS 8                 /* sub-pixel bits of snapped positions */
+#define RS_SUB (1 << RS_SUB_BITS)     /* 256 */
+#define RS_TILE_BITS 6
+#define RS_TILE (1 << RS_TILE_BITS)   /* tile side in pixels (64) */
+#define RS_BLOCK 8                    /* block side of the trivial reject / accept test */
+#define RS_MAX_POLY 12                /* 3 vertices + one per clip plane (6), with room */
+#define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
+
+enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
+
+/* Constants of one draw, shared read-only by every thread. */
+typedef struct rs_job {
+    const rs_state *st;
+    rs_target *rt;
+    int prim;                   /* RS_PRIM_* */
+    const rs_vertex *verts;
+    const uint32_t *idx;
+    int samples;                /* samples per pixel in the target (1 or 4) */
+    int32_t sox[4], soy[4];     /* sample offsets from the pixel centre, 1/256 px (0 when not multisampling) */
+    int32_t omax;               /* max |offset| over the samples, 1/256 px */
+    int sx0, sy0, sx1, sy1;     /* scissor = viewport ∩ target, pixels, half-open */
+    int64_t cx, cy;             /* viewport centre, 1/256 px (absolute) */
+    double sx_scale, sy_scale;  /* NDC -> fixed point relative to the centre: width*128, -height*128 */
+    double gx, gy;              /* guard band in NDC units: |x| <= gx*w, |y| <= gy*w */
+    float zscale, zoff;         /* depth = zoff + zscale * z/w */
+    float zlo, zhi;             /* depth clamp (the viewport's depth range) */
+    int n_slots;                /* interpolated slots (attr_mask ∩ slots that are consumed) */
+    int slot[RS_MAX_ATTR];
+    int color_idx;              /* index of RS_ATTR_COLOR0 in slot[], -1: constant white */
+    int aov_idx[RS_MAX_AOV];    /* index of each AOV plane's slot in slot[], -1: zeros */
+    int stride;                 /* floats per primitive in the attribute pool */
+    bool flat;
+    int tiles_x, tiles_y, n_tiles;
+} rs_job;
+
+/* A triangle after setup: integer edge functions and float planes, all relative to vertex 0. */
+typedef struct rs_tri {
+    int64_t ea[3], eb[3], ec[3]; /* E = ea*X + eb*Y + ec (X, Y: sample, 1/256 px, relative to the viewport
+                                    centre); inside iff E >= 0 (top-left bias folded into ec) */
+    int32_t vx, vy;              /* vertex 0, 1/256 px relative to the centre: origin of the float planes */
+    float z[3];                  /* depth plane: dz/dx, dz/dy per pixel, z at vertex 0 (bias included) */
+    float q1[3], q2[3], s[3];    /* planes of lambda1/w1, lambda2/w2, sum lambda_i/w_i (1/w normalised) */
+} rs_tri;
+
+/* A line after setup: the major axis walk of line.c. */
+typedef struct rs_line {
+    int64_t m0, n0;              /* start on the major / minor axis, 1/256 px, absolute */
+    int64_t dm, dn;              /* end - start, dm > 0 */
+    float z0, dz;                /* depth at the start (bias included) and its change to the end */
+    float w0, w1;                /* normalised 1/w at the start and the end */
+    bool xmajor;
+} rs_line;
+
+typedef struct rs_point {
+    float z;
+} rs_point;
+
+typedef struct rs_prim {
+    int32_t x0, y0, x1, y1;      /* pixel bounding box clamped to the scissor, inclusive */
+    int kind;                    /* RS_K_* */
+    union { rs_tri t; rs_line l; rs_point p; } u;
+} rs_prim;
+
+/* The set-up output of one chunk of input primitives, with its tile bins (CSR: bin_off[tile]..[tile+1]). */
+typedef struct rs_chunk {
+    size_t first, count;         /* input primitives [first, first+count) */
+    rs_prim *prims;
+    float *attr;                 /* stride floats per primitive */
+    size_t n, cap;
+    uint32_t *bin_off;           /* n_tiles + 1 */
+    size_t bin_off_cap;
+    uint32_t *bin_idx;
+    size_t n_idx, idx_cap;
+    uint64_t culled, clipped, degenerate, drawn;
+    bool oom;
+} rs_chunk;
+
+struct rs_context {
+    int threads;
+    rs_chunk *chunks;
+    size_t n_chunks_cap;
+    uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
+    size_t tile_stats_cap;
+};
+
+/* A tile being rasterized by one thread: its pixel rectangle (inside the scissor) and its counters. */
+typedef struct rs_tile {
+    int x0, y0, x1, y1;          /* half-open */
+    uint64_t tested, written;
+} rs_tile;
+
+/* ---- clip.c: homogeneous clipping of polygons and segments ---- */
+#define RS_CLIP_PLANES 6   /* near, far, left, right, top, bottom (guard band) */
+
+/* A vertex being clipped: homogeneous position in double, attribute slots by pointer. */
+typedef struct rs_cvert {
+    double p[4];
+    const rs_vec4 *a;      /* RS_MAX_ATTR slots (only the job's slots are valid for clip-made vertices) */
+    double line[3];        /* guard-band stage: projective line (x, y, w) through this vertex and the next */
+    bool edge;             /* the edge from this vertex to the next is (part of) an input edge */
+    bool orig;             /* an input vertex, not made by clipping */
+} rs_cvert;
+
+/* Storage for the attributes of vertices made by clipping one primitive. */
+typedef struct rs_clipbuf {
+    rs_vec4 pool[2 * RS_CLIP_PLANES + 4][RS_MAX_ATTR];
+    int n_pool;
+} rs_clipbuf;
+
+/* Bit k set when homogeneous point p is outside clip plane k. */
+unsigned rs_outcode(const rs_job *j, const double *p);
+/* Clip polygon poly[0..n) (room for RS_MAX_POLY) against the planes in mask; returns the new count. */
+int rs_clip_poly(const rs_job *j, rs_cvert *poly, int n, unsigned planes, rs_clipbuf *cb);
+/* Clip segment v[0]-v[1] in place; false when it is entirely outside. */
+bool rs_clip_line(const rs_job *j, rs_cvert *v, unsigned planes, rs_clipbuf *cb);
+
+/* ---- setup.c ---- */
+/* Set up input primitives [c->first, c->first+c->count) of the job into chunk c (prims, attr, counters). */
+void rs_setup_chunk(const rs_job *j, rs_chunk *c);
+/* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
+void rs_bin_chunk(const rs_job *j, rs_chunk *c);
+
+/* ---- tri.c, line.c ---- */
+/* Rasterize triangle p (attributes a) inside tile t. */
+void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a);
+/* Rasterize line p (attributes a) inside tile t. */
+void rs_line_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a);
+/* Rasterize point p (attributes a) inside tile t. */
+void rs_point_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a);
+/* Depth-test pixel (x, y)'s samples in cov at the one depth z, then shade with barycentrics (b1, b2) and write. */
+void rs_frag_const_z(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float z, const float *a,
+                     float b1, float b2);
+
+/* ---- small helpers ---- */
+/* floor(a / b) for b > 0. */
+static inline int64_t rs_floor_div(int64_t a, int64_t b)
+{
+    int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+/* ceil(a / b) for b > 0. */
+static inline int64_t rs_ceil_div(int64_t a, int64_t b) { return -rs_floor_div(-a, b); }
+
+/* Minor-axis pixel of line l at major pixel i (nearest pixel centre, ties towards +minor); exact in int64. */
+static inline int64_t rs_line_minor(const rs_line *l, int64_t i)
+{
+    return rs_floor_div((l->n0 + RS_SUB / 2) * l->dm + (i * RS_SUB - l->m0) * l->dn, (int64_t)RS_SUB * l->dm);
+}
+
+/* Saturate to [0, 1]; NaN becomes 0. */
+static inline float rs_sat(float c) { return c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f; }
+
+/* float colour channel -> 8 bits, rounded to nearest. */
+static inline uint32_t rs_to8(float c) { return (uint32_t)(int)(rs_sat(c) * 255.0f + 0.5f); }
+
+/* Depth test: does new depth z pass against stored d with RS_CMP_* f? */
+static inline bool rs_zpass(int f, float z, float d)
+{
+    switch (f) {
+    case RS_CMP_NEVER: return false;
+    case RS_CMP_LESS: return z < d;
+    case RS_CMP_EQUAL: return z == d;
+    case RS_CMP_LESSEQUAL: return z <= d;
+    case RS_CMP_GREATER: return z > d;
+    case RS_CMP_NOTEQUAL: return z != d;
+    case RS_CMP_GREATEREQUAL: return z >= d;
+    default: return true;
+    }
+}
+
+/* Clamp depth z to the viewport's range [lo, hi] (NaN -> lo). */
+static inline float rs_zclamp(float z, float lo, float hi) { return z >= lo ? (z <= hi ? z : hi) : lo; }
+
+/* Blend packed RGBA8 src over dst with the job's factors (8-bit math, see frag.c). */
+uint32_t rs_blend(int sf, int df, uint32_t src, uint32_t dst);
+/* Write the target's AOV planes at pixel (x, y) from attribute block a at barycentrics (b1, b2). */
+void rs_write_aov(const rs_job *j, const float *a, float b1, float b2, int x, int y);
+
+/* Colour (packed RGBA8) at perspective barycentrics (b1, b2) of attribute block a (white without COLOR0). */
+static inline uint32_t rs_shade_color(const rs_job *j, const float *a, float b1, float b2)
+{
+    if (j->color_idx < 0) return 0xffffffffu;
+    const float *p = a + j->color_idx * RS_ATTR_STRIDE;
+    uint32_t r = rs_to8(p[0] + b1 * p[1] + b2 * p[2]);
+    uint32_t g = rs_to8(p[3] + b1 * p[4] + b2 * p[5]);
+    uint32_t b = rs_to8(p[6] + b1 * p[7] + b2 * p[8]);
+    uint32_t al = rs_to8(p[9] + b1 * p[10] + b2 * p[11]);
+    return r | g << 8 | b << 16 | al << 24;
+}
+
+/* Store colour src (blended when enabled) into the samples in mask `pass` of the pixel starting at `base`. */
+static inline void rs_write_color(const rs_job *j, size_t base, unsigned pass, uint32_t src)
+{
+    uint32_t *col = j->rt->color + base;
+    const rs_state *st = j->st;
+    for (int s = 0; s < j->samples; s++) {
+        if (!(pass & (1u << s))) continue;
+        col[s] = st->blend_enable ? rs_blend(st->src_blend, st->dst_blend, src, col[s]) : src;
+    }
+}
+
+#endif

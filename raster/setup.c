@@ -1,0 +1,383 @@
+/* raster/setup.c -- primitive setup: clip, project, snap, cull, then triangles / lines / points into a chunk's
+ * arrays in submission order; and binning of a chunk's primitives to tiles.
+ *
+ * Fixed point and the bit budget of the edge functions
+ * ------------------------------------------------------
+ *  Positions are snapped to 1/256 pixel (RS_SUB_BITS = 8) *relative to the viewport centre* (cx, cy): the
+ *  centre is a multiple of 1/2 pixel, so snapping relative to it equals snapping absolute screen coordinates.
+ *  Clipping against the guard band |x| <= gx*w, |y| <= gy*w (gx = (RS_GUARD_BAND - 1) / (width/2)) and a clamp
+ *  after the divide keep every snapped coordinate within |X|, |Y| <= RS_GUARD_BAND * 256 = 2^14 * 2^8 = 2^22.
+ *  Samples lie inside the viewport, whose half-size is at most RS_MAX_SIZE / 2 = 2^13 px, so they obey the same
+ *  bound.  An edge from Vi to Vk:
+ *      A = -(Yk - Yi), B = Xk - Xi            |A|, |B| <= 2^23
+ *      C = -(A*Xi + B*Yi) - bias             |C| <= 2 * 2^23 * 2^22 = 2^46
+ *      E(X, Y) = A*X + B*Y + C               |E| <= 2^45 + 2^45 + 2^46 = 2^47
+ *  The 8x8 block test adds at most (|A| + |B|) * (7*256 + 96) < 2^24 * 2^11 = 2^35 (96 = the largest sample
+ *  offset in 1/256 px), and the doubled polygon area (the sum of at most 10 fan cross products, each <= 2^47)
+ *  stays below 2^51.  Everything fits int64 (2^63) with 12 bits to spare.  Lines use absolute coordinates
+ *  (<= 2^23) and products of a coordinate and a difference (<= 2^47 each, sums < 2^49).
+ *
+ *  The float planes (depth, perspective barycentrics) are computed in double from the snapped positions and
+ *  evaluated at (X - V0) / 256, which is exact in float (at most 2^24 units of 1/256 px).
+ */
+#include <stdlib.h>
+
+#include "raster_internal.h"
+
+/* A vertex after projection and snapping. */
+typedef struct pvert {
+    int64_t x, y;            /* 1/256 px relative to the viewport centre */
+    float z;                 /* viewport depth */
+    double iw;               /* 1 / w */
+    const rs_vec4 *a;        /* attribute slots */
+    bool edge, orig;
+} pvert;
+
+/* Append one primitive to chunk c; returns it (and its attribute block in *attr), NULL when out of memory. */
+static rs_prim *push(const rs_job *j, rs_chunk *c, float **attr)
+{
+    if (c->oom) return NULL;
+    if (c->n == c->cap) {
+        size_t cap = c->cap ? c->cap * 2 : 256;
+        size_t st = j->stride ? (size_t)j->stride : 1;
+        rs_prim *p = realloc(c->prims, cap * sizeof *p);
+        if (p) c->prims = p;
+        float *a = p ? realloc(c->attr, cap * st * sizeof *a) : NULL;
+        if (!p || !a) {
+            c->oom = true;
+            return NULL;
+        }
+        c->attr = a;
+        c->cap = cap;
+    }
+    *attr = c->attr + c->n * (size_t)j->stride;
+    return &c->prims[c->n++];
+}
+
+/* Project clip-space vertex cv to snapped screen space; false when w <= 0 or the result is not finite. */
+static bool project(const rs_job *j, const rs_cvert *cv, pvert *v)
+{
+    double w = cv->p[3];
+    if (!(w > 0.0)) return false;
+    double fx = cv->p[0] / w * j->sx_scale, fy = cv->p[1] / w * j->sy_scale;
+    double zw = cv->p[2] / w, iw = 1.0 / w;
+    if (!isfinite(fx) || !isfinite(fy) || !isfinite(zw) || !isfinite(iw)) return false;
+    const double lim = (double)RS_GUARD_BAND * RS_SUB;
+    fx = fx < -lim ? -lim : (fx > lim ? lim : fx);
+    fy = fy < -lim ? -lim : (fy > lim ? lim : fy);
+    v->x = (int64_t)llrint(fx);
+    v->y = (int64_t)llrint(fy);
+    v->z = (float)(j->zoff + j->zscale * zw);
+    v->iw = iw;
+    v->a = cv->a;
+    v->edge = cv->edge;
+    v->orig = cv->orig;
+    return true;
+}
+
+/* Doubled signed area of snapped polygon v[0..n) (> 0: clockwise on screen, the D3D9 front face). */
+static int64_t poly_area(const pvert *v, int n)
+{
+    int64_t s = 0;
+    for (int i = 1; i + 1 < n; i++)
+        s += (v[i].x - v[0].x) * (v[i + 1].y - v[0].y) - (v[i].y - v[0].y) * (v[i + 1].x - v[0].x);
+    return s;
+}
+
+/* Fill slot values of attribute block at: v0 from a, d1 = b - a, d2 = c - a (b, c may be NULL: 0); slots
+ * COLOR0/COLOR1 come from `flat` (constant) when it is given. */
+static void fill_attr(const rs_job *j, float *at, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c,
+                      const rs_vec4 *flat)
+{
+    for (int s = 0; s < j->n_slots; s++) {
+        int k = j->slot[s];
+        bool fl = flat && (k == RS_ATTR_COLOR0 || k == RS_ATTR_COLOR1);
+        const float *v0 = fl ? &flat[k].x : &a[k].x;
+        for (int q = 0; q < 4; q++) {
+            float *o = at + s * RS_ATTR_STRIDE + q * 3;
+            o[0] = v0[q];
+            o[1] = (fl || !b) ? 0.0f : (&b[k].x)[q] - v0[q];
+            o[2] = (fl || !c) ? 0.0f : (&c[k].x)[q] - v0[q];
+        }
+    }
+}
+
+/* Pixel range [*lo, *hi] whose samples can touch [mn, mx] (1/256 px, absolute), clamped to [s0, s1). */
+static void pixel_range(const rs_job *j, int64_t mn, int64_t mx, int s0, int s1, int32_t *lo, int32_t *hi)
+{
+    int64_t a = rs_ceil_div(mn - j->omax, RS_SUB), b = rs_floor_div(mx + j->omax, RS_SUB);
+    *lo = (int32_t)(a < s0 ? s0 : a);
+    *hi = (int32_t)(b > s1 - 1 ? s1 - 1 : b);
+}
+
+/* Edge functions of triangle v[0..3) (doubled area > 0) into t, with the top-left rule folded into ec. */
+static void tri_edges(const pvert *const v[3], rs_tri *t)
+{
+    for (int e = 0; e < 3; e++) {
+        const pvert *a = v[e], *b = v[(e + 1) % 3];
+        int64_t dx = b->x - a->x, dy = b->y - a->y;
+        bool top_left = dy < 0 || (dy == 0 && dx > 0);
+        t->ea[e] = -dy;
+        t->eb[e] = dx;
+        t->ec[e] = -(t->ea[e] * a->x + t->eb[e] * a->y) - (top_left ? 0 : 1);
+    }
+}
+
+/* Depth and perspective planes of triangle v[0..3) with doubled area `area2` (1/256^2 px^2 units). */
+static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, rs_tri *t)
+{
+    const double k = 1.0 / RS_SUB;
+    double x1 = (double)(v[1]->x - v[0]->x) * k, y1 = (double)(v[1]->y - v[0]->y) * k;
+    double x2 = (double)(v[2]->x - v[0]->x) * k, y2 = (double)(v[2]->y - v[0]->y) * k;
+    double ar = 1.0 / ((double)area2 * k * k);
+    double l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar; /* lambda1, lambda2 planes */
+    double z0 = v[0]->z, dz1 = v[1]->z - z0, dz2 = v[2]->z - z0;
+    double za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
+    double bias = j->st->depth_bias + j->st->slope_scale_depth_bias * fmax(fabs(za), fabs(zb));
+    t->z[0] = (float)za;
+    t->z[1] = (float)zb;
+    t->z[2] = (float)(z0 + bias);
+    double m = fmax(v[0]->iw, fmax(v[1]->iw, v[2]->iw));
+    double n0 = v[0]->iw / m, n1 = v[1]->iw / m, n2 = v[2]->iw / m;
+    t->q1[0] = (float)(n1 * l1a); t->q1[1] = (float)(n1 * l1b); t->q1[2] = 0.0f;
+    t->q2[0] = (float)(n2 * l2a); t->q2[1] = (float)(n2 * l2b); t->q2[2] = 0.0f;
+    t->s[0] = (float)((n1 - n0) * l1a + (n2 - n0) * l2a);
+    t->s[1] = (float)((n1 - n0) * l1b + (n2 - n0) * l2b);
+    t->s[2] = (float)n0;
+}
+
+/* Emit fan triangle (a, b, c) of a polygon whose area has sign `sign`; slivers that snapping made zero or
+ * flipped are skipped (they would double-cover).  flat: the provoking vertex's slots, or NULL. */
+static void emit_tri(const rs_job *j, rs_chunk *c, const pvert *a, const pvert *b, const pvert *d, int sign,
+                     const rs_vec4 *flat)
+{
+    int64_t area = (b->x - a->x) * (d->y - a->y) - (b->y - a->y) * (d->x - a->x);
+    if (area == 0 || (area > 0) != (sign > 0)) return;
+    const pvert *v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };
+    if (area < 0) area = -area;
+    int64_t mnx = a->x, mxx = a->x, mny = a->y, mxy = a->y;
+    for (int i = 1; i < 3; i++) {
+        mnx = v[i]->x < mnx ? v[i]->x : mnx; mxx = v[i]->x > mxx ? v[i]->x : mxx;
+        mny = v[i]->y < mny ? v[i]->y : mny; mxy = v[i]->y > mxy ? v[i]->y : mxy;
+    }
+    int32_t x0, x1, y0, y1;
+    pixel_range(j, mnx + j->cx, mxx + j->cx, j->sx0, j->sx1, &x0, &x1);
+    pixel_range(j, mny + j->cy, mxy + j->cy, j->sy0, j->sy1, &y0, &y1);
+    if (x0 > x1 || y0 > y1) return;
+    float *at;
+    rs_prim *p = push(j, c, &at);
+    if (!p) return;
+    p->kind = RS_K_TRI;
+    p->x0 = x0; p->x1 = x1; p->y0 = y0; p->y1 = y1;
+    tri_edges(v, &p->u.t);
+    p->u.t.vx = (int32_t)v[0]->x;
+    p->u.t.vy = (int32_t)v[0]->y;
+    tri_planes(j, v, area, &p->u.t);
+    fill_attr(j, at, v[0]->a, v[1]->a, v[2]->a, flat);
+}
+
+/* Emit the line a -> b: one pixel per major-axis pixel centre in [start, end) (the last pixel is not drawn).
+ * Returns false only when the snapped line has zero length (degenerate). */
+static bool emit_line(const rs_job *j, rs_chunk *c, const pvert *a, const pvert *b, const rs_vec4 *flat)
+{
+    int64_t xa = a->x + j->cx, ya = a->y + j->cy, xb = b->x + j->cx, yb = b->y + j->cy;
+    int64_t dx = xb - xa, dy = yb - ya;
+    if (dx == 0 && dy == 0) return false;
+    bool xm = llabs(dx) >= llabs(dy);
+    int64_t ma = xm ? xa : ya, mb = xm ? xb : yb;
+    int64_t i0, i1;
+    if (mb > ma) { i0 = rs_ceil_div(ma, RS_SUB); i1 = rs_ceil_div(mb, RS_SUB) - 1; }
+    else { i0 = rs_floor_div(mb, RS_SUB) + 1; i1 = rs_floor_div(ma, RS_SUB); }
+    const pvert *s = mb > ma ? a : b, *e = mb > ma ? b : a;   /* walk towards +major */
+    rs_line l;
+    l.xmajor = xm;
+    l.m0 = (xm ? s->x + j->cx : s->y + j->cy);
+    l.n0 = (xm ? s->y + j->cy : s->x + j->cx);
+    l.dm = llabs(mb - ma);
+    l.dn = (xm ? e->y - s->y : e->x - s->x);
+    int s0 = xm ? j->sx0 : j->sy0, s1 = xm ? j->sx1 : j->sy1;
+    int t0 = xm ? j->sy0 : j->sx0, t1 = xm ? j->sy1 : j->sx1;
+    i0 = i0 < s0 ? s0 : i0;
+    i1 = i1 > s1 - 1 ? s1 - 1 : i1;
+    if (i0 > i1) return true;
+    int64_t n0 = rs_line_minor(&l, i0), n1 = rs_line_minor(&l, i1);
+    int64_t nlo = n0 < n1 ? n0 : n1, nhi = n0 < n1 ? n1 : n0;
+    nlo = nlo < t0 ? t0 : nlo;
+    nhi = nhi > t1 - 1 ? t1 - 1 : nhi;
+    if (nlo > nhi) return true;
+    float *at;
+    rs_prim *p = push(j, c, &at);
+    if (!p) return true;
+    p->kind = RS_K_LINE;
+    p->x0 = (int32_t)(xm ? i0 : nlo); p->x1 = (int32_t)(xm ? i1 : nhi);
+    p->y0 = (int32_t)(xm ? nlo : i0); p->y1 = (int32_t)(xm ? nhi : i1);
+    double dz = (double)e->z - s->z;
+    double slope = fabs(dz) / ((double)l.dm / RS_SUB);
+    l.z0 = (float)(s->z + j->st->depth_bias + j->st->slope_scale_depth_bias * slope);
+    l.dz = (float)dz;
+    double m = fmax(s->iw, e->iw);
+    l.w0 = (float)(s->iw / m);
+    l.w1 = (float)(e->iw / m);
+    p->u.l = l;
+    fill_attr(j, at, s->a, e->a, NULL, flat);
+    return true;
+}
+
+/* Emit a one-pixel point at the pixel centre nearest to v (ties towards +x / +y), if inside the scissor. */
+static void emit_point(const rs_job *j, rs_chunk *c, const pvert *v, const rs_vec4 *flat)
+{
+    int64_t px = rs_floor_div(v->x + j->cx + RS_SUB / 2, RS_SUB), py = rs_floor_div(v->y + j->cy + RS_SUB / 2, RS_SUB);
+    if (px < j->sx0 || px >= j->sx1 || py < j->sy0 || py >= j->sy1) return;
+    float *at;
+    rs_prim *p = push(j, c, &at);
+    if (!p) return;
+    p->kind = RS_K_POINT;
+    p->x0 = p->x1 = (int32_t)px;
+    p->y0 = p->y1 = (int32_t)py;
+    p->u.p.z = v->z + j->st->depth_bias;
+    fill_attr(j, at, v->a, NULL, NULL, flat);
+}
+
+/* Load n input vertices into clip vertices; false if a position is not finite.  *and / *or: outcodes. */
+static bool load(const rs_job *j, const rs_vertex *const *v, int n, rs_cvert *cv, unsigned *oand, unsigned *oor)
+{
+    *oand = ~0u;
+    *oor = 0;
+    for (int i = 0; i < n; i++) {
+        const rs_vec4 *p = &v[i]->pos;
+        if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->z) || !isfinite(p->w)) return false;
+        cv[i] = (rs_cvert){ .p = { p->x, p->y, p->z, p->w }, .a = v[i]->attr, .edge = true, .orig = true };
+        unsigned oc = rs_outcode(j, cv[i].p);
+        *oand &= oc;
+        *oor |= oc;
+    }
+    return true;
+}
+
+/* Draw the clipped, projected polygon pv[0..n) of one input triangle according to the fill mode. */
+static void emit_polygon(const rs_job *j, rs_chunk *c, const pvert *pv, int n, int64_t area, const rs_vec4 *flat)
+{
+    int fm = j->st->fill_mode;
+    for (int i = 0; i < n; i++) {
+        if (fm == RS_FILL_SOLID && i >= 1 && i + 1 < n) emit_tri(j, c, &pv[0], &pv[i], &pv[i + 1], area > 0 ? 1 : -1, flat);
+        else if (fm == RS_FILL_WIREFRAME && pv[i].edge) emit_line(j, c, &pv[i], &pv[(i + 1) % n], flat);
+        else if (fm == RS_FILL_POINT && pv[i].orig) emit_point(j, c, &pv[i], flat);
+    }
+}
+
+/* Set up one input triangle v[0..3): clip, project, cull, emit. */
+static void setup_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v)
+{
+    rs_cvert poly[RS_MAX_POLY];
+    unsigned oand, oor;
+    if (!load(j, v, 3, poly, &oand, &oor)) { c->degenerate++; return; }
+    if (oand) { c->clipped++; return; }
+    rs_clipbuf cb;
+    cb.n_pool = 0;
+    int n = oor ? rs_clip_poly(j, poly, 3, oor, &cb) : 3;
+    if (n < 3) { c->clipped++; return; }
+    pvert pv[RS_MAX_POLY];
+    for (int i = 0; i < n; i++)
+        if (!project(j, &poly[i], &pv[i])) { c->clipped++; return; }
+    int64_t area = poly_area(pv, n);
+    if (area == 0) { c->degenerate++; return; }
+    int cm = j->st->cull_mode;
+    if ((cm == RS_CULL_CCW && area < 0) || (cm == RS_CULL_CW && area > 0)) { c->culled++; return; }
+    c->drawn++;
+    emit_polygon(j, c, pv, n, area, j->flat ? v[0]->attr : NULL);
+}
+
+/* Set up one input line v[0]-v[1]. */
+static void setup_line(const rs_job *j, rs_chunk *c, const rs_vertex *const *v)
+{
+    rs_cvert cv[2];
+    unsigned oand, oor;
+    if (!load(j, v, 2, cv, &oand, &oor)) { c->degenerate++; return; }
+    rs_clipbuf cb;
+    cb.n_pool = 0;
+    if (oand || (oor && !rs_clip_line(j, cv, oor, &cb))) { c->clipped++; return; }
+    pvert pv[2];
+    if (!project(j, &cv[0], &pv[0]) || !project(j, &cv[1], &pv[1])) { c->clipped++; return; }
+    if (pv[0].x == pv[1].x && pv[0].y == pv[1].y) { c->degenerate++; return; }
+    c->drawn++;
+    emit_line(j, c, &pv[0], &pv[1], j->flat ? v[0]->attr : NULL);
+}
+
+/* Set up one input point: dropped when outside the clip volume (near, far, guard band). */
+static void setup_point(const rs_job *j, rs_chunk *c, const rs_vertex *const *v)
+{
+    rs_cvert cv;
+    unsigned oand, oor;
+    if (!load(j, v, 1, &cv, &oand, &oor)) { c->degenerate++; return; }
+    pvert pv;
+    if (oor || !project(j, &cv, &pv)) { c->clipped++; return; }
+    c->drawn++;
+    emit_point(j, c, &pv, NULL);
+}
+
+void rs_setup_chunk(const rs_job *j, rs_chunk *c)
+{
+    c->n = 0;
+    c->culled = c->clipped = c->degenerate = c->drawn = 0;
+    c->oom = false;
+    size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
+    for (size_t k = c->first; k < c->first + c->count && !c->oom; k++) {
+        const rs_vertex *v[3];
+        for (size_t i = 0; i < vpp; i++) {
+            size_t id = k * vpp + i;
+            v[i] = &j->verts[j->idx ? j->idx[id] : id];
+        }
+        if (vpp == 3) setup_triangle(j, c, v);
+        else if (vpp == 2) setup_line(j, c, v);
+        else setup_point(j, c, v);
+    }
+}
+
+/* Grow *buf (elements of `size` bytes, capacity *cap) to hold n; false when out of memory. */
+static bool reserve(void **buf, size_t *cap, size_t n, size_t size)
+{
+    if (n <= *cap) return true;
+    size_t nc = *cap ? *cap : 64;
+    while (nc < n) nc *= 2;
+    void *p = realloc(*buf, nc * size);
+    if (!p) return false;
+    *buf = p;
+    *cap = nc;
+    return true;
+}
+
+void rs_bin_chunk(const rs_job *j, rs_chunk *c)
+{
+    size_t nt = (size_t)j->n_tiles;
+    if (c->oom || !reserve((void **)&c->bin_off, &c->bin_off_cap, nt + 1, sizeof *c->bin_off)) {
+        c->oom = true;
+        return;
+    }
+    size_t *cnt = NULL; /* counts in size_t to detect a uint32 overflow before filling */
+    cnt = calloc(nt + 1, sizeof *cnt);
+    if (!cnt) { c->oom = true; return; }
+    for (size_t k = 0; k < c->n; k++) {
+        const rs_prim *p = &c->prims[k];
+        for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
+            for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
+                cnt[(size_t)ty * (size_t)j->tiles_x + (size_t)tx + 1]++;
+    }
+    for (size_t t = 1; t <= nt; t++) cnt[t] += cnt[t - 1];
+    size_t total = cnt[nt];
+    if (total > UINT32_MAX || !reserve((void **)&c->bin_idx, &c->idx_cap, total ? total : 1, sizeof *c->bin_idx)) {
+        free(cnt);
+        c->oom = true;
+        return;
+    }
+    for (size_t t = 0; t <= nt; t++) c->bin_off[t] = (uint32_t)cnt[t];
+    free(cnt);
+    for (size_t k = 0; k < c->n; k++) {   /* bin_off[t] runs as the fill cursor of tile t */
+        const rs_prim *p = &c->prims[k];
+        for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
+            for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
+                c->bin_idx[c->bin_off[(size_t)ty * (size_t)j->tiles_x + (size_t)tx]++] = (uint32_t)k;
+    }
+    for (size_t t = nt; t > 0; t--) c->bin_off[t] = c->bin_off[t - 1];
+    c->bin_off[0] = 0;
+    c->n_idx = total;
+}

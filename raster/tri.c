@@ -1,0 +1,121 @@
+/* raster/tri.c -- triangle rasterization inside one tile: 8x8 blocks with a trivial reject / accept test on
+ * the integer edge functions, incremental int64 edge stepping inside partial blocks, per-sample depth from
+ * the float depth plane, and perspective-correct shading once per pixel (at the pixel centre, D3D9 without
+ * centroid sampling).  Shading and writes happen only for samples that pass the depth test. */
+#include "raster_internal.h"
+
+/* Per-triangle constants of the walk: edge offsets of each sample and their range. */
+typedef struct walk {
+    int64_t eo[3][4];          /* ea*sox + eb*soy of sample s for edge e */
+    int64_t omin[3], omax[3];  /* min / max over the samples of eo[e][.] */
+    unsigned full;             /* mask of all samples */
+} walk;
+
+/* Depth-test, shade and write pixel (x, y) of triangle p with sample coverage cov. */
+static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
+{
+    const rs_tri *tr = &p->u.t;
+    const rs_state *st = j->st;
+    const float k = 1.0f / RS_SUB;
+    size_t base = ((size_t)y * (size_t)j->rt->width + (size_t)x) * (size_t)j->samples;
+    float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
+    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    unsigned pass = cov;
+    int first = __builtin_ctz(cov);
+    if (st->z_enable) {
+        float *dep = j->rt->depth + base;
+        pass = 0;
+        for (int s = 0; s < j->samples; s++) {
+            if (!(cov & (1u << s))) continue;
+            float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
+            float z = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
+            if (!rs_zpass(st->z_func, z, dep[s])) continue;
+            pass |= 1u << s;
+            if (st->z_write) dep[s] = z;
+        }
+    }
+    t->tested += (uint64_t)__builtin_popcount(cov);
+    if (!pass) return;
+    t->written += (uint64_t)__builtin_popcount(pass);
+    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
+        fx += (float)j->sox[first] * k;
+        fy += (float)j->soy[first] * k;
+        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    }
+    float r = 1.0f / sv;
+    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+    rs_write_color(j, base, pass, rs_shade_color(j, a, b1, b2));
+    if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
+}
+
+/* Coverage mask of the samples of a pixel whose edge values at the centre are e[0..3). */
+static inline unsigned coverage(const rs_job *j, const walk *w, const int64_t *e)
+{
+    unsigned cov = 0;
+    for (int s = 0; s < j->samples; s++)
+        if (e[0] + w->eo[0][s] >= 0 && e[1] + w->eo[1][s] >= 0 && e[2] + w->eo[2][s] >= 0) cov |= 1u << s;
+    return cov;
+}
+
+/* Walk the pixels [x0, x1] x [y0, y1] (one block) with edge values e at (x0, y0); full: all inside. */
+static void tri_block(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, const walk *w,
+                      int x0, int y0, int x1, int y1, const int64_t *e, bool full)
+{
+    const rs_tri *tr = &p->u.t;
+    int64_t row[3] = { e[0], e[1], e[2] };
+    for (int y = y0; y <= y1; y++) {
+        int64_t v[3] = { row[0], row[1], row[2] };
+        for (int x = x0; x <= x1; x++) {
+            unsigned cov = full ? w->full : coverage(j, w, v);
+            if (cov) tri_pixel(j, t, p, a, x, y, cov);
+            for (int i = 0; i < 3; i++) v[i] += tr->ea[i] * RS_SUB;
+        }
+        for (int i = 0; i < 3; i++) row[i] += tr->eb[i] * RS_SUB;
+    }
+}
+
+/* Trivial test of block [x0, x0+nx] x [y0, y0+ny] with edge values e at (x0, y0): -1 outside, 1 inside, 0 partial. */
+static int block_test(const rs_tri *tr, const walk *w, const int64_t *e, int nx, int ny)
+{
+    int r = 1;
+    for (int i = 0; i < 3; i++) {
+        int64_t sx = tr->ea[i] * RS_SUB * nx, sy = tr->eb[i] * RS_SUB * ny;
+        int64_t hi = e[i] + (sx > 0 ? sx : 0) + (sy > 0 ? sy : 0) + w->omax[i];
+        int64_t lo = e[i] + (sx < 0 ? sx : 0) + (sy < 0 ? sy : 0) + w->omin[i];
+        if (hi < 0) return -1;
+        if (lo < 0) r = 0;
+    }
+    return r;
+}
+
+void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
+{
+    const rs_tri *tr = &p->u.t;
+    int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
+    int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
+    if (x0 > x1 || y0 > y1) return;
+    walk w;
+    w.full = (1u << j->samples) - 1u;
+    for (int i = 0; i < 3; i++) {
+        w.omin[i] = w.omax[i] = 0;
+        for (int s = 0; s < j->samples; s++) {
+            int64_t o = tr->ea[i] * j->sox[s] + tr->eb[i] * j->soy[s];
+            w.eo[i][s] = o;
+            if (s == 0 || o < w.omin[i]) w.omin[i] = o;
+            if (s == 0 || o > w.omax[i]) w.omax[i] = o;
+        }
+    }
+    for (int by = y0; by <= y1; by = (by | (RS_BLOCK - 1)) + 1) {
+        int by1 = (by | (RS_BLOCK - 1)) < y1 ? (by | (RS_BLOCK - 1)) : y1;
+        for (int bx = x0; bx <= x1; bx = (bx | (RS_BLOCK - 1)) + 1) {
+            int bx1 = (bx | (RS_BLOCK - 1)) < x1 ? (bx | (RS_BLOCK - 1)) : x1;
+            int64_t X = (int64_t)bx * RS_SUB - j->cx, Y = (int64_t)by * RS_SUB - j->cy;
+            int64_t e[3];
+            for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
+            int r = block_test(tr, &w, e, bx1 - bx, by1 - by);
+            if (r >= 0) tri_block(j, t, p, a, &w, bx, by, bx1, by1, e, r > 0);
+        }
+    }
+}
