@@ -46,7 +46,7 @@ APP_SRC  = $(filter-out cli/main.c,$(wildcard cli/*.c))
 APP_OBJ  = $(APP_SRC:%.c=$(B)/%.o)
 SETUP    = $(B)/.setup-done
 
-.PHONY: all setup test figures bench goldens clean
+.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean
 .SECONDARY:
 .DEFAULT_GOAL := all
 
@@ -79,8 +79,33 @@ $(B)/instess: $(B)/cli/main.o $(B)/libinstess_app.a $(B)/libinstess.a
 $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
-test: $(TEST_BIN) $(B)/instess
+# make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
+# UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
+test: test-unit sanitize valgrind
+
+test-unit: $(TEST_BIN) $(B)/instess
 	@bash tests/run.sh $(TEST_BIN)
+
+# The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
+# halting on the first error (-fno-sanitize-recover=all), leaks checked by LeakSanitizer at exit.
+SAN      = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
+           -fno-omit-frame-pointer
+SAN_B    = build-asan
+sanitize: $(SETUP)
+	@bash scripts/setup.sh --sanitize
+	@$(MAKE) --no-print-directory B=$(SAN_B) CC=clang CXX=clang++ OPT=-O1 \
+	    CFLAGS="$(CFLAGS_BASE) $(SAN) -Wno-unknown-warning-option" \
+	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN)" \
+	    LDFLAGS="-fopenmp -Wl,--as-needed $(SAN)" $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
+	 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp \
+	 INSTESS_BIN=$(SAN_B)/instess TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
+	 bash tests/run.sh $(TEST_BIN:$(B)/%=$(SAN_B)/%)
+
+# valgrind on the renderer: a few scenes, no errors, no definite leaks.
+valgrind: $(B)/instess
+	@bash scripts/setup.sh --sanitize
+	@bash tests/valgrind.sh $(B)/instess
 
 figures: $(B)/instess
 	@mkdir -p out

@@ -25,6 +25,7 @@ fi
 if [ "${1:-}" = "--sanitize" ]; then
   command -v clang >/dev/null 2>&1 || need+=(clang)
   command -v valgrind >/dev/null 2>&1 || need+=(valgrind)
+  [ -e /usr/lib/llvm-14/lib/libomp.so ] || need+=(libomp-dev)
 fi
 
 [ ${#need[@]} -eq 0 ] && exit 0

@@ -1,6 +1,6 @@
 /* tests/test_cli.c -- the `instess` program as a user runs it: exit codes (0 / 1 input error / 2 usage error),
  * messages naming the input, nothing written on failure, PNG and EXR (channels R, G, B, A, Z and AOVs), OBJ
- * export.  Runs build/instess (make test builds it first). */
+ * export.  Runs build/instess, or $INSTESS_BIN (the sanitizer build's), which make test builds first. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -22,9 +22,10 @@ static char dir[256];
 static int run(const char *args, const char **err_out)
 {
     static char errbuf[8192];
-    char cmd[2048], errfile[300];
+    char cmd[2400], errfile[300];
     snprintf(errfile, sizeof errfile, "%s/stderr.txt", dir);
-    snprintf(cmd, sizeof cmd, "build/instess %s 2>%s >/dev/null", args, errfile);
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    snprintf(cmd, sizeof cmd, "%s %s 2>%s >/dev/null", bin, args, errfile);
     int st = system(cmd);
     FILE *f = fopen(errfile, "r");
     size_t n = f ? fread(errbuf, 1, sizeof errbuf - 1, f) : 0;
