@@ -1,0 +1,855 @@
+/* bench/bench.c -- build/bench: the benchmark of design.md section 6 (`make bench`).
+ *
+ * For each scene (A: the cube at level 32, 1024x1024; B: 100 cubes at level 16, 1024x1024; C: the cube at level
+ * 4, 2048x2048) and patch (npatch, smooth) it renders tessellation through instancing with instess in-process
+ * (the device API of core/core.h with the shaders of vs/, exactly scene.c's instanced path: grid in stream 0 with
+ * INDEXEDDATA | n_triangles, is_patch_instance in stream 1 with INSTANCEDATA | 1) with 1 thread and with all
+ * threads, and the same data with Mesa's llvmpipe through build/bench-gl (a child process per LP_NUM_THREADS
+ * value, so that LP_NUM_THREADS and GLIBC_TUNABLES apply), then prints a table, one machine-readable line per
+ * scene, patch and thread count, and checks that the two images agree.
+ *
+ * Both sides read the same bytes: this program builds the mesh (meshes/), the grid (core_grid_regular), the
+ * instance buffer (mesh_build_instances) and the matrices, and hands them to bench-gl in a scene file
+ * (bench_scene_file.h).  Timing: per frame Clear + DrawIndexedPrimitive (instess) and glClear + draw + glFinish
+ * (llvmpipe), the median of --frames frames after --warmup frames.  See bench/README.md.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <math.h>
+#include <spawn.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../core/core.h"
+#include "../meshes/meshes.h"
+#include "../vs/vs.h"
+#include "bench_scene_file.h"
+
+extern char **environ;
+
+#define PI_F 3.14159265358979f
+/* llvmpipe's allocator settings (worth up to 2x on the heavy scenes: no mmap/munmap churn per frame). */
+#define LP_TUNABLES "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=4294967296:" \
+                    "glibc.malloc.top_pad=268435456"
+/* Image agreement: a pixel differs when a channel differs by more than DIFF_TOL / 255; the images agree when at
+ * most DIFF_MAX_FRACTION of the pixels differ, at most COVERAGE_MAX_FRACTION are background in one image only,
+ * and the mean absolute difference is at most DIFF_MAX_MEAN / 255.  Measured: a correct pair differs in 0..3
+ * pixels of 1M (mean 0.002/255); without the half-pixel correction 0.07..2.8% differ (mean 0.08..1.3/255). */
+#define DIFF_TOL 8
+#define DIFF_MAX_FRACTION 0.0002
+#define COVERAGE_MAX_FRACTION 0.0001
+#define DIFF_MAX_MEAN 0.05
+/* Resident memory may grow by at most this much between the end of the warm-up and the last frame. */
+#define RSS_GROWTH_MAX_KB 1024
+
+/* ---------------------------------------- the scenes ---------------------------------------- */
+
+typedef struct bench_scene_def {
+    char id;            /* 'A', 'B', 'C' */
+    const char *what;   /* for the table */
+    int level, width, height;
+    int grid_side;      /* copies of the cube per side (1 or 10) */
+    float spacing;      /* distance between the copies' centres */
+    float distance;     /* camera distance in bounding radii (scene.h's --distance) */
+} bench_scene_def;
+
+static const bench_scene_def bench_scenes[] = {
+    {'A', "cube, level 32, 1024x1024", 32, 1024, 1024, 1, 0.0f, 3.2f},
+    {'B', "100 cubes, level 16, 1024x1024", 16, 1024, 1024, 10, 3.0f, 2.4f},
+    {'C', "cube, level 4, 2048x2048", 4, 2048, 2048, 1, 0.0f, 3.2f},
+};
+#define N_SCENES (sizeof bench_scenes / sizeof bench_scenes[0])
+
+static const struct { const char *name; vs_patch patch; int gl_patch; } bench_patches[] = {
+    {"npatch", VS_PATCH_NPATCH, BENCH_PATCH_NPATCH},
+    {"smooth", VS_PATCH_SMOOTH, BENCH_PATCH_SMOOTH},
+};
+#define N_PATCHES (sizeof bench_patches / sizeof bench_patches[0])
+
+/* scene.h's defaults: g_vDiffuse and the background (D3DCOLOR ARGB 255, 46, 52, 64). */
+static const float bench_diffuse[4] = {0.85f, 0.78f, 0.62f, 1.0f};
+static const unsigned char bench_background[3] = {46, 52, 64};
+
+/* ---------------------------------------- options ---------------------------------------- */
+
+typedef struct bench_args {
+    int frames, warmup;
+    const char *scenes;   /* subset of "ABC" */
+    unsigned patches;     /* bit k: bench_patches[k] */
+    int threads[2], n_threads;
+    int lp_threads[4], n_lp;
+    const char *gl_path;  /* build/bench-gl; NULL: beside argv[0] */
+    const char *keep;     /* directory for the images and scene files, or NULL */
+    int no_gl;
+} bench_args;
+
+/* Print the usage to f. */
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABC] [--patch npatch|smooth|both]\n"
+               "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl]\n"
+               "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
+               "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
+               "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n");
+}
+
+/* A comma-separated list of up to max integers in [lo, hi]; the count or -1. */
+static int parse_int_list(const char *s, int *out, int max, int lo, int hi)
+{
+    int n = 0;
+    for (const char *p = s; *p && n < max;) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || v < lo || v > hi || (*end && *end != ',')) return -1;
+        out[n++] = (int)v;
+        p = *end ? end + 1 : end;
+    }
+    return n > 0 ? n : -1;
+}
+
+/* Apply one option with value v (NULL when none); 0, or -1 for a usage error. */
+static int parse_option(bench_args *a, const char *opt, const char *v, int *used)
+{
+    *used = 1;
+    if (strcmp(opt, "--no-gl") == 0) return *used = 0, a->no_gl = 1, 0;
+    if (!v) return -1;
+    if (strcmp(opt, "--frames") == 0) return parse_int_list(v, &a->frames, 1, 1, 10000) == 1 ? 0 : -1;
+    if (strcmp(opt, "--warmup") == 0) return parse_int_list(v, &a->warmup, 1, 0, 10000) == 1 ? 0 : -1;
+    if (strcmp(opt, "--threads") == 0) return parse_int_list(v, &a->threads[1], 1, 1, 1024) == 1 ? 0 : -1;
+    if (strcmp(opt, "--gl") == 0) return a->gl_path = v, 0;
+    if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
+    if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
+    if (strcmp(opt, "--scenes") == 0) return a->scenes = v, strspn(v, "ABC") == strlen(v) && *v ? 0 : -1;
+    if (strcmp(opt, "--patch") == 0) {
+        a->patches = strcmp(v, "npatch") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 2u : strcmp(v, "both") == 0 ? 3u : 0u;
+        return a->patches ? 0 : -1;
+    }
+    return -1;
+}
+
+/* Parse the command line; 0, or -1 after printing the usage. */
+static int parse_args(int argc, char **argv, bench_args *a)
+{
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    *a = (bench_args){.frames = 11, .warmup = 2, .scenes = "ABC", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
+                      .lp_threads = {1, 2}, .n_lp = 2};
+    for (int i = 1; i < argc; i++) {
+        int used = 0;
+        if (strcmp(argv[i], "--help") == 0) return usage(stdout), exit(0), 0;
+        if (parse_option(a, argv[i], i + 1 < argc ? argv[i + 1] : NULL, &used) != 0) {
+            fprintf(stderr, "bench: bad option or value: %s\n", argv[i]);
+            return usage(stderr), -1;
+        }
+        i += used;
+    }
+    a->n_threads = a->threads[1] == 1 ? 1 : 2;
+    return 0;
+}
+
+/* ---------------------------------------- scene data ---------------------------------------- */
+
+/* Everything both sides draw. */
+typedef struct bench_data {
+    is_mesh mesh;
+    core_grid grid;
+    is_patch_instance *inst;
+    float4x4 wvp, world;
+} bench_data;
+
+/* The built-in cube, or grid_side^2 copies of it in a square in the z = 0 plane (scene B). */
+static int make_mesh(const bench_scene_def *d, is_mesh *out, char *err, size_t errlen)
+{
+    is_mesh cube = {0};
+    if (mesh_builtin("cube", &cube, err, errlen) != 0) return -1;
+    if (d->grid_side == 1) return *out = cube, 0;
+    size_t copies = (size_t)d->grid_side * d->grid_side, nv = cube.n_vertices, nt = cube.n_triangles;
+    float3 *p = malloc(copies * nv * sizeof *p), *n = malloc(copies * nv * sizeof *n);
+    uint32_t *idx = malloc(copies * nt * 3 * sizeof *idx);
+    int rc = -1;
+    if (p && n && idx) {
+        for (size_t c = 0; c < copies; c++) {
+            float ox = ((float)(c % d->grid_side) - 0.5f * (d->grid_side - 1)) * d->spacing;
+            float oy = ((float)(c / d->grid_side) - 0.5f * (d->grid_side - 1)) * d->spacing;
+            for (size_t k = 0; k < nv; k++)
+                p[c * nv + k] = add3(cube.positions[k], f3(ox, oy, 0.0f)), n[c * nv + k] = cube.normals[k];
+            for (size_t k = 0; k < 3 * nt; k++) idx[c * 3 * nt + k] = (uint32_t)(c * nv) + cube.indices[k];
+        }
+        is_mesh_data md = {copies * nv, copies * nt, p, n, NULL, idx};
+        rc = mesh_create(out, "100 cubes", &md, NULL, err, errlen);
+    } else {
+        snprintf(err, errlen, "out of memory");
+    }
+    free(p), free(n), free(idx);
+    mesh_free(&cube);
+    return rc;
+}
+
+/* scene.h's camera: centre and scale to a unit bounding radius, rotate by yaw 30 / pitch 20 (g_mWorld), LH camera
+ * at (0, 0, -distance) looking at the origin, 45 degree fov, z in [distance - 2, distance + 2] (near >= 0.05). */
+static void make_camera(const bench_scene_def *d, const is_mesh *m, float4x4 *wvp, float4x4 *world)
+{
+    float3 lo = m->positions[0], hi = lo;
+    for (size_t k = 1; k < m->n_vertices; k++) {
+        float3 q = m->positions[k];
+        lo = f3(fminf(lo.x, q.x), fminf(lo.y, q.y), fminf(lo.z, q.z));
+        hi = f3(fmaxf(hi.x, q.x), fmaxf(hi.y, q.y), fmaxf(hi.z, q.z));
+    }
+    float3 c = scale3(add3(lo, hi), 0.5f);
+    float r = 0.0f;
+    for (size_t k = 0; k < m->n_vertices; k++) r = fmaxf(r, length3(sub3(m->positions[k], c)));
+    float4x4 fit = mat_translation(-c.x, -c.y, -c.z), s = mat_scaling(1.0f / r, 1.0f / r, 1.0f / r);
+    fit = mat_mul(&fit, &s);
+    float4x4 ry = mat_rotation_y(30.0f * PI_F / 180.0f), rx = mat_rotation_x(20.0f * PI_F / 180.0f);
+    *world = mat_mul(&ry, &rx);
+    float4x4 view = mat_look_at_lh(f3(0, 0, -d->distance), f3(0, 0, 0), f3(0, 1, 0));
+    float zn = d->distance - 2.0f > 0.05f ? d->distance - 2.0f : 0.05f;
+    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)d->width / (float)d->height, zn, d->distance + 2.0f);
+    float4x4 t = mat_mul(&fit, world);
+    t = mat_mul(&t, &view);
+    *wvp = mat_mul(&t, &proj);
+}
+
+/* Build the mesh, grid, instances and matrices of a scene; 0 or -1 with a message. */
+static int data_build(const bench_scene_def *d, bench_data *bd, char *err, size_t errlen)
+{
+    memset(bd, 0, sizeof *bd);
+    if (make_mesh(d, &bd->mesh, err, errlen) != 0) return -1;
+    if (core_grid_make(CORE_GRID_REGULAR, (float)d->level, &bd->grid) != 0)
+        return snprintf(err, errlen, "level %d: cannot build the grid", d->level), -1;
+    bd->inst = malloc(bd->mesh.n_triangles * sizeof *bd->inst);
+    if (!bd->inst) return snprintf(err, errlen, "out of memory"), -1;
+    mesh_build_instances(&bd->mesh, bd->inst);
+    make_camera(d, &bd->mesh, &bd->wvp, &bd->world);
+    return 0;
+}
+
+/* Free a scene's data. */
+static void data_free(bench_data *bd)
+{
+    mesh_free(&bd->mesh);
+    core_grid_free(&bd->grid);
+    free(bd->inst);
+    memset(bd, 0, sizeof *bd);
+}
+
+/* Write the scene file bench-gl reads (bench_scene_file.h); 0 or -1. */
+static int write_scene_file(const char *path, const bench_scene_def *d, int gl_patch, const bench_data *bd)
+{
+    _Static_assert(sizeof(is_patch_instance) == BENCH_INSTANCE_STRIDE, "is_patch_instance is 136 bytes");
+    bench_scene_header h = {.width = d->width, .height = d->height, .level = d->level, .patch = gl_patch,
+                            .n_points = (uint32_t)bd->grid.n_points, .n_indices = (uint32_t)(3 * bd->grid.n_triangles),
+                            .n_instances = (uint32_t)bd->mesh.n_triangles, .instance_stride = BENCH_INSTANCE_STRIDE};
+    memcpy(h.magic, BENCH_SCENE_MAGIC, 8);
+    memcpy(h.wvp, bd->wvp.m, sizeof h.wvp);
+    memcpy(h.world, bd->world.m, sizeof h.world);
+    memcpy(h.diffuse, bench_diffuse, sizeof h.diffuse);
+    for (int k = 0; k < 3; k++) h.clear_rgba[k] = bench_background[k] / 255.0f;
+    h.clear_rgba[3] = 1.0f;
+    FILE *f = fopen(path, "wb");
+    if (!f) return -1;
+    fwrite(&h, sizeof h, 1, f);
+    fwrite(bd->grid.bary, sizeof(float3), bd->grid.n_points, f);
+    fwrite(bd->grid.idx, sizeof(uint32_t), 3 * bd->grid.n_triangles, f);
+    fwrite(bd->inst, sizeof(is_patch_instance), bd->mesh.n_triangles, f);
+    int bad = ferror(f);
+    return (fclose(f) != 0 || bad) ? -1 : 0;
+}
+
+/* ---------------------------------------- measuring ---------------------------------------- */
+
+/* Monotonic time in milliseconds. */
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* Resident set size now, in kB (from /proc/self/statm; 0 if unavailable). */
+static long rss_now_kb(void)
+{
+    long pages = 0, resident = 0;
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (f) {
+        if (fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+        fclose(f);
+    }
+    return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+/* Peak resident set size of this process so far, in kB. */
+static long rss_peak_kb(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_maxrss;
+}
+
+/* qsort comparator for doubles. */
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* ---------------------------------------- the instess side ---------------------------------------- */
+
+/* One instess measurement. */
+typedef struct inst_result {
+    double median_ms, min_ms;
+    uint64_t vertices, tris_in, tris_drawn, samples_tested, samples_written;
+    long rss_after_warmup_kb, rss_after_frames_kb;
+    uint32_t *image;    /* resolved RGBA8 of the last frame, top row first */
+} inst_result;
+
+/* The device resources of the instanced path. */
+typedef struct inst_gpu {
+    is_device *dev;
+    is_vertex_buffer *vb0, *vb1;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+} inst_gpu;
+
+/* Release what inst_setup created. */
+static void inst_release(inst_gpu *g)
+{
+    vb_release(g->vb0), vb_release(g->vb1), ib_release(g->ib), decl_release(g->decl);
+    dev_destroy(g->dev);
+    memset(g, 0, sizeof *g);
+}
+
+/* Fill the three buffers (16-bit indices when the grid allows, as scene.c). */
+static void inst_fill(inst_gpu *g, const bench_data *bd, int small)
+{
+    memcpy(vb_lock(g->vb0), bd->grid.bary, bd->grid.n_points * sizeof(float3));
+    vb_unlock(g->vb0);
+    memcpy(vb_lock(g->vb1), bd->inst, bd->mesh.n_triangles * sizeof(is_patch_instance));
+    vb_unlock(g->vb1);
+    void *ip = ib_lock(g->ib);
+    for (size_t k = 0; k < 3 * bd->grid.n_triangles; k++) {
+        if (small) ((uint16_t *)ip)[k] = (uint16_t)bd->grid.idx[k];
+        else ((uint32_t *)ip)[k] = bd->grid.idx[k];
+    }
+    ib_unlock(g->ib);
+}
+
+/* Bind streams, frequencies, declaration, shader and constants of the instanced path. */
+static is_result inst_bind(inst_gpu *g, const bench_data *bd, vs_patch patch)
+{
+    is_device *dev = g->dev;
+    is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    vs_set_constants(&c, &bd->wvp, &bd->world, f4(bench_diffuse[0], bench_diffuse[1], bench_diffuse[2], bench_diffuse[3]),
+                     NULL);
+    is_result e = dev_set_vertex_declaration(dev, g->decl);
+    if (e == IS_OK) e = dev_set_stream_source(dev, 0, g->vb0, 0, sizeof(float3));
+    if (e == IS_OK) e = dev_set_stream_source(dev, 1, g->vb1, 0, sizeof(is_patch_instance));
+    if (e == IS_OK) e = dev_set_indices(dev, g->ib);
+    if (e == IS_OK) e = dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | (uint32_t)bd->mesh.n_triangles);
+    if (e == IS_OK) e = dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+    if (e == IS_OK) e = dev_set_vertex_shader(dev, vs_patch_shader(patch));
+    if (e == IS_OK) e = dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, VS_C_COUNT);
+    return e;
+}
+
+/* Create the device (1 sample, D3D9's default states) and the buffers of a scene; 0 or -1 with a message. */
+static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads,
+                      char *err, size_t errlen)
+{
+    memset(g, 0, sizeof *g);
+    g->dev = dev_create(d->width, d->height, 1, err, errlen);
+    if (!g->dev) return -1;
+    dev_set_threads(g->dev, threads);
+    int small = bd->grid.n_points <= 65536;
+    is_result e = dev_create_vertex_buffer(g->dev, bd->grid.n_points * sizeof(float3), &g->vb0);
+    if (e == IS_OK) e = dev_create_vertex_buffer(g->dev, bd->mesh.n_triangles * sizeof(is_patch_instance), &g->vb1);
+    if (e == IS_OK)
+        e = dev_create_index_buffer(g->dev, 3 * bd->grid.n_triangles * (small ? 2 : 4),
+                                    small ? IS_FMT_INDEX16 : IS_FMT_INDEX32, &g->ib);
+    if (e == IS_OK) e = dev_create_vertex_declaration(g->dev, mesh_patch_declaration, &g->decl);
+    if (e == IS_OK) inst_fill(g, bd, small), e = inst_bind(g, bd, patch);
+    if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
+    return 0;
+}
+
+/* One frame: Clear + the instanced DrawIndexedPrimitive. */
+static is_result inst_frame(inst_gpu *g, const bench_data *bd)
+{
+    uint32_t bg = IS_COLOR_ARGB(255, bench_background[0], bench_background[1], bench_background[2]);
+    is_result e = dev_clear(g->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, bg, 1.0f);
+    if (e != IS_OK) return e;
+    return dev_draw_indexed_primitive(g->dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)bd->grid.n_points, 0,
+                                      (unsigned)bd->grid.n_triangles);
+}
+
+/* Warm up, time `frames` frames (median), collect statistics and the image; 0 or -1 with a message. */
+static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, inst_result *r, char *err,
+                        size_t errlen)
+{
+    double *ms = malloc((size_t)a->frames * sizeof *ms);
+    is_result e = ms ? IS_OK : IS_ERR_OUTOFMEMORY;
+    for (int k = 0; k < a->warmup && e == IS_OK; k++) e = inst_frame(g, bd);
+    r->rss_after_warmup_kb = rss_now_kb();
+    for (int k = 0; k < a->frames && e == IS_OK; k++) {
+        double t0 = now_ms();
+        e = inst_frame(g, bd);
+        ms[k] = now_ms() - t0;
+        if (k == 0 && a->warmup == 0) r->rss_after_warmup_kb = rss_now_kb(); /* the first frame allocates */
+    }
+    r->rss_after_frames_kb = rss_now_kb();
+    if (e != IS_OK) return free(ms), snprintf(err, errlen, "instess draw failed: %s", dev_last_error(g->dev)), -1;
+    qsort(ms, (size_t)a->frames, sizeof *ms, cmp_double);
+    r->median_ms = ms[a->frames / 2], r->min_ms = ms[0];
+    free(ms);
+    const rs_stats *st = dev_stats(g->dev);
+    r->vertices = dev_vertices_shaded(g->dev);
+    r->tris_in = st->prims_in, r->tris_drawn = st->prims_drawn;
+    r->samples_tested = st->samples_tested, r->samples_written = st->samples_written;
+    rs_target *rt = dev_render_target(g->dev);
+    r->image = malloc((size_t)rt->width * rt->height * sizeof *r->image);
+    if (r->image) rs_target_resolve(rt, r->image);
+    return 0;
+}
+
+/* Render a scene with instess at `threads` threads; 0 or -1 with a message. */
+static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads, const bench_args *a,
+                    inst_result *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    inst_gpu g;
+    int rc = inst_setup(&g, d, bd, patch, threads, err, errlen);
+    if (rc == 0) rc = inst_measure(&g, bd, a, r, err, errlen);
+    inst_release(&g);
+    return rc;
+}
+
+/* ---------------------------------------- the llvmpipe side ---------------------------------------- */
+
+/* One bench-gl run (one LP_NUM_THREADS value). */
+typedef struct gl_result {
+    int ok, lp_threads;
+    double median_ms, min_ms;
+    long maxrss_kb;
+    unsigned long long vs_invocations, fs_invocations, prims_submitted;
+    char renderer[128];
+} gl_result;
+
+/* The environment of a bench-gl child: ours without LP_NUM_THREADS / GLIBC_TUNABLES, plus both set.  The
+ * strings in vars[2] (caller's storage) are used; free the returned array (not its strings). */
+static char **child_env(int lp_threads, char vars[2][512])
+{
+    size_t n = 0;
+    while (environ[n]) n++;
+    char **env = malloc((n + 3) * sizeof *env);
+    if (!env) return NULL;
+    size_t m = 0;
+    for (size_t k = 0; k < n; k++)
+        if (strncmp(environ[k], "LP_NUM_THREADS=", 15) != 0 && strncmp(environ[k], "GLIBC_TUNABLES=", 15) != 0)
+            env[m++] = environ[k];
+    snprintf(vars[0], 512, "LP_NUM_THREADS=%d", lp_threads);
+    snprintf(vars[1], 512, "GLIBC_TUNABLES=%s", LP_TUNABLES);
+    env[m++] = vars[0], env[m++] = vars[1], env[m] = NULL;
+    return env;
+}
+
+/* Value of key=... in line as a double (NAN if absent). */
+static double kv_double(const char *line, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, " %s=", key);
+    const char *p = strstr(line, pat);
+    return p ? strtod(p + strlen(pat), NULL) : NAN;
+}
+
+/* Parse bench-gl's result line into r. */
+static void parse_gl_line(const char *line, gl_result *r)
+{
+    r->median_ms = kv_double(line, "median_ms"), r->min_ms = kv_double(line, "min_ms");
+    r->maxrss_kb = (long)kv_double(line, "maxrss_kb");
+    double v = kv_double(line, "vs_invocations"), f = kv_double(line, "fs_invocations");
+    double p = kv_double(line, "prims_submitted");
+    r->vs_invocations = isnan(v) ? 0 : (unsigned long long)v, r->fs_invocations = isnan(f) ? 0 : (unsigned long long)f;
+    r->prims_submitted = isnan(p) ? 0 : (unsigned long long)p;
+    const char *q = strstr(line, "renderer=\"");
+    if (q) snprintf(r->renderer, sizeof r->renderer, "%.*s", (int)strcspn(q + 10, "\""), q + 10);
+    r->ok = !isnan(r->median_ms);
+}
+
+/* Run bench-gl on a scene file with LP_NUM_THREADS = lp and read its result line; r->ok says if it worked. */
+static void gl_run(const char *gl_path, const char *scene_file, const char *image_out, int lp, const bench_args *a,
+                   gl_result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->lp_threads = lp;
+    char frames[16], warmup[16], vars[2][512];
+    snprintf(frames, sizeof frames, "%d", a->frames), snprintf(warmup, sizeof warmup, "%d", a->warmup);
+    char *argv[] = {(char *)gl_path, (char *)scene_file, "--frames", frames, "--warmup", warmup, "--out",
+                    (char *)image_out, NULL};
+    int fd[2];
+    char **env = child_env(lp, vars);
+    if (!env || pipe(fd) != 0) {
+        free(env);
+        return;
+    }
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, fd[1], STDOUT_FILENO);
+    posix_spawn_file_actions_addclose(&fa, fd[0]);
+    pid_t pid;
+    int sp = posix_spawn(&pid, gl_path, &fa, NULL, argv, env);
+    posix_spawn_file_actions_destroy(&fa);
+    close(fd[1]);
+    free(env);
+    FILE *f = fdopen(fd[0], "r");
+    char line[2048] = "";
+    while (f && fgets(line, sizeof line, f))
+        if (strncmp(line, "bench-gl ", 9) == 0) parse_gl_line(line, r);
+    if (f) fclose(f);
+    int status = 0;
+    if (sp == 0) waitpid(pid, &status, 0);
+    if (sp != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) r->ok = 0;
+}
+
+/* Read a raw RGBA8 image of n pixels (NULL if missing or short). */
+static uint32_t *read_raw(const char *path, size_t n)
+{
+    FILE *f = fopen(path, "rb");
+    uint32_t *p = f ? malloc(n * sizeof *p) : NULL;
+    if (p && fread(p, sizeof *p, n, f) != n) free(p), p = NULL;
+    if (f) fclose(f);
+    return p;
+}
+
+/* ---------------------------------------- image agreement ---------------------------------------- */
+
+typedef struct img_diff { long n_differ, n_coverage; double mean; int max; } img_diff;
+
+/* Largest channel difference of two packed RGBA8 pixels (RGB only; both have alpha 1). */
+static int pixel_diff(uint32_t a, uint32_t b)
+{
+    int m = 0;
+    for (int s = 0; s < 24; s += 8) {
+        int d = abs((int)((a >> s) & 255u) - (int)((b >> s) & 255u));
+        m = d > m ? d : m;
+    }
+    return m;
+}
+
+/* Compare instess's and llvmpipe's images: pixels over DIFF_TOL, mean |difference| (per channel, RGB), largest
+ * difference, and coverage disagreements (background in one image, not in the other). */
+static img_diff compare_images(const uint32_t *a, const uint32_t *b, size_t n)
+{
+    uint32_t bg = bench_background[0] | (uint32_t)bench_background[1] << 8 | (uint32_t)bench_background[2] << 16;
+    img_diff d = {0, 0, 0.0, 0};
+    double sum = 0;
+    for (size_t p = 0; p < n; p++) {
+        int m = pixel_diff(a[p], b[p]);
+        for (int s = 0; s < 24; s += 8) sum += abs((int)((a[p] >> s) & 255u) - (int)((b[p] >> s) & 255u));
+        d.max = m > d.max ? m : d.max;
+        d.n_differ += m > DIFF_TOL;
+        d.n_coverage += ((a[p] & 0xffffffu) == bg) != ((b[p] & 0xffffffu) == bg);
+    }
+    d.mean = sum / (3.0 * (double)n);
+    return d;
+}
+
+/* True when the images agree within the thresholds of the README. */
+static int images_agree(const img_diff *d, size_t n)
+{
+    return (double)d->n_differ <= DIFF_MAX_FRACTION * (double)n &&
+           (double)d->n_coverage <= COVERAGE_MAX_FRACTION * (double)n && d->mean <= DIFF_MAX_MEAN;
+}
+
+/* Write a packed RGBA8 image as a binary PPM (for --keep). */
+static void write_ppm(const char *path, const uint32_t *px, int w, int h)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) return;
+    fprintf(f, "P6\n%d %d\n255\n", w, h);
+    for (size_t p = 0; p < (size_t)w * h; p++) {
+        unsigned char rgb[3] = {(unsigned char)px[p], (unsigned char)(px[p] >> 8), (unsigned char)(px[p] >> 16)};
+        fwrite(rgb, 1, 3, f);
+    }
+    fclose(f);
+}
+
+/* Write |a - b| x 8 as a PPM (for --keep). */
+static void write_diff_ppm(const char *path, const uint32_t *a, const uint32_t *b, int w, int h)
+{
+    size_t n = (size_t)w * h;
+    uint32_t *d = malloc(n * sizeof *d);
+    if (!d) return;
+    for (size_t p = 0; p < n; p++) {
+        uint32_t v = 0;
+        for (int s = 0; s < 24; s += 8) {
+            int x = abs((int)((a[p] >> s) & 255u) - (int)((b[p] >> s) & 255u)) * 8;
+            v |= (uint32_t)(x > 255 ? 255 : x) << s;
+        }
+        d[p] = v;
+    }
+    write_ppm(path, d, w, h);
+    free(d);
+}
+
+/* ---------------------------------------- one scene and patch ---------------------------------------- */
+
+/* Everything measured for one scene and patch. */
+typedef struct case_result {
+    inst_result inst[2];   /* per instess thread count */
+    gl_result gl[4];       /* per LP_NUM_THREADS value */
+    int n_gl;
+    double gl_best_ms;     /* best median over the LP_NUM_THREADS values (NAN: no llvmpipe) */
+    int gl_best_lp;
+    uint32_t *gl_image;
+    img_diff diff;
+    int have_diff;
+} case_result;
+
+/* Free the images of a case. */
+static void case_free(case_result *c)
+{
+    for (int t = 0; t < 2; t++) free(c->inst[t].image);
+    free(c->gl_image);
+}
+
+/* Run bench-gl for every LP_NUM_THREADS value; keep the best median and its image. */
+static void gl_case(const bench_args *a, const char *gl_path, const char *dir, const bench_scene_def *d,
+                    const char *pname, const char *scene_file, case_result *c)
+{
+    c->gl_best_ms = NAN;
+    for (int k = 0; k < a->n_lp; k++) {
+        char img[4096];
+        snprintf(img, sizeof img, "%s/%c-%s-llvmpipe-lp%d.rgba", dir, d->id, pname, a->lp_threads[k]);
+        gl_run(gl_path, scene_file, img, a->lp_threads[k], a, &c->gl[k]);
+        c->n_gl = k + 1;
+        if (!c->gl[k].ok) {
+            fprintf(stderr, "bench: scene %c %s: bench-gl failed with LP_NUM_THREADS=%d\n", d->id, pname,
+                    a->lp_threads[k]);
+            continue;
+        }
+        if (isnan(c->gl_best_ms) || c->gl[k].median_ms < c->gl_best_ms) {
+            c->gl_best_ms = c->gl[k].median_ms, c->gl_best_lp = a->lp_threads[k];
+            free(c->gl_image);
+            c->gl_image = read_raw(img, (size_t)d->width * d->height);
+        }
+        if (!a->keep) remove(img);
+    }
+}
+
+/* Compare the instess image with llvmpipe's; with --keep also write both and the difference as PPM. */
+static void diff_case(const bench_args *a, const char *dir, const bench_scene_def *d, const char *pname,
+                      case_result *c)
+{
+    const uint32_t *mine = c->inst[a->n_threads - 1].image;
+    if (!mine || !c->gl_image) return;
+    size_t n = (size_t)d->width * d->height;
+    c->diff = compare_images(mine, c->gl_image, n);
+    c->have_diff = 1;
+    if (!a->keep) return;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%c-%s-instess.ppm", dir, d->id, pname);
+    write_ppm(path, mine, d->width, d->height);
+    snprintf(path, sizeof path, "%s/%c-%s-llvmpipe.ppm", dir, d->id, pname);
+    write_ppm(path, c->gl_image, d->width, d->height);
+    snprintf(path, sizeof path, "%s/%c-%s-diff.ppm", dir, d->id, pname);
+    write_diff_ppm(path, mine, c->gl_image, d->width, d->height);
+}
+
+/* Measure one scene and patch on both sides; 0 or -1 with a message. */
+static int run_case(const bench_args *a, const char *gl_path, const char *dir, const bench_scene_def *d,
+                    const bench_data *bd, int pk, case_result *c, char *err, size_t errlen)
+{
+    memset(c, 0, sizeof *c);
+    c->gl_best_ms = NAN;
+    for (int t = 0; t < a->n_threads; t++)
+        if (inst_run(d, bd, bench_patches[pk].patch, a->threads[t], a, &c->inst[t], err, errlen) != 0) return -1;
+    if (a->no_gl) return 0;
+    char scene_file[4096];
+    snprintf(scene_file, sizeof scene_file, "%s/%c-%s.scene", dir, d->id, bench_patches[pk].name);
+    if (write_scene_file(scene_file, d, bench_patches[pk].gl_patch, bd) != 0)
+        return snprintf(err, errlen, "%.400s: cannot write", scene_file), -1;
+    gl_case(a, gl_path, dir, d, bench_patches[pk].name, scene_file, c);
+    if (!a->keep) remove(scene_file);
+    diff_case(a, dir, d, bench_patches[pk].name, c);
+    return 0;
+}
+
+/* ---------------------------------------- output ---------------------------------------- */
+
+/* Millions per second of `count` events in `ms` milliseconds. */
+static double mega_per_s(uint64_t count, double ms)
+{
+    return ms > 0 ? (double)count / (ms * 1e-3) / 1e6 : 0.0;
+}
+
+/* The table rows of one scene and patch (one per instess thread count). */
+static void print_rows(const bench_args *a, const bench_scene_def *d, int pk, const case_result *c)
+{
+    for (int t = 0; t < a->n_threads; t++) {
+        const inst_result *r = &c->inst[t];
+        printf("%-5c %-7s %7d %9.2f %9.1f %9.1f %9.1f %9.0f", d->id, bench_patches[pk].name, a->threads[t],
+               r->median_ms, mega_per_s(r->vertices, r->median_ms), mega_per_s(r->tris_in, r->median_ms),
+               mega_per_s(r->samples_tested, r->median_ms), (double)r->rss_after_frames_kb / 1024.0);
+        for (int k = 0; k < c->n_gl; k++)
+            if (c->gl[k].ok) printf(" %9.2f", c->gl[k].median_ms);
+            else printf(" %9s", "failed");
+        if (!isnan(c->gl_best_ms)) printf(" %8.2fx", c->gl_best_ms / r->median_ms);
+        printf("\n");
+    }
+}
+
+/* The statistics, memory and agreement notes of one scene and patch. */
+static void print_notes(const bench_args *a, const bench_scene_def *d, const case_result *c)
+{
+    const inst_result *r = &c->inst[a->n_threads - 1];
+    long growth = r->rss_after_frames_kb - r->rss_after_warmup_kb;
+    printf("      instess: %llu vertices shaded, %llu triangles in, %llu drawn, %llu pixels rasterized, %llu written;"
+           " RSS %+ld kB over %d frames%s\n",
+           (unsigned long long)r->vertices, (unsigned long long)r->tris_in, (unsigned long long)r->tris_drawn,
+           (unsigned long long)r->samples_tested, (unsigned long long)r->samples_written, growth, a->frames,
+           growth > RSS_GROWTH_MAX_KB ? " (GROWS)" : "");
+    for (int k = 0; k < c->n_gl; k++)
+        if (c->gl[k].ok && c->gl[k].vs_invocations)
+            printf("      llvmpipe LP_NUM_THREADS=%d: %llu VS invocations, %llu triangles in, %llu FS invocations "
+                   "(16 per touched 4x4 block), peak RSS %.0f MB\n",
+                   c->gl[k].lp_threads, c->gl[k].vs_invocations, c->gl[k].prims_submitted, c->gl[k].fs_invocations,
+                   (double)c->gl[k].maxrss_kb / 1024.0);
+    size_t n = (size_t)d->width * d->height;
+    if (a->n_threads == 2 && c->inst[0].image && c->inst[1].image)
+        printf("      instess images with %d and %d threads: %s\n", a->threads[0], a->threads[1],
+               memcmp(c->inst[0].image, c->inst[1].image, n * sizeof(uint32_t)) == 0 ? "identical" : "DIFFERENT");
+    if (c->have_diff) {
+        printf("      images: %s -- %ld pixels (%.3f%%) differ by > %d/255, %ld coverage mismatches, mean |diff| "
+               "%.3f/255, max %d/255\n",
+               images_agree(&c->diff, n) ? "agree" : "DISAGREE", c->diff.n_differ, 100.0 * c->diff.n_differ / n,
+               DIFF_TOL, c->diff.n_coverage, c->diff.mean, c->diff.max);
+    }
+}
+
+/* The machine-readable lines of one scene and patch. */
+static void print_machine(const bench_args *a, const bench_scene_def *d, int pk, const case_result *c)
+{
+    for (int t = 0; t < a->n_threads; t++) {
+        double ms = c->inst[t].median_ms, gl = c->gl_best_ms;
+        printf("scene=%c patch=%s threads=%d ms=%.3f llvmpipe_ms=%.3f ratio=%.3f\n", d->id, bench_patches[pk].name,
+               a->threads[t], ms, gl, isnan(gl) ? NAN : gl / ms);
+    }
+}
+
+/* Warn when other processes load the machine (the 1-minute load average is above 0.5). */
+static void warn_load(void)
+{
+    double load = 0;
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f && fscanf(f, "%lf", &load) == 1 && load > 0.5)
+        printf("warning: load average %.2f: other processes are running, timings will be noisy\n", load);
+    if (f) fclose(f);
+}
+
+/* The header of the table. */
+static void print_header(const bench_args *a)
+{
+    warn_load();
+    printf("instess vs llvmpipe: median of %d frames after %d warm-up frames; ratio = llvmpipe best / instess\n",
+           a->frames, a->warmup);
+    printf("%-5s %-7s %7s %9s %9s %9s %9s %9s", "scene", "patch", "threads", "ms", "Mvert/s", "Mtri/s", "Mpix/s",
+           "RSS MB");
+    for (int k = 0; k < (a->no_gl ? 0 : a->n_lp); k++) printf("  lp%d  ms ", a->lp_threads[k]);
+    printf("%s\n", a->no_gl ? "" : "   ratio");
+}
+
+/* ---------------------------------------- main ---------------------------------------- */
+
+/* bench-gl's path: --gl, else beside this program. */
+static void find_gl(const bench_args *a, const char *argv0, char *out, size_t len)
+{
+    if (a->gl_path) {
+        snprintf(out, len, "%s", a->gl_path);
+        return;
+    }
+    const char *slash = strrchr(argv0, '/');
+    snprintf(out, len, "%.*sbench-gl", slash ? (int)(slash - argv0 + 1) : 0, argv0);
+}
+
+/* The working directory: --keep (created) or a new temporary one. 0 or -1. */
+static int make_dir(const bench_args *a, char *dir, size_t len)
+{
+    if (a->keep) {
+        snprintf(dir, len, "%s", a->keep);
+        return mkdir(dir, 0755) == 0 || errno == EEXIST ? 0 : -1;
+    }
+    snprintf(dir, len, "%s/instess-bench-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+/* True when a case passed: no memory growth over the frames and, with llvmpipe, a result and agreeing images. */
+static int case_ok(const bench_args *a, const bench_scene_def *d, const case_result *c)
+{
+    for (int t = 0; t < a->n_threads; t++)
+        if (c->inst[t].rss_after_frames_kb - c->inst[t].rss_after_warmup_kb > RSS_GROWTH_MAX_KB) return 0;
+    if (a->no_gl) return 1;
+    return !isnan(c->gl_best_ms) && c->have_diff && images_agree(&c->diff, (size_t)d->width * d->height);
+}
+
+/* Run every selected scene and patch, printing as it goes; returns the number of disagreements or failures. */
+static int run_all(const bench_args *a, const char *gl_path, const char *dir)
+{
+    int bad = 0;
+    print_header(a);
+    for (size_t s = 0; s < N_SCENES; s++) {
+        const bench_scene_def *d = &bench_scenes[s];
+        if (!strchr(a->scenes, d->id)) continue;
+        bench_data bd;
+        char err[512] = "";
+        if (data_build(d, &bd, err, sizeof err) != 0) {
+            fprintf(stderr, "bench: scene %c: %s\n", d->id, err);
+            data_free(&bd), bad++;
+            continue;
+        }
+        for (int pk = 0; pk < (int)N_PATCHES; pk++) {
+            if (!(a->patches & (1u << pk))) continue;
+            case_result c;
+            if (run_case(a, gl_path, dir, d, &bd, pk, &c, err, sizeof err) != 0) {
+                fprintf(stderr, "bench: scene %c %s: %s\n", d->id, bench_patches[pk].name, err);
+                case_free(&c), bad++;
+                continue;
+            }
+            print_rows(a, d, pk, &c);
+            print_notes(a, d, &c);
+            print_machine(a, d, pk, &c);
+            fflush(stdout);
+            bad += !case_ok(a, d, &c);
+            case_free(&c);
+        }
+        data_free(&bd);
+    }
+    printf("peak RSS of the instess process: %.1f MB\n", (double)rss_peak_kb() / 1024.0);
+    return bad;
+}
+
+int main(int argc, char **argv)
+{
+    bench_args a;
+    if (parse_args(argc, argv, &a) != 0) return 2;
+    char gl_path[4096], dir[2048];
+    find_gl(&a, argv[0], gl_path, sizeof gl_path);
+    if (!a.no_gl && access(gl_path, X_OK) != 0) {
+        fprintf(stderr, "bench: %s: not found (build it with `make bench`, or pass --no-gl)\n", gl_path);
+        return 1;
+    }
+    if (make_dir(&a, dir, sizeof dir) != 0) {
+        fprintf(stderr, "bench: cannot create a working directory: %s\n", strerror(errno));
+        return 1;
+    }
+    int bad = run_all(&a, gl_path, dir);
+    if (!a.keep) rmdir(dir);
+    if (bad) fprintf(stderr, "bench: %d scene(s) failed or disagree with llvmpipe\n", bad);
+    return bad ? 1 : 0;
+}
