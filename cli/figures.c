@@ -1,11 +1,406 @@
-/* cli/figures.c -- `instess figures`: every figure of the three source documents into out/ (issue 4). */
+/* cli/figures.c -- `instess figures`: every figure of the three source documents (design.md section 5) into
+ * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html (issue 4).
+ *
+ * One process renders all figures (OpenImageIO's start-up is paid once), in parallel over figures with OpenMP
+ * (each figure's own renders then run on one thread; a lone figure gets all of them -- the bytes are the same
+ * either way, the device is deterministic).  A progress line per figure goes to stderr.  A failing figure is
+ * reported by id with its message, the others are still rendered, and the command exits 1.  Usage errors
+ * (unknown option or id) exit 2.  Every file is written atomically. */
+#include <errno.h>
+#include <omp.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
-#include "scene.h"
+#include "figures.h"
+
+static const char figures_usage[] =
+    "usage: instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N]\n"
+    "Render every figure of the source documents into DIR (default out): ID.png, ID.exr (renderings: RGBA, Z,\n"
+    "N.X, N.Y, N.Z) and the gallery DIR/index.html.\n"
+    "\n"
+    "  --out DIR      output directory (created if missing)                       [out]\n"
+    "  --only IDS     only these figures (comma-separated ids, e.g. fig-1.1.1a,fig-003-3)\n"
+    "  --small        the test size (about 1/4 of the pixels)\n"
+    "  --threads N    threads (0: all cores; the images do not depend on it)       [0]\n"
+    "  --list         print the figure ids and exit\n"
+    "  -h, --help     this text\n";
+
+/* The figures in gallery order with the section of the document they belong to; ids not listed here come last
+ * in table order under "Other figures". */
+typedef struct fig_order { const char *id; int section; } fig_order;
+static const char *const section_titles[] = {
+    "Seed 000: H. Gruen, Smoothed N-Patches",
+    "Seed 001: R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles",
+    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)",
+    "Other figures"};
+enum { N_SECTIONS = 4 };
+static const fig_order gallery_order[] = {
+    {"fig-1.1.1a", 0}, {"fig-1.1.1b", 0}, {"fig-1.1.1c", 0}, {"fig-1.1.1d", 0}, {"fig-1.1.2", 0},
+    {"fig-1.1.3", 0}, {"fig-1.1.4", 0}, {"fig-1.1.5", 0}, {"fig-1.1.6", 0}, {"fig-1.1.7a", 0},
+    {"fig-1.1.7b", 0}, {"fig-1.1.8a", 0}, {"fig-1.1.8b", 0}, {"fig-1.1.9", 0}, {"fig-1.1.10a", 0},
+    {"fig-1.1.10b", 0}, {"fig-001-1", 1}, {"fig-001-4", 1}, {"fig-001-5", 1}, {"fig-md2-seams", 1},
+    {"fig-001-6", 1}, {"fig-001-7", 1}, {"fig-001-11", 1}, {"fig-001-12", 1}, {"fig-001-fake-vs-real", 1},
+    {"fig-003-3", 2}, {"fig-003-4", 2}, {"fig-003-5", 2}, {"fig-003-6", 2}, {NULL, 0}};
+
+#define MAX_FIGURES 128
+
+/* The options of the command. */
+typedef struct figures_opts {
+    const char *out;
+    const char *only;  /* NULL: all */
+    bool small, list;
+    int threads;
+} figures_opts;
+
+/* What happened to one figure. */
+typedef struct fig_result {
+    int rc;            /* 0 written, -1 failed */
+    double seconds;
+    char err[768];
+} fig_result;
+
+/* ---------------------------------------- the figure list ---------------------------------------- */
+
+/* Both tables, in table order, into list; returns the count. */
+static size_t all_figures(const figure **list, size_t cap)
+{
+    size_t n = 0;
+    const figure *const tables[2] = {fig_renders, fig_diagrams};
+    for (int t = 0; t < 2; t++)
+        for (const figure *f = tables[t]; f->id && n < cap; f++) list[n++] = f;
+    return n;
+}
+
+/* The figure with this id among list[0..n-1], or NULL. */
+static const figure *find_figure(const figure *const *list, size_t n, const char *id, size_t len)
+{
+    for (size_t k = 0; k < n; k++)
+        if (strlen(list[k]->id) == len && strncmp(list[k]->id, id, len) == 0) return list[k];
+    return NULL;
+}
+
+/* Keep the figures named in `only` (comma-separated) in table order; returns the count or -1 (unknown id,
+ * printed). */
+static long select_figures(const figure **list, size_t n, const char *only)
+{
+    if (!only) return (long)n;
+    bool keep[MAX_FIGURES] = {0};
+    for (const char *p = only; *p;) {
+        size_t len = strcspn(p, ",");
+        const figure *f = len ? find_figure(list, n, p, len) : NULL;
+        if (!f) {
+            fprintf(stderr, "instess: figures: unknown figure id '%.*s' (instess figures --list shows them)\n",
+                    (int)len, p);
+            return -1;
+        }
+        for (size_t k = 0; k < n; k++) keep[k] |= list[k] == f;
+        p += len + (p[len] == ',');
+    }
+    size_t m = 0;
+    for (size_t k = 0; k < n; k++)
+        if (keep[k]) list[m++] = list[k];
+    return (long)m;
+}
+
+/* ---------------------------------------- options ---------------------------------------- */
+
+/* Print msg and the usage hint; 2. */
+static int figures_usage_error(const char *msg, const char *arg)
+{
+    fprintf(stderr, "instess: figures: %s%s%s\nTry 'instess figures --help'.\n", msg, arg ? ": " : "",
+            arg ? arg : "");
+    return 2;
+}
+
+/* The value of option `name` at argv[*i] ("--name V" or "--name=V"), advancing *i; NULL if not this option. */
+static const char *option_value(int argc, char **argv, int *i, const char *name, bool *missing)
+{
+    size_t n = strlen(name);
+    if (strncmp(argv[*i], name, n) != 0) return NULL;
+    if (argv[*i][n] == '=') return argv[*i] + n + 1;
+    if (argv[*i][n] != 0) return NULL;
+    if (*i + 1 >= argc) return *missing = true, NULL;
+    return argv[++*i];
+}
+
+/* Parse argv (argv[0] = "figures"); -1 to go on, else the exit code. */
+static int parse_figures_args(int argc, char **argv, figures_opts *o)
+{
+    *o = (figures_opts){.out = "out"};
+    for (int i = 1; i < argc; i++) {
+        bool missing = false;
+        const char *v;
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) return fputs(figures_usage, stdout), 0;
+        if (!strcmp(argv[i], "--small")) o->small = true;
+        else if (!strcmp(argv[i], "--list")) o->list = true;
+        else if ((v = option_value(argc, argv, &i, "--out", &missing))) o->out = v;
+        else if ((v = option_value(argc, argv, &i, "--only", &missing))) o->only = v;
+        else if ((v = option_value(argc, argv, &i, "--threads", &missing))) {
+            if (!scene_parse_int(v, 0, 256, &o->threads)) return figures_usage_error("--threads must be 0..256", v);
+        } else return figures_usage_error(missing ? "missing value" : "unknown option or argument", argv[i]);
+        if (missing) return figures_usage_error("missing value", argv[i]);
+    }
+    if (!*o->out) return figures_usage_error("--out needs a directory", NULL);
+    if (o->only && !*o->only) return figures_usage_error("--only needs figure ids", NULL);
+    return -1;
+}
+
+/* mkdir -p dir; 0 or -1 with a message on stderr. */
+static int make_dirs(const char *dir)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *p = buf + 1;; p++) {
+        char c = *p;
+        if (c != '/' && c != 0) continue;
+        *p = 0;
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+            fprintf(stderr, "instess: figures: %s: cannot create the directory: %s\n", buf, strerror(errno));
+            return -1;
+        }
+        *p = c;
+        if (!c) break;
+    }
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "instess: figures: %s: not a directory\n", dir);
+        return -1;
+    }
+    return 0;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* ---------------------------------------- rendering ---------------------------------------- */
+
+/* Render figure f and write DIR/<id>.png (and .exr for renderings) atomically into *res. */
+static void render_figure(const figure *f, const fig_ctx *ctx, const char *dir, fig_result *res)
+{
+    double t0 = now_s();
+    is_image img = {0};
+    char path[4096];
+    is_image_meta meta = {"instess " INSTESS_VERSION, f->command};
+    res->rc = f->render(ctx, &img, res->err, sizeof res->err);
+    if (res->rc == 0) {
+        snprintf(path, sizeof path, "%s/%s.png", dir, f->id);
+        res->rc = image_write(&img, path, &meta, res->err, sizeof res->err);
+    }
+    if (res->rc == 0 && f->rendering) {
+        snprintf(path, sizeof path, "%s/%s.exr", dir, f->id);
+        res->rc = image_write(&img, path, &meta, res->err, sizeof res->err);
+    }
+    if (res->rc != 0 && !res->err[0]) snprintf(res->err, sizeof res->err, "failed without a message");
+    image_free(&img);
+    res->seconds = now_s() - t0;
+}
+
+/* Render list[0..n-1] in parallel over figures on `threads` threads, a progress line per figure; returns the
+ * number of failures. */
+static int render_all(const figure *const *list, size_t n, const figures_opts *o, int threads, fig_result *res)
+{
+    fig_ctx ctx = {.small = o->small, .threads = n == 1 ? threads : 1};
+    size_t done = 0;
+    int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (long k = 0; k < (long)n; k++) {
+        render_figure(list[k], &ctx, o->out, &res[k]);
+#pragma omp critical(figures_progress)
+        {
+            done++;
+            if (res[k].rc == 0)
+                fprintf(stderr, "instess: figures: [%2zu/%zu] %-22s %6.2f s -> %s/%s.png%s\n", done, n, list[k]->id,
+                        res[k].seconds, o->out, list[k]->id, list[k]->rendering ? " + .exr" : "");
+            else {
+                failed++;
+                fprintf(stderr, "instess: figures: [%2zu/%zu] %-22s FAILED: %s\n", done, n, list[k]->id, res[k].err);
+            }
+        }
+    }
+    return failed;
+}
+
+/* ---------------------------------------- the gallery ---------------------------------------- */
+
+/* Write s with &, <, >, " escaped. */
+static void html_text(FILE *f, const char *s)
+{
+    for (; s && *s; s++) {
+        switch (*s) {
+        case '&': fputs("&amp;", f); break;
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '"': fputs("&quot;", f); break;
+        default: fputc(*s, f);
+        }
+    }
+}
+
+static const char gallery_css[] =
+    "body{margin:0;padding:24px 32px;font:15px/1.45 system-ui,-apple-system,'Segoe UI',sans-serif;"
+    "background:#f4f4f1;color:#222}\n"
+    "h1{font-size:26px;margin:0 0 4px}h2{font-size:20px;margin:36px 0 12px;padding-bottom:4px;"
+    "border-bottom:2px solid #cfcfc8}\n"
+    "p.lead{max-width:72em;color:#444}\n"
+    ".group{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start;margin:0 0 20px}\n"
+    "figure{margin:0;flex:1 1 0;min-width:260px;max-width:100%;background:#fff;border:1px solid #d6d6d0;"
+    "border-radius:6px;padding:10px;box-sizing:border-box}\n"
+    "figure.wide{flex:1 1 100%}\n"
+    "figure.wide img{max-width:min(100%,1000px)}\n"
+    "figure img{display:block;max-width:100%;height:auto;margin:0 auto 8px;border-radius:3px;background:#2e3440}\n"
+    "figcaption .id{font-weight:700;font-family:ui-monospace,monospace}\n"
+    "figcaption .src{color:#666;font-size:13px}\n"
+    "figcaption blockquote{margin:6px 0;padding:2px 0 2px 10px;border-left:3px solid #b9b9ae;font-style:italic}\n"
+    "figcaption p{margin:6px 0}\n"
+    "code{display:block;white-space:pre-wrap;word-break:break-all;background:#f0f0ea;padding:4px 6px;"
+    "border-radius:3px;font:12px/1.4 ui-monospace,monospace}\n"
+    ".fail{color:#a00;font-weight:700}\n";
+
+/* The section of figure id (gallery_order), N_SECTIONS - 1 if not listed; *rank gets its position. */
+static int section_of(const char *id, int *rank)
+{
+    for (int k = 0; gallery_order[k].id; k++)
+        if (!strcmp(gallery_order[k].id, id)) return *rank = k, gallery_order[k].section;
+    *rank = 1000;
+    return N_SECTIONS - 1;
+}
+
+/* The result of figure f in this run, or NULL if it was not rendered now. */
+static const fig_result *result_of(const figure *f, const figure *const *sel, size_t n_sel, const fig_result *res)
+{
+    for (size_t k = 0; k < n_sel; k++)
+        if (sel[k] == f) return &res[k];
+    return NULL;
+}
+
+/* One <figure> of the gallery. */
+static void html_figure(FILE *f, const figure *fg, const fig_result *r)
+{
+    fprintf(f, "<figure id=\"%s\"%s>\n<a href=\"%s.png\"><img src=\"%s.png\" alt=\"", fg->id,
+            fg->group ? "" : " class=\"wide\"", fg->id, fg->id);
+    html_text(f, fg->id);
+    fputs("\" loading=\"lazy\"></a>\n<figcaption>\n<span class=\"id\">", f);
+    html_text(f, fg->id);
+    fputs("</span> <span class=\"src\">", f);
+    html_text(f, fg->source);
+    fputs("</span>\n<blockquote>", f);
+    html_text(f, fg->caption);
+    fputs("</blockquote>\n<p><b>Shows:</b> ", f);
+    html_text(f, fg->shows);
+    if (fg->rendering) fprintf(f, " Depth and normals: <a href=\"%s.exr\">%s.exr</a>.", fg->id, fg->id);
+    fputs("</p>\n<p><b>Reproduce:</b></p><code>", f);
+    html_text(f, fg->command);
+    fputs("</code>\n", f);
+    if (r && r->rc != 0) {
+        fputs("<p class=\"fail\">Rendering failed in the last run: ", f);
+        html_text(f, r->err);
+        fputs("</p>\n", f);
+    }
+    fputs("</figcaption>\n</figure>\n", f);
+}
+
+/* Sort all[0..n-1] into gallery order (stable: insertion sort by (section, rank, table position)). */
+static void gallery_sort(const figure **all, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        const figure *x = all[i];
+        int rx, sx = section_of(x->id, &rx);
+        size_t j = i;
+        for (; j > 0; j--) {
+            int ry, sy = section_of(all[j - 1]->id, &ry);
+            if (sy < sx || (sy == sx && ry <= rx)) break;
+            all[j] = all[j - 1];
+        }
+        all[j] = x;
+    }
+}
+
+/* The body of the gallery: sections, figures of one group side by side. */
+static void html_body(FILE *f, const figure **all, size_t n, const figure *const *sel, size_t n_sel,
+                      const fig_result *res)
+{
+    int section = -1;
+    for (size_t k = 0; k < n;) {
+        int rank, s = section_of(all[k]->id, &rank);
+        if (s != section) {
+            fprintf(f, "<h2>%s</h2>\n", section_titles[s]);
+            section = s;
+        }
+        size_t end = k + 1;
+        while (all[k]->group && end < n && all[end]->group && !strcmp(all[end]->group, all[k]->group)) end++;
+        fputs("<div class=\"group\">\n", f);
+        for (; k < end; k++) html_figure(f, all[k], result_of(all[k], sel, n_sel, res));
+        fputs("</div>\n", f);
+    }
+}
+
+/* Write DIR/index.html atomically (temporary file, then rename); 0 or -1 with a message on stderr. */
+static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel, const fig_result *res)
+{
+    const figure *all[MAX_FIGURES];
+    size_t n = all_figures(all, MAX_FIGURES);
+    gallery_sort(all, n);
+    char path[4096], tmp[4200];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f) return fprintf(stderr, "instess: figures: %s: cannot write: %s\n", path, strerror(errno)), -1;
+    fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+               "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+               "<title>instess: the figures of the source documents</title>\n<style>\n%s</style>\n</head>\n<body>\n"
+               "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">Every figure of design.md "
+               "section 5, rendered on the CPU by instess %s (tessellation through instancing on a Direct3D 9-style "
+               "device). Each entry cites its document and figure, quotes the caption, says what the image shows "
+               "and gives the command that reproduces it. Renderings also come as OpenEXR with depth (Z) and "
+               "normal (N.X, N.Y, N.Z) channels. Regenerate everything with <code style=\"display:inline\">make "
+               "figures</code> (= <code style=\"display:inline\">instess figures --out out</code>).</p>\n",
+            gallery_css, INSTESS_VERSION);
+    html_body(f, all, n, sel, n_sel, res);
+    fputs("</body>\n</html>\n", f);
+    bool ok = fflush(f) == 0 && !ferror(f);
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        fprintf(stderr, "instess: figures: %s: cannot write: %s\n", path, strerror(errno));
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------- the command ---------------------------------------- */
 
 int scene_cmd_figures(int argc, char **argv)
 {
-    (void)argc, (void)argv;
-    fprintf(stderr, "instess: figures: not implemented yet\n");
-    return 1;
+    figures_opts o;
+    int rc = parse_figures_args(argc, argv, &o);
+    if (rc >= 0) return rc;
+    const figure *list[MAX_FIGURES];
+    size_t n_all = all_figures(list, MAX_FIGURES);
+    if (o.list) {
+        for (size_t k = 0; k < n_all; k++) printf("%s\n", list[k]->id);
+        return 0;
+    }
+    long n = select_figures(list, n_all, o.only);
+    if (n < 0) return 2;
+    if (make_dirs(o.out) != 0) return 1;
+    int threads = o.threads > 0 ? o.threads : omp_get_num_procs();
+    fig_result *res = calloc((size_t)n + 1, sizeof *res);
+    if (!res) return fprintf(stderr, "instess: figures: out of memory\n"), 1;
+    double t0 = now_s();
+    int failed = render_all(list, (size_t)n, &o, threads, res);
+    int html = write_gallery(o.out, list, (size_t)n, res);
+    fprintf(stderr, "instess: figures: %ld figure(s) in %.2f s on %d thread(s), %d failed -> %s/index.html\n", n,
+            now_s() - t0, threads, failed, o.out);
+    for (long k = 0; k < n; k++)
+        if (res[k].rc != 0) fprintf(stderr, "instess: figures: %s: %s\n", list[k]->id, res[k].err);
+    free(res);
+    return failed || html ? 1 : 0;
 }

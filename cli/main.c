@@ -11,7 +11,7 @@
 
 static const char usage_text[] =
     "usage: instess [OPTION]... -o FILE.png|FILE.exr\n"
-    "       instess figures [--out DIR] [--only ID[,ID...]] [--small]\n"
+    "       instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]\n"
     "       instess smoothness [--samples N]\n"
     "Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n"
     "\n"

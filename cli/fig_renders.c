@@ -1,0 +1,668 @@
+/* cli/fig_renders.c -- the figures of the source documents that are renderings of surfaces (table fig_renders,
+ * cli/figures.h): Gruen's Figs. 1.1.1, 1.1.7, 1.1.8, 1.1.10; van Veen and Baakman's Figs. 1, 5, 12 and the
+ * 'fake' vs 'real' normals of their section 5.1; Real-Time Rendering's Fig. 3; and the MD2 texture-seam cracks.
+ *
+ * Every view is written once, as the options of the `instess` command (VIEW_* macros below): the render parses
+ * that string with the scene layer's option parsers, and the table's `command` field is built from the same
+ * string, so a single rendering is reproduced exactly by its command.  Two figure-only options exist for views
+ * the command line cannot express (their command is then `instess figures --only ID`):
+ *   --light grazing   the listing's diffuse term with a light grazing the surface from the upper left instead of
+ *                     the headlight (0, 0, -1) (ridges show in the shading);
+ *   --light normals   colour = 0.5 + 0.5 (n.x, n.y, -n.z) of the world-space unit normal ("coloured by its
+ *                     normals"; facing the camera is blue).
+ * A rendering is "R,G,B,A,Z,N.X,N.Y,N.Z": colour with 4x MSAA, then Z (nearest sample) and the unit normal of a
+ * 1-sample pass of the same view (zero on the background). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "figures.h"
+
+#define FIG_CHANNELS "R,G,B,A,Z,N.X,N.Y,N.Z"
+#define FIG_NCH 8
+#define MD2_DIR "/usr/share/assimp/models/MD2/"
+#define SYDNEY MD2_DIR "sydney.md2"
+#define FAERIE MD2_DIR "faerie.md2"
+
+enum { LIGHT_LISTING = 0, LIGHT_GRAZING = 1, LIGHT_NORMALS = 2 };
+enum { C_FIG = 10, C_LIGHT = 11 }; /* constant registers of the wrapper shader (after the patch's c0..c9) */
+
+/* One parsed view: the scene options, the mesh spec they point to, the figure-only light. */
+typedef struct fig_view {
+    scene_opts o;
+    char mesh[512];
+    int light;
+    bool recompute;  /* --recompute-normals: angle-weighted normals per welded position */
+} fig_view;
+
+/* ---------------------------------------- the wrapper shader ---------------------------------------- */
+
+/* The patch shader selected by c10.x, relit as c10.y says (LIGHT_*): the listing's colour unchanged, a grazing
+ * light from direction c11 (towards the light) or the normal as a colour; both scaled by g_vDiffuse (c8), so a
+ * wireframe overlay (diffuse = the wire colour) keeps its colour. */
+static void vs_fig(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    vs_patch_shader((vs_patch)(int)c->c[C_FIG].x)->main(c, in, out);
+    int light = (int)c->c[C_FIG].y;
+    if (light == LIGHT_LISTING) return;
+    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + 1]);
+    float4 d = c->c[VS_C_DIFFUSE];
+    float3 k;
+    if (light == LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
+    else {
+        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c->c[C_LIGHT])));
+        k = f3(l, l, l);
+    }
+    out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
+}
+static const is_vertex_shader fig_shader = {"figure", vs_fig, VS_OUTPUTS};
+
+/* ---------------------------------------- views ---------------------------------------- */
+
+/* Apply one option of a view string; NULL or the problem. */
+static const char *view_option(fig_view *v, const char *key, const char *val)
+{
+    scene_opts *o = &v->o;
+    if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
+    if (!strcmp(key, "--patch")) return scene_parse_patch(val, &o->patch) ? NULL : "bad --patch";
+    if (!strcmp(key, "--normals")) return scene_parse_normals(val, &o->normals) ? NULL : "bad --normals";
+    if (!strcmp(key, "--level")) return scene_parse_float(val, 1, SCENE_MAX_LEVEL, &o->level) ? NULL : "bad --level";
+    if (!strcmp(key, "--yaw")) return scene_parse_float(val, -360, 360, &o->yaw) ? NULL : "bad --yaw";
+    if (!strcmp(key, "--pitch")) return scene_parse_float(val, -360, 360, &o->pitch) ? NULL : "bad --pitch";
+    if (!strcmp(key, "--distance")) return scene_parse_float(val, 1.01f, 1000, &o->distance) ? NULL : "bad --distance";
+    if (!strcmp(key, "--fill")) return scene_parse_fill(val, &o->fill) ? NULL : "bad --fill";
+    if (!strcmp(key, "--light")) {
+        v->light = !strcmp(val, "grazing") ? LIGHT_GRAZING : !strcmp(val, "normals") ? LIGHT_NORMALS : -1;
+        return v->light < 0 ? "bad --light" : NULL;
+    }
+    return "unknown option";
+}
+
+/* Parse a view string ("--mesh cube --patch npatch ...") over the scene defaults; 0 or -1. */
+static int view_parse(fig_view *v, const char *spec, char *err, size_t errlen)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", spec);
+    memset(v, 0, sizeof *v);
+    scene_opts_default(&v->o);
+    snprintf(v->mesh, sizeof v->mesh, "cube");
+    for (char *save = NULL, *k = strtok_r(buf, " ", &save); k; k = strtok_r(NULL, " ", &save)) {
+        if (!strcmp(k, "--recompute-normals")) {
+            v->recompute = true;
+            continue;
+        }
+        char *val = strtok_r(NULL, " ", &save);
+        const char *msg = val ? view_option(v, k, val) : "missing value";
+        if (msg) return snprintf(err, errlen, "view \"%s\": %s: %s", spec, k, msg), -1;
+    }
+    if (v->light == LIGHT_NORMALS) memcpy(v->o.diffuse, (float[4]){1, 1, 1, 1}, sizeof v->o.diffuse);
+    return 0;
+}
+
+/* Load a built-in or a mesh file (warnings dropped: the figures are quiet); 0 or -1. */
+static int load_mesh(const char *spec, bool recompute, is_mesh *m, char *err, size_t errlen)
+{
+    is_mesh_options mo = {.recompute_normals = recompute};
+    return mesh_open(spec, &mo, m, err, errlen) == 0 ? 0 : -1;
+}
+
+/* ---------------------------------------- rendering ---------------------------------------- */
+
+/* A device with o's view of m drawn through the wrapper shader: `samples` samples, plus the normal AOV plane
+ * when aov (1 sample).  NULL and err on failure. */
+static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid *g, int samples, bool aov,
+                            char *err, size_t errlen)
+{
+    const scene_opts *o = &v->o;
+    is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
+    if (!dev) return NULL;
+    dev_set_threads(dev, o->threads);
+    if (aov && rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + 1, 3) != 0) {
+        snprintf(err, errlen, "%s: cannot add the normal AOV plane (out of memory)", m->name);
+        dev_destroy(dev);
+        return NULL;
+    }
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
+    float3 l = normalize3(f3(0.62f, 0.62f, -0.48f)); /* towards the light: upper right, grazing a face-on face */
+    float c[8] = {(float)o->patch, (float)v->light, 0, 0, l.x, l.y, l.z, 0};
+    dev_set_vertex_shader_constant_f(dev, C_FIG, c, 2);
+    if (scene_draw(dev, o, m, g, &fig_shader) != 0) {
+        snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
+        dev_destroy(dev);
+        return NULL;
+    }
+    return dev;
+}
+
+/* Resolved colour and the nearest sample's depth into img's R, G, B, A, Z; 0 or -1 (no memory). */
+static int copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
+{
+    size_t n = (size_t)rt->width * rt->height;
+    uint32_t *rgba = malloc(n * sizeof *rgba);
+    if (!rgba) return snprintf(err, errlen, "out of memory"), -1;
+    rs_target_resolve(rt, rgba);
+    image_from_rgba8(img, rgba);
+    free(rgba);
+    for (size_t p = 0; p < n; p++) {
+        float z = rt->depth[p * rt->samples];
+        for (int s = 1; s < rt->samples; s++) z = fminf(z, rt->depth[p * rt->samples + s]);
+        img->data[p * FIG_NCH + 4] = z;
+    }
+    return 0;
+}
+
+/* The normal AOV plane of rt into img's N.X, N.Y, N.Z. */
+static void copy_normals(const rs_target *rt, is_image *img)
+{
+    size_t n = (size_t)rt->width * rt->height;
+    for (size_t p = 0; p < n; p++)
+        for (int k = 0; k < 3; k++) img->data[p * FIG_NCH + 5 + k] = rt->aov[0].data[p * 3 + k];
+}
+
+/* Render view v of mesh m at w x h into img (allocated, FIG_CHANNELS); 0 or -1. */
+static int render_mesh_view(const fig_ctx *ctx, fig_view *v, const is_mesh *m, int w, int h, is_image *img,
+                            char *err, size_t errlen)
+{
+    v->o.width = w, v->o.height = h, v->o.threads = ctx->threads, v->o.mesh = v->mesh;
+    core_grid g;
+    if (core_grid_make(v->o.grid, v->o.level, &g) != 0)
+        return snprintf(err, errlen, "level %g: cannot build the grid", (double)v->o.level), -1;
+    int rc = -1;
+    is_device *dev = draw_view(v, m, &g, v->o.msaa, false, err, errlen);
+    is_device *adev = dev ? draw_view(v, m, &g, 1, true, err, errlen) : NULL;
+    if (adev && image_alloc(img, w, h, FIG_CHANNELS, err, errlen) == 0) {
+        rc = copy_color_depth(dev_render_target(dev), img, err, errlen);
+        if (rc == 0) copy_normals(dev_render_target(adev), img);
+        else image_free(img);
+    }
+    dev_destroy(adev);
+    dev_destroy(dev);
+    core_grid_free(&g);
+    return rc;
+}
+
+/* Parse a view, load its mesh and render it at w x h; 0 or -1. */
+static int render_spec(const fig_ctx *ctx, const char *spec, int w, int h, is_image *img, char *err, size_t errlen)
+{
+    fig_view v;
+    is_mesh m = {0};
+    if (view_parse(&v, spec, err, errlen) != 0 || load_mesh(v.mesh, v.recompute, &m, err, errlen) != 0) return -1;
+    int rc = render_mesh_view(ctx, &v, &m, w, h, img, err, errlen);
+    mesh_free(&m);
+    return rc;
+}
+
+/* ---------------------------------------- composites ---------------------------------------- */
+
+/* Sizes of composite figures: panel side, font sizes and the title band, halved for the test size. */
+typedef struct fig_sizes { int single, panel, tall, lod_w, lod_h, title_h; float title_px, label_px; } fig_sizes;
+
+static fig_sizes sizes_of(const fig_ctx *ctx)
+{
+    fig_sizes s = {512, 320, 400, 300, 520, 30, 18.0f, 14.0f};
+    if (ctx->small) s = (fig_sizes){256, 160, 200, 150, 260, 16, 10.0f, 8.0f};
+    return s;
+}
+
+/* The scene's default background colour as floats (what a rendering holds there). */
+static void background_rgb(float rgb[3])
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    for (int k = 0; k < 3; k++) rgb[k] = (float)((o.background >> (16 - 8 * k)) & 0xffu) / 255.0f;
+}
+
+/* A composite image w x h filled with the background: colour, A = 1, Z = 1 (far), N = 0; 0 or -1. */
+static int composite_alloc(is_image *img, int w, int h, char *err, size_t errlen)
+{
+    if (image_alloc(img, w, h, FIG_CHANNELS, err, errlen) != 0) return -1;
+    float bg[3];
+    background_rgb(bg);
+    for (size_t p = 0; p < (size_t)w * h; p++) {
+        float *px = &img->data[p * FIG_NCH];
+        memset(px, 0, FIG_NCH * sizeof *px);
+        px[0] = bg[0], px[1] = bg[1], px[2] = bg[2], px[3] = 1.0f, px[4] = 1.0f;
+    }
+    return 0;
+}
+
+/* Copy every channel of src into dst with src's top-left corner at (x, y) (clipped). */
+static void blit(is_image *dst, const is_image *src, int x, int y)
+{
+    for (int r = 0; r < src->height; r++)
+        for (int c = 0; c < src->width; c++) {
+            if (x + c < 0 || x + c >= dst->width || y + r < 0 || y + r >= dst->height) continue;
+            memcpy(&dst->data[((size_t)(y + r) * dst->width + x + c) * FIG_NCH],
+                   &src->data[((size_t)r * src->width + c) * FIG_NCH], FIG_NCH * sizeof(float));
+        }
+}
+
+/* Light text at (x, baseline y); 0 or -1. */
+static int label(is_image *img, int x, int y, const char *text, float px, char *err, size_t errlen)
+{
+    static const float ink[4] = {0.93f, 0.93f, 0.90f, 1.0f};
+    return image_draw_text(img, x, y, text, px, ink, err, errlen);
+}
+
+/* Text centred horizontally on cx; 0 or -1. */
+static int label_centred(is_image *img, int cx, int y, const char *text, float px, char *err, size_t errlen)
+{
+    int w = 0, h = 0;
+    image_text_size(text, px, &w, &h);
+    return label(img, cx - w / 2, y, text, px, err, errlen);
+}
+
+/* The frame of a composite: rows x cols panels of pw x ph, each under a band for its label, all under a band for
+ * the title. */
+typedef struct fig_layout { int rows, cols, pw, ph, label_h; fig_sizes s; } fig_layout;
+
+static fig_layout layout_of(const fig_ctx *ctx, int rows, int cols, int pw, int ph)
+{
+    fig_sizes s = sizes_of(ctx);
+    return (fig_layout){rows, cols, pw, ph, (int)(s.label_px * 1.8f), s};
+}
+
+/* Allocate the composite of L with its title; 0 or -1. */
+static int layout_begin(const fig_layout *L, const char *title, is_image *out, char *err, size_t errlen)
+{
+    int w = L->cols * L->pw, h = L->s.title_h + L->rows * (L->label_h + L->ph);
+    if (composite_alloc(out, w, h, err, errlen) != 0) return -1;
+    if (label_centred(out, w / 2, (int)(L->s.title_h * 0.72f), title, L->s.title_px, err, errlen) == 0) return 0;
+    image_free(out);
+    return -1;
+}
+
+/* The top-left corner of panel k's image (row-major). */
+static void layout_cell(const fig_layout *L, int k, int *x, int *y)
+{
+    *x = (k % L->cols) * L->pw;
+    *y = L->s.title_h + (k / L->cols) * (L->label_h + L->ph) + L->label_h;
+}
+
+/* Put panel image p at cell k with its label above it; 0 or -1. */
+static int layout_place(const fig_layout *L, is_image *out, int k, const is_image *p, const char *text, char *err,
+                        size_t errlen)
+{
+    int x, y;
+    layout_cell(L, k, &x, &y);
+    blit(out, p, x, y);
+    return label_centred(out, x + L->pw / 2, y - (int)(L->label_h * 0.3f), text, L->s.label_px, err, errlen);
+}
+
+/* One panel of a composite: its view string and its label. */
+typedef struct fig_panel { const char *view; const char *label; } fig_panel;
+
+/* A composite of rows x cols panels of pw x ph, each rendered from its view, labelled, under a title; 0 or -1. */
+static int render_grid(const fig_ctx *ctx, const char *title, const fig_panel *panels, int rows, int cols, int pw,
+                       int ph, is_image *out, char *err, size_t errlen)
+{
+    fig_layout L = layout_of(ctx, rows, cols, pw, ph);
+    int rc = layout_begin(&L, title, out, err, errlen);
+    for (int k = 0; rc == 0 && k < rows * cols; k++) {
+        is_image p = {0};
+        rc = render_spec(ctx, panels[k].view, pw, ph, &p, err, errlen);
+        if (rc == 0) rc = layout_place(&L, out, k, &p, panels[k].label, err, errlen);
+        image_free(&p);
+        if (rc != 0) image_free(out);
+    }
+    return rc;
+}
+
+/* ---------------------------------------- single renderings ---------------------------------------- */
+
+/* One view at the single size (512x512; 256x256 small). */
+static int render_single(const fig_ctx *ctx, const char *spec, is_image *out, char *err, size_t errlen)
+{
+    fig_sizes s = sizes_of(ctx);
+    return render_spec(ctx, spec, s.single, s.single, out, err, errlen);
+}
+
+/* The views of the single renderings.  Real normals (seed 001, 3.2.2: the normal of the surface itself) under the
+ * listing's diffuse term: Listing 1.1.2's linear normal would shade every patch alike and hide the shape the
+ * figures are about (creases of the N-Patch across edges, the smoother new patch, the valleys). */
+#define V_TETRA "--mesh tetrahedron --normals real --level 16 --yaw 60 --pitch 35 --distance 2.7"
+#define V_TETRA_EDGE "--mesh tetrahedron --normals real --level 16 --yaw 0 --pitch 0 --distance 2.7"
+#define V_CUBE "--mesh cube --normals real --level 16 --yaw 30 --pitch 20"
+#define V_CUBE_10 "--mesh cube --normals real --level 16 --yaw -35 --pitch 30"
+#define V_1_1_1A V_TETRA " --patch npatch"
+#define V_1_1_1B V_TETRA " --patch smooth"
+#define V_1_1_1C V_CUBE " --patch npatch"
+#define V_1_1_1D V_CUBE " --patch smooth"
+#define V_1_1_7A V_TETRA_EDGE " --patch npatch"
+#define V_1_1_7B V_TETRA_EDGE " --patch smooth-initial"
+#define V_1_1_8A "--mesh cube --patch smooth-initial --normals real --level 12 --yaw 45 --pitch 0 --fill solid+wire"
+#define V_1_1_8B "--mesh cube --patch smooth-initial --normals real --level 32 --yaw 0 --pitch 0 --light grazing"
+#define V_1_1_10A V_CUBE_10 " --patch npatch"
+#define V_1_1_10B V_CUBE_10 " --patch smooth"
+#define CMD_SINGLE(view, id) "instess " view " --size 512x512 -o " id ".png"
+#define CMD_FIG(id) "instess figures --only " id
+
+/* A render function per single figure (fig_fn has no argument naming the figure). */
+#define SINGLE_FN(name, view) \
+    static int name(const fig_ctx *ctx, is_image *out, char *err, size_t errlen) \
+    { return render_single(ctx, view, out, err, errlen); }
+SINGLE_FN(fig_1_1_1a, V_1_1_1A)
+SINGLE_FN(fig_1_1_1b, V_1_1_1B)
+SINGLE_FN(fig_1_1_1c, V_1_1_1C)
+SINGLE_FN(fig_1_1_1d, V_1_1_1D)
+SINGLE_FN(fig_1_1_7a, V_1_1_7A)
+SINGLE_FN(fig_1_1_7b, V_1_1_7B)
+SINGLE_FN(fig_1_1_8a, V_1_1_8A)
+SINGLE_FN(fig_1_1_8b, V_1_1_8B)
+SINGLE_FN(fig_1_1_10a, V_1_1_10A)
+SINGLE_FN(fig_1_1_10b, V_1_1_10B)
+
+/* ---------------------------------------- seed 001 ---------------------------------------- */
+
+#define V_001_1 "--mesh icosahedron --yaw 20 --pitch 15"
+/* Fig. 1: the input triangulation (flat, wireframe), the PN model, the PN model coloured by its normals. */
+static int fig_001_1(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_001_1 " --patch flat --level 1 --fill solid+wire", "input triangulation"},
+        {V_001_1 " --patch npatch --normals quadratic --level 12", "the model (PN triangles)"},
+        {V_001_1 " --patch npatch --normals quadratic --level 12 --light normals", "PN model coloured by normals"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Input triangulation, the model, the PN model coloured by its normals", p, 1, 3,
+                       s.panel, s.panel, out, err, errlen);
+}
+
+#define V_001_5 "--mesh cylinder --level 8 --yaw 20 --pitch -35 --distance 2.8"
+/* Fig. 5: PN triangles over split normals open cracks (the background shows through); PN-AEN and welded normals
+ * do not. */
+static int fig_001_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {{V_001_5 " --patch npatch", "N-Patch, split rim normals: crack"},
+                                  {V_001_5 " --patch pn-aen", "PN-AEN, same normals: closed"},
+                                  {V_001_5 " --patch npatch --recompute-normals", "N-Patch, welded normals"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "PN triangles where vertices have different normals per face", p, 1, 3, s.panel,
+                       s.panel, out, err, errlen);
+}
+
+#define V_MD2 "--yaw 90 --pitch 0 --distance 2.7"
+/* Fig. 12: a family of game characters, input (Gouraud-shaded triangles) above PN triangles. */
+static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {"--mesh " FAERIE " --patch flat --level 1 " V_MD2, "faerie: input"},
+        {"--mesh " SYDNEY " --patch flat --level 1 " V_MD2, "sydney: input"},
+        {"--mesh " FAERIE " --patch npatch --normals quadratic --level 4 " V_MD2, "faerie: PN triangles"},
+        {"--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "sydney: PN triangles"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Game characters (MD2): input vs PN", p, 2, 2, s.panel * 3 / 4, s.tall, out, err,
+                       errlen);
+}
+
+/* ---------------------------------------- fake vs real normals ---------------------------------------- */
+
+#define HEAT_MAX_DEG 45.0f
+/* The heat-map colour of t in [0, 1]: black, purple, orange, pale yellow. */
+static float3 heat_colour(float t)
+{
+    static const float stops[4][3] = {{0.02f, 0.02f, 0.08f}, {0.45f, 0.05f, 0.55f}, {0.95f, 0.40f, 0.08f},
+                                      {1.0f, 0.98f, 0.65f}};
+    t = saturate(t) * 3.0f;
+    int k = t >= 3.0f ? 2 : (int)t;
+    float f = t - (float)k;
+    return f3(stops[k][0] + (stops[k + 1][0] - stops[k][0]) * f, stops[k][1] + (stops[k + 1][1] - stops[k][1]) * f,
+              stops[k][2] + (stops[k + 1][2] - stops[k][2]) * f);
+}
+
+/* Replace the colour of `real` with the angle between its normals and those of `fake` (where both cover the
+ * pixel; the background stays), mapped 0..HEAT_MAX_DEG to the heat colours. */
+static void heat_map(is_image *real, const is_image *fake)
+{
+    for (size_t p = 0; p < (size_t)real->width * real->height; p++) {
+        float *a = &real->data[p * FIG_NCH];
+        const float *b = &fake->data[p * FIG_NCH];
+        float3 na = f3(a[5], a[6], a[7]), nb = f3(b[5], b[6], b[7]);
+        if (dot3(na, na) == 0.0f || dot3(nb, nb) == 0.0f) continue;
+        float deg = acosf(fmaxf(-1.0f, fminf(1.0f, dot3(na, nb)))) * (180.0f / 3.14159265f);
+        float3 c = heat_colour(deg / HEAT_MAX_DEG);
+        a[0] = c.x, a[1] = c.y, a[2] = c.z;
+    }
+}
+
+/* The colour scale under the heat map: a bar of the heat colours from 0 to HEAT_MAX_DEG degrees. */
+static int heat_legend(is_image *img, int x, int y, int w, float px, char *err, size_t errlen)
+{
+    int h = (int)px;
+    for (int r = 0; r < h; r++)
+        for (int c = 0; c < w; c++) {
+            float3 col = heat_colour((float)c / (float)(w - 1));
+            float *d = &img->data[((size_t)(y + r) * img->width + x + c) * FIG_NCH];
+            d[0] = col.x, d[1] = col.y, d[2] = col.z;
+        }
+    char txt[64];
+    snprintf(txt, sizeof txt, "%g deg", (double)HEAT_MAX_DEG);
+    int tw = 0, th = 0;
+    image_text_size(txt, px, &tw, &th);
+    if (label(img, x - (int)(px * 1.0f), y + h + (int)(px * 1.2f), "0", px, err, errlen) != 0) return -1;
+    return label(img, x + w - tw / 2, y + h + (int)(px * 1.2f), txt, px, err, errlen);
+}
+
+#define V_FAKE_REAL "--mesh cube --patch npatch --level 16 --yaw 30 --pitch 20"
+/* A copy of src (allocated); 0 or -1. */
+static int image_copy(is_image *dst, const is_image *src, char *err, size_t errlen)
+{
+    if (image_alloc(dst, src->width, src->height, FIG_CHANNELS, err, errlen) != 0) return -1;
+    memcpy(dst->data, src->data, (size_t)src->width * src->height * FIG_NCH * sizeof(float));
+    return 0;
+}
+
+/* 'Fake' (quadratic) vs 'real' (derivative) normals of the N-Patch on the cube, and the angle between them. */
+static int fig_001_fake_vs_real(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    fig_sizes s = sizes_of(ctx);
+    fig_layout L = layout_of(ctx, 1, 3, s.panel, s.panel);
+    is_image fake = {0}, real = {0}, diff = {0};
+    int rc = render_spec(ctx, V_FAKE_REAL " --normals quadratic", s.panel, s.panel, &fake, err, errlen);
+    if (rc == 0) rc = render_spec(ctx, V_FAKE_REAL " --normals real", s.panel, s.panel, &real, err, errlen);
+    if (rc == 0) rc = image_copy(&diff, &real, err, errlen);
+    if (rc == 0) heat_map(&diff, &fake);
+    if (rc == 0) rc = layout_begin(&L, "'Fake' vs 'real' normals of PN triangles", out, err, errlen);
+    if (rc == 0) rc = layout_place(&L, out, 0, &fake, "'fake' (quadratic) normals", err, errlen);
+    if (rc == 0) rc = layout_place(&L, out, 1, &real, "'real' (derivative) normals", err, errlen);
+    if (rc == 0) rc = layout_place(&L, out, 2, &diff, "angle between them", err, errlen);
+    int x, y;
+    layout_cell(&L, 2, &x, &y);
+    if (rc == 0) rc = heat_legend(out, x + s.panel / 4, y + s.panel - (int)(s.label_px * 2.6f), s.panel / 2,
+                                  s.label_px, err, errlen);
+    image_free(&fake);
+    image_free(&real);
+    image_free(&diff);
+    if (rc != 0) image_free(out);
+    return rc;
+}
+
+/* ---------------------------------------- seed 003 ---------------------------------------- */
+
+#define V_003_3 "--mesh " SYDNEY " --patch npatch --normals quadratic " V_MD2
+/* Fig. 3: LOD 0, 2, 6 (levels 1, 3, 7: x1, x9, x49 triangles) of a game character, shaded and wireframe. */
+static int fig_003_3(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_003_3 " --level 1", "LOD 0: 679 triangles"},   {V_003_3 " --level 3", "LOD 2: 6111 triangles"},
+        {V_003_3 " --level 7", "LOD 6: 33271 triangles"}, {V_003_3 " --level 1 --fill wire", "LOD 0 wireframe"},
+        {V_003_3 " --level 3 --fill wire", "LOD 2 wireframe"}, {V_003_3 " --level 7 --fill wire", "LOD 6 wireframe"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Levels of detail of the same model, shaded and wireframe", p, 2, 3, s.lod_w, s.lod_h,
+                       out, err, errlen);
+}
+
+/* ---------------------------------------- MD2 texture seams ---------------------------------------- */
+
+/* Angle-weighted normals per vertex INDEX (not per position): a vertex split at a texture seam gets only the
+ * triangles that use that copy, so the copies on the two sides of a seam get different normals. */
+static void normals_per_index(const is_mesh *m, float3 *n)
+{
+    memset(n, 0, m->n_vertices * sizeof *n);
+    for (size_t t = 0; t < m->n_triangles; t++) {
+        const uint32_t *i = &m->indices[3 * t];
+        float3 fn = mesh_compute_face_normal(m->positions[i[0]], m->positions[i[1]], m->positions[i[2]]);
+        for (int k = 0; k < 3; k++) {
+            float3 a = normalize3(sub3(m->positions[i[(k + 1) % 3]], m->positions[i[k]]));
+            float3 b = normalize3(sub3(m->positions[i[(k + 2) % 3]], m->positions[i[k]]));
+            float ang = acosf(fmaxf(-1.0f, fminf(1.0f, dot3(a, b))));
+            n[i[k]] = add3(n[i[k]], scale3(fn, ang));
+        }
+    }
+    for (size_t v = 0; v < m->n_vertices; v++) n[v] = normalize3(n[v]);
+}
+
+/* The mesh at spec with normals per unwelded vertex (see above); 0 or -1. */
+static int load_split_normals(const char *spec, is_mesh *out, char *err, size_t errlen)
+{
+    is_mesh m = {0};
+    if (load_mesh(spec, true, &m, err, errlen) != 0) return -1;
+    float3 *n = malloc(m.n_vertices * sizeof *n);
+    int rc = -1;
+    if (!n) snprintf(err, errlen, "out of memory");
+    else {
+        normals_per_index(&m, n);
+        is_mesh_data d = {m.n_vertices, m.n_triangles, m.positions, n, m.texcoords, m.indices};
+        rc = mesh_create(out, spec, &d, NULL, err, errlen) == 0 ? 0 : -1;
+    }
+    free(n);
+    mesh_free(&m);
+    return rc;
+}
+
+#define V_SEAMS "--mesh " SYDNEY " --patch npatch --level 4 --yaw 180 --pitch 0 --distance 1.5"
+/* Split normals at the texture seams of an MD2 character crack the PN triangles; welded normals do not. */
+static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    fig_sizes s = sizes_of(ctx);
+    fig_layout L = layout_of(ctx, 1, 2, s.panel, s.tall);
+    static const char *const labels[2] = {"normals per seam vertex: cracks", "welded normals: closed"};
+    int rc = layout_begin(&L, "Normals split at texture seams vs welded", out, err, errlen);
+    for (int k = 0; rc == 0 && k < 2; k++) {
+        fig_view v;
+        is_mesh m = {0};
+        is_image p = {0};
+        rc = view_parse(&v, V_SEAMS, err, errlen);
+        if (rc == 0) rc = k == 0 ? load_split_normals(v.mesh, &m, err, errlen) : load_mesh(v.mesh, true, &m, err, errlen);
+        if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.tall, &p, err, errlen);
+        if (rc == 0) rc = layout_place(&L, out, k, &p, labels[k], err, errlen);
+        image_free(&p);
+        mesh_free(&m);
+        if (rc != 0) image_free(out);
+    }
+    return rc;
+}
+
+/* ---------------------------------------- the table ---------------------------------------- */
+
+#define GRUEN "Gruen, Smoothed N-Patches (seed 000), Figure "
+#define VVB "van Veen and Baakman, A Discussion of Curved Point-Normal Triangles (seed 001), "
+#define RTR "Akenine-Moller and Haines, Bezier Triangles and N-Patches (seed 003), "
+#define SINGLE_SHOWS(what, view) what " Rendered at 512x512 with 4x MSAA; options: " view "."
+#define REAL_NOTE " Shaded with the listing's diffuse term saturate(dot(N, (0,0,-1))) (a headlight) but with the " \
+    "real (derivative) normals of the surface: the listing's linear normal would shade every patch alike."
+
+const figure fig_renders[] = {
+    {"fig-1.1.1a", "fig-1.1.1", GRUEN "1.1.1a", "A tetrahedron refined using the original N-Patch.",
+     SINGLE_SHOWS("The built-in tetrahedron (4 triangles, one normal per corner) as N-Patches at level 16 (256 "
+                  "triangles per face), seen towards a corner; the N-Patch creases across the edges." REAL_NOTE,
+                  V_1_1_1A),
+     CMD_SINGLE(V_1_1_1A, "fig-1.1.1a"), true, fig_1_1_1a},
+    {"fig-1.1.1b", "fig-1.1.1", GRUEN "1.1.1b", "A tetrahedron refined using the new patch.",
+     SINGLE_SHOWS("The same tetrahedron and view with the final smoothed patch (Listing 1.1.2) at level 16: "
+                  "smooth across the edges." REAL_NOTE, V_1_1_1B),
+     CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b},
+    {"fig-1.1.1c", "fig-1.1.1", GRUEN "1.1.1c", "A cube refined using the original N-Patch.",
+     SINGLE_SHOWS("The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16; "
+                  "creases along the cube's edges." REAL_NOTE, V_1_1_1C),
+     CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c},
+    {"fig-1.1.1d", "fig-1.1.1", GRUEN "1.1.1d", "A cube refined using the new N-Patch.",
+     SINGLE_SHOWS("The same cube and view with the final smoothed patch at level 16." REAL_NOTE, V_1_1_1D),
+     CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d},
+    {"fig-1.1.7a", "fig-1.1.7", GRUEN "1.1.7a", "A tetrahedron refined using the original N-Patch.",
+     SINGLE_SHOWS("The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0): the "
+                  "crease runs across the middle." REAL_NOTE, V_1_1_7A),
+     CMD_SINGLE(V_1_1_7A, "fig-1.1.7a"), true, fig_1_1_7a},
+    {"fig-1.1.7b", "fig-1.1.7", GRUEN "1.1.7b", "A tetrahedron refined using the new intermediate patch.",
+     SINGLE_SHOWS("The same view with the intermediate patch of Listing 1.1.1 (smooth-initial: Gregory blend of "
+                  "P0, P1, P2) at level 16." REAL_NOTE, V_1_1_7B),
+     CMD_SINGLE(V_1_1_7B, "fig-1.1.7b"), true, fig_1_1_7b},
+    {"fig-1.1.8a", "fig-1.1.8", GRUEN "1.1.8a", "Refined cube showing smooth edges where cube faces meet.",
+     SINGLE_SHOWS("The welded cube with the intermediate patch (Listing 1.1.1) at level 12 with a wireframe "
+                  "overlay, looking at the vertical edge between two faces (yaw 45, pitch 0): smooth where the "
+                  "faces meet; the valleys along the face diagonals are visible too." REAL_NOTE, V_1_1_8A),
+     CMD_SINGLE(V_1_1_8A, "fig-1.1.8a"), true, fig_1_1_8a},
+    {"fig-1.1.8b", "fig-1.1.8", GRUEN "1.1.8b",
+     "Refined cube showing ridges along the coplanar triangles that form the faces of the cube.",
+     SINGLE_SHOWS("The same cube and patch at level 32, straight at a face (yaw 0, pitch 0), lit by a light grazing "
+                  "the face from the upper right (towards-light direction (0.62, 0.62, -0.48) normalized, ambient "
+                  "0.08) instead of the headlight, with real normals: the valley along the diagonal shared by the face's two coplanar "
+                  "triangles shows in the shading (figure-only option --light grazing).", V_1_1_8B),
+     CMD_FIG("fig-1.1.8b"), true, fig_1_1_8b},
+    {"fig-1.1.10a", "fig-1.1.10", GRUEN "1.1.10a", "A cube refined using the original N-Patch.",
+     SINGLE_SHOWS("The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30)." REAL_NOTE,
+                  V_1_1_10A),
+     CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a},
+    {"fig-1.1.10b", "fig-1.1.10", GRUEN "1.1.10b", "A cube refined using the final new patch.",
+     SINGLE_SHOWS("The same view with the final patch of Listing 1.1.2 at level 16." REAL_NOTE, V_1_1_10B),
+     CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b},
+    {"fig-001-1", NULL, VVB "Figure 1",
+     "From left to right, the input triangulation, the model, and the curved point-normal model, colored according "
+     "to its normals. The model was taken from Vlachos et al. [Vla+01].",
+     "The built-in icosahedron (20 triangles; a stand-in for Vlachos' model), three panels of 320x320 with 4x MSAA, "
+     "yaw 20, pitch 15: the input triangles (flat patch, level 1, wireframe overlay); the PN triangles (npatch, "
+     "quadratic normals, level 12) under the listing's headlight; the same PN model coloured by its world-space "
+     "unit normal, RGB = 0.5 + 0.5 (x, y, -z) (figure-only option --light normals).",
+     CMD_FIG("fig-001-1"), true, fig_001_1},
+    {"fig-001-5", NULL, VVB "Figure 5",
+     "Illustration of what would happen if one renders a model using point-normal triangles where vertices have "
+     "different normals, depending on the associated faces. Image taken from [MK10].",
+     "The built-in cylinder (12 sides; the rim vertices are split: radial normals for the side, axial ones for "
+     "the caps), level 8, linear normals, headlight, seen from above (yaw 20, pitch -35, distance 2.8), three "
+     "panels of 320x320 with 4x MSAA. Left: the N-Patch; the side's rim curve bulges along the arc while the "
+     "cap's stays the chord, so the surface opens along the top rim and the background shows through (back faces "
+     "are culled). Middle: PN-AEN (McDonald and Kilgard, the fix [MK10] proposes) on the same mesh: closed. "
+     "Right: the N-Patch with one angle-weighted normal per welded position (--recompute-normals): closed but "
+     "rounded into a blob. (cube-split is no example: its per-face normals are the face normals, so every "
+     "N-Patch stays flat and nothing opens.) Options: " V_001_5 " with --patch npatch / pn-aen.",
+     CMD_FIG("fig-001-5"), true, fig_001_5},
+    {"fig-md2-seams", NULL, RTR "text under Figure 6 (no figure): 'cracks will appear if two adjacent triangles "
+                                "do not share the same normals'",
+     "Also worth knowing is that cracks will appear if two adjacent triangles do not share the same normals.",
+     "sydney.md2 (Debian's assimp-testmodels, Irrlicht media; 679 triangles, 482 vertices at 342 positions), N-Patches at level 4, linear normals, "
+     "headlight, two panels of 320x400 with 4x MSAA, from her left side (yaw 180, pitch 0) and close (distance "
+     "1.5: hip and legs). Left: normals computed per unwelded vertex (angle-"
+     "weighted over the triangles using that exact vertex index), so the copies of a vertex on the two sides of a "
+     "texture seam get different normals and the PN surface cracks along the seams. Right: the same angle-weighted "
+     "normals per welded position (--recompute-normals): closed.",
+     CMD_FIG("fig-md2-seams"), true, fig_md2_seams},
+    {"fig-001-12", NULL, VVB "Figure 12",
+     "A family of game characters from the game Quake 1. (a), (b) and (c) are rendered on a CPU by Vlachos et al. "
+     "(d), (e), (f) are rendered by our implementation.",
+     "Stand-ins: the MD2 characters faerie.md2 (654 triangles) and sydney.md2 (679) of Debian's assimp-testmodels "
+     "(Irrlicht media, zlib-style licence), with the files' normals; 2x2 panels of 240x400 with 4x MSAA, seen "
+     "from the front (yaw 90, pitch 0, distance 2.7). Top: the input triangles (flat patch, Gouraud-shaded by the "
+     "listing's headlight). Bottom: PN triangles (npatch, quadratic normals, level 4 = 16 triangles each).",
+     CMD_FIG("fig-001-12"), true, fig_001_12},
+    {"fig-001-fake-vs-real", NULL, VVB "sections 3.2 and 5.1 (the draft has no figure: 'Show results of PN "
+                                       "triangles with fake and real normals, and discuss differences')",
+     "'Fake' normals (quadratic normal patch) versus 'real' normals (cross product of the partial derivatives of "
+     "the geometric component).",
+     "The welded cube as N-Patches at level 16, yaw 30, pitch 20, three panels of 320x320 with 4x MSAA: shaded "
+     "with Vlachos' quadratic ('fake') normals, with the derivative ('real') normals, and the angle between the "
+     "two normals per pixel (from the 1-sample normal AOV of both renders) as a heat map from 0 (black) to 45 "
+     "degrees (pale yellow). The real normals crease along the cube's edges, where the N-Patch is only "
+     "C0; the fake ones stay smooth. Options: " V_FAKE_REAL " with --normals quadratic / real.",
+     CMD_FIG("fig-001-fake-vs-real"), true, fig_001_fake_vs_real},
+    {"fig-003-3", NULL, RTR "Figure 3",
+     "The columns show different levels of detail of the same model. The original triangle data, consisting of "
+     "414 triangles, is shown on the left. The middle model has 3,726 triangles, while the right has 20,286 "
+     "triangles, all generated with the presented algorithm. Note how the silhouette and the shading improves. "
+     "The bottom rows show the models in wireframe, which reveals that each original triangle generates the same "
+     "amount of subtriangles. (Model courtesy of id Software. Image from ATI Technologies Inc. demo.)",
+     "sydney.md2 (679 triangles; stand-in for the id Software model) as N-Patches with quadratic normals at "
+     "LOD 0, 2, 6 = levels 1, 3, 7 = x1, x9, x49 triangles (679, 6111, 33271), 3x2 panels of 300x520 with 4x "
+     "MSAA, seen from the front (yaw 90, pitch 0, distance 2.7); top row shaded by the listing's headlight, "
+     "bottom row wireframe (--fill wire).",
+     CMD_FIG("fig-003-3"), true, fig_003_3},
+    {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL}};
