@@ -51,7 +51,7 @@ static void canvas_vs(const is_vs_constants *c, const is_vs_input *in, is_vs_out
     out->attr[RS_ATTR_COLOR0] = in->color[0];
 }
 
-static const is_vertex_shader canvas_shader = {"canvas", canvas_vs, IS_OUT_COLOR0};
+static const is_vertex_shader canvas_shader = {.name = "canvas", .main = canvas_vs, .outputs = IS_OUT_COLOR0};
 
 static const is_vertex_element canvas_decl[] = {
     {0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},

@@ -56,7 +56,7 @@ static void vs_fig(const is_vs_constants *c, const is_vs_input *in, is_vs_output
     }
     out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
 }
-static const is_vertex_shader fig_shader = {"figure", vs_fig, VS_OUTPUTS};
+static const is_vertex_shader fig_shader = {.name = "figure", .main = vs_fig, .outputs = VS_OUTPUTS};
 
 /* ---------------------------------------- views ---------------------------------------- */
 

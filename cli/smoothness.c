@@ -9,8 +9,9 @@
 /* Print one table row per (mesh, patch); returns 0 or 1 on the first failure. */
 static int print_table(int samples, FILE *f)
 {
-    fprintf(f, "| mesh | patch | max angle (deg) | mean angle (deg) | max distance / diagonal |\n");
-    fprintf(f, "|---|---|---:|---:|---:|\n");
+    fprintf(f, "| mesh | patch | max angle (deg) | mean angle (deg) | max at coplanar edges | max at feature "
+               "edges | max distance / diagonal |\n");
+    fprintf(f, "|---|---|---:|---:|---:|---:|---:|\n");
     for (const char *const *name = mesh_builtin_names(); *name; name++) {
         is_mesh m = {0};
         char err[512];
@@ -25,8 +26,9 @@ static int print_table(int samples, FILE *f)
                 mesh_free(&m);
                 return 1;
             }
-            fprintf(f, "| %s | %s | %.2f | %.2f | %.4f |\n", *name, vs_patch_name((vs_patch)p), r.max_angle_deg,
-                    r.mean_angle_deg, r.max_distance);
+            fprintf(f, "| %s | %s | %.2f | %.2f | %.2f | %.2f | %.4f |\n", *name, vs_patch_name((vs_patch)p),
+                    r.max_angle_deg, r.mean_angle_deg, r.max_angle_coplanar_deg, r.max_angle_feature_deg,
+                    r.max_distance);
         }
         mesh_free(&m);
     }

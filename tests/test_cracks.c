@@ -30,7 +30,7 @@ static void vs_count(const is_vs_constants *c, const is_vs_input *in, is_vs_outp
     vs_patch_shader((vs_patch)(int)c->c[10].x)->main(c, in, out);
     out->attr[RS_ATTR_COLOR0] = f4(1.0f / 255.0f, 0, 0, 1.0f / 255.0f);
 }
-static const is_vertex_shader count_shader = {"count", vs_count, IS_OUT_COLOR0};
+static const is_vertex_shader count_shader = {.name = "count", .main = vs_count, .outputs = IS_OUT_COLOR0};
 
 /* Draw the counting image of mesh m with patch p at `level` from (yaw, pitch); returns the number of pixels
  * with an odd count and fills *covered with the pixels covered at all. */

@@ -173,7 +173,7 @@ static void vs_point_at(const is_vs_constants *c, const is_vs_input *in, is_vs_o
     out->pos = f4(2.0f * x / W - 1.0f, 1.0f - 2.0f * y / H, 0.5f, 1.0f);
     out->attr[RS_ATTR_COLOR0] = f4(in->position[0].y / 255.0f, in->texcoord[0].y / 255.0f, 0, 1);
 }
-static const is_vertex_shader vs_point = {"point_at", vs_point_at, IS_OUT_COLOR0};
+static const is_vertex_shader vs_point = {.name = "point_at", .main = vs_point_at, .outputs = IS_OUT_COLOR0};
 
 /* Draw `n_inst` instances (divider `div`) of an index list over 8 per-vertex records, with base vertex `base`;
  * check that exactly the expected (vertex, instance) combinations appear. */
@@ -291,7 +291,7 @@ static void vs_xy(const is_vs_constants *c, const is_vs_input *in, is_vs_output 
     out->pos = f4(in->position[0].x, in->position[0].y, 0.5f, 1.0f);
     out->attr[RS_ATTR_COLOR0] = f4(1, 1, 1, 1);
 }
-static const is_vertex_shader vs_pass = {"xy", vs_xy, IS_OUT_COLOR0};
+static const is_vertex_shader vs_pass = {.name = "xy", .main = vs_xy, .outputs = IS_OUT_COLOR0};
 
 static uint64_t count_lit(const rs_target *rt)
 {
