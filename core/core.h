@@ -217,10 +217,15 @@ typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constant
  * oPos and every output named in its `outputs` mask; the device zeroes the others. */
 typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
 
+/* Optional batched entry: shade in[0..n) into out[0..n) (outputs zeroed by the device), producing exactly the
+ * bytes of n calls of `main`; lets a shader share the work of consecutive vertices of one instance. */
+typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+
 typedef struct is_vertex_shader {
     const char *name;
     is_vs_fn main;
     uint32_t outputs;   /* IS_OUT_* mask of written outputs (what the rasterizer interpolates) */
+    is_vs_batch_fn batch; /* NULL: the device calls main per vertex */
 } is_vertex_shader;
 
 /* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */
@@ -307,6 +312,12 @@ uint64_t dev_vertices_shaded(const is_device *dev);
 typedef void (*is_npatch_eval_fn)(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
                                   uint32_t normal_degree, float3 *pos, float3 *nrm);
 is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
+
+/* The scalar reference path (for tests and teaching): with on, draws shade vertex by vertex through the
+ * shader's `main` and the rasterizer walks its simplest per-sample loops; off (the default) takes the fast
+ * paths (batched shaders, shared vertex projection, 8-pixel spans), which produce the same bytes. */
+void dev_set_reference_path(is_device *dev, bool on);
+bool dev_reference_path(const is_device *dev);
 
 /* ================================ tessellation grids (core/grid.c) ================================ */
 

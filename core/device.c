@@ -1,5 +1,6 @@
 /* core/device.c -- device creation and state: streams, frequencies, render states, constants, viewport, clear. */
 #include "device_internal.h"
+#include "../raster/raster_internal.h" /* rs_set_reference_path */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,6 +94,15 @@ void dev_set_threads(is_device *dev, int threads)
     dev->threads = threads < 0 ? 0 : threads;
     rs_set_threads(dev->rs, dev->threads);
 }
+
+/* The scalar reference path on or off (same bytes either way). */
+void dev_set_reference_path(is_device *dev, bool on)
+{
+    dev->reference = on;
+    rs_set_reference_path(dev->rs, on);
+}
+
+bool dev_reference_path(const is_device *dev) { return dev->reference; }
 
 is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
 {
@@ -247,7 +257,7 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
     if ((flags & ~3u) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
-    rs_target_clear(&dev->rt, flags, r | g << 8 | b << 16 | a << 24, z);
+    rs_target_clear_threads(&dev->rt, flags, r | g << 8 | b << 16 | a << 24, z, dev->threads);
     memset(&dev->stats, 0, sizeof dev->stats);
     dev->shaded = 0;
     return IS_OK;

@@ -47,6 +47,7 @@ struct is_device {
     rs_context *rs;
     rs_target rt;
     int threads;
+    bool reference;         /* dev_set_reference_path */
     uint32_t rs_state[IS_RS_COUNT];
     is_viewport viewport;
     stream_source streams[IS_MAX_STREAMS];

@@ -169,9 +169,10 @@ static uint32_t read_index(const is_index_buffer *ib, size_t k)
     return v;
 }
 
-/* Shade vertices first..first+count-1 of instances i0..i0+ni-1 into out_v (instance-major), in parallel. */
-static void shade_range(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
-                        uint32_t ni)
+/* Shade vertices first..first+count-1 of instances i0..i0+ni-1 into out_v (instance-major), in parallel:
+ * the reference path, one fetch and one call of main per vertex. */
+static void shade_range_reference(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
+                                  uint32_t ni)
 {
     const long n = (long)count * (long)ni;
 #pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
@@ -180,7 +181,60 @@ static void shade_range(is_device *dev, const fetch_plan *fp, uint32_t first, ui
         fetch_vertex(fp, first + (uint32_t)(v % count), i0 + (uint32_t)(v / count), &in);
         shade(dev, &in, &dev->out_v[v]);
     }
-    dev->shaded += (uint64_t)n;
+}
+
+/* Vertices of one instance shaded together by the fast path (fetched into a stack array). */
+#define SHADE_BATCH 32
+
+/* Fetch vertices first..first+n-1 of `instance` into in[0..n): the per-instance elements once, then copies with
+ * the per-vertex elements (the same registers fetch_vertex fills). */
+static void fetch_batch(const fetch_plan *fp, uint32_t first, uint32_t n, uint32_t instance, is_vs_input *in)
+{
+    input_defaults(&in[0]);
+    for (unsigned k = 0; k < fp->n; k++) {
+        const fetch_elem *e = &fp->el[k];
+        if (e->per_instance)
+            *(float4 *)((unsigned char *)&in[0] + e->reg_offset) =
+                decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
+    }
+    for (uint32_t v = 1; v < n; v++) in[v] = in[0];
+    for (uint32_t v = 0; v < n; v++)
+        for (unsigned k = 0; k < fp->n; k++) {
+            const fetch_elem *e = &fp->el[k];
+            if (!e->per_instance)
+                *(float4 *)((unsigned char *)&in[v] + e->reg_offset) =
+                    decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
+        }
+}
+
+/* The fast path of shade_range: batches of up to SHADE_BATCH vertices of one instance, fetched together and
+ * shaded through the shader's batch entry when it has one. */
+static void shade_range_fast(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
+                             uint32_t ni)
+{
+    const long per = (long)((count + SHADE_BATCH - 1) / SHADE_BATCH), nb = per * (long)ni;
+    const is_vertex_shader *vs = dev->vs;
+#pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+    for (long b = 0; b < nb; b++) {
+        is_vs_input in[SHADE_BATCH];
+        uint32_t i = (uint32_t)(b / per), v0 = (uint32_t)(b % per) * SHADE_BATCH;
+        uint32_t n = count - v0 < SHADE_BATCH ? count - v0 : SHADE_BATCH;
+        rs_vertex *out = &dev->out_v[(size_t)i * count + v0];
+        fetch_batch(fp, first + v0, n, i0 + i, in);
+        memset(out, 0, n * sizeof *out);
+        if (vs->batch) vs->batch(&dev->consts, in, n, out);
+        else
+            for (uint32_t k = 0; k < n; k++) vs->main(&dev->consts, &in[k], &out[k]);
+    }
+}
+
+/* Shade vertices first..first+count-1 of instances i0..i0+ni-1 into out_v (instance-major). */
+static void shade_range(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
+                        uint32_t ni)
+{
+    if (dev->reference) shade_range_reference(dev, fp, first, count, i0, ni);
+    else shade_range_fast(dev, fp, first, count, i0, ni);
+    dev->shaded += (uint64_t)count * ni;
 }
 
 /* Build the rasterizer's index list for ni instances: prims of `type` whose index-stream positions are read

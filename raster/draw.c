@@ -34,7 +34,13 @@ void rs_destroy(rs_context *rs)
     }
     free(rs->chunks);
     free(rs->tile_stats);
+    free(rs->pv);
     free(rs);
+}
+
+void rs_set_reference_path(rs_context *rs, bool on)
+{
+    if (rs) rs->reference = on;
 }
 
 void rs_set_threads(rs_context *rs, int threads)
@@ -177,6 +183,30 @@ static size_t chunk_count(size_t n, size_t n_tiles)
     return c < 1 ? 1 : (c > cap ? cap : c);
 }
 
+/* Largest vertex count of the shared projection pass (bounds its scratch memory). */
+#define SHARED_PASS_MAX_VERTICES (1u << 22)
+
+/* The shared pass of indexed triangle draws on the fast path: project every vertex once (in parallel) into the
+ * context's scratch and point the job at it.  Left off (j->pv NULL) on the reference path, when a vertex is used
+ * about once, when the scratch would be large, or when out of memory (the per-triangle setup gives the same). */
+static void shared_pass(rs_context *rs, rs_job *j, size_t n_verts, size_t n_prims, int nt)
+{
+    if (rs->reference || j->prim != RS_PRIM_TRIANGLES || !j->idx || n_verts > 3 * n_prims ||
+        n_verts > SHARED_PASS_MAX_VERTICES)
+        return;
+    if (n_verts > rs->pv_cap) {
+        void *p = realloc(rs->pv, n_verts * rs_pvert_size());
+        if (!p) return;
+        rs->pv = p, rs->pv_cap = n_verts;
+    }
+    rs_pvert *pv = rs->pv;
+    long n = (long)n_verts;
+#pragma omp parallel for schedule(static) num_threads(nt)
+    for (long v = 0; v < n; v++)
+        rs_project_vertex(j, &j->verts[v], (rs_pvert *)((char *)pv + (size_t)v * rs_pvert_size()));
+    j->pv = pv;
+}
+
 /* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
 static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts)
 {
@@ -231,6 +261,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     if (n_prims == 0) return RS_OK;
     rs_job j;
     make_job(&j, st, rt, prim, verts, idx);
+    j.reference = rs->reference;
     size_t n_chunks = chunk_count(n_prims, (size_t)j.n_tiles);
     if (!reserve_context(rs, n_chunks, (size_t)j.n_tiles)) return RS_ENOMEM;
     size_t per = (n_prims + n_chunks - 1) / n_chunks;
@@ -239,6 +270,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
         rs->chunks[c].count = c * per < n_prims ? (n_prims - c * per < per ? n_prims - c * per : per) : 0;
     }
     int nt = thread_count(rs);
+    shared_pass(rs, &j, n_verts, n_prims, nt);
     long nc = (long)n_chunks;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (long c = 0; c < nc; c++) {

@@ -29,6 +29,8 @@
 
 enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
 
+typedef struct rs_pvert rs_pvert;
+
 /* Constants of one draw, shared read-only by every thread. */
 typedef struct rs_job {
     const rs_state *st;
@@ -36,6 +38,7 @@ typedef struct rs_job {
     int prim;                   /* RS_PRIM_* */
     const rs_vertex *verts;
     const uint32_t *idx;
+    const rs_pvert *pv;         /* the shared pass's projected vertices (fast path, indexed triangles), or NULL */
     int samples;                /* samples per pixel in the target (1 or 4) */
     int32_t sox[4], soy[4];     /* sample offsets from the pixel centre, 1/256 px (0 when not multisampling) */
     int32_t omax;               /* max |offset| over the samples, 1/256 px */
@@ -51,6 +54,7 @@ typedef struct rs_job {
     int aov_idx[RS_MAX_AOV];    /* index of each AOV plane's slot in slot[], -1: zeros */
     int stride;                 /* floats per primitive in the attribute pool */
     bool flat;
+    bool reference;             /* the scalar reference path (rs_set_reference_path): no fast paths */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 
@@ -98,10 +102,13 @@ typedef struct rs_chunk {
 
 struct rs_context {
     int threads;
+    bool reference;              /* rs_set_reference_path */
     rs_chunk *chunks;
     size_t n_chunks_cap;
     uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
     size_t tile_stats_cap;
+    void *pv;                    /* rs_pvert scratch of the shared pass */
+    size_t pv_cap;
 };
 
 /* A tile being rasterized by one thread: its pixel rectangle (inside the scissor) and its counters. */
@@ -138,8 +145,28 @@ bool rs_clip_line(const rs_job *j, rs_cvert *v, unsigned planes, rs_clipbuf *cb)
 /* ---- setup.c ---- */
 /* Set up input primitives [c->first, c->first+c->count) of the job into chunk c (prims, attr, counters). */
 void rs_setup_chunk(const rs_job *j, rs_chunk *c);
+/* The shared pass: outcode and projection of vertex v (once per vertex, not once per triangle). */
+void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out);
+size_t rs_pvert_size(void);
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
+
+/* ---- the reference path switch (the device's dev_set_reference_path; core/ includes this header for it) ----
+ * On: every draw takes the simplest per-sample loops (tri.c's tri_pixel, setup per triangle); off (default): the
+ * fast paths (span.c, shared vertex projection), which write the same bytes. */
+void rs_set_reference_path(rs_context *rs, bool on);
+
+/* ---- target.c ---- */
+/* rs_target_clear on `threads` threads (0: all cores), split by rows (the device's Clear). */
+void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads);
+
+/* ---- span.c: the 8-lane fast path of triangles on 1-sample targets ---- */
+/* True when the job may take the fast path. */
+bool rs_span_ok(const rs_job *j);
+/* Rasterize block [x0, x1] x [y0, y1] (inside one 8-aligned column group) of triangle p with edge values e at
+ * (x0, y0); full: every pixel is inside.  Same bytes as tri.c's reference block walk. */
+void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                       int y1, const int64_t *e, bool full);
 
 /* ---- tri.c, line.c ---- */
 /* Rasterize triangle p (attributes a) inside tile t. */

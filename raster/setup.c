@@ -265,6 +265,17 @@ static void emit_polygon(const rs_job *j, rs_chunk *c, const pvert *pv, int n, i
     }
 }
 
+/* Cull and emit the projected polygon pv[0..n) of input triangle v (the part after clipping and projection). */
+static void finish_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v, const pvert *pv, int n)
+{
+    int64_t area = poly_area(pv, n);
+    if (area == 0) { c->degenerate++; return; }
+    int cm = j->st->cull_mode;
+    if ((cm == RS_CULL_CCW && area < 0) || (cm == RS_CULL_CW && area > 0)) { c->culled++; return; }
+    c->drawn++;
+    emit_polygon(j, c, pv, n, area, j->flat ? v[0]->attr : NULL);
+}
+
 /* Set up one input triangle v[0..3): clip, project, cull, emit. */
 static void setup_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v)
 {
@@ -279,12 +290,41 @@ static void setup_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const 
     pvert pv[RS_MAX_POLY];
     for (int i = 0; i < n; i++)
         if (!project(j, &poly[i], &pv[i])) { c->clipped++; return; }
-    int64_t area = poly_area(pv, n);
-    if (area == 0) { c->degenerate++; return; }
-    int cm = j->st->cull_mode;
-    if ((cm == RS_CULL_CCW && area < 0) || (cm == RS_CULL_CW && area > 0)) { c->culled++; return; }
-    c->drawn++;
-    emit_polygon(j, c, pv, n, area, j->flat ? v[0]->attr : NULL);
+    finish_triangle(j, c, v, pv, n);
+}
+
+/* A vertex after the shared pass (rs_project_vertices): outcode and projection, done once per vertex. */
+struct rs_pvert {
+    pvert p;
+    unsigned oc;     /* outcode (valid when finite) */
+    bool finite;     /* load() would accept the position */
+    bool projected;  /* project() succeeded (p valid) */
+};
+
+size_t rs_pvert_size(void) { return sizeof(rs_pvert); }
+
+void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+{
+    rs_cvert cv;
+    unsigned oand, oor;
+    out->finite = load(j, &v, 1, &cv, &oand, &oor);
+    out->oc = out->finite ? oor : ~0u;
+    out->projected = out->finite && project(j, &cv, &out->p);
+}
+
+/* Set up triangle v[0..3) whose vertices k[0..3) were projected by the shared pass: same outcome as
+ * setup_triangle, which it falls back to when a vertex is not finite or the triangle needs clipping. */
+static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const rs_vertex *const *v, const uint32_t *k)
+{
+    const rs_pvert *a = &j->pv[k[0]], *b = &j->pv[k[1]], *d = &j->pv[k[2]];
+    if (!a->finite || !b->finite || !d->finite || ((a->oc | b->oc | d->oc) && !(a->oc & b->oc & d->oc))) {
+        setup_triangle(j, c, v);
+        return;
+    }
+    if (a->oc & b->oc & d->oc) { c->clipped++; return; }
+    if (!a->projected || !b->projected || !d->projected) { c->clipped++; return; }
+    pvert pv[3] = { a->p, b->p, d->p };
+    finish_triangle(j, c, v, pv, 3);
 }
 
 /* Set up one input line v[0]-v[1]. */
@@ -323,11 +363,13 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c)
     size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
     for (size_t k = c->first; k < c->first + c->count && !c->oom; k++) {
         const rs_vertex *v[3];
+        uint32_t id[3];
         for (size_t i = 0; i < vpp; i++) {
-            size_t id = k * vpp + i;
-            v[i] = &j->verts[j->idx ? j->idx[id] : id];
+            id[i] = (uint32_t)(j->idx ? j->idx[k * vpp + i] : k * vpp + i);
+            v[i] = &j->verts[id[i]];
         }
-        if (vpp == 3) setup_triangle(j, c, v);
+        if (vpp == 3 && j->pv) setup_triangle_shared(j, c, v, id);
+        else if (vpp == 3) setup_triangle(j, c, v);
         else if (vpp == 2) setup_line(j, c, v);
         else setup_point(j, c, v);
     }

@@ -1,6 +1,10 @@
 /* raster/target.c -- render targets: allocation, AOV planes, clear and multisample resolve. */
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
 
 #include "raster_internal.h"
 
@@ -47,18 +51,57 @@ int rs_target_add_aov(rs_target *rt, int slot, int comps)
 }
 
 /* Clear colour (flags & 1, also the AOV planes to 0) and depth (flags & 2) of every sample. */
+/* Planes larger than this are cleared with streaming stores (they would not stay in the caches anyway). */
+#define CLEAR_STREAM_BYTES (8u << 20)
+
+/* Fill n 32-bit words at dst with `bits`, 8 at a time; streaming (non-temporal) stores when `stream`. */
+static void fill32(uint32_t *dst, uint32_t bits, size_t n, bool stream)
+{
+    size_t i = 0;
+#ifdef __AVX2__
+    __m256i v = _mm256_set1_epi32((int)bits);
+    for (; i < n && ((uintptr_t)(dst + i) & 31u); i++) dst[i] = bits;
+    if (stream) {
+        for (; i + 8 <= n; i += 8) _mm256_stream_si256((__m256i *)(dst + i), v);
+        _mm_sfence();
+    } else {
+        for (; i + 8 <= n; i += 8) _mm256_store_si256((__m256i *)(dst + i), v);
+    }
+#endif
+    for (; i < n; i++) dst[i] = bits;
+}
+
+/* Clear rows [y0, y1) of the target as rs_target_clear does. */
+static void clear_rows(rs_target *rt, unsigned flags, uint32_t rgba, float z, int y0, int y1)
+{
+    size_t row = (size_t)rt->width * (size_t)rt->samples, n = row * (size_t)(y1 - y0), at = row * (size_t)y0;
+    bool stream = row * (size_t)rt->height * 4u >= CLEAR_STREAM_BYTES;
+    uint32_t zb;
+    memcpy(&zb, &z, 4);
+    if (flags & 1u) {
+        fill32(rt->color + at, rgba, n, stream);
+        for (int k = 0; k < rt->n_aov; k++) {
+            size_t w = (size_t)rt->width * (size_t)rt->aov[k].comps;
+            memset(rt->aov[k].data + w * (size_t)y0, 0, w * (size_t)(y1 - y0) * sizeof(float));
+        }
+    }
+    if (flags & 2u) fill32((uint32_t *)rt->depth + at, zb, n, stream);
+}
+
+void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads)
+{
+    if (!rt || !rt->color) return;
+    int nt = threads > 0 ? threads : omp_get_num_procs();
+    nt = nt < 1 ? 1 : (nt > rt->height ? rt->height : nt);
+#pragma omp parallel for schedule(static) num_threads(nt)
+    for (int k = 0; k < nt; k++)
+        clear_rows(rt, flags, rgba, z, (int)((int64_t)rt->height * k / nt), (int)((int64_t)rt->height * (k + 1) / nt));
+}
+
 void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
     if (!rt || !rt->color) return;
-    size_t n = (size_t)rt->width * (size_t)rt->height * (size_t)rt->samples;
-    if (flags & 1u) {
-        for (size_t i = 0; i < n; i++) rt->color[i] = rgba;
-        for (int k = 0; k < rt->n_aov; k++)
-            memset(rt->aov[k].data, 0,
-                   (size_t)rt->width * (size_t)rt->height * (size_t)rt->aov[k].comps * sizeof(float));
-    }
-    if (flags & 2u)
-        for (size_t i = 0; i < n; i++) rt->depth[i] = z;
+    clear_rows(rt, flags, rgba, z, 0, rt->height);
 }
 
 /* Average the samples of each pixel, per channel, rounding half up: (sum + n/2) / n. */

@@ -96,6 +96,7 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
     int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
     if (x0 > x1 || y0 > y1) return;
+    const bool fast = rs_span_ok(j);
     walk w;
     w.full = (1u << j->samples) - 1u;
     for (int i = 0; i < 3; i++) {
@@ -115,7 +116,8 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
             int64_t e[3];
             for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
             int r = block_test(tr, &w, e, bx1 - bx, by1 - by);
-            if (r >= 0) tri_block(j, t, p, a, &w, bx, by, bx1, by1, e, r > 0);
+            if (r >= 0 && fast) rs_tri_block_fast(j, t, p, a, bx, by, bx1, by1, e, r > 0);
+            else if (r >= 0) tri_block(j, t, p, a, &w, bx, by, bx1, by1, e, r > 0);
         }
     }
 }

@@ -58,13 +58,22 @@ const char *vs_patch_name(vs_patch p) { return (unsigned)p < VS_PATCH_COUNT ? pa
 void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float2 oTex, float3 b, float id,
                       float3 g, is_vs_output *out)
 {
-    float4x4 g_mWorldViewProjection = vs_const_matrix(c, VS_C_WORLDVIEWPROJ);
-    float4x4 g_mWorld = vs_const_matrix(c, VS_C_WORLD);
+    vs_batch_consts k;
+    k.wvp = vs_const_matrix(c, VS_C_WORLDVIEWPROJ);
+    k.world = vs_const_matrix(c, VS_C_WORLD);
+    k.diffuse = c->c[VS_C_DIFFUSE];
+    vs_write_outputs_k(&k, pos, normal, oTex, b, id, g, out);
+}
+
+void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, float2 oTex, float3 b, float id,
+                        float3 g, is_vs_output *out)
+{
+    const float4x4 *g_mWorldViewProjection = &k->wvp, *g_mWorld = &k->world;
     // transform
-    out->pos = mul4(f4_of(pos, 1.0f), &g_mWorldViewProjection);
-    float3 Normal = mul3x3(normal, &g_mWorld);
+    out->pos = mul4(f4_of(pos, 1.0f), g_mWorldViewProjection);
+    float3 Normal = mul3x3(normal, g_mWorld);
     float d = dot3(Normal, f3(0.0f, 0.0f, -1.0f));
-    float4 Diffuse = scale4(c->c[VS_C_DIFFUSE], saturate(isnan(d) ? 0.0f : d));
+    float4 Diffuse = scale4(k->diffuse, saturate(isnan(d) ? 0.0f : d));
     Diffuse.w = 1.0f;
     out->attr[RS_ATTR_COLOR0] = Diffuse;
     out->attr[RS_ATTR_TEXCOORD0 + 0] = f4(oTex.x, oTex.y, 0.0f, 1.0f);
@@ -72,6 +81,36 @@ void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float
     out->attr[RS_ATTR_TEXCOORD0 + 2] = f4_of(b, 1.0f);
     out->attr[RS_ATTR_TEXCOORD0 + 3] = f4(id, 0.0f, 0.0f, 1.0f);
     out->attr[RS_ATTR_TEXCOORD0 + 4] = f4_of(g, 0.0f);
+}
+
+void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k)
+{
+    k->wvp = vs_const_matrix(c, VS_C_WORLDVIEWPROJ);
+    k->world = vs_const_matrix(c, VS_C_WORLD);
+    k->diffuse = c->c[VS_C_DIFFUSE];
+    k->o = vs_options_from_constants(c);
+}
+
+bool vs_same_instance(const is_vs_input *a, const is_vs_input *b)
+{
+    const size_t skip = sizeof(float4); /* position[0] comes first */
+    return memcmp((const char *)a + skip, (const char *)b + skip, sizeof *a - skip) == 0;
+}
+
+/* run_patch over a batch: the triangle is read once per instance, the options and matrices once per batch. */
+void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    vs_batch_consts k;
+    vs_batch_consts_read(c, &k);
+    vs_triangle tri;
+    for (size_t v = 0; v < n; v++) {
+        if (v == 0 || !vs_same_instance(&in[v], &in[v - 1])) vs_triangle_from_input(&in[v], &tri);
+        float3 b = f3_of(in[v].position[0]); // barycentric coords
+        float3 pos, normal, g;
+        vs_patch_eval(p, &tri, b, &k.o, &pos, &normal, &g);
+        float2 oTex = add2(add2(scale2(tri.t[0], b.x), scale2(tri.t[1], b.y)), scale2(tri.t[2], b.z));
+        vs_write_outputs_k(&k, pos, normal, oTex, b, tri.id, g, &out[v]);
+    }
 }
 
 /* Read the instance, evaluate patch p, write the outputs: the body of the comparison shaders. */
@@ -112,10 +151,23 @@ static void VSFixed(const is_vs_constants *c, const is_vs_input *in, is_vs_outpu
                      f3(0, 0, 0), out);
 }
 
-const is_vertex_shader vs_shader_flat = {"flat", VSFlat, VS_OUTPUTS};
-const is_vertex_shader vs_shader_phong = {"phong", VSPhong, VS_OUTPUTS};
-const is_vertex_shader vs_shader_pn_aen = {"pn-aen", VSPnAen, VS_OUTPUTS};
-const is_vertex_shader vs_shader_fixed = {"fixed", VSFixed, VS_OUTPUTS};
+static void VSFlatBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    vs_patch_batch(VS_PATCH_FLAT, c, in, n, out);
+}
+static void VSPhongBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    vs_patch_batch(VS_PATCH_PHONG, c, in, n, out);
+}
+static void VSPnAenBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    vs_patch_batch(VS_PATCH_PN_AEN, c, in, n, out);
+}
+
+const is_vertex_shader vs_shader_flat = {"flat", VSFlat, VS_OUTPUTS, VSFlatBatch};
+const is_vertex_shader vs_shader_phong = {"phong", VSPhong, VS_OUTPUTS, VSPhongBatch};
+const is_vertex_shader vs_shader_pn_aen = {"pn-aen", VSPnAen, VS_OUTPUTS, VSPnAenBatch};
+const is_vertex_shader vs_shader_fixed = {"fixed", VSFixed, VS_OUTPUTS, NULL};
 
 const is_vertex_shader *const vs_shaders[] = {&vs_shader_flat, &vs_shader_npatch, &vs_shader_smooth_initial,
                                               &vs_shader_smooth, &vs_shader_phong, &vs_shader_pn_aen,

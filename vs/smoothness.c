@@ -107,6 +107,10 @@ int vs_smoothness(vs_patch p, const vs_options *o, const float3 *pos, const floa
             const vs_triangle *A = &T[t], *B = &T[m / 3];
             int mk = m % 3;
             bool reversed = same3(B->v[mk], A->v[(k + 1) % 3]);
+            float3 fa = normalize3(cross3(sub3(A->v[1], A->v[0]), sub3(A->v[2], A->v[0])));
+            float3 fb = normalize3(cross3(sub3(B->v[1], B->v[0]), sub3(B->v[2], B->v[0])));
+            bool coplanar = fabs((double)dot3(fa, fb)) > 1.0 - 1e-6;
+            double *edge_max = coplanar ? &res->max_angle_coplanar_deg : &res->max_angle_feature_deg;
             for (int i = 0; i < spe; i++) {
                 float wt = ((float)i + 0.5f) / (float)spe, ws = 1.0f - wt;
                 float ba[3] = {0, 0, 0}, bb[3] = {0, 0, 0};
@@ -118,6 +122,7 @@ int vs_smoothness(vs_patch p, const vs_options *o, const float3 *pos, const floa
                 double d = (double)na.x * nb.x + (double)na.y * nb.y + (double)na.z * nb.z;
                 double ang = acos(d > 1.0 ? 1.0 : d < -1.0 ? -1.0 : d) * (180.0 / 3.14159265358979323846);
                 if (ang > res->max_angle_deg) res->max_angle_deg = ang;
+                if (ang > *edge_max) *edge_max = ang;
                 sum += ang;
                 res->samples++;
             }

@@ -203,6 +203,25 @@ void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float
 #define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | \
                     IS_OUT_TEXCOORD(3) | IS_OUT_TEXCOORD(4))
 
+/* ---- batched entries (is_vs_batch_fn of every patch shader): the same bytes as per-vertex calls ----
+ * Consecutive inputs of one instance (equal registers apart from POSITION0) share the work that depends only
+ * on the instance (the triangle's registers, the options, the matrices); each vertex then runs exactly the
+ * per-vertex operations of its listing. */
+/* The constants a shader decodes per call, decoded once per batch. */
+typedef struct vs_batch_consts {
+    float4x4 wvp, world;
+    float4 diffuse;
+    vs_options o;
+} vs_batch_consts;
+void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k);
+/* True when a and b hold the same registers apart from POSITION0 (so a shader may reuse a's instance work). */
+bool vs_same_instance(const is_vs_input *a, const is_vs_input *b);
+/* vs_write_outputs with decoded constants. */
+void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, float2 oTex, float3 b, float id,
+                        float3 g, is_vs_output *out);
+/* The batched body of the comparison shaders (flat, smooth-initial, smooth, phong, pn-aen): patch p. */
+void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+
 /* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
  * term itself; a + (b - a) need not round to b). */
 static inline float3 vs_lerp3(float3 a, float3 b, float t) { return t == 1.0f ? b : lerp3(a, b, t); }
@@ -212,6 +231,10 @@ static inline bool vs_finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) 
 typedef struct vs_smoothness_result {
     double max_angle_deg;   /* largest angle between the real normals of the two sides of a shared edge */
     double mean_angle_deg;  /* mean of those angles over all samples */
+    double max_angle_coplanar_deg; /* the largest angle on edges between coplanar faces (|dot of face normals|
+                                      within 1e-6 of 1, e.g. the cube's face diagonals): ripples show here */
+    double max_angle_feature_deg;  /* the largest angle on the other shared edges (where the faces meet at an
+                                      angle): creases show here */
     double max_distance;    /* largest distance of a patch point from its flat triangle's plane, relative to
                                the bounding-box diagonal of the mesh */
     size_t shared_edges;    /* edges with exactly two triangles (sampled) */
