@@ -1,0 +1,181 @@
+/* meshes/meshes.h -- triangle meshes for instess: built-in shapes, import through assimp, validation, welding,
+ * normals, adjacency (opposite vertices) and the per-instance buffer of tessellation through instancing.
+ *
+ * Conventions (all of meshes/ follows them; tests/test_meshes.c and tests/test_adjacency.c check them):
+ *  - Object space is left-handed, as D3D9: +x right, +y up, +z away from a default viewer.
+ *  - Winding: a front face runs clockwise when seen from outside (D3D9's default cull mode CCW culls the back).
+ *    In numbers, for a triangle (v0, v1, v2) the OUTWARD face normal is normalize(cross(v1 - v0, v2 - v0)),
+ *    cross as in core.h (cross3).  Check: v0 = (0,0,0), v1 = (0,1,0), v2 = (1,0,0) gives (0,0,-1); a camera at
+ *    -z looking along +z sees v0 -> v1 (up) -> v2 (right): clockwise, front, facing it.
+ *    (The formula is the same as OpenGL's outward normal for counter-clockwise right-handed data: the two
+ *    conventions differ by a mirror, see mesh_load_file.)
+ *  - Units: whatever the file uses; no rescaling.  Built-ins fit in [-1, 1]^3 and are centred at the origin
+ *    (cube: side 2; tetrahedron: 4 corners of that cube; octahedron, icosahedron, sphere: radius 1; cylinder:
+ *    radius 1, y in [-1, 1]).  Texcoords: D3D's, origin at the top-left of the texture, v down.
+ *  - Edges: edge k of triangle t runs from corner k to corner (k+1) % 3: edge 0 = v0-v1, edge 1 = v1-v2,
+ *    edge 2 = v2-v0.  The corner not on edge k is (k+2) % 3.
+ *  - Welding: vertices are welded for adjacency (and for recomputed normals) when their positions are bitwise
+ *    equal, after turning -0.0 into +0.0.  No epsilon: the patches need bitwise-identical shared edges anyway
+ *    (design.md 4.6), and vertices an ulp apart do not make a watertight edge.  The mesh's own vertices (with
+ *    split normals / texcoords) are kept; `welded` is a second index buffer (meshopt_generateShadowIndexBuffer).
+ *  - Opposite vertex: for edge k of triangle t, the vertex of the neighbouring triangle (the other triangle
+ *    containing the same welded edge) that is not on the edge, as an index into the vertex arrays.
+ *      boundary edge (one triangle):      the triangle's own third vertex (corner (k+2) % 3), so the shader's
+ *                                         fn = |dot(face normal, neighbour's face normal)| = 1 and the smoothed
+ *                                         patch falls back to the N-Patch along that edge.
+ *      non-manifold edge (3+ triangles):  also the own third vertex, for every triangle on the edge: there is no
+ *                                         single neighbour, and any per-triangle pick would give the two sides
+ *                                         of a face pair different fn, hence different edge curves and a crack;
+ *                                         with fn = 1 everywhere the edge is the N-Patch curve, which depends
+ *                                         on the edge alone.  Counted in is_mesh_stats.nonmanifold_edges.
+ *      two triangles using the edge in the same direction (inconsistent winding): they are neighbours anyway
+ *                                         (fn uses |dot|); counted in inconsistent_edges.
+ *  - Errors: functions return 0 or a negative IS_MESH_ERR_* code and write a message into the caller's
+ *    buffer err[errlen] (may be NULL) that names the file (or built-in), the element (vertex 12, triangle 7)
+ *    and what is wrong.  Warnings (dropped degenerate triangles, replaced normals, non-manifold edges) go to
+ *    the optional callback in is_mesh_options and are counted in is_mesh_stats; library code never prints.
+ *  - No globals except const tables (mesh_patch_declaration, the built-in name list).  Thread-safe apart
+ *    from assimp's own last-error string.
+ */
+#ifndef INSTESS_MESHES_H
+#define INSTESS_MESHES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum {
+    IS_MESH_OK = 0,
+    IS_MESH_ERR_ARG = -1,       /* bad argument, unknown built-in name                          */
+    IS_MESH_ERR_IO = -2,        /* missing / unreadable file, a directory, empty file             */
+    IS_MESH_ERR_FORMAT = -3,    /* unknown extension, assimp could not parse it                   */
+    IS_MESH_ERR_INVALID = -4,   /* non-finite position / texcoord, index out of range, too large  */
+    IS_MESH_ERR_EMPTY = -5,     /* no triangles (none in the file, or all degenerate)             */
+    IS_MESH_ERR_NOMEM = -6
+};
+
+/* Counts of one mesh, filled when it is created (mesh_stats returns them). */
+typedef struct is_mesh_stats {
+    size_t vertices;             /* vertices kept (each used by at least one triangle) */
+    size_t welded_vertices;      /* distinct positions */
+    size_t triangles;            /* triangles kept */
+    size_t edges;                /* distinct welded edges */
+    size_t boundary_edges;       /* edges of one triangle */
+    size_t nonmanifold_edges;    /* edges of 3+ triangles */
+    size_t inconsistent_edges;   /* edges of 2 triangles that both run the same direction */
+    size_t degenerates_dropped;  /* repeated index, zero area, collinear (height < 1e-7 x longest edge) */
+    size_t normals_replaced;     /* file normals that were zero, non-finite or missing: recomputed */
+    size_t primitives_skipped;   /* points and lines in an imported file */
+    bool normals_computed;       /* all normals computed (file had none, or options.recompute_normals) */
+} is_mesh_stats;
+
+typedef struct is_mesh {
+    char name[256];              /* built-in name or the file's path (truncated) */
+    size_t n_vertices;
+    size_t n_triangles;
+    float3 *positions;           /* n_vertices */
+    float3 *normals;             /* n_vertices, unit length, pointing outward */
+    float2 *texcoords;           /* n_vertices; (0, 0) when the file has none */
+    uint32_t *indices;           /* 3 * n_triangles, clockwise from outside */
+    uint32_t *welded;            /* 3 * n_triangles: indices[i] -> the first vertex (in index order) at its position */
+    uint32_t *opposite;          /* 3 * n_triangles: [3t+k] = opposite vertex of edge k of triangle t */
+    is_mesh_stats stats;
+} is_mesh;
+
+typedef void (*is_mesh_warn_fn)(void *user, const char *message);
+
+typedef struct is_mesh_options {
+    bool recompute_normals;      /* ignore the file's normals, compute all (angle-weighted, per welded vertex) */
+    is_mesh_warn_fn warn;        /* optional: receives each warning ("FILE: dropped 3 degenerate triangles") */
+    void *warn_user;
+    /* Imports run assimp in a forked child process by default: assimp 5.2.5 hangs on some truncated files and
+     * crashes on some corrupted ones, and those must become errors.  in_process = true runs it here instead
+     * (for fuzzers that need in-process coverage).  import_timeout_ms: the child's limit (0: 60000). */
+    bool in_process;
+    int import_timeout_ms;
+} is_mesh_options;
+
+/* Raw arrays for mesh_create.  normals and texcoords may be NULL (computed / zero). */
+typedef struct is_mesh_data {
+    size_t n_vertices, n_triangles;
+    const float3 *positions;
+    const float3 *normals;
+    const float2 *texcoords;
+    const uint32_t *indices;     /* 3 * n_triangles */
+} is_mesh_data;
+
+/* ---------------------------------------------------------------------------------------------------------- */
+
+/* Build a mesh from arrays (copied): validate (finite positions and texcoords, indices in range; the first bad
+ * element is reported), drop degenerate triangles (warning with the count), drop unused vertices, weld by
+ * position, normals (the given ones, normalized; zero / non-finite ones replaced by recomputed ones and
+ * counted; all computed if normals is NULL or opt->recompute_normals), adjacency.  `label` names the mesh in
+ * messages and becomes out->name.  opt may be NULL.  On error *out is left empty (mesh_free-safe). */
+int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const is_mesh_options *opt,
+                char *err, size_t errlen);
+void mesh_free(is_mesh *m);
+
+/* Built-ins: "tetrahedron", "cube", "cube-split", "octahedron", "icosahedron", "sphere", "cylinder". */
+int mesh_builtin(const char *name, is_mesh *out, char *err, size_t errlen);
+/* Same, with options (recompute_normals, warnings). */
+int mesh_builtin_ex(const char *name, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+/* The built-in names, NULL-terminated (a const table). */
+const char *const *mesh_builtin_names(void);
+
+/* Import any format assimp 5.2 reads, by extension.  Post-processing: Triangulate, JoinIdenticalVertices,
+ * ValidateDataStructure and ConvertToLeftHanded (= MakeLeftHanded: z -> -z, FlipWindingOrder, FlipUVs), which
+ * turns assimp's right-handed counter-clockwise data into this file's convention without changing how the
+ * model looks (the file's +z towards the viewer becomes our -z towards the viewer).  Normals are never
+ * generated or smoothed by assimp; ours are computed only where the file has none.  All meshes of the scene
+ * are merged with their node transforms (normals by the inverse transpose; a mirroring node flips winding).
+ * Points and lines are skipped (counted).  Errors name the path: missing, directory, empty, unknown extension,
+ * assimp's message, assimp crashed / timed out (see is_mesh_options.in_process), no triangles, invalid data. */
+int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+/* The same from memory (for fuzzers): hint is the format's extension ("obj", may be NULL or "" to let assimp
+ * guess), label names the buffer in messages (NULL: "<memory>"). */
+int mesh_load_memory(const void *data, size_t size, const char *hint, const char *label,
+                     const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+/* --mesh NAME|FILE: a built-in when `spec` is one of the names, a file otherwise. */
+int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+
+/* Recompute welded indices, opposite vertices and the edge counts of stats from positions and indices (after
+ * a caller changed positions).  0 or IS_MESH_ERR_NOMEM. */
+int mesh_update_topology(is_mesh *m, char *err, size_t errlen);
+
+/* The outward face normal of (v0, v1, v2) under the convention above: normalize(cross(v1 - v0, v2 - v0)),
+ * computed in double; (0, 0, 0) for a degenerate triangle. */
+float3 mesh_compute_face_normal(float3 v0, float3 v1, float3 v2);
+
+/* The counts (a copy of m->stats). */
+is_mesh_stats mesh_stats(const is_mesh *m);
+
+/* ---------------------------------------- tessellation through instancing ---------------------------------------- */
+
+/* One instance = one mesh triangle (stream 1, Listing 1.1.2 order).  136 bytes, no padding. */
+typedef struct is_patch_instance {
+    float3 v[3];         /* TEXCOORD0..2: corner positions                                      */
+    float3 n[3];         /* TEXCOORD3..5: corner normals                                        */
+    float3 opp[3];       /* TEXCOORD6..8: position of the vertex opposite edge k (see above)    */
+    float2 t[3];         /* TEXCOORD9..11: corner texcoords                                     */
+    float instance_id;   /* TEXCOORD12: the triangle's index (exact below 2^24 triangles)       */
+} is_patch_instance;
+
+/* Fill out[0 .. m->n_triangles-1]; returns the number written. */
+size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out);
+
+/* The vertex declaration of Listing 1.1.2: stream 0 offset 0 FLOAT3 POSITION0 (the barycentric grid point);
+ * stream 1: v0..v2 TEXCOORD0..2, n0..n2 TEXCOORD3..5, opp0..2 TEXCOORD6..8 (FLOAT3), t0..t2 TEXCOORD9..11
+ * (FLOAT2), instance_id TEXCOORD12 (FLOAT1); then IS_DECL_END.  MESH_PATCH_DECLARATION_COUNT entries with END. */
+#define MESH_PATCH_DECLARATION_COUNT 15
+extern const is_vertex_element mesh_patch_declaration[MESH_PATCH_DECLARATION_COUNT];
+
+#ifdef __cplusplus
+}
+#endif
+#endif
