@@ -115,6 +115,7 @@ goldens: $(B)/instess $(TEST_BIN)
 	INSTESS_REGENERATE_GOLDENS=1 bash tests/run.sh $(TEST_BIN)
 
 include bench/bench.mk
+-include tests/fuzz/fuzz.mk
 
 clean:
 	rm -rf $(B)
