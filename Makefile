@@ -81,7 +81,8 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 
 # make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
 # UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
-test: test-unit sanitize valgrind
+test:
+	@MAKE="$(MAKE)" bash tests/all.sh
 
 test-unit: $(TEST_BIN) $(B)/instess
 	@bash tests/run.sh $(TEST_BIN)

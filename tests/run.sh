@@ -24,5 +24,5 @@ for bin in "$@"; do
     printf 'ok   %-28s %3d passed\n' "$name" "$p"
   fi
 done
-echo "tests: $passed passed, $failed failed"
+echo "${TEST_LABEL:-tests}: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# tests/all.sh -- `make test`: the unit/numerical/golden tests, the same tests under ASan+UBSan, and valgrind on
+# the renderer, one stage after the other (each runs even if an earlier one failed), then one total line:
+# "total: N passed, N failed".  Exit status 0 only if every stage passed.
+set -u
+make=${MAKE:-make}
+passed=0; failed=0; status=0
+for stage in test-unit sanitize valgrind; do
+  echo "== $stage"
+  log=$(mktemp)
+  $make --no-print-directory "$stage" 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  line=$(grep -E '^[a-z-]+: [0-9]+ passed, [0-9]+ failed' "$log" | tail -n1)
+  rm -f "$log"
+  p=$(echo "$line" | sed -nE 's/.* ([0-9]+) passed.*/\1/p'); f=$(echo "$line" | sed -nE 's/.* ([0-9]+) failed.*/\1/p')
+  p=${p:-0}; f=${f:-0}
+  if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; echo "== $stage failed before running its tests (exit $rc)"; fi
+  [ "$rc" -ne 0 ] && status=1
+  passed=$((passed + p)); failed=$((failed + f))
+done
+echo "total: $passed passed, $failed failed"
+exit $status
