@@ -12,26 +12,12 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 enum { W = 64, H = 64 };
 
 /* Additive-counting states for a full W x H viewport, no culling, no depth. */
-static rs_state add_state(void)
-{
-    rs_state st;
-    memset(&st, 0, sizeof st);
-    st.cull_mode = RS_CULL_NONE;
-    st.fill_mode = RS_FILL_SOLID;
-    st.shade_mode = RS_SHADE_GOURAUD;
-    st.z_func = RS_CMP_LESSEQUAL;
-    st.blend_enable = true;
-    st.src_blend = RS_BLEND_ONE;
-    st.dst_blend = RS_BLEND_ONE;
-    st.multisample = true;
-    st.attr_mask = 1u << RS_ATTR_COLOR0;
-    st.viewport = (rs_viewport){ 0, 0, W, H, 0.0f, 1.0f };
-    return st;
-}
+static rs_state add_state(void) { return test_rs_additive(W, H); }
 
 /* A clip-space vertex whose colour adds 1 to the red channel. */
 static rs_vertex cv(float x, float y, float z, float w)

@@ -13,27 +13,12 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 enum { W = 128, H = 128 };
 
 /* Default states for a full-target viewport: no culling, additive blending of colour, no depth. */
-static rs_state add_state(int w, int h)
-{
-    rs_state st;
-    memset(&st, 0, sizeof st);
-    st.cull_mode = RS_CULL_NONE;
-    st.fill_mode = RS_FILL_SOLID;
-    st.shade_mode = RS_SHADE_GOURAUD;
-    st.z_enable = false;
-    st.z_func = RS_CMP_LESSEQUAL;
-    st.blend_enable = true;
-    st.src_blend = RS_BLEND_ONE;
-    st.dst_blend = RS_BLEND_ONE;
-    st.multisample = true;
-    st.attr_mask = 1u << RS_ATTR_COLOR0;
-    st.viewport = (rs_viewport){ 0, 0, w, h, 0.0f, 1.0f };
-    return st;
-}
+static rs_state add_state(int w, int h) { return test_rs_additive(w, h); }
 
 /* A vertex at screen position (X, Y) in pixels (w = 1) whose colour adds 1 to the red channel. */
 static rs_vertex screen_vertex(double X, double Y, int w, int h)

@@ -13,21 +13,16 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 /* Opaque states: no culling, depth off, Gouraud, colour and TEXCOORD0 interpolated, full viewport. */
 static rs_state base_state(int w, int h)
 {
-    rs_state st;
-    memset(&st, 0, sizeof st);
+    rs_state st = test_rs_defaults(w, h);
     st.cull_mode = RS_CULL_NONE;
-    st.fill_mode = RS_FILL_SOLID;
-    st.shade_mode = RS_SHADE_GOURAUD;
-    st.z_func = RS_CMP_LESSEQUAL;
-    st.src_blend = RS_BLEND_ONE;
-    st.dst_blend = RS_BLEND_ZERO;
-    st.multisample = true;
-    st.attr_mask = (1u << RS_ATTR_COLOR0) | (1u << RS_ATTR_TEXCOORD0);
-    st.viewport = (rs_viewport){ 0, 0, w, h, 0.0f, 1.0f };
+    st.z_enable = false;
+    st.z_write = false;
+    st.attr_mask |= 1u << RS_ATTR_TEXCOORD0;
     return st;
 }
 

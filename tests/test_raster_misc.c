@@ -12,25 +12,10 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 /* D3D9 defaults: cull CCW, solid, Gouraud, z LESSEQUAL on with write, no blending, full viewport. */
-static rs_state def_state(int w, int h)
-{
-    rs_state st;
-    memset(&st, 0, sizeof st);
-    st.cull_mode = RS_CULL_CCW;
-    st.fill_mode = RS_FILL_SOLID;
-    st.shade_mode = RS_SHADE_GOURAUD;
-    st.z_enable = true;
-    st.z_write = true;
-    st.z_func = RS_CMP_LESSEQUAL;
-    st.src_blend = RS_BLEND_ONE;
-    st.dst_blend = RS_BLEND_ZERO;
-    st.multisample = true;
-    st.attr_mask = 1u << RS_ATTR_COLOR0;
-    st.viewport = (rs_viewport){ 0, 0, w, h, 0.0f, 1.0f };
-    return st;
-}
+static rs_state def_state(int w, int h) { return test_rs_defaults(w, h); }
 
 /* A vertex at screen (X, Y) of a w x h viewport, depth z (w = 1), colour c. */
 static rs_vertex sv(double X, double Y, float z, rs_vec4 c, int w, int h)

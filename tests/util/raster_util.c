@@ -1,0 +1,33 @@
+/* tests/util/raster_util.c -- rasterizer states shared by the raster tests. */
+#include "raster_util.h"
+
+#include <string.h>
+
+rs_state test_rs_defaults(int w, int h)
+{
+    rs_state st;
+    memset(&st, 0, sizeof st);
+    st.cull_mode = RS_CULL_CCW;
+    st.fill_mode = RS_FILL_SOLID;
+    st.shade_mode = RS_SHADE_GOURAUD;
+    st.z_enable = true;
+    st.z_write = true;
+    st.z_func = RS_CMP_LESSEQUAL;
+    st.src_blend = RS_BLEND_ONE;
+    st.dst_blend = RS_BLEND_ZERO;
+    st.multisample = true;
+    st.attr_mask = 1u << RS_ATTR_COLOR0;
+    st.viewport = (rs_viewport){0, 0, w, h, 0.0f, 1.0f};
+    return st;
+}
+
+rs_state test_rs_additive(int w, int h)
+{
+    rs_state st = test_rs_defaults(w, h);
+    st.cull_mode = RS_CULL_NONE;
+    st.z_enable = false;
+    st.z_write = false;
+    st.blend_enable = true;
+    st.dst_blend = RS_BLEND_ONE;
+    return st;
+}
