@@ -10,16 +10,9 @@
 #include <cmocka.h>
 
 #include "../vs/vs.h"
+#include "util/patch_util.h"
 #include "util/pn_ref.h"
 
-/* xorshift64* in [-1, 1). */
-static float frand(uint64_t *s)
-{
-    *s ^= *s >> 12, *s ^= *s << 25, *s ^= *s >> 27;
-    return (float)((*s * 2685821657736338717ull) >> 40) / (float)(1u << 23) - 1.0f;
-}
-static float3 rand3(uint64_t *s) { return f3(frand(s), frand(s), frand(s)); }
-static bool same3(float3 a, float3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 static bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 static float3 grid_b(int L, int i, int j) { return f3((float)(L - i - j) / (float)L, (float)i / (float)L, (float)j / (float)L); }
 static double angle_deg(float3 a, float3 b)
@@ -31,39 +24,9 @@ static double angle_deg(float3 a, float3 b)
 
 static const vs_normals modes[3] = {VS_NORMALS_LINEAR, VS_NORMALS_QUADRATIC, VS_NORMALS_REAL};
 
-/* A random curved triangle: normals = face normal tilted by up to ~30 degrees, neighbours across every edge
- * folded randomly (opp below or above the edge's outside). */
-static vs_triangle rand_tri(uint64_t *s)
-{
-    float3 v[3] = {rand3(s), rand3(s), rand3(s)}, n[3];
-    float3 up = normalize3(cross3(sub3(v[1], v[0]), sub3(v[2], v[0])));
-    for (int k = 0; k < 3; k++) n[k] = normalize3(add3(up, scale3(rand3(s), 0.5f)));
-    vs_triangle t = vs_triangle_make(v, n);
-    for (int k = 0; k < 3; k++) {
-        float3 mid = scale3(add3(v[k], v[(k + 1) % 3]), 0.5f), third = v[(k + 2) % 3];
-        t.opp[k] = add3(add3(mid, sub3(mid, third)), scale3(up, frand(s)));
-    }
-    return t;
-}
-
 static float tri_size(const vs_triangle *t)
 {
     return fmaxf(length3(sub3(t->v[1], t->v[0])), fmaxf(length3(sub3(t->v[2], t->v[1])), length3(sub3(t->v[0], t->v[2]))));
-}
-
-static void to_d(const vs_triangle *t, double v[3][3], double n[3][3], double opp[3][3])
-{
-    for (int k = 0; k < 3; k++) {
-        v[k][0] = t->v[k].x, v[k][1] = t->v[k].y, v[k][2] = t->v[k].z;
-        n[k][0] = t->n[k].x, n[k][1] = t->n[k].y, n[k][2] = t->n[k].z;
-        opp[k][0] = t->opp[k].x, opp[k][1] = t->opp[k].y, opp[k][2] = t->opp[k].z;
-    }
-}
-
-static double dist_d(float3 a, const double b[3])
-{
-    double x = a.x - b[0], y = a.y - b[1], z = a.z - b[2];
-    return sqrt(x * x + y * y + z * z);
 }
 
 /* Corners: exactly the vertices; linear / quadratic (and the curved patches' real) normals: the vertex normal. */
@@ -174,18 +137,6 @@ static void test_edge_border_curve(void **state)
                 assert_true(dist_d(vs_patch_position(VS_PATCH_NPATCH, &t, b, NULL), ref) < 1e-5 * size);
             }
     }
-}
-
-/* Rotate labels by r: v_k <- v_(k+r)%3 and everything with it. */
-static vs_triangle rotate(const vs_triangle *t, int r)
-{
-    vs_triangle o = *t;
-    for (int k = 0; k < 3; k++) {
-        int j = (k + r) % 3;
-        o.v[k] = t->v[j], o.n[k] = t->n[j], o.opp[k] = t->opp[j], o.t[k] = t->t[j];
-        o.nadj[k][0] = t->nadj[j][0], o.nadj[k][1] = t->nadj[j][1];
-    }
-    return o;
 }
 
 /* Cyclic relabelling gives the same surface: within 1e-5 of the size inside, bitwise on edges. */

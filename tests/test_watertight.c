@@ -9,15 +9,7 @@
 #include <cmocka.h>
 
 #include "../vs/vs.h"
-
-/* xorshift64* in [-1, 1). */
-static float frand(uint64_t *s)
-{
-    *s ^= *s >> 12, *s ^= *s << 25, *s ^= *s >> 27;
-    return (float)((*s * 2685821657736338717ull) >> 40) / (float)(1u << 23) - 1.0f;
-}
-static float3 rand3(uint64_t *s) { return f3(frand(s), frand(s), frand(s)); }
-static bool same3(float3 a, float3 b) { return memcmp(&a, &b, sizeof a) == 0; }
+#include "util/patch_util.h"
 
 static const vs_normals modes[3] = {VS_NORMALS_LINEAR, VS_NORMALS_QUADRATIC, VS_NORMALS_REAL};
 
@@ -39,18 +31,6 @@ static int compare_edge(vs_patch p, const vs_triangle *a, int ka, const vs_trian
         if (normals && o->normals != VS_NORMALS_REAL && !same3(na, nb)) bad++;
     }
     return bad;
-}
-
-/* Rotate the labels of a triangle by r (v_k <- v_(k+r)%3, with its normals, opposite vertices, nadj). */
-static vs_triangle rotate(const vs_triangle *t, int r)
-{
-    vs_triangle o = *t;
-    for (int k = 0; k < 3; k++) {
-        int j = (k + r) % 3;
-        o.v[k] = t->v[j], o.n[k] = t->n[j], o.opp[k] = t->opp[j], o.t[k] = t->t[j];
-        o.nadj[k][0] = t->nadj[j][0], o.nadj[k][1] = t->nadj[j][1];
-    }
-    return o;
 }
 
 /* A random pair sharing edge P-Q: A = (P, Q, R), B = (Q, P, S), rotated randomly; split: B's normals at P, Q

@@ -1,0 +1,25 @@
+/* tests/util/patch_util.h -- random triangles and small helpers shared by the patch tests. */
+#ifndef INSTESS_TEST_PATCH_UTIL_H
+#define INSTESS_TEST_PATCH_UTIL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../../vs/vs.h"
+
+/* xorshift64* in [-1, 1). */
+float frand(uint64_t *s);
+float3 rand3(uint64_t *s);
+/* Bitwise equality. */
+bool same3(float3 a, float3 b);
+/* A random curved triangle: normals = face normal tilted by up to ~30 degrees, neighbours across every edge
+ * folded randomly (opp below or above the edge's outside). */
+vs_triangle rand_tri(uint64_t *s);
+/* The triangle's positions, normals and opposite vertices in double. */
+void to_d(const vs_triangle *t, double v[3][3], double n[3][3], double opp[3][3]);
+/* |a - b| in double. */
+double dist_d(float3 a, const double b[3]);
+/* Rotate labels by r: v_k <- v_(k+r)%3 with its normal, opposite vertex, texcoord and nadj. */
+vs_triangle rotate(const vs_triangle *t, int r);
+
+#endif
