@@ -135,23 +135,6 @@ static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid
     return dev;
 }
 
-/* Resolved colour and the nearest sample's depth into img's R, G, B, A, Z; 0 or -1 (no memory). */
-static int copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
-{
-    size_t n = (size_t)rt->width * rt->height;
-    uint32_t *rgba = malloc(n * sizeof *rgba);
-    if (!rgba) return snprintf(err, errlen, "out of memory"), -1;
-    rs_target_resolve(rt, rgba);
-    image_from_rgba8(img, rgba);
-    free(rgba);
-    for (size_t p = 0; p < n; p++) {
-        float z = rt->depth[p * rt->samples];
-        for (int s = 1; s < rt->samples; s++) z = fminf(z, rt->depth[p * rt->samples + s]);
-        img->data[p * FIG_NCH + 4] = z;
-    }
-    return 0;
-}
-
 /* The normal AOV plane of rt into img's N.X, N.Y, N.Z. */
 static void copy_normals(const rs_target *rt, is_image *img)
 {
@@ -172,7 +155,7 @@ static int render_mesh_view(const fig_ctx *ctx, fig_view *v, const is_mesh *m, i
     is_device *dev = draw_view(v, m, &g, v->o.msaa, false, err, errlen);
     is_device *adev = dev ? draw_view(v, m, &g, 1, true, err, errlen) : NULL;
     if (adev && image_alloc(img, w, h, FIG_CHANNELS, err, errlen) == 0) {
-        rc = copy_color_depth(dev_render_target(dev), img, err, errlen);
+        rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc == 0) copy_normals(dev_render_target(adev), img);
         else image_free(img);
     }

@@ -530,21 +530,20 @@ static void channel_list(unsigned aovs, char *buf, size_t len)
              aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "");
 }
 
-/* Copy the resolved colour and the nearest depth of each pixel into img's R, G, B, A, Z. */
-static void copy_color_depth(const rs_target *rt, is_image *img)
+int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
 {
     size_t n = (size_t)rt->width * rt->height;
     uint32_t *rgba = malloc(n * sizeof *rgba);
-    if (rgba) {
-        rs_target_resolve(rt, rgba);
-        image_from_rgba8(img, rgba);
-        free(rgba);
-    }
+    if (!rgba) return snprintf(err, errlen, "out of memory for a %dx%d image", rt->width, rt->height), -1;
+    rs_target_resolve(rt, rgba);
+    image_from_rgba8(img, rgba);
+    free(rgba);
     for (size_t p = 0; p < n; p++) {
         float z = rt->depth[p * rt->samples];
         for (int s = 1; s < rt->samples; s++) z = fminf(z, rt->depth[p * rt->samples + s]);
         img->data[p * img->channels + 4] = z;
     }
+    return 0;
 }
 
 /* Copy the AOV planes of rt into img's channels from `first` on. */
@@ -581,9 +580,9 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scen
     int rc = -1;
     is_device *dev = render_device(o, m, &g, o->msaa, 0, st, err, errlen);
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
-        copy_color_depth(dev_render_target(dev), img);
-        rc = 0;
-        if (o->aovs) {
+        rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
+        if (rc != 0) image_free(img);
+        if (rc == 0 && o->aovs) {
             is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
             if (adev) copy_aovs(dev_render_target(adev), img, 5);
             else rc = -1, image_free(img);

@@ -82,6 +82,9 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
 /* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
+/* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
+ * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
+int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 
