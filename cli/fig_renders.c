@@ -365,17 +365,19 @@ static int fig_001_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
 }
 
 #define V_MD2 "--yaw 90 --pitch 0 --distance 2.7"
-/* Fig. 12: a family of game characters, input (Gouraud-shaded triangles) above PN triangles. */
+/* Fig. 12: a family of game characters: input (Gouraud-shaded triangles), PN triangles, Gruen's smoothed patch. */
 static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     static const fig_panel p[] = {
         {"--mesh " FAERIE " --patch flat --level 1 " V_MD2, "faerie: input"},
         {"--mesh " SYDNEY " --patch flat --level 1 " V_MD2, "sydney: input"},
         {"--mesh " FAERIE " --patch npatch --normals quadratic --level 4 " V_MD2, "faerie: PN triangles"},
-        {"--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "sydney: PN triangles"}};
+        {"--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "sydney: PN triangles"},
+        {"--mesh " FAERIE " --patch smooth --normals quadratic --level 4 " V_MD2, "faerie: smoothed N-Patch"},
+        {"--mesh " SYDNEY " --patch smooth --normals quadratic --level 4 " V_MD2, "sydney: smoothed N-Patch"}};
     fig_sizes s = sizes_of(ctx);
-    return render_grid(ctx, "Game characters (MD2): input vs PN", p, 2, 2, s.panel * 3 / 4, s.tall, out, err,
-                       errlen);
+    return render_grid(ctx, "MD2 characters: input, PN, smoothed", p, 3, 2, s.panel * 3 / 4,
+                       s.tall, out, err, errlen);
 }
 
 /* ---------------------------------------- fake vs real normals ---------------------------------------- */
@@ -623,9 +625,11 @@ const figure fig_renders[] = {
      "A family of game characters from the game Quake 1. (a), (b) and (c) are rendered on a CPU by Vlachos et al. "
      "(d), (e), (f) are rendered by our implementation.",
      "Stand-ins: the MD2 characters faerie.md2 (654 triangles) and sydney.md2 (679) of Debian's assimp-testmodels "
-     "(Irrlicht media, zlib-style licence), with the files' normals; 2x2 panels of 240x400 with 4x MSAA, seen "
+     "(Irrlicht media, zlib-style licence), with the files' normals; 3x2 panels of 240x400 with 4x MSAA, seen "
      "from the front (yaw 90, pitch 0, distance 2.7). Top: the input triangles (flat patch, Gouraud-shaded by the "
-     "listing's headlight). Bottom: PN triangles (npatch, quadratic normals, level 4 = 16 triangles each).",
+     "listing's headlight). Middle: PN triangles (npatch, quadratic normals, level 4 = 16 triangles each). "
+     "Bottom: Gruen's final smoothed patch at the same level (its boundary and non-manifold edges fall back to "
+     "the N-Patch).",
      CMD_FIG("fig-001-12"), true, fig_001_12},
     {"fig-001-fake-vs-real", NULL, VVB "sections 3.2 and 5.1 (the draft has no figure: 'Show results of PN "
                                        "triangles with fake and real normals, and discuss differences')",
