@@ -9,8 +9,12 @@
  * Post-transform cache: each instance's vertices MinVertexIndex .. MinVertexIndex + NumVertices - 1 are shaded
  * once, then the instance's primitives index them.  Instances are processed in chunks of at most
  * DRAW_CHUNK_VERTICES shaded vertices, so memory stays bounded whatever the instance count; chunks are drawn in
- * order, so the result is the same as one big draw. */
+ * order, so the result is the same as one big draw.  Off the reference path, triangle draws with at most
+ * FUSED_PIECE_VERTICES vertices per instance take the fused path instead (below draw_shaded's helpers): pieces of
+ * a few instances shaded and set up by one thread each, per-thread scratch, at most FUSED_MAX_PRIMS triangles per
+ * rasterizer call. */
 #include "device_internal.h"
+#include "../raster/raster_internal.h" /* rs_draw_source: the fused path */
 
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +36,8 @@ typedef struct fetch_plan {
     unsigned n;
     fetch_elem el[IS_MAX_ELEMENTS];
     unsigned n_instances;
+    unsigned n_vert;                 /* per-vertex elements: el[vert[0..n_vert)] (the fast path's fetch) */
+    uint8_t vert[IS_MAX_ELEMENTS];
 } fetch_plan;
 
 /* Indices a primitive list of `count` primitives of `type` uses; 0 for an unknown type. */
@@ -79,6 +85,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     if (!d) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     fp->n = d->n;
     fp->n_instances = n_instances;
+    fp->n_vert = 0;
     for (unsigned k = 0; k < d->n; k++) {
         const decl_element *de = &d->el[k];
         const stream_source *s = &dev->streams[de->e.stream];
@@ -96,6 +103,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
                             de->e.stream, (unsigned long long)last, s->vb->size);
         fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
                                  de->reg_offset};
+        if (!inst) fp->vert[fp->n_vert++] = (uint8_t)k;
     }
     return IS_OK;
 }
@@ -141,6 +149,15 @@ static is_result reserve_scratch(is_device *dev, size_t nv, size_t ni)
     return IS_OK;
 }
 
+/* Add a draw's rasterizer counters to the device's. */
+static void add_stats(is_device *dev, const rs_stats *s)
+{
+    dev->stats.prims_in += s->prims_in, dev->stats.prims_culled += s->prims_culled;
+    dev->stats.prims_clipped_away += s->prims_clipped_away, dev->stats.prims_degenerate += s->prims_degenerate;
+    dev->stats.prims_drawn += s->prims_drawn, dev->stats.samples_tested += s->samples_tested;
+    dev->stats.samples_written += s->samples_written;
+}
+
 /* Hand n_prims primitives over to the rasterizer and add its counters to the device's. */
 static is_result rasterize(is_device *dev, int prim, size_t n_verts, size_t n_prims)
 {
@@ -149,10 +166,7 @@ static is_result rasterize(is_device *dev, int prim, size_t n_verts, size_t n_pr
     int r = rs_draw(dev->rs, &st, &dev->rt, prim, dev->out_v, n_verts, dev->out_i, n_prims, &s);
     if (r == RS_ENOMEM) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
     if (r != RS_OK) return dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
-    dev->stats.prims_in += s.prims_in, dev->stats.prims_culled += s.prims_culled;
-    dev->stats.prims_clipped_away += s.prims_clipped_away, dev->stats.prims_degenerate += s.prims_degenerate;
-    dev->stats.prims_drawn += s.prims_drawn, dev->stats.samples_tested += s.samples_tested;
-    dev->stats.samples_written += s.samples_written;
+    add_stats(dev, &s);
     return IS_OK;
 }
 
@@ -183,11 +197,17 @@ static void shade_range_reference(is_device *dev, const fetch_plan *fp, uint32_t
     }
 }
 
-/* Vertices of one instance shaded together by the fast path (fetched into a stack array). */
-#define SHADE_BATCH 32
+/* Fewer vertices than this are shaded by one thread: a parallel region costs more than it saves (and much more
+ * on a loaded machine, where a waiting thread may not get a core for milliseconds). */
+#define PARALLEL_MIN_VERTICES 2048
 
-/* Fetch vertices first..first+n-1 of `instance` into in[0..n): the per-instance elements once, then copies with
- * the per-vertex elements (the same registers fetch_vertex fills). */
+/* Vertices of one instance shaded together by the fast path (fetched into a stack array), and batches per
+ * parallel work item (one fetch of the per-instance registers serves them all). */
+#define SHADE_BATCH 32
+#define SHADE_PIECE 8
+
+/* Fetch vertices first..first+n-1 of `instance` into in[0..n) as fetch_vertex does: the per-instance elements once,
+ * copied to every entry, then the per-vertex elements. */
 static void fetch_batch(const fetch_plan *fp, uint32_t first, uint32_t n, uint32_t instance, is_vs_input *in)
 {
     input_defaults(&in[0]);
@@ -198,33 +218,52 @@ static void fetch_batch(const fetch_plan *fp, uint32_t first, uint32_t n, uint32
                 decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
     }
     for (uint32_t v = 1; v < n; v++) in[v] = in[0];
+}
+
+/* Refill the per-vertex elements of in[0..n) for vertices first..first+n-1 (the other registers of a batch of the
+ * same instance are already right). */
+static void fetch_vertices(const fetch_plan *fp, uint32_t first, uint32_t n, is_vs_input *in)
+{
     for (uint32_t v = 0; v < n; v++)
-        for (unsigned k = 0; k < fp->n; k++) {
-            const fetch_elem *e = &fp->el[k];
-            if (!e->per_instance)
-                *(float4 *)((unsigned char *)&in[v] + e->reg_offset) =
-                    decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
+        for (unsigned q = 0; q < fp->n_vert; q++) {
+            const fetch_elem *e = &fp->el[fp->vert[q]];
+            *(float4 *)((unsigned char *)&in[v] + e->reg_offset) =
+                decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
         }
 }
 
-/* The fast path of shade_range: batches of up to SHADE_BATCH vertices of one instance, fetched together and
- * shaded through the shader's batch entry when it has one. */
+/* Shade vertices v0..v0+n-1 of `instance` into out[0..n), in batches of SHADE_BATCH. */
+static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t instance, uint32_t v0,
+                        uint32_t n, rs_vertex *out_v)
+{
+    is_vs_input in[SHADE_BATCH];
+    const is_vertex_shader *vs = dev->vs;
+    fetch_batch(fp, first + v0, n < SHADE_BATCH ? n : SHADE_BATCH, instance, in);
+    for (uint32_t b = 0; b < n; b += SHADE_BATCH) {
+        uint32_t m = n - b < SHADE_BATCH ? n - b : SHADE_BATCH;
+        rs_vertex *out = out_v + b;
+        fetch_vertices(fp, first + v0 + b, m, in);
+        memset(out, 0, m * sizeof *out);
+        if (vs->batch) vs->batch(&dev->consts, in, m, out);
+        else
+            for (uint32_t k = 0; k < m; k++) vs->main(&dev->consts, &in[k], &out[k]);
+    }
+}
+
+/* The fast path of shade_range: pieces of up to SHADE_PIECE batches of one instance, shaded through the shader's
+ * batch entry when it has one. */
 static void shade_range_fast(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count, uint32_t i0,
                              uint32_t ni)
 {
-    const long per = (long)((count + SHADE_BATCH - 1) / SHADE_BATCH), nb = per * (long)ni;
-    const is_vertex_shader *vs = dev->vs;
-#pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
-    for (long b = 0; b < nb; b++) {
-        is_vs_input in[SHADE_BATCH];
-        uint32_t i = (uint32_t)(b / per), v0 = (uint32_t)(b % per) * SHADE_BATCH;
-        uint32_t n = count - v0 < SHADE_BATCH ? count - v0 : SHADE_BATCH;
-        rs_vertex *out = &dev->out_v[(size_t)i * count + v0];
-        fetch_batch(fp, first + v0, n, i0 + i, in);
-        memset(out, 0, n * sizeof *out);
-        if (vs->batch) vs->batch(&dev->consts, in, n, out);
-        else
-            for (uint32_t k = 0; k < n; k++) vs->main(&dev->consts, &in[k], &out[k]);
+    const uint32_t piece = SHADE_BATCH * SHADE_PIECE;
+    const long per = (long)((count + piece - 1) / piece), np = per * (long)ni;
+    /* dynamic: a thread the OS takes away for a while (a loaded machine) delays the draw by a few pieces only */
+#pragma omp parallel for schedule(dynamic, 1) num_threads(dev->threads > 0 ? dev->threads : omp_threads()) \
+    if (count * ni >= PARALLEL_MIN_VERTICES)
+    for (long q = 0; q < np; q++) {
+        uint32_t i = (uint32_t)(q / per), v0 = (uint32_t)(q % per) * piece;
+        shade_piece(dev, fp, first, i0 + i, v0, count - v0 < piece ? count - v0 : piece,
+                    &dev->out_v[(size_t)i * count + v0]);
     }
 }
 
@@ -244,12 +283,97 @@ static size_t assemble(is_device *dev, is_primtype type, size_t n_prims, uint32_
 {
     unsigned per;
     prim_raster_type(type, &per);
-    size_t t = 0;
-    for (uint32_t i = 0; i < ni; i++)
-        for (size_t p = 0; p < n_prims; p++)
-            for (unsigned c = 0; c < per; c++)
-                dev->out_i[t++] = i * count + stream_idx[prim_vertex(type, p, c)];
-    return t / per;
+    const size_t n = n_prims * per;
+    uint32_t *first = dev->out_i;
+    for (size_t p = 0; p < n_prims; p++)
+        for (unsigned c = 0; c < per; c++) first[p * per + c] = stream_idx[prim_vertex(type, p, c)];
+    const long nl = (long)ni;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(dev->threads > 0 ? dev->threads : omp_threads()) if (nl > 64)
+    for (long i = 1; i < nl; i++) /* instance i: instance 0's list moved by i * count */
+        for (size_t k = 0; k < n; k++) dev->out_i[(size_t)i * n + k] = (uint32_t)i * count + first[k];
+    return (size_t)ni * n_prims;
+}
+
+/* ---------------------------------------- the fused path ----------------------------------------
+ * Instanced triangle draws with few vertices per instance (the tessellation grids): the rasterizer's setup threads
+ * ask for pieces of a few instances (rs_draw_source), which are fetched, shaded, projected and set up by one thread
+ * while they are in the cache, into per-thread scratch.  Same bytes as shading everything first (each instance's
+ * vertices and triangles are the same, in the same order).  A draw is then two parallel regions (setup, tiles)
+ * plus the Clear's: on a machine whose cores are busy with other processes, each region's end can wait for a
+ * descheduled thread while libgomp's default busy-waiting keeps the core -- run with OMP_WAIT_POLICY=passive there. */
+
+/* Vertices per piece at most (about 700 KB of shaded vertices: the piece stays in the cache), and pieces per draw
+ * aimed at (enough for load balance, few enough that the per-tile walk over pieces stays cheap). */
+#define FUSED_PIECE_VERTICES 4096u
+#define FUSED_PIECES 64u
+#define FUSED_PIECE_PRIMS 16384u
+/* Triangles per rs_draw_source call at most: bounds the set-up triangles held before the tile pass. */
+#define FUSED_MAX_PRIMS (1u << 19)
+
+/* A fused draw pass: instances i0..i0+ni-1 in pieces of per_piece instances. */
+typedef struct fused_ctx {
+    const is_device *dev;
+    const fetch_plan *fp;
+    uint32_t first, count, i0, ni, per_piece;
+    size_t n_idx;              /* indices of one instance (3 per triangle) */
+    const uint32_t *list;      /* the index list of a full piece (instance i's vertices at i * count) */
+    size_t slot_verts;         /* scratch per slot in out_v */
+    rs_vertex *out_v;
+} fused_ctx;
+
+/* rs_produce_fn: shade the piece's instances into the slot's scratch and build its index list. */
+static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
+                            const uint32_t **idx)
+{
+    const fused_ctx *f = ctx;
+    uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
+    rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
+    for (uint32_t i = 0; i < n; i++)
+        shade_piece(f->dev, f->fp, f->first, f->i0 + a + i, 0, f->count, out + (size_t)i * f->count);
+    *verts = out, *n_verts = (size_t)n * f->count, *idx = f->list; /* a short piece uses a prefix */
+    return (size_t)n * (f->n_idx / 3);
+}
+
+/* Instances per piece: about 1/FUSED_PIECES of the draw, at most FUSED_PIECE_VERTICES vertices and
+ * FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance. */
+static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
+{
+    uint64_t want = (uint64_t)n_inst * count / FUSED_PIECES;
+    uint64_t per = want <= count ? 1u : want / count;
+    if (per * count > FUSED_PIECE_VERTICES) per = FUSED_PIECE_VERTICES / count;
+    if (per * n_prims > FUSED_PIECE_PRIMS) per = FUSED_PIECE_PRIMS / n_prims;
+    return per < 1 ? 1u : (uint32_t)per;
+}
+
+/* The fused draw of n_prims triangles per instance (see above); list = instance 0's index list, with room for
+ * the index list of a full piece (fused_per_piece instances). */
+static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
+                            uint32_t *list)
+{
+    const uint32_t n_inst = fp->n_instances, per_piece = fused_per_piece(n_inst, count, n_prims);
+    const uint64_t total = (uint64_t)n_inst * count;
+    size_t max_pieces = rs_max_pieces(&dev->rt), per_pass = FUSED_MAX_PRIMS / n_prims;
+    if (per_pass < per_piece) per_pass = per_piece;
+    if (per_pass / per_piece > max_pieces) per_pass = max_pieces * per_piece;
+    int slots = rs_threads(dev->rs);
+    for (uint32_t i = 1; i < per_piece; i++) /* instance i of a piece: instance 0's list moved by i * count */
+        for (size_t k = 0; k < 3 * n_prims; k++) list[(size_t)i * 3 * n_prims + k] = i * count + list[k];
+    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL};
+    is_result r = reserve_scratch(dev, (size_t)slots * f.slot_verts, 0);
+    f.out_v = dev->out_v;
+    for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass) {
+        f.i0 = i0;
+        f.ni = n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass;
+        rs_source src = {(f.ni + per_piece - 1) / per_piece, (size_t)f.ni * n_prims, f.slot_verts, fused_produce, &f};
+        rs_state st = dev_rs_state(dev);
+        rs_stats s = {0};
+        int e = rs_draw_source(dev->rs, &st, &dev->rt, &src, &s);
+        if (e == RS_ENOMEM) r = dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
+        else if (e != RS_OK) r = dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
+        else add_stats(dev, &s);
+    }
+    dev->shaded += total;
+    return r;
 }
 
 /* The draw after validation: stream_idx[k] are index-stream entries already rebased to `first`. */
@@ -258,6 +382,15 @@ static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype t
 {
     unsigned per;
     int prim = prim_raster_type(type, &per);
+    if (!dev->reference && prim == RS_PRIM_TRIANGLES && count <= FUSED_PIECE_VERTICES) {
+        uint32_t *list = malloc((size_t)fused_per_piece(fp->n_instances, count, n_prims) * n_prims * 3 * sizeof *list);
+        if (!list) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", n_prims * 3);
+        for (size_t p = 0; p < n_prims; p++)
+            for (unsigned c = 0; c < 3; c++) list[3 * p + c] = stream_idx[prim_vertex(type, p, c)];
+        is_result r = draw_fused(dev, fp, n_prims, first, count, list);
+        free(list);
+        return r;
+    }
     uint32_t chunk = count >= DRAW_CHUNK_VERTICES ? 1 : DRAW_CHUNK_VERTICES / count;
     if (chunk > fp->n_instances) chunk = fp->n_instances;
     is_result r = reserve_scratch(dev, (size_t)chunk * count, (size_t)chunk * n_prims * per);

@@ -174,6 +174,15 @@ static bool reserve_context(rs_context *rs, size_t n, size_t n_tiles)
     return true;
 }
 
+int rs_threads(const rs_context *rs) { return thread_count(rs); }
+
+size_t rs_max_pieces(const rs_target *rt)
+{
+    size_t tiles = (size_t)((rt->width + RS_TILE - 1) / RS_TILE) * (size_t)((rt->height + RS_TILE - 1) / RS_TILE);
+    size_t cap = BIN_OFFSETS_BUDGET / (tiles + 1);
+    return cap < 1 ? 1 : (cap > CHUNK_MAX_COUNT ? CHUNK_MAX_COUNT : cap);
+}
+
 /* Number of chunks for n primitives on a target of n_tiles tiles. */
 static size_t chunk_count(size_t n, size_t n_tiles)
 {
@@ -201,10 +210,42 @@ static void shared_pass(rs_context *rs, rs_job *j, size_t n_verts, size_t n_prim
     }
     rs_pvert *pv = rs->pv;
     long n = (long)n_verts;
-#pragma omp parallel for schedule(static) num_threads(nt)
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(nt) if (n >= 8192)
     for (long v = 0; v < n; v++)
         rs_project_vertex(j, &j->verts[v], (rs_pvert *)((char *)pv + (size_t)v * rs_pvert_size()));
     j->pv = pv;
+}
+
+/* Make room for `slots` projection scratches of n vertices each; false when out of memory. */
+static bool reserve_pv(rs_context *rs, size_t slots, size_t n)
+{
+    if (n && slots > SIZE_MAX / rs_pvert_size() / n) return false;
+    if (slots * n <= rs->pv_cap) return true;
+    void *p = realloc(rs->pv, slots * n * rs_pvert_size());
+    if (!p) return false;
+    rs->pv = p, rs->pv_cap = slots * n;
+    return true;
+}
+
+/* Produce piece c of src on the calling thread and set it up into chunk c: shade (the producer), project each
+ * vertex once (as the shared pass), set up and bin. */
+static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, int slot)
+{
+    rs_vertex *v = NULL;
+    size_t nv = 0;
+    const uint32_t *idx = NULL;
+    size_t np = src->produce(src->ctx, c, slot, &v, &nv, &idx);
+    rs_chunk *ch = &rs->chunks[c];
+    rs_job jl = *j;
+    jl.verts = v, jl.idx = idx, jl.pv = NULL;
+    ch->first = 0, ch->count = np;
+    if (np && nv <= 3 * np && nv <= src->max_verts && !rs->reference) {
+        rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * src->max_verts * rs_pvert_size());
+        for (size_t k = 0; k < nv; k++) rs_project_vertex(&jl, &v[k], (rs_pvert *)((char *)pv + k * rs_pvert_size()));
+        jl.pv = pv;
+    }
+    rs_setup_chunk(&jl, ch);
+    rs_bin_chunk(&jl, ch);
 }
 
 /* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
@@ -250,6 +291,42 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks,
     }
 }
 
+/* Rasterize every tile in parallel, then sum the counters (the second half of a draw). */
+static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, rs_stats *stats)
+{
+    int ntl = j->n_tiles;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+    for (int t = 0; t < ntl; t++) raster_tile(j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t);
+    if (stats) gather_stats(j, rs, n_chunks, n_prims, stats);
+}
+
+int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
+{
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (!rs || !st || !rt || !src || !src->produce || !valid_target(rt) || !valid_state(st, rt) ||
+        src->n_pieces > rs_max_pieces(rt))
+        return RS_EINVAL;
+    if (stats) stats->prims_in = src->n_prims;
+    if (src->n_pieces == 0 || src->n_prims == 0) return RS_OK;
+    rs_job j;
+    make_job(&j, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
+    j.reference = rs->reference;
+    int nt = thread_count(rs);
+    if (!reserve_context(rs, src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
+        return RS_ENOMEM;
+    long nc = (long)src->n_pieces;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1)
+    for (long c = 0; c < nc; c++) source_chunk(&j, rs, src, (size_t)c, omp_get_thread_num());
+    size_t n_prims = 0;
+    for (size_t c = 0; c < src->n_pieces; c++) {
+        if (rs->chunks[c].oom) return RS_ENOMEM;
+        n_prims += rs->chunks[c].count;
+    }
+    if (n_prims != src->n_prims) return RS_EINVAL;
+    raster_tiles(&j, rs, src->n_pieces, n_prims, nt, stats);
+    return RS_OK;
+}
+
 int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const rs_vertex *verts, size_t n_verts,
             const uint32_t *idx, size_t n_prims, rs_stats *stats)
 {
@@ -272,16 +349,13 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     int nt = thread_count(rs);
     shared_pass(rs, &j, n_verts, n_prims, nt);
     long nc = (long)n_chunks;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1)
     for (long c = 0; c < nc; c++) {
         rs_setup_chunk(&j, &rs->chunks[c]);
         rs_bin_chunk(&j, &rs->chunks[c]);
     }
     for (size_t c = 0; c < n_chunks; c++)
         if (rs->chunks[c].oom) return RS_ENOMEM;
-    int ntl = j.n_tiles;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
-    for (int t = 0; t < ntl; t++) raster_tile(&j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t);
-    if (stats) gather_stats(&j, rs, n_chunks, n_prims, stats);
+    raster_tiles(&j, rs, n_chunks, n_prims, nt, stats);
     return RS_OK;
 }

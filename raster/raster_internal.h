@@ -8,6 +8,8 @@
  *      them to 64x64 tiles (per chunk, so no locks);
  *   3. in parallel over tiles (tri.c, line.c): walk the chunks in order and each chunk's bin in order, so every
  *      sample sees the primitives in submission order whatever the thread count.
+ * rs_draw_source (the device's fused path) is the same with step 2 fed piece by piece: each chunk's vertices are
+ * produced (shaded) by the thread that sets the chunk up.
  */
 #ifndef INSTESS_RASTER_INTERNAL_H
 #define INSTESS_RASTER_INTERNAL_H
@@ -151,6 +153,31 @@ size_t rs_pvert_size(void);
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
 
+/* ---- draw.c: triangle draws whose vertices are produced piece by piece by the setup threads ----
+ * The device's fast path for instanced draws: each piece (a few instances) is shaded, projected, set up and
+ * binned by one thread while its vertices are still in the cache, so one draw costs one setup region and one
+ * tile region, and the shaded vertices never go through memory.  Each piece is one setup chunk, in order, so the
+ * bytes are those of rs_draw on the concatenated pieces. */
+/* Produce piece `piece`: vertices into *verts (n_verts of them, at most the source's max_verts), its triangles'
+ * indices (into *verts, 3 per triangle) into *idx; returns the triangle count.  `slot` (below rs_threads) is the
+ * calling thread's: pieces produced at the same time have different slots, so a producer may keep one scratch
+ * per slot. */
+typedef size_t (*rs_produce_fn)(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
+                                const uint32_t **idx);
+typedef struct rs_source {
+    size_t n_pieces;      /* at most rs_max_pieces */
+    size_t n_prims;       /* triangles of all pieces */
+    size_t max_verts;     /* vertices of the largest piece */
+    rs_produce_fn produce;
+    void *ctx;
+} rs_source;
+/* Threads (and so scratch slots) a draw uses. */
+int rs_threads(const rs_context *rs);
+/* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
+size_t rs_max_pieces(const rs_target *rt);
+/* Draw the triangles of src: RS_OK, RS_EINVAL (bad state, target or source) or RS_ENOMEM. */
+int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
+
 /* ---- the reference path switch (the device's dev_set_reference_path; core/ includes this header for it) ----
  * On: every draw takes the simplest per-sample loops (tri.c's tri_pixel, setup per triangle); off (default): the
  * fast paths (span.c, shared vertex projection), which write the same bytes. */
@@ -167,6 +194,10 @@ bool rs_span_ok(const rs_job *j);
  * (x0, y0); full: every pixel is inside.  Same bytes as tri.c's reference block walk. */
 void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                        int y1, const int64_t *e, bool full);
+
+/* The small-triangle path: triangle p's pixels [x0, x1] x [y0, y1] of tile t (at most 8 wide) walked one row of
+ * 8 lanes at a time with 32-bit edge values, no block tests.  False (nothing done) when p does not qualify. */
+bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
 
 /* ---- tri.c, line.c ---- */
 /* Rasterize triangle p (attributes a) inside tile t. */

@@ -21,6 +21,9 @@
  *  evaluated at (X - V0) / 256, which is exact in float (at most 2^24 units of 1/256 px).
  */
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <immintrin.h>
+#endif
 
 #include "raster_internal.h"
 
@@ -54,6 +57,16 @@ static rs_prim *push(const rs_job *j, rs_chunk *c, float **attr)
     return &c->prims[c->n++];
 }
 
+/* llrint (round half to even, the default rounding mode) of |x| <= 2^22, inline. */
+static inline int64_t round_even(double x)
+{
+#ifdef __SSE2__
+    return (int64_t)_mm_cvtsd_si64(_mm_set_sd(x));
+#else
+    return (int64_t)llrint(x);
+#endif
+}
+
 /* Project clip-space vertex cv to snapped screen space; false when w <= 0 or the result is not finite. */
 static bool project(const rs_job *j, const rs_cvert *cv, pvert *v)
 {
@@ -65,8 +78,8 @@ static bool project(const rs_job *j, const rs_cvert *cv, pvert *v)
     const double lim = (double)RS_GUARD_BAND * RS_SUB;
     fx = fx < -lim ? -lim : (fx > lim ? lim : fx);
     fy = fy < -lim ? -lim : (fy > lim ? lim : fy);
-    v->x = (int64_t)llrint(fx);
-    v->y = (int64_t)llrint(fy);
+    v->x = round_even(fx);
+    v->y = round_even(fy);
     v->z = (float)(j->zoff + j->zscale * zw);
     v->iw = iw;
     v->a = cv->a;
@@ -89,6 +102,15 @@ static int64_t poly_area(const pvert *v, int n)
 static void fill_attr(const rs_job *j, float *at, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c,
                       const rs_vec4 *flat)
 {
+    if (!flat && b && c) { /* the common case: every slot interpolated */
+        for (int s = 0; s < j->n_slots; s++) {
+            int k = j->slot[s];
+            const float *v0 = &a[k].x, *v1 = &b[k].x, *v2 = &c[k].x;
+            float *o = at + s * RS_ATTR_STRIDE;
+            for (int q = 0; q < 4; q++) o[3 * q] = v0[q], o[3 * q + 1] = v1[q] - v0[q], o[3 * q + 2] = v2[q] - v0[q];
+        }
+        return;
+    }
     for (int s = 0; s < j->n_slots; s++) {
         int k = j->slot[s];
         bool fl = flat && (k == RS_ATTR_COLOR0 || k == RS_ATTR_COLOR1);
@@ -105,7 +127,8 @@ static void fill_attr(const rs_job *j, float *at, const rs_vec4 *a, const rs_vec
 /* Pixel range [*lo, *hi] whose samples can touch [mn, mx] (1/256 px, absolute), clamped to [s0, s1). */
 static void pixel_range(const rs_job *j, int64_t mn, int64_t mx, int s0, int s1, int32_t *lo, int32_t *hi)
 {
-    int64_t a = rs_ceil_div(mn - j->omax, RS_SUB), b = rs_floor_div(mx + j->omax, RS_SUB);
+    _Static_assert(RS_SUB == 1 << RS_SUB_BITS, "floor / ceil division by RS_SUB as arithmetic shifts");
+    int64_t a = -((j->omax - mn) >> RS_SUB_BITS), b = (mx + j->omax) >> RS_SUB_BITS; /* ceil, floor of / RS_SUB */
     *lo = (int32_t)(a < s0 ? s0 : a);
     *hi = (int32_t)(b > s1 - 1 ? s1 - 1 : b);
 }
@@ -123,6 +146,9 @@ static void tri_edges(const pvert *const v[3], rs_tri *t)
     }
 }
 
+/* fmax for doubles, inline (the libm call costs more than the comparison): a NaN argument gives the other. */
+static inline double dmax(double a, double b) { return a > b || isnan(b) ? a : b; }
+
 /* Depth and perspective planes of triangle v[0..3) with doubled area `area2` (1/256^2 px^2 units). */
 static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, rs_tri *t)
 {
@@ -133,11 +159,11 @@ static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, 
     double l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar; /* lambda1, lambda2 planes */
     double z0 = v[0]->z, dz1 = v[1]->z - z0, dz2 = v[2]->z - z0;
     double za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
-    double bias = j->st->depth_bias + j->st->slope_scale_depth_bias * fmax(fabs(za), fabs(zb));
+    double bias = j->st->depth_bias + j->st->slope_scale_depth_bias * dmax(fabs(za), fabs(zb));
     t->z[0] = (float)za;
     t->z[1] = (float)zb;
     t->z[2] = (float)(z0 + bias);
-    double m = fmax(v[0]->iw, fmax(v[1]->iw, v[2]->iw));
+    double m = dmax(v[0]->iw, dmax(v[1]->iw, v[2]->iw));
     double n0 = v[0]->iw / m, n1 = v[1]->iw / m, n2 = v[2]->iw / m;
     t->q1[0] = (float)(n1 * l1a); t->q1[1] = (float)(n1 * l1b); t->q1[2] = 0.0f;
     t->q2[0] = (float)(n2 * l2a); t->q2[1] = (float)(n2 * l2b); t->q2[2] = 0.0f;
@@ -303,28 +329,55 @@ struct rs_pvert {
 
 size_t rs_pvert_size(void) { return sizeof(rs_pvert); }
 
+/* rs_outcode inline: bit k set when p is outside clip plane k (clip.c's plane_dist, same expressions). */
+static inline unsigned outcode6(const rs_job *j, const double *p)
+{
+    _Static_assert(RS_CLIP_PLANES == 6, "near, far and four guard-band planes");
+    return (unsigned)!(p[2] >= 0.0) | (unsigned)!(p[3] - p[2] >= 0.0) << 1 |
+           (unsigned)!(p[0] + j->gx * p[3] >= 0.0) << 2 | (unsigned)!(j->gx * p[3] - p[0] >= 0.0) << 3 |
+           (unsigned)!(p[1] + j->gy * p[3] >= 0.0) << 4 | (unsigned)!(j->gy * p[3] - p[1] >= 0.0) << 5;
+}
+
+/* What load() and project() give for one vertex, without building the clip vertex's other fields. */
 void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out)
 {
+    const rs_vec4 *q = &v->pos;
+    out->finite = isfinite(q->x) && isfinite(q->y) && isfinite(q->z) && isfinite(q->w);
+    out->oc = ~0u;
+    out->projected = false;
+    if (!out->finite) return;
     rs_cvert cv;
-    unsigned oand, oor;
-    out->finite = load(j, &v, 1, &cv, &oand, &oor);
-    out->oc = out->finite ? oor : ~0u;
-    out->projected = out->finite && project(j, &cv, &out->p);
+    cv.p[0] = q->x, cv.p[1] = q->y, cv.p[2] = q->z, cv.p[3] = q->w;
+    cv.a = v->attr, cv.edge = true, cv.orig = true;
+    out->oc = outcode6(j, cv.p);
+    out->projected = project(j, &cv, &out->p);
 }
 
 /* Set up triangle v[0..3) whose vertices k[0..3) were projected by the shared pass: same outcome as
  * setup_triangle, which it falls back to when a vertex is not finite or the triangle needs clipping. */
-static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const rs_vertex *const *v, const uint32_t *k)
+static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const uint32_t *k)
 {
     const rs_pvert *a = &j->pv[k[0]], *b = &j->pv[k[1]], *d = &j->pv[k[2]];
+    const rs_vertex *const v[3] = { &j->verts[k[0]], &j->verts[k[1]], &j->verts[k[2]] };
     if (!a->finite || !b->finite || !d->finite || ((a->oc | b->oc | d->oc) && !(a->oc & b->oc & d->oc))) {
         setup_triangle(j, c, v);
         return;
     }
     if (a->oc & b->oc & d->oc) { c->clipped++; return; }
     if (!a->projected || !b->projected || !d->projected) { c->clipped++; return; }
-    pvert pv[3] = { a->p, b->p, d->p };
-    finish_triangle(j, c, v, pv, 3);
+    if (j->st->fill_mode != RS_FILL_SOLID) {
+        pvert pv[3] = { a->p, b->p, d->p };
+        finish_triangle(j, c, v, pv, 3);
+        return;
+    }
+    /* finish_triangle and emit_polygon for a solid unclipped triangle, without copying the vertices */
+    const pvert *p0 = &a->p, *p1 = &b->p, *p2 = &d->p;
+    int64_t area = (p1->x - p0->x) * (p2->y - p0->y) - (p1->y - p0->y) * (p2->x - p0->x);
+    if (area == 0) { c->degenerate++; return; }
+    int cm = j->st->cull_mode;
+    if ((cm == RS_CULL_CCW && area < 0) || (cm == RS_CULL_CW && area > 0)) { c->culled++; return; }
+    c->drawn++;
+    emit_tri(j, c, p0, p1, p2, area > 0 ? 1 : -1, j->flat ? v[0]->attr : NULL);
 }
 
 /* Set up one input line v[0]-v[1]. */
@@ -361,6 +414,10 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c)
     c->culled = c->clipped = c->degenerate = c->drawn = 0;
     c->oom = false;
     size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
+    if (vpp == 3 && j->pv && j->idx) { /* the shared pass's triangles: indices straight to the projected vertices */
+        for (size_t k = c->first; k < c->first + c->count && !c->oom; k++) setup_triangle_shared(j, c, &j->idx[3 * k]);
+        return;
+    }
     for (size_t k = c->first; k < c->first + c->count && !c->oom; k++) {
         const rs_vertex *v[3];
         uint32_t id[3];
@@ -368,8 +425,7 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c)
             id[i] = (uint32_t)(j->idx ? j->idx[k * vpp + i] : k * vpp + i);
             v[i] = &j->verts[id[i]];
         }
-        if (vpp == 3 && j->pv) setup_triangle_shared(j, c, v, id);
-        else if (vpp == 3) setup_triangle(j, c, v);
+        if (vpp == 3) setup_triangle(j, c, v);
         else if (vpp == 2) setup_line(j, c, v);
         else setup_point(j, c, v);
     }

@@ -6,7 +6,13 @@
  * reference path), without FMA (-ffp-contract=off) and with IEEE division, so both paths write the same bytes.
  * Lanes are the pixels gx..gx+7 of an 8-aligned group; a group lies inside one 64x64 tile (one thread), so
  * loading and storing back untouched lanes is safe, except past the right end of the target, where only the
- * pixels that exist are copied in and out. */
+ * pixels that exist are copied in and out.
+ *
+ * Two walks feed the rows: 8x8 blocks (rs_tri_block_fast, after tri.c's block test) and, for triangles at most 8
+ * pixels wide inside a tile, the small-triangle walk (rs_tri_small: one row of 8 lanes starting at the triangle's
+ * left column, moved left to stay inside the tile, 32-bit edge values, no block test).  Rows without blending or
+ * AOV planes go through row8, which takes the per-triangle halves of the planes from rows8 (computed once per
+ * group, the same sums in the same order). */
 #include "raster_internal.h"
 
 #include <string.h>
@@ -139,6 +145,63 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     store8(col, &c, n);
 }
 
+/* span8's per-triangle terms for a fixed group gx, computed once for all rows (same values, same order: the
+ * x-dependent part of each plane is the left operand of its sum). */
+typedef struct rows8 {
+    v8f zx, sx, q1x, q2x;        /* z2 + z0 * sx, s2 + s0 * fx, q1_2 + q1_0 * fx, q2_2 + q2_0 * fx */
+} rows8;
+
+/* Fill r for triangle p, group gx. */
+static inline void rows8_make(const rs_job *j, const rs_prim *p, int gx, rows8 *r)
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    v8i X = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
+    v8f fx = __builtin_convertvector(X, v8f) * bf(k);
+    v8f sx = fx + bf((float)j->sox[0] * k);
+    r->zx = bf(tr->z[2]) + bf(tr->z[0]) * sx;
+    r->sx = bf(tr->s[2]) + bf(tr->s[0]) * fx;
+    r->q1x = bf(tr->q1[2]) + bf(tr->q1[0]) * fx;
+    r->q2x = bf(tr->q2[2]) + bf(tr->q2[0]) * fx;
+}
+
+/* span8 for row y of a group with precomputed terms r (no blending, no AOV planes: the caller checks). */
+static inline void row8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, const rows8 *r, int gx, int y,
+                        unsigned cov)
+{
+    const rs_tri *tr = &p->u.t;
+    const rs_state *st = j->st;
+    const float k = 1.0f / RS_SUB;
+    const size_t base = (size_t)y * (size_t)j->rt->width + (size_t)gx;
+    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    v8i pass = lanes_of(cov);
+    if (st->z_enable) {
+        float *dep = j->rt->depth + base;
+        v8f d;
+        memcpy(&d, dep, 32);
+        float sy = fy + (float)j->soy[0] * k;
+        v8f z = zclamp8(r->zx + bf(tr->z[1] * sy), j->zlo, j->zhi);
+        pass &= zpass8(st->z_func, z, d);
+        if (st->z_write) {
+            d = sel(pass, z, d);
+            memcpy(dep, &d, 32);
+        }
+    }
+    unsigned pm = mask_of(pass);
+    t->tested += (uint64_t)__builtin_popcount(cov);
+    if (!pm) return;
+    t->written += (uint64_t)__builtin_popcount(pm);
+    v8f rr = bf(1.0f) / (r->sx + bf(tr->s[1] * fy));
+    v8f b1 = (r->q1x + bf(tr->q1[1] * fy)) * rr;
+    v8f b2 = (r->q2x + bf(tr->q2[1] * fy)) * rr;
+    v8i src = shade8(j, a, b1, b2);
+    uint32_t *col = j->rt->color + base;
+    v8i cv;
+    memcpy(&cv, col, 32);
+    cv = seli(pass, src, cv);
+    memcpy(col, &cv, 32);
+}
+
 /* Does the fast path handle this job?  1-sample targets only (4-sample ones take the reference path). */
 bool rs_span_ok(const rs_job *j) { return j->samples == 1 && !j->reference; }
 
@@ -156,6 +219,9 @@ void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const floa
         int64_t d = tr->eb[i] * RS_SUB;
         dy[i] = (v4q){d, d, d, d};
     }
+    const bool plain = !j->st->blend_enable && j->rt->n_aov == 0 && gx + 8 <= j->rt->width;
+    rows8 r;
+    rows8_make(j, p, gx, &r);
     for (int y = y0; y <= y1; y++) {
         unsigned cov = lm;
         if (!full) {
@@ -163,12 +229,141 @@ void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const floa
             unsigned out = (unsigned)_mm256_movemask_pd((__m256d)nl) | (unsigned)_mm256_movemask_pd((__m256d)nh) << 4;
             cov &= ~out;
         }
-        if (cov) span8(j, t, p, a, gx, y, cov);
+        if (cov && plain) row8(j, t, p, a, &r, gx, y, cov);
+        else if (cov) span8(j, t, p, a, gx, y, cov);
         for (int i = 0; i < 3; i++) lo[i] += dy[i], hi[i] += dy[i];
     }
 }
 
+/* Lane i of the 4x2 walk is column i & 3 of row i >> 2. */
+static const v8i quad_col = {0, 1, 2, 3, 0, 1, 2, 3};
+static const v8i quad_row = {0, 0, 0, 0, 1, 1, 1, 1};
+
+/* Two values as 4 + 4 lanes. */
+static inline v8f halves(float lo, float hi) { return (v8f){lo, lo, lo, lo, hi, hi, hi, hi}; }
+
+/* Load / store the 4 + 4 values of rows `p` and `p + stride` (the second only when `two`). */
+static inline v8i load_quad(const uint32_t *p, size_t stride, bool two)
+{
+    v8i v = bi(0);
+    memcpy(&v, p, 16);
+    if (two) memcpy((char *)&v + 16, p + stride, 16);
+    return v;
+}
+static inline void store_quad(uint32_t *p, size_t stride, bool two, v8i v)
+{
+    memcpy(p, &v, 16);
+    if (two) memcpy(p + stride, (char *)&v + 16, 16);
+}
+
+/* span8 for the 4x2 pixels gx..gx+3 of rows y and y + 1 (lanes 4..7; `two`: row y + 1 lies in the tile) with
+ * coverage cov, no blending, no AOV planes: each pixel gets tri_pixel's operations in the same order (the
+ * x-dependent part r of each plane, then its row's y term). */
+static void quad8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, const rows8 *r, int gx, int y,
+                  bool two, unsigned cov)
+{
+    const rs_tri *tr = &p->u.t;
+    const rs_state *st = j->st;
+    const float k = 1.0f / RS_SUB;
+    const size_t w = (size_t)j->rt->width, base = (size_t)y * w + (size_t)gx;
+    float fy0 = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    float fy1 = (float)((int64_t)(y + 1) * RS_SUB - j->cy - tr->vy) * k;
+    v8i pass = lanes_of(cov);
+    if (st->z_enable) {
+        uint32_t *dep = (uint32_t *)j->rt->depth + base;
+        v8f d = (v8f)load_quad(dep, w, two);
+        float sy0 = fy0 + (float)j->soy[0] * k, sy1 = fy1 + (float)j->soy[0] * k;
+        v8f z = zclamp8(r->zx + halves(tr->z[1] * sy0, tr->z[1] * sy1), j->zlo, j->zhi);
+        pass &= zpass8(st->z_func, z, d);
+        if (st->z_write) store_quad(dep, w, two, (v8i)sel(pass, z, d));
+    }
+    unsigned pm = mask_of(pass);
+    t->tested += (uint64_t)__builtin_popcount(cov);
+    if (!pm) return;
+    t->written += (uint64_t)__builtin_popcount(pm);
+    v8f rr = bf(1.0f) / (r->sx + halves(tr->s[1] * fy0, tr->s[1] * fy1));
+    v8f b1 = (r->q1x + halves(tr->q1[1] * fy0, tr->q1[1] * fy1)) * rr;
+    v8f b2 = (r->q2x + halves(tr->q2[1] * fy0, tr->q2[1] * fy1)) * rr;
+    v8i src = shade8(j, a, b1, b2);
+    uint32_t *col = j->rt->color + base;
+    store_quad(col, w, two, seli(pass, src, load_quad(col, w, two)));
+}
+
+/* The 4x2 walk of a triangle at most 4 pixels wide (columns gx..gx+3 inside tile t), two rows per step; 32-bit
+ * edge values as rs_tri_small's. */
+static void tri_quads(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    const int gx = x0 + 4 <= t->x1 ? x0 : t->x1 - 4;
+    const int64_t X = (int64_t)gx * RS_SUB - j->cx, Y = (int64_t)y0 * RS_SUB - j->cy;
+    v8i e[3], dy[3];
+    for (int i = 0; i < 3; i++) {
+        e[i] = bi((int32_t)(tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i])) + quad_col * (int32_t)(tr->ea[i] * RS_SUB) +
+               quad_row * (int32_t)(tr->eb[i] * RS_SUB);
+        dy[i] = bi((int32_t)(tr->eb[i] * 2 * RS_SUB));
+    }
+    const unsigned row = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
+    rows8 r;
+    v8i Xl = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + quad_col * RS_SUB;
+    v8f fx = __builtin_convertvector(Xl, v8f) * bf(1.0f / RS_SUB);
+    v8f sx = fx + bf((float)j->sox[0] * (1.0f / RS_SUB));
+    r.zx = bf(tr->z[2]) + bf(tr->z[0]) * sx;
+    r.sx = bf(tr->s[2]) + bf(tr->s[0]) * fx;
+    r.q1x = bf(tr->q1[2]) + bf(tr->q1[0]) * fx;
+    r.q2x = bf(tr->q2[2]) + bf(tr->q2[0]) * fx;
+    for (int y = y0; y <= y1; y += 2) {
+        unsigned box = y + 1 <= y1 ? row | row << 4 : row;
+        unsigned cov = box & ~mask_of(e[0] | e[1] | e[2]) & 0xffu; /* sign bit: some edge < 0 */
+        if (cov) quad8(j, t, p, a, &r, gx, y, y + 1 < t->y1, cov);
+        for (int i = 0; i < 3; i++) e[i] += dy[i];
+    }
+}
+
+/* Does triangle p take the small-triangle path in tile t: its clipped box [x0, x1] at most 8 pixels wide, the
+ * tile at least 8 wide, and every edge coefficient at most 2^13 (extent below 32 px) so that the edge values of
+ * the walked pixels (within 8 px of the box) stay below 2^28: exact in int32. */
+static bool small_ok(const rs_tile *t, const rs_tri *tr, int x0, int x1)
+{
+    if (x1 - x0 >= 8 || t->x1 - t->x0 < 8) return false;
+    for (int i = 0; i < 3; i++)
+        if (tr->ea[i] < -8192 || tr->ea[i] > 8192 || tr->eb[i] < -8192 || tr->eb[i] > 8192) return false;
+    return true;
+}
+
+bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    if (!small_ok(t, tr, x0, x1)) return false;
+    const bool plain = !j->st->blend_enable && j->rt->n_aov == 0;
+    if (plain && x1 - x0 < 4 && y1 > y0) {
+        tri_quads(j, t, p, a, x0, y0, x1, y1);
+        return true;
+    }
+    const int gx = x0 + 8 <= t->x1 ? x0 : t->x1 - 8; /* 8 lanes gx..gx+7, all inside the tile */
+    const int64_t X = (int64_t)gx * RS_SUB - j->cx, Y = (int64_t)y0 * RS_SUB - j->cy;
+    v8i e[3], dy[3];
+    for (int i = 0; i < 3; i++) {
+        e[i] = bi((int32_t)(tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i])) + lane_idx * (int32_t)(tr->ea[i] * RS_SUB);
+        dy[i] = bi((int32_t)(tr->eb[i] * RS_SUB));
+    }
+    const unsigned box = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
+    rows8 r;
+    rows8_make(j, p, gx, &r);
+    for (int y = y0; y <= y1; y++) {
+        unsigned cov = box & ~mask_of(e[0] | e[1] | e[2]) & 0xffu; /* sign bit: some edge < 0 */
+        if (cov && plain) row8(j, t, p, a, &r, gx, y, cov);
+        else if (cov) span8(j, t, p, a, gx, y, cov);
+        for (int i = 0; i < 3; i++) e[i] += dy[i];
+    }
+    return true;
+}
+
 #else /* without AVX2 every draw takes the reference path */
+
+bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+{
+    return false;
+}
 
 bool rs_span_ok(const rs_job *j) { return false; }
 

@@ -97,6 +97,7 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
     if (x0 > x1 || y0 > y1) return;
     const bool fast = rs_span_ok(j);
+    if (fast && rs_tri_small(j, t, p, a, x0, y0, x1, y1)) return;
     walk w;
     w.full = (1u << j->samples) - 1u;
     for (int i = 0; i < 3; i++) {

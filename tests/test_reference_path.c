@@ -3,7 +3,8 @@
  * shaped like the benchmark's A (one cube, high level), B (many cubes, geometry-bound) and C (one cube, low level,
  * fill-bound), smaller, with every patch, 1 and 2 threads, plus the cases that leave the fast paths: near-plane
  * clipping, a target width that is not a multiple of 8, 4 samples, AOV planes, the wireframe overlay, the
- * device's N-patch mode and CPU tessellation. */
+ * device's N-patch mode and CPU tessellation; the limits of the fused path (several rasterizer calls per draw,
+ * instances larger than a piece); and every shader's batched entry against its per-vertex main, bit for bit. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -113,6 +114,51 @@ static void test_scene_b(void **state) { (void)state; all_patches(4, 6, 192, 192
 /* C: one cube at a low level on a larger target (few large triangles). */
 static void test_scene_c(void **state) { (void)state; all_patches(1, 2, 320, 320, 3.2f); }
 
+/* A draw larger than one fused rasterizer call (2^19 triangles): 15 x 15 cubes at level 16 (691 200 triangles,
+ * two calls) on a small target, and a level whose instances exceed a fused piece (level 96: 4753 vertices). */
+static void test_fused_limits(void **state)
+{
+    (void)state;
+    is_mesh m;
+    make_cubes(15, &m);
+    scene_opts o = scene(16, 96, 96, 2.4f);
+    o.threads = 2, o.patch = VS_PATCH_NPATCH;
+    assert_true(check_same(&o, &m, 0) > 0);
+    mesh_free(&m);
+    make_cubes(1, &m);
+    o = scene(96, 64, 64, 3.2f);
+    o.threads = 2, o.patch = VS_PATCH_SMOOTH;
+    assert_true(check_same(&o, &m, 0) > 0);
+    mesh_free(&m);
+}
+
+/* An octahedron of radius 100 centred at (1e6, 1e6, 1e6) (float positions 1/16 apart: flat-ish coarse patches),
+ * with every patch: the scene normalises it like any mesh, and both paths must agree on it. */
+static void test_offset_mesh(void **state)
+{
+    (void)state;
+    const float s = 100.0f, c = 1e6f;
+    const float3 p[6] = {{s + c, c, c}, {c - s, c, c}, {c, s + c, c}, {c, c - s, c}, {c, c, s + c}, {c, c, c - s}};
+    uint32_t idx[24];
+    int n = 0;
+    for (int x = 0; x < 2; x++)
+        for (int y = 2; y < 4; y++)
+            for (int z = 4; z < 6; z++) {
+                bool ccw = ((x == 0) == (y == 2)) == (z == 4);
+                idx[n++] = (uint32_t)x, idx[n++] = (uint32_t)(ccw ? y : z), idx[n++] = (uint32_t)(ccw ? z : y);
+            }
+    is_mesh_data md = {6, 8, p, NULL, NULL, idx};
+    is_mesh m;
+    char err[256];
+    assert_int_equal(mesh_create(&m, "offset", &md, NULL, err, sizeof err), 0);
+    for (int q = 0; q < VS_PATCH_COUNT; q++) {
+        scene_opts o = scene(5, 64, 64, 3.2f);
+        o.patch = (vs_patch)q;
+        assert_true(check_same(&o, &m, 0) > 0);
+    }
+    mesh_free(&m);
+}
+
 /* The cases off the fast paths or at their edges, with the smoothed patch. */
 static void test_edge_cases(void **state)
 {
@@ -141,6 +187,83 @@ static void test_edge_cases(void **state)
     mesh_free(&m);
 }
 
+/* A deterministic pseudo-random float in [lo, hi). */
+static float rnd(uint32_t *st, float lo, float hi)
+{
+    *st = *st * 1664525u + 1013904223u;
+    return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Instance registers of triangle `t` of a random family: ordinary, with shared position and normal bits on an edge
+ * (degenerate edge), zero normals, or huge coordinates (non-finite intermediate results). */
+static void random_instance(uint32_t *st, int t, is_vs_input *in)
+{
+    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) ((float4 *)in)[k] = f4(0, 0, 0, 1);
+    for (int r = 0; r < 13; r++) in->texcoord[r] = f4(rnd(st, -1, 1), rnd(st, -1, 1), rnd(st, -1, 1), 1);
+    for (int k = 0; k < 3; k++) in->texcoord[VS_IN_N0 + k] = f4_of(normalize3(f3_of(in->texcoord[VS_IN_N0 + k])), 1);
+    int family = t % 5;
+    if (family == 1) in->texcoord[1] = in->texcoord[0], in->texcoord[4] = in->texcoord[3];
+    if (family == 2) in->texcoord[VS_IN_N0 + 1] = f4(0, 0, 0, 1);
+    if (family == 3) in->texcoord[2] = f4(3e38f, -3e38f, 3e38f, 1);
+    if (family == 4) in->texcoord[VS_IN_OPP0 + 1] = in->texcoord[0]; /* boundary edge: fn = 1 */
+}
+
+/* Barycentrics of vertex v of a batch: grid points of level 7 (interior, edges, corners), some negative zeros and
+ * slightly negative or tiny components. */
+static float3 random_b(uint32_t *st, int v)
+{
+    int level = 7, i = v % 36, a = 0;
+    while (i > level - a) i -= level - a + 1, a++;
+    float3 b = f3((float)a / (float)level, (float)i / (float)level, 0.0f);
+    b.z = 1.0f - b.x - b.y;
+    if (v % 11 == 3) b.x = -0.0f;
+    if (v % 13 == 5) b.y = -1e-7f;
+    if (v % 17 == 7) b = f3(1e-30f, 1e-30f, 1.0f);
+    if (v % 19 == 9) b = f3(rnd(st, 0, 1), rnd(st, 0, 1), rnd(st, 0, 1));
+    return b;
+}
+
+/* Every shader's batched entry writes exactly the bytes of its per-vertex main, for every normal mode and with and
+ * without the per-edge shortcut, on instances of several families and batches that mix instances. */
+static void test_shader_batches(void **state)
+{
+    (void)state;
+    enum { N = 96 };
+    is_vs_input *in = calloc(N, sizeof *in);
+    is_vs_output *a = calloc(N, sizeof *a), *b = calloc(N, sizeof *b);
+    assert_non_null(in), assert_non_null(a), assert_non_null(b);
+    uint32_t st = 12345u;
+    float4x4 wvp = mat_mul(&(float4x4){{{1, 0.2f, 0, 0}, {0, 1, 0.1f, 0}, {0.3f, 0, 1, 1}, {0, 0, 3, 4}}}, &(float4x4){{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}});
+    float4x4 world = mat_rotation_y(0.5f);
+    for (int s = 0; vs_shaders[s]; s++) {
+        if (!vs_shaders[s]->batch) continue;
+        for (int mode = 0; mode < 6; mode++) {
+            vs_options o = vs_default_options();
+            o.normals = (vs_normals)(mode % 3);
+            o.flags = mode >= 3 ? VS_FLAG_NO_SHORTCUT : 0u;
+            is_vs_constants c;
+            memset(&c, 0, sizeof c);
+            vs_set_constants(&c, &wvp, &world, f4(0.8f, 0.7f, 0.6f, 1), &o);
+            for (int t = 0; t < 10; t++) {
+                is_vs_input inst;
+                random_instance(&st, t, &inst);
+                for (int v = 0; v < N; v++) {
+                    in[v] = inst;
+                    if (v >= 60 && t % 2) in[v].texcoord[0].x += 0.25f; /* a second instance in the batch */
+                    in[v].position[0] = f4_of(random_b(&st, v), 1);
+                }
+                memset(a, 0, N * sizeof *a), memset(b, 0, N * sizeof *b);
+                for (int v = 0; v < N; v++) vs_shaders[s]->main(&c, &in[v], &a[v]);
+                vs_shaders[s]->batch(&c, in, N, b);
+                for (int v = 0; v < N; v++)
+                    if (memcmp(&a[v], &b[v], sizeof a[v]) != 0)
+                        fail_msg("shader %s mode %d instance %d vertex %d: batch differs", vs_shaders[s]->name, mode, t, v);
+            }
+        }
+    }
+    free(in), free(a), free(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -148,6 +271,9 @@ int main(void)
         cmocka_unit_test(test_scene_b),
         cmocka_unit_test(test_scene_c),
         cmocka_unit_test(test_edge_cases),
+        cmocka_unit_test(test_fused_limits),
+        cmocka_unit_test(test_offset_mesh),
+        cmocka_unit_test(test_shader_batches),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

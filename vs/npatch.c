@@ -64,29 +64,4 @@ static void VSInstancedNPatch(const is_vs_constants *c, const is_vs_input *in, i
     vs_write_outputs(c, posN, normal, oTex, b, in->texcoord[VS_IN_ID].x, f3(0, 0, 0), out);
 }
 
-/* VSInstancedNPatch over a batch (vs.h): npatch_eval's triangle and options built once per instance. */
-static void VSInstancedNPatchBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
-{
-    vs_batch_consts k;
-    vs_batch_consts_read(c, &k);
-    vs_options o = vs_default_options();
-    o.normals = k.o.normals;
-    o.quad_factor = k.o.quad_factor;
-    vs_triangle T;
-    for (size_t i = 0; i < n; i++) {
-        const is_vs_input *r = &in[i];
-        if (i == 0 || !vs_same_instance(r, &in[i - 1])) {
-            float3 v[3] = {f3_of(r->texcoord[0]), f3_of(r->texcoord[1]), f3_of(r->texcoord[2])};
-            float3 nn[3] = {f3_of(r->texcoord[3]), f3_of(r->texcoord[4]), f3_of(r->texcoord[5])};
-            T = vs_triangle_make(v, nn);
-        }
-        float3 b = f3_of(r->position[0]); // barycentric coords
-        float2 t0 = f2_of(r->texcoord[9]), t1 = f2_of(r->texcoord[10]), t2 = f2_of(r->texcoord[11]);
-        float3 posN, normal;
-        vs_patch_eval(VS_PATCH_NPATCH, &T, b, &o, &posN, &normal, NULL);
-        float2 oTex = add2(add2(scale2(t0, b.x), scale2(t1, b.y)), scale2(t2, b.z));
-        vs_write_outputs_k(&k, posN, normal, oTex, b, r->texcoord[VS_IN_ID].x, f3(0, 0, 0), &out[i]);
-    }
-}
-
-const is_vertex_shader vs_shader_npatch = {"npatch", VSInstancedNPatch, VS_OUTPUTS, VSInstancedNPatchBatch};
+const is_vertex_shader vs_shader_npatch = {"npatch", VSInstancedNPatch, VS_OUTPUTS, vs_npatch_batch};

@@ -183,11 +183,7 @@ static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_i
 {
     vs_patch_batch(VS_PATCH_SMOOTH_INITIAL, c, in, n, out);
 }
-static void VSInstancedPatchBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
-{
-    vs_patch_batch(VS_PATCH_SMOOTH, c, in, n, out);
-}
 
 const is_vertex_shader vs_shader_smooth_initial = {"smooth-initial", VSInstancedPatchInitial, VS_OUTPUTS,
                                                    VSInstancedPatchInitialBatch};
-const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, VSInstancedPatchBatch};
+const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch};

@@ -222,6 +222,11 @@ void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, flo
 /* The batched body of the comparison shaders (flat, smooth-initial, smooth, phong, pn-aen): patch p. */
 void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
 
+/* The batched entries of the npatch and smooth shaders (vs/batch8.c): interior vertices with linear normals 8 at a
+ * time, the rest through the per-vertex evaluation; the same bytes as the per-vertex shaders. */
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+
 /* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
  * term itself; a + (b - a) need not round to b). */
 static inline float3 vs_lerp3(float3 a, float3 b, float t) { return t == 1.0f ? b : lerp3(a, b, t); }

@@ -1,0 +1,456 @@
+/* vs/batch8.c -- the batched entries of the N-Patch and smoothed-patch shaders: interior vertices evaluated 8 at a
+ * time (one lane per vertex, GCC vector extensions), edge and corner vertices one by one.
+ *
+ * Exactness: each lane performs the operations of the listing-form functions (vs_evaluate_npatch, normal_at's
+ * linear normal, vs_smooth_formula, vs_evaluate_curve, vs_gregory, vs_write_outputs_k) in the same order, with
+ * IEEE division and square root and no contraction (-ffp-contract=off), so every lane gives the bits of the
+ * per-vertex shader.  Values that depend only on the instance (control points, fn_k) are computed once per
+ * instance by the same expressions.  The watertight edge and corner evaluation, the other normal modes and the
+ * non-finite fallbacks are never vectorised: those vertices (and any lane whose result needs a fallback) go
+ * through the per-vertex path. */
+#include "vs.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#ifdef __AVX2__
+#include <immintrin.h>
+
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+
+/* Every lane set (-1). */
+static const v8i all_lanes = {-1, -1, -1, -1, -1, -1, -1, -1};
+
+/* Eight float3s, one per lane. */
+typedef struct f3x8 { v8f x, y, z; } f3x8;
+
+/* Broadcasts. */
+static inline v8f bf(float x) { return (v8f){x, x, x, x, x, x, x, x}; }
+static inline f3x8 b3(float3 a) { return (f3x8){bf(a.x), bf(a.y), bf(a.z)}; }
+
+/* mask ? a : b per lane (mask lanes -1 or 0). */
+static inline v8f sel(v8i m, v8f a, v8f b) { return (v8f)_mm256_blendv_ps((__m256)b, (__m256)a, (__m256)m); }
+static inline f3x8 sel3(v8i m, f3x8 a, f3x8 b) { return (f3x8){sel(m, a.x, b.x), sel(m, a.y, b.y), sel(m, a.z, b.z)}; }
+
+/* The float3 operations of core.h, per lane, same order. */
+static inline f3x8 add(f3x8 a, f3x8 b) { return (f3x8){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline f3x8 sub(f3x8 a, f3x8 b) { return (f3x8){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline f3x8 scl(f3x8 a, v8f s) { return (f3x8){a.x * s, a.y * s, a.z * s}; }
+static inline v8f dot(f3x8 a, f3x8 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+/* normalize3: a zero (or non-positive length) vector stays as it is. */
+static inline f3x8 normalize(f3x8 a)
+{
+    v8f l = (v8f)_mm256_sqrt_ps((__m256)dot(a, a));
+    return sel3(l > bf(0.0f), scl(a, bf(1.0f) / l), a);
+}
+/* lerp3(a, b, t) = a + (b - a) t. */
+static inline f3x8 lerp(f3x8 a, f3x8 b, v8f t) { return add(a, scl(sub(b, a), t)); }
+/* vs_lerp3: t == 1 gives b exactly. */
+static inline f3x8 vlerp(f3x8 a, f3x8 b, v8f t) { return sel3(t == bf(1.0f), b, lerp(a, b, t)); }
+/* isfinite per lane (-1 / 0). */
+static inline v8i finite(v8f a)
+{
+    v8f m = (v8f)((v8i)a & (v8i)bf(__builtin_inff()));
+    return m != bf(__builtin_inff());
+}
+static inline v8i finite3(f3x8 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
+/* -1 / 0 lanes -> 8-bit mask. */
+static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m256)m); }
+
+/* Lanes of 8 vertices: barycentrics and where each lane's outputs go (lanes past n_real are copies). */
+typedef struct lanes8 {
+    f3x8 b;
+    f3x8 ap, bp, an, bn, b21, b12; /* edge lanes: the canonical ends, normals and inner control points */
+    v8f s, t;                       /* edge lanes: the weights of the ends */
+    is_vs_output *out[8];
+    const is_vs_input *in[8];
+    int n_real;
+} lanes8;
+
+/* ---------------------------------------------------------------- N-Patch */
+
+/* vs_evaluate_npatch's instance part: the six control points (without the /3) and the centre term. */
+typedef struct npatch_cp { float3 v[3], b102, b012, b201, b021, b210, b120, center; } npatch_cp;
+
+/* The control points exactly as vs_evaluate_npatch computes them. */
+static void npatch_cp_make(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1, float3 n2, npatch_cp *c)
+{
+    c->v[0] = v0, c->v[1] = v1, c->v[2] = v2;
+    c->b102 = sub3(add3(scale3(v2, 2.0f), v0), scale3(n2, dot3(sub3(v0, v2), n2)));
+    c->b012 = sub3(add3(scale3(v2, 2.0f), v1), scale3(n2, dot3(sub3(v1, v2), n2)));
+    c->b201 = sub3(add3(scale3(v0, 2.0f), v2), scale3(n0, dot3(sub3(v2, v0), n0)));
+    c->b021 = sub3(add3(scale3(v1, 2.0f), v2), scale3(n1, dot3(sub3(v2, v1), n1)));
+    c->b210 = sub3(add3(scale3(v0, 2.0f), v1), scale3(n0, dot3(sub3(v1, v0), n0)));
+    c->b120 = sub3(add3(scale3(v1, 2.0f), v0), scale3(n1, dot3(sub3(v0, v1), n1)));
+    float3 six = add3(add3(add3(c->b210, c->b120), add3(c->b021, c->b012)), add3(c->b102, c->b201));
+    c->center = sub3(sub3(sub3(scale3(six, 0.5f), v0), v1), v2);
+}
+
+/* scale3(a, s) + p with a broadcast. */
+static inline f3x8 acc(f3x8 p, float3 a, v8f s) { return add(p, scl(b3(a), s)); }
+
+/* vs_evaluate_npatch's vertex part, per lane. */
+static f3x8 npatch8(const npatch_cp *c, f3x8 b)
+{
+    f3x8 p = scl(b3(c->v[0]), b.x * b.x * b.x);
+    p = acc(p, c->v[1], b.y * b.y * b.y);
+    p = acc(p, c->v[2], b.z * b.z * b.z);
+    p = acc(p, c->b102, b.x * b.z * b.z);
+    p = acc(p, c->b012, b.y * b.z * b.z);
+    p = acc(p, c->b201, b.x * b.x * b.z);
+    p = acc(p, c->b021, b.y * b.y * b.z);
+    p = acc(p, c->b210, b.x * b.x * b.y);
+    p = acc(p, c->b120, b.x * b.y * b.y);
+    return acc(p, c->center, b.x * b.y * b.z);
+}
+
+/* ---------------------------------------------------------------- smoothed patch (Listing 1.1.2) */
+
+/* vs_evaluate_curve per lane. */
+static f3x8 curve8(f3x8 v0, f3x8 v1, f3x8 n0, f3x8 n1, v8f b)
+{
+    v8f b_ = bf(1.0f) - b;
+    f3x8 b21 = sub(add(scl(v0, bf(2.0f)), v1), scl(n0, dot(sub(v1, v0), n0)));
+    f3x8 b12 = sub(add(scl(v1, bf(2.0f)), v0), scl(n1, dot(sub(v0, v1), n1)));
+    f3x8 p = add(scl(v0, b_ * b_ * b_), scl(v1, b * b * b));
+    p = add(p, scl(b21, b_ * b_ * b));
+    return add(p, scl(b12, b_ * b * b));
+}
+
+/* edge_patch of smooth.c per lane: P_k from the border point at st of edge va-vb to vc, at ct. */
+static f3x8 edge_patch8(float3 va, float3 vb, float3 vc, float3 na, float3 nb, float3 nc, v8f st, v8f ct)
+{
+    f3x8 pos = curve8(b3(va), b3(vb), b3(na), b3(nb), st);
+    f3x8 norm = normalize(lerp(b3(na), b3(nb), st));
+    return curve8(pos, b3(vc), norm, b3(nc), ct);
+}
+
+/* curve_param of smooth.c: bj / (bi + bj), 0.5 where the sum is not positive. */
+static inline v8f param8(v8f bi, v8f bj)
+{
+    v8f den = bi + bj;
+    return sel(den > bf(0.0f), bj / den, bf(0.5f));
+}
+
+/* The instance part of the smoothed patch: the N-Patch control points, fn_k, the triangle. */
+typedef struct smooth_inst { npatch_cp cp; float3 fn; const vs_triangle *T; bool shortcut; } smooth_inst;
+
+/* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0); g gets the Gregory weights. */
+static f3x8 smooth8(const smooth_inst *s, f3x8 b, f3x8 *g)
+{
+    const float3 *v = s->T->v, *n = s->T->n;
+    v8f b0b2 = b.x * b.z, b0b1 = b.x * b.y, b1b2 = b.y * b.z, sum = b0b2 + b0b1 + b1b2;
+    *g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
+    f3x8 c = {param8(b.x, b.y), param8(b.y, b.z), param8(b.z, b.x)};
+    float fn0 = s->fn.x, fn1 = s->fn.y, fn2 = s->fn.z;
+    f3x8 posN = npatch8(&s->cp, b);
+    v8f bl = bf((float)(3 * 3 * 3)) * b.x * b.y * b.z;
+    bool all_one = fn0 == 1.0f && fn1 == 1.0f && fn2 == 1.0f;
+    if (s->shortcut && all_one) return posN;
+    f3x8 pos0 = posN, pos1 = posN, pos2 = posN;
+    if (!s->shortcut || fn0 != 1.0f) {
+        v8f t = bf(fn0) + bl;
+        pos0 = vlerp(edge_patch8(v[0], v[1], v[2], n[0], n[1], n[2], c.x, b.z), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+    }
+    if (!s->shortcut || fn1 != 1.0f) {
+        v8f t = bf(fn1) + bl;
+        pos1 = vlerp(edge_patch8(v[1], v[2], v[0], n[1], n[2], n[0], c.y, b.x), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+    }
+    if (!s->shortcut || fn2 != 1.0f) {
+        v8f t = bf(fn2) + bl;
+        pos2 = vlerp(edge_patch8(v[2], v[0], v[1], n[2], n[0], n[1], c.z, b.y), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+    }
+    if (all_one) return posN;
+    return vlerp(add(add(scl(pos2, g->x), scl(pos0, g->y)), scl(pos1, g->z)), posN, bl);
+}
+
+/* ---------------------------------------------------------------- outputs */
+
+/* Store float4 lanes (x, y, z, w) into register `r` of the outputs of lanes 0..n-1 (a 4x8 transpose). */
+static void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
+{
+    __m256 t0 = _mm256_unpacklo_ps((__m256)x, (__m256)y), t1 = _mm256_unpackhi_ps((__m256)x, (__m256)y);
+    __m256 t2 = _mm256_unpacklo_ps((__m256)z, (__m256)w), t3 = _mm256_unpackhi_ps((__m256)z, (__m256)w);
+    __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
+    __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
+    const __m128 q[8] = {_mm256_castps256_ps128(u0), _mm256_castps256_ps128(u1), _mm256_castps256_ps128(u2),
+                         _mm256_castps256_ps128(u3), _mm256_extractf128_ps(u0, 1), _mm256_extractf128_ps(u1, 1),
+                         _mm256_extractf128_ps(u2, 1), _mm256_extractf128_ps(u3, 1)};
+    const size_t off = r < 0 ? offsetof(is_vs_output, pos) : offsetof(is_vs_output, attr) + (size_t)r * sizeof(float4);
+    for (int i = 0; i < L->n_real; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
+}
+
+/* vs_write_outputs_k per lane; TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's. */
+static void outputs8(const vs_batch_consts *k, const lanes8 *L, f3x8 pos, f3x8 normal, const float2 t[3], float id,
+                     f3x8 g)
+{
+    const float4x4 *W = &k->wvp, *M = &k->world;
+    v8f one = bf(1.0f), zero = bf(0.0f);
+    v8f px[4];
+    for (int c = 0; c < 4; c++)
+        px[c] = pos.x * bf(W->m[0][c]) + pos.y * bf(W->m[1][c]) + pos.z * bf(W->m[2][c]) + one * bf(W->m[3][c]);
+    store4(L, -1, px[0], px[1], px[2], px[3]);
+    f3x8 N = {normal.x * bf(M->m[0][0]) + normal.y * bf(M->m[1][0]) + normal.z * bf(M->m[2][0]),
+              normal.x * bf(M->m[0][1]) + normal.y * bf(M->m[1][1]) + normal.z * bf(M->m[2][1]),
+              normal.x * bf(M->m[0][2]) + normal.y * bf(M->m[1][2]) + normal.z * bf(M->m[2][2])};
+    v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
+    d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
+    d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
+    store4(L, RS_ATTR_COLOR0, bf(k->diffuse.x) * d, bf(k->diffuse.y) * d, bf(k->diffuse.z) * d, one);
+    v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
+    v8f ty = bf(t[0].y) * L->b.x + bf(t[1].y) * L->b.y + bf(t[2].y) * L->b.z;
+    store4(L, RS_ATTR_TEXCOORD0 + 0, tx, ty, zero, one);
+    f3x8 nn = normalize(N);
+    store4(L, RS_ATTR_TEXCOORD0 + 1, nn.x, nn.y, nn.z, zero);
+    store4(L, RS_ATTR_TEXCOORD0 + 2, L->b.x, L->b.y, L->b.z, one);
+    store4(L, RS_ATTR_TEXCOORD0 + 3, bf(id), zero, zero, one);
+    store4(L, RS_ATTR_TEXCOORD0 + 4, g.x, g.y, g.z, zero);
+}
+
+/* ---------------------------------------------------------------- the batch walk */
+
+/* Edge k of an instance in canonical order (patch.c's edge_ends / edge_cubic): ends A, B and the inner control
+ * points; ok false when both ends have the same position and normal bits (the order then depends on the
+ * weights: such vertices stay per vertex). */
+typedef struct edge_cp { float3 ap, bp, an, bn, b21, b12; bool ok, swapped; } edge_cp;
+
+/* One instance as the batch sees it: the triangle, its texture coordinates and its patch's instance data. */
+typedef struct inst8 {
+    vs_patch p;
+    vs_triangle T;
+    vs_options o;
+    npatch_cp cp;
+    smooth_inst s;
+    edge_cp e[3];
+} inst8;
+
+/* The bits of n floats, compared in order (patch.c's cmp_bits). */
+static int bits_cmp(const float *a, const float *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        uint32_t x, y;
+        memcpy(&x, &a[i], 4);
+        memcpy(&y, &b[i], 4);
+        if (x != y) return x < y ? -1 : 1;
+    }
+    return 0;
+}
+
+/* Edge k of T (v_k, v_k+1) in canonical order with edge_cubic's control points, as patch.c computes them. */
+static void edge_cp_make(const vs_triangle *T, int k, edge_cp *e)
+{
+    int j = (k + 1) % 3;
+    float fa[6] = {T->v[k].x, T->v[k].y, T->v[k].z, T->n[k].x, T->n[k].y, T->n[k].z};
+    float fb[6] = {T->v[j].x, T->v[j].y, T->v[j].z, T->n[j].x, T->n[j].y, T->n[j].z};
+    int c = bits_cmp(fb, fa, 6);
+    e->ok = c != 0;
+    e->swapped = c < 0;
+    int a = c < 0 ? j : k, b = c < 0 ? k : j;
+    e->ap = T->v[a], e->bp = T->v[b], e->an = T->n[a], e->bn = T->n[b];
+    float3 dAB = sub3(e->bp, e->ap), dBA = sub3(e->ap, e->bp);
+    float3 offA = scale3(e->an, dot3(dAB, e->an)), offB = scale3(e->bn, dot3(dBA, e->bn));
+    e->b21 = sub3(add3(scale3(e->ap, 2.0f), e->bp), offA);
+    e->b12 = sub3(add3(scale3(e->bp, 2.0f), e->ap), offB);
+}
+
+/* The per-vertex path (the listing-form evaluation) for one vertex. */
+static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input *in, is_vs_output *out)
+{
+    float3 b = f3_of(in->position[0]); // barycentric coords
+    float3 pos, normal, g;
+    vs_patch_eval(I->p, &I->T, b, &I->o, &pos, &normal, I->p == VS_PATCH_SMOOTH ? &g : NULL);
+    if (I->p != VS_PATCH_SMOOTH) g = f3(0, 0, 0);
+    float2 oTex = add2(add2(scale2(I->T.t[0], b.x), scale2(I->T.t[1], b.y)), scale2(I->T.t[2], b.z));
+    vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
+}
+
+/* Evaluate a full or partial group of lanes; lanes needing a fallback go through vertex1. */
+static void group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+{
+    f3x8 b = L->b, g = {bf(0.0f), bf(0.0f), bf(0.0f)};
+    v8i ok = all_lanes;
+    f3x8 pos;
+    if (I->p == VS_PATCH_SMOOTH) {
+        ok &= b.x * b.z + b.x * b.y + b.y * b.z > bf(0.0f); /* vs_gregory's 0/0 case stays per vertex */
+        pos = smooth8(&I->s, b, &g);
+    } else {
+        pos = npatch8(&I->cp, b);
+    }
+    ok &= finite3(pos);
+    const float3 *n = I->T.n;
+    f3x8 nl = add(add(scl(b3(n[0]), b.x), scl(b3(n[1]), b.y)), scl(b3(n[2]), b.z)); /* linear_normal_raw */
+    f3x8 N = normalize(nl);
+    ok &= finite3(N) & (dot(N, N) > bf(0.0f));
+    outputs8(k, L, pos, N, I->T.t, I->T.id, g);
+    unsigned m = mask_of(ok);
+    for (int i = 0; i < L->n_real; i++)
+        if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
+}
+
+/* Evaluate a group of edge lanes (edge_cubic, the linear edge normal, Gregory weights of bw); lanes needing a
+ * fallback go through vertex1. */
+static void edge_group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+{
+    v8f s = L->s, t = L->t, zero = bf(0.0f);
+    v8i ok = all_lanes;
+    f3x8 p = add(scl(L->ap, s * s * s), scl(L->bp, t * t * t));
+    p = add(p, scl(L->b21, s * s * t));
+    p = add(p, scl(L->b12, s * t * t));
+    ok &= finite3(p);
+    f3x8 N = normalize(add(scl(L->an, s), scl(L->bn, t)));
+    ok &= finite3(N) & (dot(N, N) > zero);
+    f3x8 g = {zero, zero, zero};
+    if (I->p == VS_PATCH_SMOOTH) {
+        f3x8 bw = {sel(L->b.x > zero, L->b.x, zero), sel(L->b.y > zero, L->b.y, zero), sel(L->b.z > zero, L->b.z, zero)};
+        v8f b0b2 = bw.x * bw.z, b0b1 = bw.x * bw.y, b1b2 = bw.y * bw.z, sum = b0b2 + b0b1 + b1b2;
+        ok &= sum > zero;
+        g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
+    }
+    outputs8(k, L, p, N, I->T.t, I->T.id, g);
+    unsigned m = mask_of(ok);
+    for (int i = 0; i < L->n_real; i++)
+        if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
+}
+
+/* Add an edge vertex (in, out) of edge e with end weights (ws, wt) to the edge lanes; run them when full. */
+static void push_edge(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const edge_cp *e, float ws, float wt,
+                      const is_vs_input *in, is_vs_output *out)
+{
+    int i = L->n_real++;
+    L->b.x[i] = in->position[0].x, L->b.y[i] = in->position[0].y, L->b.z[i] = in->position[0].z;
+    L->ap.x[i] = e->ap.x, L->ap.y[i] = e->ap.y, L->ap.z[i] = e->ap.z;
+    L->bp.x[i] = e->bp.x, L->bp.y[i] = e->bp.y, L->bp.z[i] = e->bp.z;
+    L->an.x[i] = e->an.x, L->an.y[i] = e->an.y, L->an.z[i] = e->an.z;
+    L->bn.x[i] = e->bn.x, L->bn.y[i] = e->bn.y, L->bn.z[i] = e->bn.z;
+    L->b21.x[i] = e->b21.x, L->b21.y[i] = e->b21.y, L->b21.z[i] = e->b21.z;
+    L->b12.x[i] = e->b12.x, L->b12.y[i] = e->b12.y, L->b12.z[i] = e->b12.z;
+    L->s[i] = ws, L->t[i] = wt;
+    L->in[i] = in, L->out[i] = out;
+    if (L->n_real == 8) edge_group8(k, I, L), L->n_real = 0;
+}
+
+/* Add vertex (in, out) to the lanes; run the group when full. */
+static void push_lane(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const is_vs_input *in, is_vs_output *out)
+{
+    int i = L->n_real++;
+    L->b.x[i] = in->position[0].x, L->b.y[i] = in->position[0].y, L->b.z[i] = in->position[0].z;
+    L->in[i] = in, L->out[i] = out;
+    if (L->n_real == 8) group8(k, I, L), L->n_real = 0;
+}
+
+/* Run the partial groups: unused lanes repeat lane 0 (computed, not stored). */
+static void flush_lanes(const vs_batch_consts *k, const inst8 *I, lanes8 *L, lanes8 *E)
+{
+    if (L->n_real) {
+        for (int i = L->n_real; i < 8; i++) L->b.x[i] = L->b.x[0], L->b.y[i] = L->b.y[0], L->b.z[i] = L->b.z[0];
+        group8(k, I, L);
+        L->n_real = 0;
+    }
+    if (E->n_real) {
+        for (int i = E->n_real; i < 8; i++) {
+            f3x8 *f[] = {&E->b, &E->ap, &E->bp, &E->an, &E->bn, &E->b21, &E->b12};
+            for (size_t q = 0; q < sizeof f / sizeof f[0]; q++)
+                f[q]->x[i] = f[q]->x[0], f[q]->y[i] = f[q]->y[0], f[q]->z[i] = f[q]->z[0];
+            E->s[i] = E->s[0], E->t[i] = E->t[0];
+        }
+        edge_group8(k, I, E);
+        E->n_real = 0;
+    }
+}
+
+/* Route vertex v: interior -> interior lanes, on a canonical edge -> edge lanes, else (corners, degenerate
+ * edges, other normal modes) the per-vertex path. */
+static void route(const vs_batch_consts *k, const inst8 *I, lanes8 *L, lanes8 *E, const is_vs_input *in,
+                  is_vs_output *out)
+{
+    const float4 b = in->position[0];
+    float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
+    int zeros = (bw[0] == 0.0f) + (bw[1] == 0.0f) + (bw[2] == 0.0f);
+    if (I->o.normals != VS_NORMALS_LINEAR || zeros >= 2) {
+        vertex1(k, I, in, out);
+    } else if (zeros == 0) {
+        push_lane(k, I, L, in, out);
+    } else {
+        int zi = bw[0] == 0.0f ? 0 : (bw[1] == 0.0f ? 1 : 2), e = (zi + 1) % 3, j = (e + 1) % 3;
+        const edge_cp *c = &I->e[e];
+        if (!c->ok) vertex1(k, I, in, out); /* the weights keep with their ends through the swap */
+        else push_edge(k, I, E, c, c->swapped ? bw[j] : bw[e], c->swapped ? bw[e] : bw[j], in, out);
+    }
+}
+
+/* Read the instance of input r for patch p as the per-vertex shader does. */
+static void inst_read(vs_patch p, const vs_batch_consts *k, const is_vs_input *r, inst8 *I)
+{
+    I->p = p;
+    if (p == VS_PATCH_NPATCH) { /* VSInstancedNPatch: vs_triangle_make, default options but the normal mode */
+        float3 v[3] = {f3_of(r->texcoord[0]), f3_of(r->texcoord[1]), f3_of(r->texcoord[2])};
+        float3 nn[3] = {f3_of(r->texcoord[3]), f3_of(r->texcoord[4]), f3_of(r->texcoord[5])};
+        I->T = vs_triangle_make(v, nn);
+        for (int i = 0; i < 3; i++) I->T.t[i] = f2_of(r->texcoord[VS_IN_T0 + i]);
+        I->T.id = r->texcoord[VS_IN_ID].x;
+        I->o = vs_default_options();
+        I->o.normals = k->o.normals;
+        I->o.quad_factor = k->o.quad_factor;
+    } else {
+        vs_triangle_from_input(r, &I->T);
+        I->o = k->o;
+    }
+    const float3 *v = I->T.v, *n = I->T.n;
+    npatch_cp_make(v[0], v[1], v[2], n[0], n[1], n[2], &I->cp);
+    if (p == VS_PATCH_SMOOTH) {
+        I->s.cp = I->cp;
+        I->s.fn = vs_smooth_fn(&I->T);
+        I->s.T = &I->T;
+        I->s.shortcut = !(I->o.flags & VS_FLAG_NO_SHORTCUT);
+    }
+    for (int e = 0; e < 3; e++) edge_cp_make(&I->T, e, &I->e[e]);
+}
+
+/* Do a and b hold the same registers for patch p's instance data? */
+static bool same_inst(vs_patch p, const is_vs_input *a, const is_vs_input *b)
+{
+    if (p == VS_PATCH_NPATCH) return memcmp(a->texcoord, b->texcoord, (VS_IN_ID + 1) * sizeof(float4)) == 0;
+    return vs_same_instance(a, b);
+}
+
+/* The batch of patch p (npatch or smooth): interior vertices 8 at a time (linear normals), the rest one by one. */
+static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    vs_batch_consts k;
+    vs_batch_consts_read(c, &k);
+    inst8 I;
+    lanes8 L, E;
+    L.n_real = E.n_real = 0;
+    for (size_t v = 0; v < n; v++) {
+        if (v == 0 || !same_inst(p, &in[v], &in[v - 1])) {
+            flush_lanes(&k, &I, &L, &E);
+            inst_read(p, &k, &in[v], &I);
+        }
+        route(&k, &I, &L, &E, &in[v], &out[v]);
+    }
+    flush_lanes(&k, &I, &L, &E);
+}
+
+#else /* without AVX2: the per-vertex evaluation */
+
+static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    if (p == VS_PATCH_SMOOTH) {
+        vs_patch_batch(p, c, in, n, out);
+        return;
+    }
+    for (size_t v = 0; v < n; v++) vs_shader_npatch.main(c, &in[v], &out[v]);
+}
+
+#endif
+
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    batch8(VS_PATCH_NPATCH, c, in, n, out);
+}
+
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+{
+    batch8(VS_PATCH_SMOOTH, c, in, n, out);
+}
