@@ -527,19 +527,23 @@ static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const ui
     }
 }
 
-/* N-patch mode: every triangle becomes the regular grid of level (int)segments (DISCRETE edge style; the
- * CONTINUOUS style is accepted and tessellated the same way, see README), shaded point by point. */
+/* N-patch mode: every triangle becomes a grid shaded point by point.  PATCHEDGESTYLE DISCRETE truncates the
+ * segments to an integer and uses the regular grid (D3D9: "float tessellation ... truncated to integers");
+ * CONTINUOUS uses the segments as they are, with the primitive generator's fractional_even pattern -- the
+ * D3D11 spacing that descends from D3D9's continuous tessellation, which varies smoothly with the level. */
 static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
                              uint32_t first)
 {
-    const int L = (int)dev->npatch_segments;
-    const size_t n_pts = core_grid_points(L), n_grid = core_grid_triangles(L);
-    float3 *bary = malloc(n_pts * sizeof *bary);
-    uint32_t *gidx = malloc(3 * n_grid * sizeof *gidx);
+    core_grid grid;
+    bool continuous = dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS;
+    float level = continuous ? dev->npatch_segments : (float)(int)dev->npatch_segments;
+    if (core_grid_make(continuous ? CORE_GRID_PG_FRACTIONAL_EVEN : CORE_GRID_REGULAR, level, &grid) != 0)
+        return dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for the grid");
+    const size_t n_pts = grid.n_points, n_grid = grid.n_triangles;
+    const float3 *bary = grid.bary;
+    const uint32_t *gidx = grid.idx;
     size_t chunk = n_pts >= DRAW_CHUNK_VERTICES ? 1 : DRAW_CHUNK_VERTICES / n_pts;
-    is_result r = bary && gidx ? reserve_scratch(dev, chunk * n_pts, chunk * 3 * n_grid)
-                               : dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory");
-    if (r == IS_OK) core_grid_regular(L, bary, gidx);
+    is_result r = reserve_scratch(dev, chunk * n_pts, chunk * 3 * n_grid);
     for (size_t t0 = 0; r == IS_OK && t0 < n_tris; t0 += chunk) {
         long nt = (long)(n_tris - t0 < chunk ? n_tris - t0 : chunk);
 #pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
@@ -553,7 +557,6 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
             for (size_t k = 0; k < 3 * n_grid; k++) dev->out_i[(size_t)t * 3 * n_grid + k] = (uint32_t)(t * n_pts) + gidx[k];
         r = rasterize(dev, RS_PRIM_TRIANGLES, (size_t)nt * n_pts, (size_t)nt * n_grid);
     }
-    free(bary);
-    free(gidx);
+    core_grid_free(&grid);
     return r;
 }

@@ -77,6 +77,41 @@ static void test_three_npatch_paths_identical(void **state)
                 }
 }
 
+/* PATCHEDGESTYLE CONTINUOUS: N-patch mode at a fractional level tessellates with the fractional_even pattern, and
+ * equals the instanced and CPU paths on that grid. */
+static void test_continuous_npatch_paths_identical(void **state)
+{
+    const float levels[] = {1.0f, 2.3f, 3.6f, 5.5f};
+    for (size_t li = 0; li < 4; li++) {
+        scene_opts o;
+        scene_opts_default(&o);
+        o.width = o.height = 96, o.level = levels[li], o.patch = VS_PATCH_NPATCH, o.grid = CORE_GRID_PG_FRACTIONAL_EVEN;
+        o.fill = SCENE_FILL_SOLID_WIRE;
+        is_image a, b, c;
+        o.path = SCENE_PATH_INSTANCED;
+        render(&o, "sphere", &a);
+        o.path = SCENE_PATH_NPATCH_MODE;
+        render(&o, "sphere", &b);
+        o.path = SCENE_PATH_CPU;
+        render(&o, "sphere", &c);
+        assert_int_equal(differences(&a, &b), 0);
+        assert_int_equal(differences(&a, &c), 0);
+        image_free(&a), image_free(&b), image_free(&c);
+    }
+    /* and the fractional level really changes the picture (continuous, not truncated) */
+    scene_opts o;
+    scene_opts_default(&o);
+    o.width = o.height = 96, o.patch = VS_PATCH_NPATCH, o.grid = CORE_GRID_PG_FRACTIONAL_EVEN;
+    o.fill = SCENE_FILL_WIRE, o.path = SCENE_PATH_NPATCH_MODE;
+    is_image a, b;
+    o.level = 3.2f;
+    render(&o, "sphere", &a);
+    o.level = 3.7f;
+    render(&o, "sphere", &b);
+    assert_true(differences(&a, &b) > 50);
+    image_free(&a), image_free(&b);
+}
+
 /* The N-Patch and the flat patch really differ (the comparison above is not vacuous). */
 static void test_paths_compare_something(void **state)
 {
@@ -141,6 +176,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_three_npatch_paths_identical), cmocka_unit_test(test_paths_compare_something),
+        cmocka_unit_test(test_continuous_npatch_paths_identical),
         cmocka_unit_test(test_threads_do_not_change_bytes),  cmocka_unit_test(test_golden_flat_cube),
         cmocka_unit_test(test_golden_npatch_cube),           cmocka_unit_test(test_golden_smooth_cube),
         cmocka_unit_test(test_golden_npatch_tetrahedron),    cmocka_unit_test(test_golden_smooth_tetrahedron),
