@@ -3,6 +3,7 @@
  * Exit codes: 0 success (image written atomically), 1 input error (names the input, nothing written),
  * 2 usage error (message on stderr). */
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,8 +127,33 @@ static int cmd_render(int argc, char **argv)
     return 0;
 }
 
+/* SIGTERM / SIGINT / SIGHUP: remove the temporary file of an output being written (image_remove_temp_files is
+ * async-signal-safe: lock-free loads and unlink of names prepared in advance; the names live in core/image.cpp's
+ * static slots, the one accepted exception to "no globals"), then die of the same signal with its default
+ * action, so the caller sees how the program ended.  The target is never partial in any case (rename). */
+static void on_signal(int sig)
+{
+    image_remove_temp_files();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+/* Install on_signal for the termination signals that are not ignored (nohup keeps SIGHUP ignored). */
+static void install_signal_handlers(void)
+{
+    static const int sigs[] = {SIGTERM, SIGINT, SIGHUP};
+    for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++) {
+        struct sigaction old, sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal;
+        sigemptyset(&sa.sa_mask);
+        if (sigaction(sigs[k], NULL, &old) == 0 && old.sa_handler != SIG_IGN) sigaction(sigs[k], &sa, NULL);
+    }
+}
+
 int main(int argc, char **argv)
 {
+    install_signal_handlers();
     if (argc > 1 && strcmp(argv[1], "figures") == 0) return scene_cmd_figures(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "smoothness") == 0) return scene_cmd_smoothness(argc - 1, argv + 1);
     return cmd_render(argc, argv);

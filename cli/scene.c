@@ -161,10 +161,9 @@ const char *scene_check_opts(const scene_opts *o)
         return "--path npatch-mode and cpu draw the N-Patch (or flat): use --patch npatch or flat";
     if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
         return "--path npatch-mode and cpu offer linear and quadratic normals (as D3D9's NORMALDEGREE)";
-    if (o->path != SCENE_PATH_INSTANCED && o->grid != CORE_GRID_REGULAR)
-        return "--path npatch-mode and cpu use the regular grid";
-    if (o->path != SCENE_PATH_INSTANCED && o->level != floorf(o->level))
-        return "--path npatch-mode and cpu need a whole --level (D3D9's discrete N-patch segments)";
+    if (o->path == SCENE_PATH_NPATCH_MODE && o->grid != CORE_GRID_REGULAR && o->grid != CORE_GRID_PG_FRACTIONAL_EVEN)
+        return "--path npatch-mode tessellates with the regular grid (PATCHEDGESTYLE DISCRETE) or "
+               "pg-fractional-even (CONTINUOUS)";
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level))
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
     return NULL;
@@ -172,7 +171,8 @@ const char *scene_check_opts(const scene_opts *o)
 
 /* ---------------------------------------- camera and constants ---------------------------------------- */
 
-/* Centre of the bounding box and the largest distance from it to a vertex. */
+/* Centre of the bounding box and the largest distance from it to a vertex.  lo / 2 + hi / 2 (the same bits as
+ * (lo + hi) / 2 without its overflow near FLT_MAX), and a distance that overflows in float is redone in double. */
 static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
 {
     float3 lo = m->positions[0], hi = lo;
@@ -181,14 +181,20 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
         lo = f3(fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z));
         hi = f3(fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z));
     }
-    *centre = scale3(add3(lo, hi), 0.5f);
+    *centre = add3(scale3(lo, 0.5f), scale3(hi, 0.5f));
     double r2 = 0;
     for (size_t k = 0; k < m->n_vertices; k++) {
         float3 d = sub3(m->positions[k], *centre);
         double l = (double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z;
+        if (!isfinite(l)) {
+            double dx = (double)m->positions[k].x - centre->x, dy = (double)m->positions[k].y - centre->y,
+                   dz = (double)m->positions[k].z - centre->z;
+            l = dx * dx + dy * dy + dz * dz;
+        }
         if (l > r2) r2 = l;
     }
-    *radius = r2 > 0 ? (float)sqrt(r2) : 1.0f;
+    /* below 1e-37 (denormal coordinates) 1 / radius would overflow: such a mesh is drawn unscaled (a dot) */
+    *radius = r2 > 0 && sqrt(r2) >= 1e-37 ? (float)sqrt(r2) : 1.0f;
 }
 
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
@@ -403,6 +409,8 @@ static is_result build_npatch_mode(is_device *dev, const scene_opts *o, const is
     if (e != IS_OK) return e;
     dev_set_npatch_evaluator(dev, vs_npatch_evaluate);
     dev_set_npatch_mode(dev, o->level);
+    dev_set_render_state(dev, IS_RS_PATCHEDGESTYLE,
+                         o->grid == CORE_GRID_PG_FRACTIONAL_EVEN ? IS_PATCHEDGE_CONTINUOUS : IS_PATCHEDGE_DISCRETE);
     dev_set_render_state(dev, IS_RS_POSITIONDEGREE, o->patch == VS_PATCH_FLAT ? IS_DEGREE_LINEAR : IS_DEGREE_CUBIC);
     dev_set_render_state(dev, IS_RS_NORMALDEGREE,
                          o->normals == VS_NORMALS_QUADRATIC ? IS_DEGREE_QUADRATIC : IS_DEGREE_LINEAR);
@@ -559,8 +567,48 @@ static void copy_aovs(const rs_target *rt, is_image *img, int first)
     }
 }
 
-int scene_render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
+/* Coordinates beyond 1e18 or a bounding radius below 1e-18: the shaders' float intermediates (squared edge
+ * lengths, control points before their /3) would overflow or underflow, and the patch would fall back to the
+ * flat triangle.  Such a mesh is drawn from a copy moved to the origin and scaled to unit radius (patches are
+ * affine-invariant, and the camera frames the mesh by its bounds anyway).  Other meshes are drawn as they are. */
+#define SCENE_EXTREME_COORD 1e18f
+
+static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
+                       size_t errlen);
+
+/* The copy of m with positions (p - c) / r described above into out; 0, or -1 when m is not extreme or the
+ * copy fails (m is then drawn as it is). */
+static int rescaled_copy(const is_mesh *m, is_mesh *out)
+{
+    float3 c;
+    float r;
+    mesh_bounds(m, &c, &r);
+    float far = fmaxf(fmaxf(fabsf(c.x), fabsf(c.y)), fabsf(c.z)) + r;
+    if (far <= SCENE_EXTREME_COORD && r >= 1.0f / SCENE_EXTREME_COORD) return -1;
+    float3 *p = malloc(m->n_vertices * sizeof *p);
+    if (!p) return -1;
+    for (size_t k = 0; k < m->n_vertices; k++)
+        p[k] = f3((float)(((double)m->positions[k].x - c.x) / r), (float)(((double)m->positions[k].y - c.y) / r),
+                  (float)(((double)m->positions[k].z - c.z) / r));
+    is_mesh_data d = {m->n_vertices, m->n_triangles, p, m->normals, m->texcoords, m->indices};
+    int rc = mesh_create(out, m->name, &d, NULL, NULL, 0);
+    free(p);
+    return rc == 0 ? 0 : -1;
+}
+
+int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen)
+{
+    is_mesh copy = {0};
+    const is_mesh *m = rescaled_copy(mesh, &copy) == 0 ? &copy : mesh;
+    int rc = render_mesh(o, m, img, st, err, errlen);
+    mesh_free(&copy);
+    return rc;
+}
+
+/* scene_render_mesh on a mesh of ordinary coordinates. */
+static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
+                       size_t errlen)
 {
     core_grid g;
     if (core_grid_make(o->grid, o->level, &g) != 0) {
@@ -619,9 +667,11 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
     if (core_grid_make(o->grid, o->level, &g) != 0) return snprintf(err, errlen, "cannot build the grid"), -1;
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s.tmp-%ld", o->export_obj, (long)getpid());
+    int slot = image_temp_track(tmp);   /* removed by the program's signal handler if killed meanwhile */
     FILE *f = fopen(tmp, "w");
     if (!f) {
         snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, strerror(errno));
+        image_temp_untrack(slot);
         core_grid_free(&g);
         return -1;
     }
@@ -657,8 +707,10 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
     if (!ok || rename(tmp, o->export_obj) != 0) {
         snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, ok ? strerror(errno) : "write error");
         remove(tmp);
+        image_temp_untrack(slot);
         return -1;
     }
+    image_temp_untrack(slot);
     return 0;
 }
 

@@ -304,8 +304,9 @@ uint64_t dev_vertices_shaded(const is_device *dev);
 
 /* N-patch mode (SetNPatchMode, POSITIONDEGREE, NORMALDEGREE, PATCHEDGESTYLE).  With segments >= 1, indexed
  * triangle-list draws are tessellated by the device before the vertex shader, as D3D9's tessellator did: each
- * input triangle becomes the regular barycentric grid of level round(segments) (core_grid_regular, same vertex
- * and triangle order as the instanced path), and at each grid point the evaluator below computes the object-space
+ * input triangle becomes a grid with the same vertex and triangle order as the instanced path: with
+ * PATCHEDGESTYLE DISCRETE (the default) the regular grid of level (int)segments, with CONTINUOUS the
+ * primitive generator's fractional_even grid of level segments (core_grid_make); at each grid point the evaluator below computes the object-space
  * position and normal from the triangle's POSITION0 / NORMAL0; every other input register is interpolated
  * linearly in the barycentrics.  The evaluator is the patch code of vs/ (vs_npatch_evaluate), plugged in by the
  * application so that core does not depend on vs/.  b = (b0, b1, b2) weights v[0], v[1], v[2]. */
@@ -409,6 +410,25 @@ int image_draw_text(is_image *img, int x, int y, const char *text, float size_px
                     size_t errlen);
 /* Width and height in pixels of the box that image_draw_text(text, size_px) covers (0 x 0 for ""); 0 or -1. */
 int image_text_size(const char *text, float size_px, int *w, int *h);
+
+/* ================================ signals and atomic outputs (core/image.cpp) ================================ */
+
+/* image_write keeps the name of the temporary file it is writing (".<stem>.tmp-<pid>-XXXXXX<ext>" beside the
+ * target) where a signal handler can reach it, from before the file exists until after the rename.
+ * image_remove_temp_files() unlinks every such file of this process and is async-signal-safe: a program calls
+ * it from its SIGTERM / SIGINT / SIGHUP handler (cli/main.c does), then dies of the signal.  The target itself
+ * changes only by rename(2), so it is never partial: after any signal, also SIGKILL, it holds the previous file
+ * or the complete new one.  SIGKILL cannot be caught, so after it a stale temporary file may remain.
+ * Other writers of temporary files (the OBJ export) register them too: image_temp_track(path) returns a slot
+ * (or -1 when all 8 are busy or the path is longer than 4095 bytes; the file is then not removed on a signal),
+ * image_temp_untrack(slot) releases it after the rename or unlink.
+ * Two environment variables serve tests: SOURCE_DATE_EPOCH (seconds since 1970) fixes the DateTime that
+ * OpenEXR files carry (otherwise the current time), so the same render gives the same bytes;
+ * INSTESS_TEST_WRITE_DELAY_MS=N makes image_write wait N ms (at most 60000) with its temporary file complete
+ * and not yet renamed, so that a test can signal the program in that window. */
+void image_remove_temp_files(void);
+int image_temp_track(const char *path);
+void image_temp_untrack(int slot);
 
 #ifdef __cplusplus
 }

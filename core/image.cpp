@@ -5,6 +5,8 @@
 // a temporary ".<stem>.tmp-<pid>-XXXXXX<ext>" beside the target (the real extension stays last because OIIO
 // picks the format from it), fsync, rename(2) over the target, fsync of the directory.  OIIO encodes into
 // memory and this file writes the bytes, checking every write (OIIO 2.4's PNG writer ignores write errors).
+// The temporary file's name sits in a static slot while it exists, for image_remove_temp_files (a signal
+// handler's clean-up; see core.h).
 
 #include "core.h"
 
@@ -14,12 +16,14 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -117,6 +121,23 @@ int channel_index(const is_image *img, const char *name)
     return -1;
 }
 
+// DateTime: OIIO stamps OpenEXR files with the current time, so two renders of the same scene differ in those
+// bytes.  SOURCE_DATE_EPOCH (seconds since 1970, the reproducible-builds convention) fixes it: then the same
+// render gives the same file.  PNG files carry no time.
+void set_date_time(ImageSpec &spec)
+{
+    const char *e = getenv("SOURCE_DATE_EPOCH");
+    char *end = nullptr;
+    long long t = e ? strtoll(e, &end, 10) : -1;
+    if (!e || end == e || *end || t < 0 || t > 253402300799LL)  // up to 9999-12-31
+        return;
+    time_t tt = (time_t)t;
+    struct tm tm;
+    char buf[32];
+    if (gmtime_r(&tt, &tm) && strftime(buf, sizeof buf, "%Y:%m:%d %H:%M:%S", &tm))
+        spec.attribute("DateTime", buf);
+}
+
 // The spec of the file to write: names, per-channel formats, metadata; PNG keeps the first four channels.
 ImageSpec make_spec(const is_image *img, Fmt fmt, const is_image_meta *meta)
 {
@@ -139,6 +160,7 @@ ImageSpec make_spec(const is_image *img, Fmt fmt, const is_image_meta *meta)
         spec.attribute("Software", meta->software);
     if (meta && meta->description)
         spec.attribute("ImageDescription", meta->description);
+    set_date_time(spec);
     return spec;
 }
 
@@ -219,8 +241,59 @@ void fsync_dir(const std::string &dir)
     }
 }
 
-// Create the temporary file ".<stem>.tmp-<pid>-XXXXXX<ext>" beside path; its fd (name in tmp), or -1.
-int make_temp(const std::string &path, std::string &tmp, char *err, size_t errlen)
+// ---- temporary files that a signal handler may remove (image_remove_temp_files, core.h) ----
+// The one accepted exception to "no globals except const tables": a signal handler reaches nothing but
+// statics.  A slot's state: 0 free, 1 claimed, 2 path valid (the file may exist; the handler unlinks it).
+const int kTempSlots = 8;
+const size_t kTempPathMax = 4096;
+struct TempSlot {
+    std::atomic<int> state;
+    char path[kTempPathMax];
+};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
+TempSlot g_temp_slots[kTempSlots];  // zero-initialised: all free
+
+// Claim a slot holding path (state 2); its index, or -1 when all are busy or the path is too long.
+int temp_claim(const char *path)
+{
+    size_t n = strlen(path);
+    if (n >= kTempPathMax)
+        return -1;
+    for (int s = 0; s < kTempSlots; s++) {
+        int expected = 0;
+        if (g_temp_slots[s].state.compare_exchange_strong(expected, 1)) {
+            memcpy(g_temp_slots[s].path, path, n + 1);
+            g_temp_slots[s].state.store(2);
+            return s;
+        }
+    }
+    return -1;
+}
+
+// Free slot s (after the rename or the unlink of its file); -1 is ignored.
+void temp_release(int s)
+{
+    if (s >= 0 && s < kTempSlots)
+        g_temp_slots[s].state.store(0);
+}
+
+// INSTESS_TEST_WRITE_DELAY_MS=N: sleep N ms with the temporary file complete and not yet renamed (tests
+// signal the program in that window).
+void test_write_delay()
+{
+    const char *d = getenv("INSTESS_TEST_WRITE_DELAY_MS");
+    long ms = d ? strtol(d, nullptr, 10) : 0;
+    if (ms <= 0 || ms > 60000)
+        return;
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    }
+}
+
+// Create the temporary file ".<stem>.tmp-<pid>-XXXXXX<ext>" beside path; its fd, or -1.  The name goes to tmp
+// and into a temp slot (*slot, -1 if none was free) from before the file exists, so that a signal arriving
+// at any later moment can remove it; mkstemps fills the X's in the slot itself.
+int make_temp(const std::string &path, std::string &tmp, int *slot, char *err, size_t errlen)
 {
     std::string ext = path.substr(path.rfind('.'));
     std::string base = base_of(path);
@@ -228,13 +301,18 @@ int make_temp(const std::string &path, std::string &tmp, char *err, size_t errle
     std::string tmpl = dir_of(path) + "/." + stem + ".tmp-" + std::to_string((long)getpid()) + "-XXXXXX" + ext;
     std::vector<char> buf(tmpl.begin(), tmpl.end());
     buf.push_back('\0');
-    int fd = mkstemps(buf.data(), (int)ext.size());
+    tmp.reserve(buf.size());  // no allocation (and no exception) once the file exists
+    *slot = temp_claim(buf.data());
+    char *name = *slot >= 0 ? g_temp_slots[*slot].path : buf.data();
+    int fd = mkstemps(name, (int)ext.size());
     if (fd < 0) {
         set_err(err, errlen, "%s: cannot create a temporary file in %s: %s", path.c_str(), dir_of(path).c_str(),
                 strerror(errno));
+        temp_release(*slot);
+        *slot = -1;
         return -1;
     }
-    tmp = buf.data();
+    tmp.assign(name);
     (void)fchmod(fd, 0644);  // mkstemps makes 0600; images are for everyone to read
     return fd;
 }
@@ -274,18 +352,22 @@ int write_atomic(const is_image *img, const char *path_c, const is_image_meta *m
     std::vector<unsigned char> bytes;
     if (!encode(img, fmt, path, meta, bytes, err, errlen))
         return -1;
-    int fd = make_temp(path, tmp, err, errlen);
+    int slot = -1;
+    int fd = make_temp(path, tmp, &slot, err, errlen);
     if (fd < 0)
         return -1;
     bool ok = write_fd(fd, bytes, path, err, errlen);
+    if (ok)
+        test_write_delay();
     if (ok && rename(tmp.c_str(), path.c_str()) != 0) {
         set_err(err, errlen, "%s: cannot rename the temporary file into place: %s", path.c_str(), strerror(errno));
         ok = false;
     }
-    if (!ok) {
+    if (!ok)
         unlink(tmp.c_str());
+    temp_release(slot);
+    if (!ok)
         return -1;
-    }
     fsync_dir(dir_of(path));
     return 0;
 }
@@ -554,6 +636,24 @@ void image_from_rgba8(is_image *img, const uint32_t *rgba)
 }
 
 // Write img atomically to a .png or .exr path.
+// Unlink every temporary file being written: async-signal-safe (lock-free atomic loads and unlink(2) only).
+void image_remove_temp_files(void)
+{
+    for (int s = 0; s < kTempSlots; s++)
+        if (g_temp_slots[s].state.load() == 2)
+            unlink(g_temp_slots[s].path);
+}
+
+int image_temp_track(const char *path)
+{
+    return path ? temp_claim(path) : -1;
+}
+
+void image_temp_untrack(int slot)
+{
+    temp_release(slot);
+}
+
 int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen)
 {
     try {

@@ -12,6 +12,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 #include <time.h>
 #include <unistd.h>
 
@@ -106,6 +109,17 @@ static void append_faces(merged *o, const struct aiMesh *am, size_t base, bool f
     }
 }
 
+/* Row i of the affine x applied to p: a zero coefficient contributes exactly 0, so a non-finite coordinate
+ * stays in its own component (0 * inf would be NaN) and error messages show the file's values. */
+static double xform_row(const xform *x, int i, const struct aiVector3D *p)
+{
+    double r = 0.0;   /* the same sums, in the same order, as the plain m0 x + m1 y + m2 z + m3 */
+    if (x->m[i][0] != 0.0) r += x->m[i][0] * p->x;
+    if (x->m[i][1] != 0.0) r += x->m[i][1] * p->y;
+    if (x->m[i][2] != 0.0) r += x->m[i][2] * p->z;
+    return r + x->m[i][3];
+}
+
 /* Append the vertices of `am` transformed by x (normals by the cofactor matrix, sign-corrected). */
 static void append_vertices(merged *o, const struct aiMesh *am, const xform *x)
 {
@@ -114,9 +128,7 @@ static void append_vertices(merged *o, const struct aiMesh *am, const xform *x)
     for (unsigned v = 0; v < am->mNumVertices; v++) {
         const struct aiVector3D *p = &am->mVertices[v];
         float3 *dp = &o->p[o->nv + v];
-        *dp = f3((float)(x->m[0][0] * p->x + x->m[0][1] * p->y + x->m[0][2] * p->z + x->m[0][3]),
-                 (float)(x->m[1][0] * p->x + x->m[1][1] * p->y + x->m[1][2] * p->z + x->m[1][3]),
-                 (float)(x->m[2][0] * p->x + x->m[2][1] * p->y + x->m[2][2] * p->z + x->m[2][3]));
+        *dp = f3((float)xform_row(x, 0, p), (float)xform_row(x, 1, p), (float)xform_row(x, 2, p));
         float3 n = f3(0.0f, 0.0f, 0.0f);   /* missing normals: replaced (and counted) by mesh_create */
         if (am->mNormals) {
             const struct aiVector3D *q = &am->mNormals[v];
@@ -345,9 +357,30 @@ static int child_failure(int r, int status, const char *label, int timeout_ms, c
     return IS_MESH_ERR_FORMAT;
 }
 
-/* Child side of the fork: stderr into the (non-blocking) error pipe, then import and exit. */
-static _Noreturn void child_main(const import_src *src, const char *label, const int fd[2], const int efd[2])
+/* Every signal back to its default action and unblocked: a crash inside assimp must kill the child, not run
+ * a handler the application installed (a crash reporter, a test framework's longjmp back into its runner, the
+ * program's SIGTERM clean-up) in a copy of the application. */
+static void child_default_signals(void)
 {
+    for (int sig = 1; sig <= SIGRTMAX; sig++)
+        if (sig != SIGKILL && sig != SIGSTOP) signal(sig, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+}
+
+/* Child side of the fork: default signals; dies with its parent (a killed instess leaves no assimp running on,
+ * hung or not) and at the time limit plus two seconds even if nobody reads it; stderr into the (non-blocking)
+ * error pipe; then import and exit. */
+static _Noreturn void child_main(const import_src *src, const char *label, const int fd[2], const int efd[2],
+                                 pid_t parent, int timeout_ms)
+{
+#ifdef __linux__
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+#endif
+    if (getppid() != parent) _exit(4);           /* the parent died before prctl */
+    child_default_signals();
+    alarm((unsigned)(timeout_ms / 1000 + 2));
     close(fd[0]);
     close(efd[0]);
     dup2(efd[1], STDERR_FILENO);
@@ -363,8 +396,8 @@ static int import_sandboxed(const import_src *src, const char *label, int timeou
     int fd[2], efd[2];
     if (pipe(fd) != 0) return import_merged(src, label, o, err, errlen);
     if (pipe(efd) != 0) { close(fd[0]); close(fd[1]); return import_merged(src, label, o, err, errlen); }
-    pid_t pid = fork();
-    if (pid == 0) child_main(src, label, fd, efd);
+    pid_t parent = getpid(), pid = fork();
+    if (pid == 0) child_main(src, label, fd, efd, parent, timeout_ms);
     close(fd[1]);
     close(efd[1]);
     if (pid < 0) {

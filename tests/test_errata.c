@@ -139,13 +139,23 @@ static void test_erratum3_fn_pairing(void **state)
     assert_true(ours < 1e-5 && garbled > 1e-3);
 }
 
+/* The listing's unguarded Gregory weight at a corner, as C computes it: 0/0 = NaN.  Computing that NaN is the
+ * point, so UBSan's float-divide-by-zero check (on in make sanitize) is off for this one function. */
+#ifdef __clang__
+__attribute__((no_sanitize("float-divide-by-zero")))
+#endif
+static float unguarded_gregory(float z)
+{
+    return z * z / (z * z + z * z);
+}
+
 /* Erratum 4: Gregory 0/0 at corners and the curve parameters' division by zero give NaN in C; the guards give
  * finite values converging to the vertex, continuous across the listing's 0.999 threshold. */
 static void test_erratum4_division_guards(void **state)
 {
     (void)state;
     volatile float zero = 0.0f;
-    assert_true(isnan(zero * zero / (zero * zero + zero * zero))); /* what the unguarded listing computes in C */
+    assert_true(isnan(unguarded_gregory(zero))); /* what the unguarded listing computes in C */
     uint64_t s = 404;
     vs_triangle t = rand_tri(&s);
     float3 corners[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
