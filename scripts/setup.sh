@@ -26,6 +26,8 @@ if [ "${1:-}" = "--sanitize" ]; then
   command -v clang >/dev/null 2>&1 || need+=(clang)
   command -v valgrind >/dev/null 2>&1 || need+=(valgrind)
   [ -e /usr/lib/llvm-14/lib/libomp.so ] || need+=(libomp-dev)
+  # clang's sanitizer and libFuzzer runtimes are a separate package on Debian 12
+  compgen -G '/usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.asan-x86_64.a' >/dev/null || need+=(libclang-rt-14-dev)
 fi
 
 [ ${#need[@]} -eq 0 ] && exit 0
