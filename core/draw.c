@@ -232,9 +232,33 @@ static void fetch_vertices(const fetch_plan *fp, uint32_t first, uint32_t n, is_
         }
 }
 
-/* Shade vertices v0..v0+n-1 of `instance` into out[0..n), in batches of SHADE_BATCH. */
+/* The per-vertex elements of vertices first..first+count-1 fetched once: cache[v * n_vert + q] holds what
+ * fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of memory. */
+static float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count)
+{
+    float4 *c = malloc(((size_t)count * fp->n_vert + 1) * sizeof *c);
+    if (!c) return NULL;
+    for (uint32_t v = 0; v < count; v++)
+        for (unsigned q = 0; q < fp->n_vert; q++) {
+            const fetch_elem *e = &fp->el[fp->vert[q]];
+            c[(size_t)v * fp->n_vert + q] = decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
+        }
+    return c;
+}
+
+/* fetch_vertices from a fetch_cache: vertices v0..v0+n-1 of the cache (relative to its first vertex). */
+static void fetch_cached(const fetch_plan *fp, const float4 *cache, uint32_t v0, uint32_t n, is_vs_input *in)
+{
+    const float4 *c = cache + (size_t)v0 * fp->n_vert;
+    for (uint32_t v = 0; v < n; v++)
+        for (unsigned q = 0; q < fp->n_vert; q++)
+            *(float4 *)((unsigned char *)&in[v] + fp->el[fp->vert[q]].reg_offset) = *c++;
+}
+
+/* Shade vertices v0..v0+n-1 of `instance` into out[0..n), in batches of SHADE_BATCH; cache: the draw's
+ * fetch_cache (vertex 0 = first) or NULL. */
 static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t instance, uint32_t v0,
-                        uint32_t n, rs_vertex *out_v)
+                        uint32_t n, rs_vertex *out_v, const float4 *cache)
 {
     is_vs_input in[SHADE_BATCH];
     const is_vertex_shader *vs = dev->vs;
@@ -242,7 +266,8 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
     for (uint32_t b = 0; b < n; b += SHADE_BATCH) {
         uint32_t m = n - b < SHADE_BATCH ? n - b : SHADE_BATCH;
         rs_vertex *out = out_v + b;
-        fetch_vertices(fp, first + v0 + b, m, in);
+        if (cache) fetch_cached(fp, cache, v0 + b, m, in);
+        else fetch_vertices(fp, first + v0 + b, m, in);
         memset(out, 0, m * sizeof *out);
         if (vs->batch) vs->batch(&dev->consts, in, m, out);
         else
@@ -263,7 +288,7 @@ static void shade_range_fast(is_device *dev, const fetch_plan *fp, uint32_t firs
     for (long q = 0; q < np; q++) {
         uint32_t i = (uint32_t)(q / per), v0 = (uint32_t)(q % per) * piece;
         shade_piece(dev, fp, first, i0 + i, v0, count - v0 < piece ? count - v0 : piece,
-                    &dev->out_v[(size_t)i * count + v0]);
+                    &dev->out_v[(size_t)i * count + v0], NULL);
     }
 }
 
@@ -319,6 +344,7 @@ typedef struct fused_ctx {
     const uint32_t *list;      /* the index list of a full piece (instance i's vertices at i * count) */
     size_t slot_verts;         /* scratch per slot in out_v */
     rs_vertex *out_v;
+    const float4 *cache;       /* fetch_cache of first..first+count-1, or NULL */
 } fused_ctx;
 
 /* rs_produce_fn: shade the piece's instances into the slot's scratch and build its index list. */
@@ -329,7 +355,7 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
     rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
     for (uint32_t i = 0; i < n; i++)
-        shade_piece(f->dev, f->fp, f->first, f->i0 + a + i, 0, f->count, out + (size_t)i * f->count);
+        shade_piece(f->dev, f->fp, f->first, f->i0 + a + i, 0, f->count, out + (size_t)i * f->count, f->cache);
     *verts = out, *n_verts = (size_t)n * f->count, *idx = f->list; /* a short piece uses a prefix */
     return (size_t)n * (f->n_idx / 3);
 }
@@ -358,7 +384,8 @@ static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims
     int slots = rs_threads(dev->rs);
     for (uint32_t i = 1; i < per_piece; i++) /* instance i of a piece: instance 0's list moved by i * count */
         for (size_t k = 0; k < 3 * n_prims; k++) list[(size_t)i * 3 * n_prims + k] = i * count + list[k];
-    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL};
+    float4 *cache = fetch_cache(fp, first, count); /* NULL: each instance fetches its own (same values) */
+    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache};
     is_result r = reserve_scratch(dev, (size_t)slots * f.slot_verts, 0);
     f.out_v = dev->out_v;
     for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass) {
@@ -372,6 +399,7 @@ static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims
         else if (e != RS_OK) r = dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
         else add_stats(dev, &s);
     }
+    free(cache);
     dev->shaded += total;
     return r;
 }

@@ -241,7 +241,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     ch->first = 0, ch->count = np;
     if (np && nv <= 3 * np && nv <= src->max_verts && !rs->reference) {
         rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * src->max_verts * rs_pvert_size());
-        for (size_t k = 0; k < nv; k++) rs_project_vertex(&jl, &v[k], (rs_pvert *)((char *)pv + k * rs_pvert_size()));
+        rs_project_vertices(&jl, v, nv, pv);
         jl.pv = pv;
     }
     rs_setup_chunk(&jl, ch);

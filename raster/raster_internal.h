@@ -150,6 +150,8 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c);
 /* The shared pass: outcode and projection of vertex v (once per vertex, not once per triangle). */
 void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out);
 size_t rs_pvert_size(void);
+/* rs_project_vertex for v[0..n) into out[0..n) (four at a time where AVX2 is available, same results). */
+void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
 

@@ -21,6 +21,7 @@
  *  evaluated at (X - V0) / 256, which is exact in float (at most 2^24 units of 1/256 px).
  */
 #include <stdlib.h>
+#include <string.h>
 #ifdef __SSE2__
 #include <immintrin.h>
 #endif
@@ -36,23 +37,28 @@ typedef struct pvert {
     bool edge, orig;
 } pvert;
 
+/* Grow chunk c's primitive and attribute arrays (doubling); false (and c->oom) when out of memory. */
+static bool grow(const rs_job *j, rs_chunk *c)
+{
+    size_t cap = c->cap ? c->cap * 2 : 256;
+    size_t st = j->stride ? (size_t)j->stride : 1;
+    rs_prim *p = realloc(c->prims, cap * sizeof *p);
+    if (p) c->prims = p;
+    float *a = p ? realloc(c->attr, cap * st * sizeof *a) : NULL;
+    if (!p || !a) {
+        c->oom = true;
+        return false;
+    }
+    c->attr = a;
+    c->cap = cap;
+    return true;
+}
+
 /* Append one primitive to chunk c; returns it (and its attribute block in *attr), NULL when out of memory. */
-static rs_prim *push(const rs_job *j, rs_chunk *c, float **attr)
+static inline rs_prim *push(const rs_job *j, rs_chunk *c, float **attr)
 {
     if (c->oom) return NULL;
-    if (c->n == c->cap) {
-        size_t cap = c->cap ? c->cap * 2 : 256;
-        size_t st = j->stride ? (size_t)j->stride : 1;
-        rs_prim *p = realloc(c->prims, cap * sizeof *p);
-        if (p) c->prims = p;
-        float *a = p ? realloc(c->attr, cap * st * sizeof *a) : NULL;
-        if (!p || !a) {
-            c->oom = true;
-            return NULL;
-        }
-        c->attr = a;
-        c->cap = cap;
-    }
+    if (c->n == c->cap && !grow(j, c)) return NULL;
     *attr = c->attr + c->n * (size_t)j->stride;
     return &c->prims[c->n++];
 }
@@ -97,20 +103,31 @@ static int64_t poly_area(const pvert *v, int n)
     return s;
 }
 
+typedef float v4f __attribute__((vector_size(16)));
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v2d __attribute__((vector_size(16)));
+
+/* One interpolated slot: o[3q] = a[q], o[3q+1] = b[q] - a[q], o[3q+2] = c[q] - a[q] (4 lanes, same subtractions). */
+static inline void fill_slot(float *o, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c)
+{
+    v4f v0, v1, v2;
+    memcpy(&v0, a, 16), memcpy(&v1, b, 16), memcpy(&v2, c, 16);
+    v4f d1 = v1 - v0, d2 = v2 - v0;
+    v4f t = __builtin_shufflevector(v0, d1, 0, 4, 1, 5);            /* a.x d1.x a.y d1.y */
+    v4f u = __builtin_shufflevector(v0, d1, 2, 6, 3, 7);            /* a.z d1.z a.w d1.w */
+    v4f y = __builtin_shufflevector(d1, d2, 1, 5, 2, 6);            /* d1.y d2.y d1.z d2.z */
+    v4f o0 = __builtin_shufflevector(t, d2, 0, 1, 4, 2);            /* a.x d1.x d2.x a.y */
+    v4f o1 = __builtin_shufflevector(y, u, 0, 1, 4, 5);             /* d1.y d2.y a.z d1.z */
+    v4f w = __builtin_shufflevector(y, u, 3, 6, 7, 7);              /* d2.z a.w d1.w - */
+    v4f o2 = __builtin_shufflevector(w, d2, 0, 1, 2, 7);            /* d2.z a.w d1.w d2.w */
+    memcpy(o, &o0, 16), memcpy(o + 4, &o1, 16), memcpy(o + 8, &o2, 16);
+}
+
 /* Fill slot values of attribute block at: v0 from a, d1 = b - a, d2 = c - a (b, c may be NULL: 0); slots
- * COLOR0/COLOR1 come from `flat` (constant) when it is given. */
+ * COLOR0/COLOR1 come from `flat` (constant) when it is given.  (Smooth triangles use fill_slot directly.) */
 static void fill_attr(const rs_job *j, float *at, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c,
                       const rs_vec4 *flat)
 {
-    if (!flat && b && c) { /* the common case: every slot interpolated */
-        for (int s = 0; s < j->n_slots; s++) {
-            int k = j->slot[s];
-            const float *v0 = &a[k].x, *v1 = &b[k].x, *v2 = &c[k].x;
-            float *o = at + s * RS_ATTR_STRIDE;
-            for (int q = 0; q < 4; q++) o[3 * q] = v0[q], o[3 * q + 1] = v1[q] - v0[q], o[3 * q + 2] = v2[q] - v0[q];
-        }
-        return;
-    }
     for (int s = 0; s < j->n_slots; s++) {
         int k = j->slot[s];
         bool fl = flat && (k == RS_ATTR_COLOR0 || k == RS_ATTR_COLOR1);
@@ -133,55 +150,58 @@ static void pixel_range(const rs_job *j, int64_t mn, int64_t mx, int s0, int s1,
     *hi = (int32_t)(b > s1 - 1 ? s1 - 1 : b);
 }
 
-/* Edge functions of triangle v[0..3) (doubled area > 0) into t, with the top-left rule folded into ec. */
-static void tri_edges(const pvert *const v[3], rs_tri *t)
+/* Edge function of the edge a -> b into slot e of t, with the top-left rule folded into ec. */
+static inline void tri_edge(const pvert *a, const pvert *b, int e, rs_tri *t)
 {
-    for (int e = 0; e < 3; e++) {
-        const pvert *a = v[e], *b = v[(e + 1) % 3];
-        int64_t dx = b->x - a->x, dy = b->y - a->y;
-        bool top_left = dy < 0 || (dy == 0 && dx > 0);
-        t->ea[e] = -dy;
-        t->eb[e] = dx;
-        t->ec[e] = -(t->ea[e] * a->x + t->eb[e] * a->y) - (top_left ? 0 : 1);
-    }
+    int64_t dx = b->x - a->x, dy = b->y - a->y;
+    bool top_left = dy < 0 || (dy == 0 && dx > 0);
+    t->ea[e] = -dy;
+    t->eb[e] = dx;
+    t->ec[e] = -(-dy * a->x + dx * a->y) - (top_left ? 0 : 1);
+}
+
+/* Edge functions of triangle v[0..3) (doubled area > 0) into t. */
+static inline void tri_edges(const pvert *const v[3], rs_tri *t)
+{
+    tri_edge(v[0], v[1], 0, t);
+    tri_edge(v[1], v[2], 1, t);
+    tri_edge(v[2], v[0], 2, t);
 }
 
 /* fmax for doubles, inline (the libm call costs more than the comparison): a NaN argument gives the other. */
 static inline double dmax(double a, double b) { return a > b || isnan(b) ? a : b; }
 
-/* Depth and perspective planes of triangle v[0..3) with doubled area `area2` (1/256^2 px^2 units). */
+/* Depth and perspective planes of triangle v[0..3) with doubled area `area2` (1/256^2 px^2 units).  The double
+ * operations are those of the scalar formulas (noted per line), grouped into 2- and 4-lane vectors. */
 static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, rs_tri *t)
 {
     const double k = 1.0 / RS_SUB;
     double x1 = (double)(v[1]->x - v[0]->x) * k, y1 = (double)(v[1]->y - v[0]->y) * k;
     double x2 = (double)(v[2]->x - v[0]->x) * k, y2 = (double)(v[2]->y - v[0]->y) * k;
     double ar = 1.0 / ((double)area2 * k * k);
-    double l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar; /* lambda1, lambda2 planes */
+    v4d l = (v4d){ y2, -x2, -y1, x1 } * ar;             /* l1a, l1b, l2a, l2b: the lambda1, lambda2 planes */
+    v2d l1 = { l[0], l[1] }, l2 = { l[2], l[3] };
     double z0 = v[0]->z, dz1 = v[1]->z - z0, dz2 = v[2]->z - z0;
-    double za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
-    double bias = j->st->depth_bias + j->st->slope_scale_depth_bias * dmax(fabs(za), fabs(zb));
-    t->z[0] = (float)za;
-    t->z[1] = (float)zb;
+    v2d zab = dz1 * l1 + dz2 * l2;                        /* za = dz1 l1a + dz2 l2a, zb = dz1 l1b + dz2 l2b */
+    double bias = j->st->depth_bias + j->st->slope_scale_depth_bias * dmax(fabs(zab[0]), fabs(zab[1]));
+    t->z[0] = (float)zab[0];
+    t->z[1] = (float)zab[1];
     t->z[2] = (float)(z0 + bias);
     double m = dmax(v[0]->iw, dmax(v[1]->iw, v[2]->iw));
-    double n0 = v[0]->iw / m, n1 = v[1]->iw / m, n2 = v[2]->iw / m;
-    t->q1[0] = (float)(n1 * l1a); t->q1[1] = (float)(n1 * l1b); t->q1[2] = 0.0f;
-    t->q2[0] = (float)(n2 * l2a); t->q2[1] = (float)(n2 * l2b); t->q2[2] = 0.0f;
-    t->s[0] = (float)((n1 - n0) * l1a + (n2 - n0) * l2a);
-    t->s[1] = (float)((n1 - n0) * l1b + (n2 - n0) * l2b);
-    t->s[2] = (float)n0;
+    v4d n = (v4d){ v[0]->iw, v[1]->iw, v[2]->iw, v[2]->iw } / m;  /* n0, n1, n2 */
+    v4d q = (v4d){ n[1], n[1], n[2], n[2] } * l;          /* n1 l1a, n1 l1b, n2 l2a, n2 l2b */
+    v2d s = (n[1] - n[0]) * l1 + (n[2] - n[0]) * l2;      /* (n1 - n0) l1. + (n2 - n0) l2. */
+    t->q1[0] = (float)q[0]; t->q1[1] = (float)q[1]; t->q1[2] = 0.0f;
+    t->q2[0] = (float)q[2]; t->q2[1] = (float)q[3]; t->q2[2] = 0.0f;
+    t->s[0] = (float)s[0];
+    t->s[1] = (float)s[1];
+    t->s[2] = (float)n[0];
 }
 
-/* Emit fan triangle (a, b, c) of a polygon whose area has sign `sign`; slivers that snapping made zero or
- * flipped are skipped (they would double-cover).  flat: the provoking vertex's slots, or NULL. */
-static void emit_tri(const rs_job *j, rs_chunk *c, const pvert *a, const pvert *b, const pvert *d, int sign,
-                     const rs_vec4 *flat)
+/* Emit triangle v[0..3) of doubled area `area` > 0 (clockwise) with its pixel box, edges, planes and slots. */
+static void emit_front(const rs_job *j, rs_chunk *c, const pvert *const v[3], int64_t area, const rs_vec4 *flat)
 {
-    int64_t area = (b->x - a->x) * (d->y - a->y) - (b->y - a->y) * (d->x - a->x);
-    if (area == 0 || (area > 0) != (sign > 0)) return;
-    const pvert *v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };
-    if (area < 0) area = -area;
-    int64_t mnx = a->x, mxx = a->x, mny = a->y, mxy = a->y;
+    int64_t mnx = v[0]->x, mxx = v[0]->x, mny = v[0]->y, mxy = v[0]->y;
     for (int i = 1; i < 3; i++) {
         mnx = v[i]->x < mnx ? v[i]->x : mnx; mxx = v[i]->x > mxx ? v[i]->x : mxx;
         mny = v[i]->y < mny ? v[i]->y : mny; mxy = v[i]->y > mxy ? v[i]->y : mxy;
@@ -199,7 +219,20 @@ static void emit_tri(const rs_job *j, rs_chunk *c, const pvert *a, const pvert *
     p->u.t.vx = (int32_t)v[0]->x;
     p->u.t.vy = (int32_t)v[0]->y;
     tri_planes(j, v, area, &p->u.t);
-    fill_attr(j, at, v[0]->a, v[1]->a, v[2]->a, flat);
+    if (flat) fill_attr(j, at, v[0]->a, v[1]->a, v[2]->a, flat);
+    else for (int s = 0; s < j->n_slots; s++) fill_slot(at + s * RS_ATTR_STRIDE, &v[0]->a[j->slot[s]],
+                                                         &v[1]->a[j->slot[s]], &v[2]->a[j->slot[s]]);
+}
+
+/* Emit fan triangle (a, b, c) of a polygon whose area has sign `sign`; slivers that snapping made zero or
+ * flipped are skipped (they would double-cover).  flat: the provoking vertex's slots, or NULL. */
+static void emit_tri(const rs_job *j, rs_chunk *c, const pvert *a, const pvert *b, const pvert *d, int sign,
+                     const rs_vec4 *flat)
+{
+    int64_t area = (b->x - a->x) * (d->y - a->y) - (b->y - a->y) * (d->x - a->x);
+    if (area == 0 || (area > 0) != (sign > 0)) return;
+    const pvert *v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };
+    emit_front(j, c, v, area > 0 ? area : -area, flat);
 }
 
 /* Emit the line a -> b: one pixel per major-axis pixel centre in [start, end) (the last pixel is not drawn).
@@ -325,6 +358,7 @@ struct rs_pvert {
     unsigned oc;     /* outcode (valid when finite) */
     bool finite;     /* load() would accept the position */
     bool projected;  /* project() succeeded (p valid) */
+    bool ready;      /* finite, inside every clip plane (oc == 0) and projected: no triangle check needed */
 };
 
 size_t rs_pvert_size(void) { return sizeof(rs_pvert); }
@@ -344,18 +378,70 @@ void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out)
     const rs_vec4 *q = &v->pos;
     out->finite = isfinite(q->x) && isfinite(q->y) && isfinite(q->z) && isfinite(q->w);
     out->oc = ~0u;
-    out->projected = false;
+    out->projected = out->ready = false;
     if (!out->finite) return;
     rs_cvert cv;
     cv.p[0] = q->x, cv.p[1] = q->y, cv.p[2] = q->z, cv.p[3] = q->w;
     cv.a = v->attr, cv.edge = true, cv.orig = true;
     out->oc = outcode6(j, cv.p);
     out->projected = project(j, &cv, &out->p);
+    out->ready = out->oc == 0 && out->projected;
 }
 
-/* Set up triangle v[0..3) whose vertices k[0..3) were projected by the shared pass: same outcome as
- * setup_triangle, which it falls back to when a vertex is not finite or the triangle needs clipping. */
-static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const uint32_t *k)
+#ifdef __AVX2__
+typedef int64_t v4q __attribute__((vector_size(32)));
+
+/* project's clamp per lane: x < -lim ? -lim : (x > lim ? lim : x). */
+static inline v4d clamp4(v4d x, double lim)
+{
+    v4d hi = { lim, lim, lim, lim }, lo = -hi;
+    v4q l = x < lo, h = x > hi;
+    v4q r = ((v4q)lo & l) | (~l & (((v4q)hi & h) | ((v4q)x & ~h)));
+    return (v4d)r;
+}
+
+/* rs_project_vertex for the four vertices v[0..4): outcode6 and project per lane with the same double
+ * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22). */
+static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+{
+    v4d x = { v[0].pos.x, v[1].pos.x, v[2].pos.x, v[3].pos.x }, y = { v[0].pos.y, v[1].pos.y, v[2].pos.y, v[3].pos.y };
+    v4d z = { v[0].pos.z, v[1].pos.z, v[2].pos.z, v[3].pos.z }, w = { v[0].pos.w, v[1].pos.w, v[2].pos.w, v[3].pos.w };
+    v4q fin = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
+    v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
+             (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
+    v4d fx = x / w * j->sx_scale, fy = y / w * j->sy_scale, zw = z / w, iw = 1.0 / w;
+    v4q ok = fin & (w > 0.0) & (fx - fx == 0.0) & (fy - fy == 0.0) & (zw - zw == 0.0) & (iw - iw == 0.0);
+    const double lim = (double)RS_GUARD_BAND * RS_SUB;
+    fx = clamp4(fx, lim);
+    fy = clamp4(fy, lim);
+    __m128i rx = _mm256_cvtpd_epi32((__m256d)fx), ry = _mm256_cvtpd_epi32((__m256d)fy);
+    v4d zd = (double)j->zoff + (double)j->zscale * zw;
+    v4f zf = __builtin_convertvector(zd, v4f);
+    int32_t ix[4], iy[4];
+    memcpy(ix, &rx, 16), memcpy(iy, &ry, 16);
+    for (int i = 0; i < 4; i++) {
+        rs_pvert *o = &out[i];
+        o->finite = fin[i] != 0;
+        o->oc = o->finite ? (unsigned)oc[i] : ~0u;
+        o->projected = ok[i] != 0;
+        o->ready = o->projected && oc[i] == 0;
+        if (!o->projected) continue;
+        o->p = (pvert){ .x = ix[i], .y = iy[i], .z = zf[i], .iw = iw[i], .a = v[i].attr, .edge = true, .orig = true };
+    }
+}
+#endif
+
+void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out)
+{
+    size_t i = 0;
+#ifdef __AVX2__
+    for (; i + 4 <= n; i += 4) project4(j, v + i, out + i);
+#endif
+    for (; i < n; i++) rs_project_vertex(j, &v[i], &out[i]);
+}
+
+/* setup_triangle_shared for a triangle with some vertex not `ready` or a fill mode other than solid. */
+static void setup_triangle_checked(const rs_job *j, rs_chunk *c, const uint32_t *k)
 {
     const rs_pvert *a = &j->pv[k[0]], *b = &j->pv[k[1]], *d = &j->pv[k[2]];
     const rs_vertex *const v[3] = { &j->verts[k[0]], &j->verts[k[1]], &j->verts[k[2]] };
@@ -365,9 +451,17 @@ static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const uint32_t *
     }
     if (a->oc & b->oc & d->oc) { c->clipped++; return; }
     if (!a->projected || !b->projected || !d->projected) { c->clipped++; return; }
-    if (j->st->fill_mode != RS_FILL_SOLID) {
-        pvert pv[3] = { a->p, b->p, d->p };
-        finish_triangle(j, c, v, pv, 3);
+    pvert pv[3] = { a->p, b->p, d->p };
+    finish_triangle(j, c, v, pv, 3);
+}
+
+/* Set up triangle v[0..3) whose vertices k[0..3) were projected by the shared pass: same outcome as
+ * setup_triangle, which it falls back to when a vertex is not finite or the triangle needs clipping. */
+static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const uint32_t *k)
+{
+    const rs_pvert *a = &j->pv[k[0]], *b = &j->pv[k[1]], *d = &j->pv[k[2]];
+    if (!(a->ready & b->ready & d->ready) || j->st->fill_mode != RS_FILL_SOLID) {
+        setup_triangle_checked(j, c, k);
         return;
     }
     /* finish_triangle and emit_polygon for a solid unclipped triangle, without copying the vertices */
@@ -377,7 +471,8 @@ static void setup_triangle_shared(const rs_job *j, rs_chunk *c, const uint32_t *
     int cm = j->st->cull_mode;
     if ((cm == RS_CULL_CCW && area < 0) || (cm == RS_CULL_CW && area > 0)) { c->culled++; return; }
     c->drawn++;
-    emit_tri(j, c, p0, p1, p2, area > 0 ? 1 : -1, j->flat ? v[0]->attr : NULL);
+    const pvert *const ov[3] = { p0, area > 0 ? p1 : p2, area > 0 ? p2 : p1 }; /* emit_tri, area known */
+    emit_front(j, c, ov, area > 0 ? area : -area, j->flat ? j->verts[k[0]].attr : NULL);
 }
 
 /* Set up one input line v[0]-v[1]. */
@@ -444,6 +539,18 @@ static bool reserve(void **buf, size_t *cap, size_t n, size_t size)
     return true;
 }
 
+/* Does primitive p lie in one tile? */
+static inline bool one_tile(const rs_prim *p)
+{
+    return ((p->x0 ^ p->x1) | (p->y0 ^ p->y1)) >> RS_TILE_BITS == 0;
+}
+
+/* The tile of p's top-left pixel. */
+static inline size_t tile_of(const rs_job *j, const rs_prim *p)
+{
+    return (size_t)(p->y0 >> RS_TILE_BITS) * (size_t)j->tiles_x + (size_t)(p->x0 >> RS_TILE_BITS);
+}
+
 void rs_bin_chunk(const rs_job *j, rs_chunk *c)
 {
     size_t nt = (size_t)j->n_tiles;
@@ -456,6 +563,7 @@ void rs_bin_chunk(const rs_job *j, rs_chunk *c)
     if (!cnt) { c->oom = true; return; }
     for (size_t k = 0; k < c->n; k++) {
         const rs_prim *p = &c->prims[k];
+        if (one_tile(p)) { cnt[tile_of(j, p) + 1]++; continue; }
         for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
             for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
                 cnt[(size_t)ty * (size_t)j->tiles_x + (size_t)tx + 1]++;
@@ -471,6 +579,7 @@ void rs_bin_chunk(const rs_job *j, rs_chunk *c)
     free(cnt);
     for (size_t k = 0; k < c->n; k++) {   /* bin_off[t] runs as the fill cursor of tile t */
         const rs_prim *p = &c->prims[k];
+        if (one_tile(p)) { c->bin_idx[c->bin_off[tile_of(j, p)]++] = (uint32_t)k; continue; }
         for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
             for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
                 c->bin_idx[c->bin_off[(size_t)ty * (size_t)j->tiles_x + (size_t)tx]++] = (uint32_t)k;

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "../raster/raster_internal.h"
 
 /* The cube, or side x side copies of it 3 apart in the z = 0 plane (the benchmark's scene B layout). */
 static void make_cubes(int side, is_mesh *out)
@@ -225,6 +226,46 @@ static float3 random_b(uint32_t *st, int v)
 
 /* Every shader's batched entry writes exactly the bytes of its per-vertex main, for every normal mode and with and
  * without the per-edge shortcut, on instances of several families and batches that mix instances. */
+/* A clip-space coordinate: mostly ordinary values, sometimes huge, zero, tiny, infinite or NaN. */
+static float pick_coord(unsigned r)
+{
+    static const float special[] = { 0.0f, -0.0f, 1.0f, -1.0f, 1e-30f, 1e30f, -1e30f, 3e38f, 1e-45f, NAN, INFINITY,
+                                     -INFINITY };
+    if (r % 7 == 0) return special[(r / 7) % 12];
+    float u = (float)((r >> 4) % 65536u) / 65536.0f - 0.5f;
+    return u * ((r / 3) % 3 == 0 ? 1e5f : 4.0f);
+}
+
+/* rs_project_vertices (four vertices at a time) gives exactly rs_project_vertex's records. */
+static void test_project_vertices(void **state)
+{
+    (void)state;
+    rs_state st = {0};
+    rs_job j = {0};
+    j.st = &st;
+    j.sx_scale = 1024 * 128.0, j.sy_scale = -768 * 128.0;
+    j.gx = (16384.0 - 1.0) / 512.0, j.gy = (16384.0 - 1.0) / 384.0;
+    j.zoff = 0.25f, j.zscale = 0.5f;
+    enum { N = 1027 };
+    rs_vertex *v = calloc(N, sizeof *v);
+    size_t sz = rs_pvert_size();
+    unsigned char *a = calloc(N, sz), *b = calloc(N, sz);
+    assert_non_null(v), assert_non_null(a), assert_non_null(b);
+    unsigned r = 12345u;
+    for (int round = 0; round < 20; round++) {
+        for (int i = 0; i < N; i++) {
+            float *p = &v[i].pos.x;
+            for (int c = 0; c < 4; c++) r = r * 1103515245u + 12345u, p[c] = pick_coord(r >> 1);
+            if (r & 256u) v[i].pos.w = fabsf(v[i].pos.w) + 0.5f; /* half of them in front of the camera */
+        }
+        memset(a, 0, N * sz), memset(b, 0, N * sz);
+        rs_project_vertices(&j, v, N, (rs_pvert *)a);
+        for (int i = 0; i < N; i++) rs_project_vertex(&j, &v[i], (rs_pvert *)(b + (size_t)i * sz));
+        assert_memory_equal(a, b, N * sz);
+    }
+    free(v), free(a), free(b);
+}
+
 static void test_shader_batches(void **state)
 {
     (void)state;
@@ -274,6 +315,7 @@ int main(void)
         cmocka_unit_test(test_fused_limits),
         cmocka_unit_test(test_offset_mesh),
         cmocka_unit_test(test_shader_batches),
+        cmocka_unit_test(test_project_vertices),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
