@@ -296,7 +296,10 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count);
 
-/* The render target (for output and tests) and statistics accumulated since the last dev_clear. */
+/* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
+ * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,
+ * so call it again after clearing and drawing before reading the planes -- a pointer kept across a dev_clear
+ * may see tiles that were never drawn to with their old contents. */
 rs_target *dev_render_target(is_device *dev);
 const rs_stats *dev_stats(const is_device *dev);
 /* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */

@@ -257,13 +257,18 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
     if ((flags & ~3u) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
-    rs_target_clear_threads(&dev->rt, flags, r | g << 8 | b << 16 | a << 24, z, dev->threads);
+    rs_target_clear_deferred(dev->rs, &dev->rt, flags, r | g << 8 | b << 16 | a << 24, z); /* per tile, on first use */
     memset(&dev->stats, 0, sizeof dev->stats);
     dev->shaded = 0;
     return IS_OK;
 }
 
-rs_target *dev_render_target(is_device *dev) { return &dev->rt; }
+/* The target, with any deferred clear written (so its planes may be read directly). */
+rs_target *dev_render_target(is_device *dev)
+{
+    if (dev) rs_target_flush(dev->rs, &dev->rt);
+    return &dev->rt;
+}
 const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
 uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
 

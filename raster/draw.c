@@ -35,6 +35,7 @@ void rs_destroy(rs_context *rs)
     free(rs->chunks);
     free(rs->tile_stats);
     free(rs->pv);
+    free(rs->pend);
     free(rs);
 }
 
@@ -248,6 +249,14 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     rs_bin_chunk(&jl, ch);
 }
 
+/* Does any chunk bin a primitive to tile `tile`? */
+static bool tile_has_prims(const rs_context *rs, size_t n_chunks, int tile)
+{
+    for (size_t c = 0; c < n_chunks; c++)
+        if (rs->chunks[c].bin_off[tile + 1] > rs->chunks[c].bin_off[tile]) return true;
+    return false;
+}
+
 /* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
 static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts)
 {
@@ -258,6 +267,7 @@ static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, 
     t.x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
     t.y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
     t.tested = t.written = 0;
+    if (tile_has_prims(rs, n_chunks, tile)) rs_tile_flush(rs, j, tile);
     for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
         for (uint32_t k = ch->bin_off[tile]; k < ch->bin_off[tile + 1]; k++) {

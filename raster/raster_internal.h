@@ -111,6 +111,14 @@ struct rs_context {
     size_t tile_stats_cap;
     void *pv;                    /* rs_pvert scratch of the shared pass */
     size_t pv_cap;
+    uint8_t *pend;               /* per tile of pend_rt: 1 while its deferred clear is not yet written */
+    size_t pend_cap;
+    int pend_tiles;              /* tiles of pend_rt with a deferred clear; 0: none */
+    rs_target *pend_rt;          /* the target of the deferred clear (rs_target_clear_deferred) */
+    uint32_t *pend_color;        /* pend_rt->color when deferred (detects a reallocated target) */
+    unsigned pend_flags;         /* the deferred clear's flags, colour and depth */
+    uint32_t pend_rgba;
+    float pend_z;
 };
 
 /* A tile being rasterized by one thread: its pixel rectangle (inside the scissor) and its counters. */
@@ -188,6 +196,13 @@ void rs_set_reference_path(rs_context *rs, bool on);
 /* ---- target.c ---- */
 /* rs_target_clear on `threads` threads (0: all cores), split by rows (the device's Clear). */
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads);
+/* rs_target_clear deferred: each 64x64 tile of rt is written (in cache) when a draw on rs first touches it,
+ * or by rs_target_flush.  Until rs_target_flush, rt's planes must only be drawn into through rs. */
+void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
+/* Write every tile of rt whose clear is still deferred (call before anything reads rt's planes). */
+void rs_target_flush(rs_context *rs, rs_target *rt);
+/* The tile pass: write tile `tile` of the job's target if its clear is deferred on rs. */
+void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile);
 
 /* ---- span.c: the 8-lane fast path of triangles on 1-sample targets ---- */
 /* True when the job may take the fast path. */

@@ -125,3 +125,77 @@ void rs_target_resolve(const rs_target *rt, uint32_t *out)
         out[p] = r;
     }
 }
+
+/* Write rt's deferred clear (as rs_target_clear with rs's pending values) into 64x64 tile (tx, ty). */
+static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty)
+{
+    int x0 = tx * RS_TILE, y0 = ty * RS_TILE;
+    int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
+    int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
+    size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns;
+    uint32_t zb;
+    memcpy(&zb, &rs->pend_z, 4);
+    for (int y = y0; y < y1; y++) {
+        size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns;
+        if (rs->pend_flags & 1u) fill32(rt->color + at, rs->pend_rgba, n, false);
+        if (rs->pend_flags & 2u) fill32((uint32_t *)rt->depth + at, zb, n, false);
+        for (int k = 0; (rs->pend_flags & 1u) && k < rt->n_aov; k++) {
+            size_t c = (size_t)rt->aov[k].comps;
+            memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
+                   (size_t)(x1 - x0) * c * sizeof(float));
+        }
+    }
+}
+
+/* Tiles of rt (64x64, the tile pass's grid). */
+static int tile_count(const rs_target *rt)
+{
+    return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
+}
+
+/* Is rs's deferred clear for rt (the same target, not reallocated since)? */
+static bool pending_on(const rs_context *rs, const rs_target *rt)
+{
+    return rs->pend_tiles > 0 && rs->pend_rt == rt && rt->color == rs->pend_color && tile_count(rt) == rs->pend_tiles;
+}
+
+void rs_target_flush(rs_context *rs, rs_target *rt)
+{
+    if (!rs || !rt || !pending_on(rs, rt)) {
+        if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
+        return;
+    }
+    int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE;
+    int nt = rs->threads > 0 ? rs->threads : omp_get_num_procs();
+    nt = nt < 1 ? 1 : nt;
+#pragma omp parallel for schedule(dynamic, 8) num_threads(nt)
+    for (int t = 0; t < n; t++)
+        if (rs->pend[t]) fill_tile(rs, rt, t % tx, t / tx);
+    rs->pend_tiles = 0;
+}
+
+void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
+{
+    if (!rs || !rt || !rt->color || !(flags & 3u)) return;
+    if (rs->pend_tiles > 0 && (!pending_on(rs, rt) || (flags & rs->pend_flags) != rs->pend_flags))
+        rs_target_flush(rs, rs->pend_rt); /* another target, or a clear that keeps part of the pending one */
+    size_t n = (size_t)tile_count(rt);
+    if (n > rs->pend_cap) {
+        uint8_t *p = realloc(rs->pend, n);
+        if (!p) {
+            rs_target_clear_threads(rt, flags, rgba, z, rs->threads);
+            return;
+        }
+        rs->pend = p, rs->pend_cap = n;
+    }
+    memset(rs->pend, 1, n);
+    rs->pend_tiles = (int)n, rs->pend_rt = rt, rs->pend_color = rt->color;
+    rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
+}
+
+void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile)
+{
+    if (!pending_on(rs, j->rt) || !rs->pend[tile]) return;
+    fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x);
+    rs->pend[tile] = 0;
+}
