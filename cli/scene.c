@@ -645,7 +645,7 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
 /* ---------------------------------------- files ---------------------------------------- */
 
 /* The input registers the device would fetch for grid point b of instance inst (Listing 1.1.2's layout). */
-static void input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in)
+void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in)
 {
     float4 *r = (float4 *)in;
     for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
@@ -689,7 +689,7 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
         for (size_t k = 0; k < g.n_points; k++) {
             is_vs_input in;
             is_vs_output out;
-            input_from_instance(&inst[t], g.bary[k], &in);
+            scene_input_from_instance(&inst[t], g.bary[k], &in);
             memset(&out, 0, sizeof out);
             vs->main(&c, &in, &out);
             float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];

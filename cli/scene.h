@@ -85,6 +85,9 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, s
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
  * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
+/* The input registers the device fetches for grid point b of instance inst (Listing 1.1.2's declaration, as
+ * mesh_patch_declaration lays it out): for evaluating a patch shader outside a draw (OBJ export, tests). */
+void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 

@@ -1,5 +1,6 @@
 /* meshes/import.c -- users' meshes through assimp's C API, merged into one is_mesh (see meshes.h). */
 #include "meshes.h"
+#include "mesh_internal.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -34,16 +35,6 @@
 #define MAX_IMPORT_ELEMENTS ((size_t)1 << 27)
 #define MAX_NODE_DEPTH 256
 #define DEFAULT_TIMEOUT_MS 60000
-
-/* Write a formatted message into err (if any). */
-static void set_err(char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
 
 /* A 3x4 affine transform in double (column vectors, as assimp: p' = M p). */
 typedef struct xform { double m[3][4]; } xform;
@@ -186,17 +177,17 @@ static int merge_scene(merged *o, const struct aiScene *sc, const char *label, c
     static const xform identity = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
     memset(o, 0, sizeof *o);
     if (!sc->mRootNode || walk(o, sc, sc->mRootNode, &identity, 0) != 0) {
-        set_err(err, errlen, "%s: invalid scene (no root node, or nodes nested deeper than %d)", label,
+        mesh_set_err(err, errlen, "%s: invalid scene (no root node, or nodes nested deeper than %d)", label,
                 MAX_NODE_DEPTH);
         return IS_MESH_ERR_INVALID;
     }
     if (o->nt == 0) {
-        set_err(err, errlen, "%s: no triangles (%zu point/line primitives, %u meshes)", label, o->skipped,
+        mesh_set_err(err, errlen, "%s: no triangles (%zu point/line primitives, %u meshes)", label, o->skipped,
                 sc->mNumMeshes);
         return IS_MESH_ERR_EMPTY;
     }
     if (o->nv > MAX_IMPORT_ELEMENTS || o->nt > MAX_IMPORT_ELEMENTS) {
-        set_err(err, errlen, "%s: too large after instancing the nodes (%zu vertices, %zu triangles)", label,
+        mesh_set_err(err, errlen, "%s: too large after instancing the nodes (%zu vertices, %zu triangles)", label,
                 o->nv, o->nt);
         return IS_MESH_ERR_INVALID;
     }
@@ -204,7 +195,7 @@ static int merge_scene(merged *o, const struct aiScene *sc, const char *label, c
     bool ok = merged_alloc(o);
     o->nv = o->nt = o->skipped = 0;
     if (!ok) {
-        set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, nv, nt);
+        mesh_set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, nv, nt);
         return IS_MESH_ERR_NOMEM;
     }
     walk(o, sc, sc->mRootNode, &identity, 0);
@@ -228,7 +219,7 @@ static int import_merged(const import_src *src, const char *label, merged *o, ch
                                                                   src->hint ? src->hint : "");
     if (!sc) {
         const char *msg = aiGetErrorString();
-        set_err(err, errlen, "%s: cannot read the mesh: %s", label, msg && *msg ? msg : "assimp failed");
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: %s", label, msg && *msg ? msg : "assimp failed");
         return IS_MESH_ERR_FORMAT;
     }
     int rc = merge_scene(o, sc, label, err, errlen);
@@ -314,13 +305,13 @@ static int receive(int fd, int64_t deadline, const char *label, merged *o, char 
     if (r != 0) return r;
     if (h.rc != IS_MESH_OK) {
         h.err[sizeof h.err - 1] = '\0';
-        set_err(err, errlen, "%s", h.err);
+        mesh_set_err(err, errlen, "%s", h.err);
         return h.rc < 0 ? h.rc : IS_MESH_ERR_FORMAT;
     }
     if (h.nv == 0 || h.nt == 0 || h.nv > MAX_IMPORT_ELEMENTS || h.nt > MAX_IMPORT_ELEMENTS) return -1;
     o->nv = (size_t)h.nv; o->nt = (size_t)h.nt; o->skipped = (size_t)h.skipped; o->any_normals = h.any_normals;
     if (!merged_alloc(o)) {
-        set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, o->nv, o->nt);
+        mesh_set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, o->nv, o->nt);
         return IS_MESH_ERR_NOMEM;
     }
     if ((r = read_all(fd, o->p, o->nv * sizeof(float3), deadline)) != 0) return r;
@@ -346,13 +337,13 @@ static int child_failure(int r, int status, const char *label, int timeout_ms, c
 {
     const char *sep = *what ? ": " : "";
     if (r == -2)
-        set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within %d ms (stopped)", label,
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within %d ms (stopped)", label,
                 timeout_ms);
     else if (WIFSIGNALED(status))
-        set_err(err, errlen, "%s: cannot read the mesh: assimp crashed on it (signal %d, %s)%s%s", label,
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp crashed on it (signal %d, %s)%s%s", label,
                 WTERMSIG(status), strsignal(WTERMSIG(status)), sep, what);
     else
-        set_err(err, errlen, "%s: cannot read the mesh: the import process failed (status %d)%s%s", label,
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: the import process failed (status %d)%s%s", label,
                 WIFEXITED(status) ? WEXITSTATUS(status) : -1, sep, what);
     return IS_MESH_ERR_FORMAT;
 }
@@ -457,24 +448,24 @@ static int check_file(const char *path, char *err, size_t errlen)
 {
     struct stat st;
     if (stat(path, &st) != 0) {
-        set_err(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        mesh_set_err(err, errlen, "%s: cannot open: %s", path, strerror(errno));
         return IS_MESH_ERR_IO;
     }
     if (S_ISDIR(st.st_mode)) {
-        set_err(err, errlen, "%s: is a directory, not a mesh file", path);
+        mesh_set_err(err, errlen, "%s: is a directory, not a mesh file", path);
         return IS_MESH_ERR_IO;
     }
     if (st.st_size == 0) {
-        set_err(err, errlen, "%s: empty file", path);
+        mesh_set_err(err, errlen, "%s: empty file", path);
         return IS_MESH_ERR_IO;
     }
     const char *ext = extension_of(path);
     if (!ext) {
-        set_err(err, errlen, "%s: no file extension: cannot tell the mesh format", path);
+        mesh_set_err(err, errlen, "%s: no file extension: cannot tell the mesh format", path);
         return IS_MESH_ERR_FORMAT;
     }
     if (!aiIsExtensionSupported(ext)) {
-        set_err(err, errlen, "%s: unknown mesh format '%s' (not an extension assimp reads)", path, ext);
+        mesh_set_err(err, errlen, "%s: unknown mesh format '%s' (not an extension assimp reads)", path, ext);
         return IS_MESH_ERR_FORMAT;
     }
     return IS_MESH_OK;
@@ -485,7 +476,7 @@ int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, c
 {
     if (out) memset(out, 0, sizeof *out);
     if (!path || !out) {
-        set_err(err, errlen, "mesh_load_file: NULL argument");
+        mesh_set_err(err, errlen, "mesh_load_file: NULL argument");
         return IS_MESH_ERR_ARG;
     }
     int rc = check_file(path, err, errlen);
@@ -501,15 +492,15 @@ int mesh_load_memory(const void *data, size_t size, const char *hint, const char
     if (!label) label = "<memory>";
     if (out) memset(out, 0, sizeof *out);
     if (!out || (!data && size)) {
-        set_err(err, errlen, "%s: mesh_load_memory: NULL argument", label);
+        mesh_set_err(err, errlen, "%s: mesh_load_memory: NULL argument", label);
         return IS_MESH_ERR_ARG;
     }
     if (size == 0) {
-        set_err(err, errlen, "%s: empty buffer", label);
+        mesh_set_err(err, errlen, "%s: empty buffer", label);
         return IS_MESH_ERR_IO;
     }
     if (size > UINT_MAX) {
-        set_err(err, errlen, "%s: buffer too large (%zu bytes)", label, size);
+        mesh_set_err(err, errlen, "%s: buffer too large (%zu bytes)", label, size);
         return IS_MESH_ERR_INVALID;
     }
     import_src src = {NULL, data, size, hint};
@@ -525,7 +516,7 @@ int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *
     struct stat st;
     if (!strchr(spec, '/') && !strchr(spec, '.') && stat(spec, &st) != 0) {
         if (out) memset(out, 0, sizeof *out);
-        set_err(err, errlen, "%s: neither a built-in mesh (tetrahedron, cube, cube-split, octahedron, "
+        mesh_set_err(err, errlen, "%s: neither a built-in mesh (tetrahedron, cube, cube-split, octahedron, "
                 "icosahedron, sphere, cylinder) nor a file", spec);
         return IS_MESH_ERR_ARG;
     }

@@ -1,5 +1,6 @@
 /* meshes/mesh.c -- mesh creation: validation, degenerate triangles, welding, normals; stats, instances. */
 #include "meshes.h"
+#include "mesh_internal.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -16,7 +17,7 @@
 #define MIN_NORMAL_LENGTH 1e-12
 
 /* Write a formatted message into err (if any). */
-static void set_err(char *err, size_t errlen, const char *fmt, ...)
+void mesh_set_err(char *err, size_t errlen, const char *fmt, ...)
 {
     if (!err || errlen == 0) return;
     va_list ap;
@@ -105,21 +106,21 @@ static bool mesh_alloc(is_mesh *m, size_t nv, size_t nt)
 static int validate(const char *label, const is_mesh_data *in, char *err, size_t errlen)
 {
     if (in->n_vertices >= UINT32_MAX || in->n_triangles > (SIZE_MAX / 16) / 3) {
-        set_err(err, errlen, "%s: too large (%zu vertices, %zu triangles; at most 2^32-1 vertices)", label,
+        mesh_set_err(err, errlen, "%s: too large (%zu vertices, %zu triangles; at most 2^32-1 vertices)", label,
                 in->n_vertices, in->n_triangles);
         return IS_MESH_ERR_INVALID;
     }
     if (in->n_triangles == 0 || in->n_vertices == 0) {
-        set_err(err, errlen, "%s: no triangles", label);
+        mesh_set_err(err, errlen, "%s: no triangles", label);
         return IS_MESH_ERR_EMPTY;
     }
     if (!in->positions || !in->indices) {
-        set_err(err, errlen, "%s: missing positions or indices", label);
+        mesh_set_err(err, errlen, "%s: missing positions or indices", label);
         return IS_MESH_ERR_ARG;
     }
     for (size_t i = 0; i < 3 * in->n_triangles; i++) {
         if (in->indices[i] >= in->n_vertices) {
-            set_err(err, errlen, "%s: triangle %zu, corner %zu: vertex index %u is out of range (%zu vertices)",
+            mesh_set_err(err, errlen, "%s: triangle %zu, corner %zu: vertex index %u is out of range (%zu vertices)",
                     label, i / 3, i % 3, in->indices[i], in->n_vertices);
             return IS_MESH_ERR_INVALID;
         }
@@ -127,11 +128,11 @@ static int validate(const char *label, const is_mesh_data *in, char *err, size_t
     for (size_t v = 0; v < in->n_vertices; v++) {
         float3 p = in->positions[v];
         if (!finite3(p)) {
-            set_err(err, errlen, "%s: vertex %zu has a non-finite position (%g, %g, %g)", label, v, p.x, p.y, p.z);
+            mesh_set_err(err, errlen, "%s: vertex %zu has a non-finite position (%g, %g, %g)", label, v, p.x, p.y, p.z);
             return IS_MESH_ERR_INVALID;
         }
         if (in->texcoords && !(isfinite(in->texcoords[v].x) && isfinite(in->texcoords[v].y))) {
-            set_err(err, errlen, "%s: vertex %zu has a non-finite texcoord (%g, %g)", label, v,
+            mesh_set_err(err, errlen, "%s: vertex %zu has a non-finite texcoord (%g, %g)", label, v,
                     in->texcoords[v].x, in->texcoords[v].y);
             return IS_MESH_ERR_INVALID;
         }
@@ -368,7 +369,7 @@ static int build_adjacency(is_mesh *m)
 int mesh_update_topology(is_mesh *m, char *err, size_t errlen)
 {
     if (!weld(m) || build_adjacency(m) != IS_MESH_OK) {
-        set_err(err, errlen, "%s: out of memory building adjacency", m->name);
+        mesh_set_err(err, errlen, "%s: out of memory building adjacency", m->name);
         return IS_MESH_ERR_NOMEM;
     }
     m->stats.welded_vertices = count_welded(m);
@@ -402,7 +403,7 @@ static int build(is_mesh *m, const char *label, const is_mesh_data *in, const is
     m->stats.degenerates_dropped = in->n_triangles - kept;
     m->n_triangles = kept;
     if (kept == 0) {
-        set_err(err, errlen, "%s: no triangles left: all %zu are degenerate", label, in->n_triangles);
+        mesh_set_err(err, errlen, "%s: no triangles left: all %zu are degenerate", label, in->n_triangles);
         return IS_MESH_ERR_EMPTY;
     }
     bool *bad = malloc(in->n_vertices * sizeof(bool));
@@ -410,7 +411,7 @@ static int build(is_mesh *m, const char *label, const is_mesh_data *in, const is
     if (rc == IS_MESH_OK) rc = mesh_update_topology(m, err, errlen);
     if (rc == IS_MESH_OK) rc = make_normals(m, in->normals != NULL, opt && opt->recompute_normals, bad);
     free(bad);
-    if (rc == IS_MESH_ERR_NOMEM) set_err(err, errlen, "%s: out of memory", label);
+    if (rc == IS_MESH_ERR_NOMEM) mesh_set_err(err, errlen, "%s: out of memory", label);
     m->stats.vertices = m->n_vertices;
     m->stats.triangles = m->n_triangles;
     return rc;
@@ -421,7 +422,7 @@ int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const i
                 char *err, size_t errlen)
 {
     if (!out || !in) {
-        set_err(err, errlen, "mesh_create: NULL argument");
+        mesh_set_err(err, errlen, "mesh_create: NULL argument");
         return IS_MESH_ERR_ARG;
     }
     memset(out, 0, sizeof *out);
@@ -431,7 +432,7 @@ int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const i
     snprintf(out->name, sizeof out->name, "%s", label);
     if (!mesh_alloc(out, in->n_vertices, in->n_triangles)) {
         mesh_free(out);
-        set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, in->n_vertices,
+        mesh_set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, in->n_vertices,
                 in->n_triangles);
         return IS_MESH_ERR_NOMEM;
     }

@@ -19,21 +19,6 @@
 
 #define SIDE 64
 
-/* The registers the device fetches for grid point b of instance inst (Listing 1.1.2's declaration). */
-static void input_of(const is_patch_instance *inst, float3 b, is_vs_input *in)
-{
-    float4 *r = (float4 *)in;
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
-    in->position[0] = f4_of(b, 1.0f);
-    for (int k = 0; k < 3; k++) {
-        in->texcoord[VS_IN_V0 + k] = f4_of(inst->v[k], 1.0f);
-        in->texcoord[VS_IN_N0 + k] = f4_of(inst->n[k], 1.0f);
-        in->texcoord[VS_IN_OPP0 + k] = f4_of(inst->opp[k], 1.0f);
-        in->texcoord[VS_IN_T0 + k] = f4(inst->t[k].x, inst->t[k].y, 0.0f, 1.0f);
-    }
-    in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
-}
-
 /* A camera at (0, 0, -3) looking at the origin, 45 degrees, near 0.5, far 10. */
 static float4x4 camera(void)
 {
@@ -69,7 +54,7 @@ static int check_vertices(const is_vertex_shader *vs, const is_vs_constants *c, 
     for (size_t k = 0; k < n; k++) {
         is_vs_input in;
         is_vs_output out;
-        input_of(inst, b[k], &in);
+        scene_input_from_instance(inst, b[k], &in);
         memset(&out, 0, sizeof out);
         vs->main(c, &in, &out);
         if (!finite4(out.pos)) { dropped++; continue; }
