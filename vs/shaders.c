@@ -113,8 +113,7 @@ void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in,
     }
 }
 
-/* Read the instance, evaluate patch p, write the outputs: the body of the comparison shaders. */
-static void run_patch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+void vs_run_patch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
     float3 b = f3_of(in->position[0]); // barycentric coords
     vs_triangle tri;
@@ -129,19 +128,19 @@ static void run_patch(vs_patch p, const is_vs_constants *c, const is_vs_input *i
 /* D3DDEGREE_LINEAR positions: the flat triangle with the chosen normals. */
 static void VSFlat(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    run_patch(VS_PATCH_FLAT, c, in, out);
+    vs_run_patch(VS_PATCH_FLAT, c, in, out);
 }
 
 /* Phong tessellation (Boubekeur and Alexa 2008), alpha in c9.y. */
 static void VSPhong(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    run_patch(VS_PATCH_PHONG, c, in, out);
+    vs_run_patch(VS_PATCH_PHONG, c, in, out);
 }
 
 /* PN-AEN (McDonald and Kilgard 2010): edge control points averaged over both sides' normals. */
 static void VSPnAen(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    run_patch(VS_PATCH_PN_AEN, c, in, out);
+    vs_run_patch(VS_PATCH_PN_AEN, c, in, out);
 }
 
 /* Transform and light POSITION0 / NORMAL0 / TEXCOORD0 (the device's N-patch mode feeds evaluated points). */

@@ -155,27 +155,13 @@ uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level
 /* Listing 1.1.1 (VSInstancedPatch, initial implementation): the Gregory blend of P0, P1, P2. */
 static void VSInstancedPatchInitial(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    float3 b = f3_of(in->position[0]); // barycentric coords
-    vs_triangle tri;
-    vs_triangle_from_input(in, &tri);
-    vs_options o = vs_options_from_constants(c);
-    float3 pos, normal, g;
-    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &tri, b, &o, &pos, &normal, &g);
-    float2 oTex = add2(add2(scale2(tri.t[0], b.x), scale2(tri.t[1], b.y)), scale2(tri.t[2], b.z));
-    vs_write_outputs(c, pos, normal, oTex, b, tri.id, g, out);
+    vs_run_patch(VS_PATCH_SMOOTH_INITIAL, c, in, out);
 }
 
 /* Listing 1.1.2 (VSInstancedPatch, final): P0..P2 blended towards the N-Patch by fn0..fn2 and bl. */
 static void VSInstancedPatch(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    float3 b = f3_of(in->position[0]); // barycentric coords
-    vs_triangle tri;
-    vs_triangle_from_input(in, &tri);
-    vs_options o = vs_options_from_constants(c);
-    float3 pos, normal, g;
-    vs_patch_eval(VS_PATCH_SMOOTH, &tri, b, &o, &pos, &normal, &g);
-    float2 oTex = add2(add2(scale2(tri.t[0], b.x), scale2(tri.t[1], b.y)), scale2(tri.t[2], b.z));
-    vs_write_outputs(c, pos, normal, oTex, b, tri.id, g, out);
+    vs_run_patch(VS_PATCH_SMOOTH, c, in, out);
 }
 
 /* The batched entries (vs.h): the same evaluation with the instance's triangle read once. */

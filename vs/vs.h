@@ -196,6 +196,9 @@ float3 vs_smooth_fn(const vs_triangle *tri);
  * no P_k at all (they are the border curve), so only interior points count. */
 uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level, uint64_t *total);
 
+/* The body of a patch shader: read the instance and b from the input registers, evaluate patch p (options from
+ * c9), write the outputs.  The smooth, smooth-initial, flat, phong and pn-aen shaders are this call. */
+void vs_run_patch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
 /* Write the outputs (see the conventions) from an object-space position and unit normal. */
 void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float2 oTex, float3 b, float id,
                       float3 g, is_vs_output *out);
