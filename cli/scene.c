@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -429,7 +430,7 @@ static is_result build_cpu(is_device *dev, const scene_opts *o, const is_mesh *m
     tnl_vertex *v = vb_lock(r->vb0);
     uint32_t pdeg = o->patch == VS_PATCH_FLAT ? IS_DEGREE_LINEAR : IS_DEGREE_CUBIC;
     uint32_t ndeg = o->normals == VS_NORMALS_QUADRATIC ? IS_DEGREE_QUADRATIC : IS_DEGREE_LINEAR;
-#pragma omp parallel for schedule(static) num_threads(o->threads > 0 ? o->threads : 2)
+#pragma omp parallel for schedule(static) num_threads(o->threads > 0 ? o->threads : omp_get_num_procs())
     for (long t = 0; t < (long)T; t++) {
         const uint32_t *tri = &m->indices[3 * t];
         float3 p[3] = {m->positions[tri[0]], m->positions[tri[1]], m->positions[tri[2]]};
