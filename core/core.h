@@ -218,8 +218,11 @@ typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constant
 typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
 
 /* Optional batched entry: shade in[0..n) into out[0..n) (outputs zeroed by the device), producing exactly the
- * bytes of n calls of `main`; lets a shader share the work of consecutive vertices of one instance. */
-typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+ * bytes of n calls of `main` in oPos and in the outputs of `live` (an IS_OUT_* mask: what the caller will read);
+ * lets a shader share the work of consecutive vertices of one instance, and skip outputs nobody reads (as a D3D9
+ * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left zero. */
+typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                               is_vs_output *out);
 
 typedef struct is_vertex_shader {
     const char *name;

@@ -255,6 +255,16 @@ static void fetch_cached(const fetch_plan *fp, const float4 *cache, uint32_t v0,
             *(float4 *)((unsigned char *)&in[v] + fp->el[fp->vert[q]].reg_offset) = *c++;
 }
 
+/* The outputs the rasterizer reads when drawing into dev's target: oD0 (the pixel colour) and the slots of the
+ * target's AOV planes (raster.h).  A batch may skip the others, as a D3D9 driver links the vertex outputs to what
+ * the pixel stage consumes. */
+static uint32_t live_outputs(const is_device *dev)
+{
+    uint32_t live = IS_OUT_COLOR0;
+    for (int k = 0; k < dev->rt.n_aov; k++) live |= 1u << dev->rt.aov[k].slot;
+    return live;
+}
+
 /* Shade vertices v0..v0+n-1 of `instance` into out[0..n), in batches of SHADE_BATCH; cache: the draw's
  * fetch_cache (vertex 0 = first) or NULL. */
 static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t instance, uint32_t v0,
@@ -262,6 +272,7 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
 {
     is_vs_input in[SHADE_BATCH];
     const is_vertex_shader *vs = dev->vs;
+    const uint32_t live = live_outputs(dev);
     fetch_batch(fp, first + v0, n < SHADE_BATCH ? n : SHADE_BATCH, instance, in);
     for (uint32_t b = 0; b < n; b += SHADE_BATCH) {
         uint32_t m = n - b < SHADE_BATCH ? n - b : SHADE_BATCH;
@@ -269,7 +280,7 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
         if (cache) fetch_cached(fp, cache, v0 + b, m, in);
         else fetch_vertices(fp, first + v0 + b, m, in);
         memset(out, 0, m * sizeof *out);
-        if (vs->batch) vs->batch(&dev->consts, in, m, out);
+        if (vs->batch) vs->batch(&dev->consts, in, m, live, out);
         else
             for (uint32_t k = 0; k < m; k++) vs->main(&dev->consts, &in[k], &out[k]);
     }

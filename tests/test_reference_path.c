@@ -295,10 +295,18 @@ static void test_shader_batches(void **state)
                 }
                 memset(a, 0, N * sizeof *a), memset(b, 0, N * sizeof *b);
                 for (int v = 0; v < N; v++) vs_shaders[s]->main(&c, &in[v], &a[v]);
-                vs_shaders[s]->batch(&c, in, N, b);
+                vs_shaders[s]->batch(&c, in, N, ~0u, b);
                 for (int v = 0; v < N; v++)
                     if (memcmp(&a[v], &b[v], sizeof a[v]) != 0)
                         fail_msg("shader %s mode %d instance %d vertex %d: batch differs", vs_shaders[s]->name, mode, t, v);
+                /* only oD0 live (the device's usual link): oPos and oD0 keep the bytes of main */
+                memset(b, 0, N * sizeof *b);
+                vs_shaders[s]->batch(&c, in, N, IS_OUT_COLOR0, b);
+                for (int v = 0; v < N; v++)
+                    if (memcmp(&a[v].pos, &b[v].pos, sizeof a[v].pos) != 0 ||
+                        memcmp(&a[v].attr[RS_ATTR_COLOR0], &b[v].attr[RS_ATTR_COLOR0], sizeof(rs_vec4)) != 0)
+                        fail_msg("shader %s mode %d instance %d vertex %d: batch with oD0 live differs",
+                                 vs_shaders[s]->name, mode, t, v);
             }
         }
     }

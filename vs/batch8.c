@@ -181,31 +181,42 @@ static void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
     for (int i = 0; i < L->n_real; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
 }
 
-/* vs_write_outputs_k per lane; TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's. */
+/* vs_write_outputs_k per lane; TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only oPos and the live
+ * outputs (k->live) are computed and stored; the others stay as the device left them (zero). */
 static void outputs8(const vs_batch_consts *k, const lanes8 *L, f3x8 pos, f3x8 normal, const float2 t[3], float id,
                      f3x8 g)
 {
     const float4x4 *W = &k->wvp, *M = &k->world;
+    const uint32_t live = k->live;
     v8f one = bf(1.0f), zero = bf(0.0f);
     v8f px[4];
     for (int c = 0; c < 4; c++)
         px[c] = pos.x * bf(W->m[0][c]) + pos.y * bf(W->m[1][c]) + pos.z * bf(W->m[2][c]) + one * bf(W->m[3][c]);
     store4(L, -1, px[0], px[1], px[2], px[3]);
+    if (!(live & (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | IS_OUT_TEXCOORD(3) |
+                  IS_OUT_TEXCOORD(4))))
+        return;
     f3x8 N = {normal.x * bf(M->m[0][0]) + normal.y * bf(M->m[1][0]) + normal.z * bf(M->m[2][0]),
               normal.x * bf(M->m[0][1]) + normal.y * bf(M->m[1][1]) + normal.z * bf(M->m[2][1]),
               normal.x * bf(M->m[0][2]) + normal.y * bf(M->m[1][2]) + normal.z * bf(M->m[2][2])};
-    v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
-    d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
-    d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
-    store4(L, RS_ATTR_COLOR0, bf(k->diffuse.x) * d, bf(k->diffuse.y) * d, bf(k->diffuse.z) * d, one);
-    v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
-    v8f ty = bf(t[0].y) * L->b.x + bf(t[1].y) * L->b.y + bf(t[2].y) * L->b.z;
-    store4(L, RS_ATTR_TEXCOORD0 + 0, tx, ty, zero, one);
-    f3x8 nn = normalize(N);
-    store4(L, RS_ATTR_TEXCOORD0 + 1, nn.x, nn.y, nn.z, zero);
-    store4(L, RS_ATTR_TEXCOORD0 + 2, L->b.x, L->b.y, L->b.z, one);
-    store4(L, RS_ATTR_TEXCOORD0 + 3, bf(id), zero, zero, one);
-    store4(L, RS_ATTR_TEXCOORD0 + 4, g.x, g.y, g.z, zero);
+    if (live & IS_OUT_COLOR0) {
+        v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
+        d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
+        d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
+        store4(L, RS_ATTR_COLOR0, bf(k->diffuse.x) * d, bf(k->diffuse.y) * d, bf(k->diffuse.z) * d, one);
+    }
+    if (live & IS_OUT_TEXCOORD(0)) {
+        v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
+        v8f ty = bf(t[0].y) * L->b.x + bf(t[1].y) * L->b.y + bf(t[2].y) * L->b.z;
+        store4(L, RS_ATTR_TEXCOORD0 + 0, tx, ty, zero, one);
+    }
+    if (live & IS_OUT_TEXCOORD(1)) {
+        f3x8 nn = normalize(N);
+        store4(L, RS_ATTR_TEXCOORD0 + 1, nn.x, nn.y, nn.z, zero);
+    }
+    if (live & IS_OUT_TEXCOORD(2)) store4(L, RS_ATTR_TEXCOORD0 + 2, L->b.x, L->b.y, L->b.z, one);
+    if (live & IS_OUT_TEXCOORD(3)) store4(L, RS_ATTR_TEXCOORD0 + 3, bf(id), zero, zero, one);
+    if (live & IS_OUT_TEXCOORD(4)) store4(L, RS_ATTR_TEXCOORD0 + 4, g.x, g.y, g.z, zero);
 }
 
 /* ---------------------------------------------------------------- the batch walk */
@@ -407,18 +418,36 @@ static void inst_read(vs_patch p, const vs_batch_consts *k, const is_vs_input *r
     for (int e = 0; e < 3; e++) edge_cp_make(&I->T, e, &I->e[e]);
 }
 
+/* Are the n >= 32 bytes at a and b the same bits?  32 at a time (the last block overlapping), one branch at the
+ * end: n is a constant at every call, so the loop unrolls into a few loads and compares. */
+static inline __attribute__((always_inline)) bool same_bytes(const void *a, const void *b, size_t n)
+{
+    const char *p = a, *q = b;
+    __m256i eq = _mm256_set1_epi8(-1);
+#pragma GCC unroll 16
+    for (size_t o = 0; o < n; o += 32) {
+        size_t at = o + 32 > n ? n - 32 : o;
+        __m256i x = _mm256_loadu_si256((const __m256i *)(p + at)), y = _mm256_loadu_si256((const __m256i *)(q + at));
+        eq = _mm256_and_si256(eq, _mm256_cmpeq_epi8(x, y));
+    }
+    return (unsigned)_mm256_movemask_epi8(eq) == 0xffffffffu;
+}
+
 /* Do a and b hold the same registers for patch p's instance data? */
 static bool same_inst(vs_patch p, const is_vs_input *a, const is_vs_input *b)
 {
-    if (p == VS_PATCH_NPATCH) return memcmp(a->texcoord, b->texcoord, (VS_IN_ID + 1) * sizeof(float4)) == 0;
-    return vs_same_instance(a, b);
+    _Static_assert((VS_IN_ID + 1) * sizeof(float4) >= 32, "same_bytes compares at least 32 bytes");
+    if (p == VS_PATCH_NPATCH) return same_bytes(a->texcoord, b->texcoord, (VS_IN_ID + 1) * sizeof(float4));
+    return same_bytes((const char *)a + sizeof(float4), (const char *)b + sizeof(float4), sizeof *a - sizeof(float4));
 }
 
 /* The batch of patch p (npatch or smooth): interior vertices 8 at a time (linear normals), the rest one by one. */
-static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                   is_vs_output *out)
 {
     vs_batch_consts k;
     vs_batch_consts_read(c, &k);
+    k.live = live;
     inst8 I;
     lanes8 L, E;
     L.n_real = E.n_real = 0;
@@ -434,7 +463,8 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
 
 #else /* without AVX2: the per-vertex evaluation */
 
-static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                   is_vs_output *out)
 {
     if (p == VS_PATCH_SMOOTH) {
         vs_patch_batch(p, c, in, n, out);
@@ -445,12 +475,12 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
 
 #endif
 
-void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out)
 {
-    batch8(VS_PATCH_NPATCH, c, in, n, out);
+    batch8(VS_PATCH_NPATCH, c, in, n, live, out);
 }
 
-void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out)
 {
-    batch8(VS_PATCH_SMOOTH, c, in, n, out);
+    batch8(VS_PATCH_SMOOTH, c, in, n, live, out);
 }

@@ -89,6 +89,7 @@ void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k)
     k->world = vs_const_matrix(c, VS_C_WORLD);
     k->diffuse = c->c[VS_C_DIFFUSE];
     k->o = vs_options_from_constants(c);
+    k->live = ~0u;
 }
 
 bool vs_same_instance(const is_vs_input *a, const is_vs_input *b)
@@ -150,15 +151,18 @@ static void VSFixed(const is_vs_constants *c, const is_vs_input *in, is_vs_outpu
                      f3(0, 0, 0), out);
 }
 
-static void VSFlatBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void VSFlatBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                        is_vs_output *out)
 {
     vs_patch_batch(VS_PATCH_FLAT, c, in, n, out);
 }
-static void VSPhongBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void VSPhongBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                         is_vs_output *out)
 {
     vs_patch_batch(VS_PATCH_PHONG, c, in, n, out);
 }
-static void VSPnAenBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void VSPnAenBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                         is_vs_output *out)
 {
     vs_patch_batch(VS_PATCH_PN_AEN, c, in, n, out);
 }

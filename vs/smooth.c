@@ -165,7 +165,8 @@ static void VSInstancedPatch(const is_vs_constants *c, const is_vs_input *in, is
 }
 
 /* The batched entries (vs.h): the same evaluation with the instance's triangle read once. */
-static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                                         is_vs_output *out)
 {
     vs_patch_batch(VS_PATCH_SMOOTH_INITIAL, c, in, n, out);
 }

@@ -215,6 +215,7 @@ typedef struct vs_batch_consts {
     float4x4 wvp, world;
     float4 diffuse;
     vs_options o;
+    uint32_t live;  /* IS_OUT_* outputs the caller reads (the batch's `live`; ~0u from vs_batch_consts_read) */
 } vs_batch_consts;
 void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k);
 /* True when a and b hold the same registers apart from POSITION0 (so a shader may reuse a's instance work). */
@@ -226,9 +227,10 @@ void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, flo
 void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
 
 /* The batched entries of the npatch and smooth shaders (vs/batch8.c): interior vertices with linear normals 8 at a
- * time, the rest through the per-vertex evaluation; the same bytes as the per-vertex shaders. */
-void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
-void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+ * time, the rest through the per-vertex evaluation; the same bytes as the per-vertex shaders in oPos and the live
+ * outputs (the 8-lane groups compute and store only those; vertices on the per-vertex path write every output). */
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out);
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out);
 
 /* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
  * term itself; a + (b - a) need not round to b). */
