@@ -355,8 +355,45 @@ typedef struct fused_ctx {
     const uint32_t *list;      /* the index list of a full piece (instance i's vertices at i * count) */
     size_t slot_verts;         /* scratch per slot in out_v */
     rs_vertex *out_v;
-    const float4 *cache;       /* fetch_cache of first..first+count-1, or NULL */
+    const float4 *cache;       /* fetch_cache of first..first+count-1 (the draw has one) */
+    is_vs_input *in;           /* count input registers per slot (see shade_instance) */
+    bool *in_ready;            /* per slot: its inputs hold the defaults outside the declaration's registers */
+    uint32_t live;             /* live_outputs(dev) */
 } fused_ctx;
+
+/* Shade all `count` vertices of `instance` into out[0..count) with one batch call (so the shader's 8-lane groups
+ * are full but for the instance's last ones).  in[0..count) is the slot's input scratch: registers outside the
+ * declaration are written with D3D9's defaults once per draw (*ready), the declared ones per instance -- the
+ * per-instance elements fetched once into a template whose span [lo, hi) of per-instance registers is copied to
+ * every vertex (registers between them are defaults there too), then the per-vertex ones from the draw's
+ * fetch_cache.  The outputs are not zeroed first: the rasterizer reads oPos and the live outputs the shader
+ * writes (its `outputs` mask), nothing else of this scratch. */
+static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, rs_vertex *out)
+{
+    const fetch_plan *fp = f->fp;
+    const uint32_t n = f->count;
+    if (!*ready) {
+        for (uint32_t v = 0; v < n; v++) input_defaults(&in[v]);
+        *ready = true;
+    }
+    is_vs_input t;
+    input_defaults(&t);
+    size_t lo = sizeof t, hi = 0;
+    for (unsigned k = 0; k < fp->n; k++) {
+        const fetch_elem *e = &fp->el[k];
+        if (!e->per_instance) continue;
+        *(float4 *)((unsigned char *)&t + e->reg_offset) =
+            decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
+        lo = e->reg_offset < lo ? e->reg_offset : lo;
+        hi = e->reg_offset + sizeof(float4) > hi ? e->reg_offset + sizeof(float4) : hi;
+    }
+    for (uint32_t v = 0; v < n && lo < hi; v++) memcpy((unsigned char *)&in[v] + lo, (unsigned char *)&t + lo, hi - lo);
+    fetch_cached(fp, f->cache, 0, n, in);
+    const is_vertex_shader *vs = f->dev->vs;
+    if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, out);
+    else
+        for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
+}
 
 /* rs_produce_fn: shade the piece's instances into the slot's scratch and build its index list. */
 static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
@@ -365,8 +402,8 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     const fused_ctx *f = ctx;
     uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
     rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
-    for (uint32_t i = 0; i < n; i++)
-        shade_piece(f->dev, f->fp, f->first, f->i0 + a + i, 0, f->count, out + (size_t)i * f->count, f->cache);
+    is_vs_input *in = f->in + (size_t)slot * f->count;
+    for (uint32_t i = 0; i < n; i++) shade_instance(f, f->i0 + a + i, in, &f->in_ready[slot], out + (size_t)i * f->count);
     *verts = out, *n_verts = (size_t)n * f->count, *idx = f->list; /* a short piece uses a prefix */
     return (size_t)n * (f->n_idx / 3);
 }
@@ -395,9 +432,13 @@ static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims
     int slots = rs_threads(dev->rs);
     for (uint32_t i = 1; i < per_piece; i++) /* instance i of a piece: instance 0's list moved by i * count */
         for (size_t k = 0; k < 3 * n_prims; k++) list[(size_t)i * 3 * n_prims + k] = i * count + list[k];
-    float4 *cache = fetch_cache(fp, first, count); /* NULL: each instance fetches its own (same values) */
-    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache};
-    is_result r = reserve_scratch(dev, (size_t)slots * f.slot_verts, 0);
+    float4 *cache = fetch_cache(fp, first, count);
+    is_vs_input *in = malloc((size_t)slots * count * sizeof *in);
+    bool *in_ready = calloc((size_t)slots, sizeof *in_ready);
+    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache,
+                   in, in_ready, live_outputs(dev)};
+    is_result r = cache && in && in_ready ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)
+                                          : dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for the inputs");
     f.out_v = dev->out_v;
     for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass) {
         f.i0 = i0;
@@ -410,7 +451,7 @@ static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims
         else if (e != RS_OK) r = dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
         else add_stats(dev, &s);
     }
-    free(cache);
+    free(cache), free(in), free(in_ready);
     dev->shaded += total;
     return r;
 }
