@@ -214,13 +214,14 @@ typedef rs_vertex is_vs_output;
 typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constants;
 
 /* A shader's function: reads constants and one vertex's inputs, writes its outputs.  The shader must write
- * oPos and every output named in its `outputs` mask; the device zeroes the others. */
+ * oPos and every output named in its `outputs` mask; the others read zero in the rasterizer (the device zeroes
+ * them, or never reads them). */
 typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
 
-/* Optional batched entry: shade in[0..n) into out[0..n) (outputs zeroed by the device), producing exactly the
+/* Optional batched entry: shade in[0..n) into out[0..n) (not necessarily zeroed first), producing exactly the
  * bytes of n calls of `main` in oPos and in the outputs of `live` (an IS_OUT_* mask: what the caller will read);
  * lets a shader share the work of consecutive vertices of one instance, and skip outputs nobody reads (as a D3D9
- * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left zero. */
+ * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left unwritten. */
 typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                                is_vs_output *out);
 
