@@ -205,16 +205,18 @@ void rs_target_flush(rs_context *rs, rs_target *rt);
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile);
 
 /* ---- span.c: the 8-lane fast path of triangles on 1-sample targets ---- */
-/* True when the job may take the fast path. */
-bool rs_span_ok(const rs_job *j);
-/* Rasterize block [x0, x1] x [y0, y1] (inside one 8-aligned column group) of triangle p with edge values e at
- * (x0, y0); full: every pixel is inside.  Same bytes as tri.c's reference block walk. */
-void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
-                       int y1, const int64_t *e, bool full);
-
-/* The small-triangle path: triangle p's pixels [x0, x1] x [y0, y1] of tile t (at most 8 wide) walked one row of
- * 8 lanes at a time with 32-bit edge values, no block tests.  False (nothing done) when p does not qualify. */
-bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
+/* True when the job may take the fast path: 1-sample targets off the reference path, with AVX2. */
+static inline bool rs_span_ok(const rs_job *j)
+{
+#ifdef __AVX2__
+    return j->samples == 1 && !j->reference;
+#else
+    return false;
+#endif
+}
+/* Rasterize triangle p's pixels [x0, x1] x [y0, y1] (its box clipped to tile t) on the fast path (rs_span_ok):
+ * the same bytes and counters as tri.c's reference walk. */
+void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
 
 /* ---- tri.c, line.c ---- */
 /* Rasterize triangle p (attributes a) inside tile t. */

@@ -1,26 +1,37 @@
-/* raster/span.c -- the fast path of triangle rasterization on 1-sample targets: each row of an 8x8 block is
- * one group of 8 pixels (8 lanes of AVX2), coverage from the int64 edge functions 4 lanes at a time, then depth
- * test, depth write, perspective-correct colour and colour write for the 8 pixels at once.
+/* raster/span.c -- the fast path of triangle rasterization on 1-sample targets: 8 pixels at a time (8 lanes of
+ * AVX2): coverage from the edge functions, then depth test, depth write, perspective-correct colour and colour
+ * write for the 8 pixels at once.
  *
  * Exactness: every lane performs the same float operations in the same order as tri_pixel in tri.c (the
  * reference path), without FMA (-ffp-contract=off) and with IEEE division, so both paths write the same bytes.
- * Lanes are the pixels gx..gx+7 of an 8-aligned group; a group lies inside one 64x64 tile (one thread), so
- * loading and storing back untouched lanes is safe, except past the right end of the target, where only the
- * pixels that exist are copied in and out.
+ * The planes are split into an x part (the left operand of each sum: z2 + z0 * sx, s2 + s0 * fx, ...), computed
+ * once per group of lanes, and a y part (z1 * sy, s1 * fy, ...), computed once per row; each lane adds the two,
+ * as tri_pixel does.  An alpha channel that does not vary over the triangle gets the value its interpolation
+ * would give without evaluating it (alpha_const).  Coverage is exact integer arithmetic (int64, or int32 where
+ * the values provably fit).
+ * Lanes lie inside one 64x64 tile (one thread), so loading and storing back untouched lanes is safe, except
+ * past the right end of the target, where span8 copies only the pixels that exist in and out.
  *
- * Two walks feed the rows: 8x8 blocks (rs_tri_block_fast, after tri.c's block test) and, for triangles at most 8
- * pixels wide inside a tile, the small-triangle walk (rs_tri_small: one row of 8 lanes starting at the triangle's
- * left column, moved left to stay inside the tile, 32-bit edge values, no block test).  Rows without blending or
- * AOV planes go through row8, which takes the per-triangle halves of the planes from rows8 (computed once per
- * group, the same sums in the same order). */
+ * The walks (rs_tri_fast picks one per triangle):
+ *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
+ *    boxes at most 4 wide go 4x2 pixels at a time (two rows in the 8 lanes), the others one row of 8 lanes;
+ *  - the others: the box's groups of 8 columns (from its left column when it is narrow, 8-aligned otherwise),
+ *    each cut into blocks of up to 8 rows with a trivial reject / accept test; full blocks skip coverage,
+ *    partial blocks step int32 edge values when the edges that cross the block provably fit (int64 otherwise).
+ * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
+ * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
+ * blending and AOV planes go through span8 (per-pixel write-out, as the reference). */
 #include "raster_internal.h"
 
 #include <string.h>
 
 _Static_assert(RS_BLOCK == 8, "a block row is one group of 8 lanes");
+_Static_assert(RS_TILE == 64, "a tile row has at most 8 groups and a tile at most 64 rows");
 
 #ifdef __AVX2__
 #include <immintrin.h>
+
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
 
 typedef float v8f __attribute__((vector_size(32)));
 typedef int32_t v8i __attribute__((vector_size(32)));
@@ -30,28 +41,34 @@ typedef int64_t v4q __attribute__((vector_size(32)));
 /* Lane indices 0..7 as ints. */
 static const v8i lane_idx = {0, 1, 2, 3, 4, 5, 6, 7};
 static const v8i lane_bit = {1, 2, 4, 8, 16, 32, 64, 128};
+/* Lane i of the 4x2 walk is column i & 3 of row i >> 2. */
+static const v8i quad_col = {0, 1, 2, 3, 0, 1, 2, 3};
+static const v8i quad_row = {0, 0, 0, 0, 1, 1, 1, 1};
 
 /* Broadcast a float / an int to 8 lanes. */
 static inline v8f bf(float x) { return (v8f){x, x, x, x, x, x, x, x}; }
 static inline v8i bi(int32_t x) { return (v8i){x, x, x, x, x, x, x, x}; }
+static inline v8u bu(uint32_t x) { return (v8u){x, x, x, x, x, x, x, x}; }
 
 /* mask ? a : b per lane (mask lanes are -1 or 0). */
 static inline v8f sel(v8i mask, v8f a, v8f b) { return (v8f)_mm256_blendv_ps((__m256)b, (__m256)a, (__m256)mask); }
-static inline v8i seli(v8i mask, v8i a, v8i b) { return (mask & a) | (~mask & b); }
-
-/* 8-bit lane mask -> -1 / 0 lanes. */
-static inline v8i lanes_of(unsigned m) { return (bi((int32_t)m) & lane_bit) != 0; }
-/* -1 / 0 lanes -> 8-bit lane mask. */
-static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m256)m); }
-
-/* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
-static inline v8f zclamp8(v8f z, float lo, float hi)
+static inline v8i seli(v8i mask, v8i a, v8i b)
 {
-    return sel(z >= bf(lo), sel(z <= bf(hi), z, bf(hi)), bf(lo));
+    return (v8i)_mm256_blendv_ps((__m256)b, (__m256)a, (__m256)mask);
 }
 
+/* 8-bit lane mask -> -1 / 0 lanes. */
+static inline v8i lanes_of(unsigned m) { return (bi((int32_t)m) & lane_bit) == lane_bit; }
+/* -1 / 0 lanes (or any sign bits) -> 8-bit lane mask. */
+static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m256)m); }
+/* Lanes l0..l1 as an 8-bit mask. */
+static inline unsigned lane_range(int l0, int l1) { return ((2u << l1) - 1u) & ~((1u << l0) - 1u); }
+
+/* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
+static inline v8f zclamp8(v8f z, v8f lo, v8f hi) { return sel(z >= lo, sel(z <= hi, z, hi), lo); }
+
 /* rs_zpass per lane for compare function f. */
-static inline v8i zpass8(int f, v8f z, v8f d)
+ALWAYS_INLINE v8i zpass8(int f, v8f z, v8f d)
 {
     switch (f) {
     case RS_CMP_NEVER: return bi(0);
@@ -65,23 +82,48 @@ static inline v8i zpass8(int f, v8f z, v8f d)
     }
 }
 
-/* rs_to8 per lane: saturate (NaN -> 0), * 255 + 0.5, truncate. */
+/* rs_to8 per lane: saturate (NaN -> 0), * 255 + 0.5, truncate.  max(c, 0) is c > 0 ? c : 0 (NaN -> +0, as the
+ * reference's 0.0f), then min(., 1) is . < 1 ? . : 1: the reference's c > 0 ? (c < 1 ? c : 1) : 0 exactly. */
 static inline v8i to8_8(v8f c)
 {
-    v8f s = sel(c > bf(0.0f), sel(c < bf(1.0f), c, bf(1.0f)), bf(0.0f));
+    v8f s = (v8f)_mm256_min_ps(_mm256_max_ps((__m256)c, _mm256_setzero_ps()), (__m256)bf(1.0f));
     return __builtin_convertvector(s * bf(255.0f) + bf(0.5f), v8i);
 }
 
-/* rs_shade_color per lane at barycentrics (b1, b2). */
-static inline v8i shade8(const rs_job *j, const float *a, v8f b1, v8f b2)
+/* The 8-bit alpha of colour slot p when its alpha does not vary (p[10], p[11] are zeros), else -1.  Then
+ * (p9 + b1 * p10) + b2 * p11 is p9 (or a zero when p9 is one) when b1 * p10 + b2 * p11 is not NaN, and NaN
+ * when it is (b1 or b2 not finite): rs_to8 gives rs_to8(p9), resp. 0, exactly what shade8 computes from it. */
+static inline int alpha_const(const float *p)
 {
-    if (j->color_idx < 0) return bi(-1);
-    const float *p = a + j->color_idx * RS_ATTR_STRIDE;
-    v8i r = to8_8(bf(p[0]) + b1 * bf(p[1]) + b2 * bf(p[2]));
-    v8i g = to8_8(bf(p[3]) + b1 * bf(p[4]) + b2 * bf(p[5]));
-    v8i b = to8_8(bf(p[6]) + b1 * bf(p[7]) + b2 * bf(p[8]));
-    v8i al = to8_8(bf(p[9]) + b1 * bf(p[10]) + b2 * bf(p[11]));
-    return r | g << 8 | b << 16 | al << 24;
+    return p && p[10] == 0.0f && p[11] == 0.0f ? (int)rs_to8(p[9]) : -1;
+}
+
+/* rs_shade_color per lane at barycentrics (b1, b2) from the colour slot's 12 coefficients p; a8: p's
+ * alpha_const (>= 0: the alpha channel from it, see there). */
+ALWAYS_INLINE v8i shade8(const float *p, int a8, v8f b1, v8f b2)
+{
+    __m256i r = (__m256i)to8_8(bf(p[0]) + b1 * bf(p[1]) + b2 * bf(p[2]));
+    __m256i g = (__m256i)to8_8(bf(p[3]) + b1 * bf(p[4]) + b2 * bf(p[5]));
+    __m256i b = (__m256i)to8_8(bf(p[6]) + b1 * bf(p[7]) + b2 * bf(p[8]));
+    __m256i al;
+    if (a8 >= 0) {
+        v8f t = b1 * bf(p[10]) + b2 * bf(p[11]);
+        al = _mm256_and_si256((__m256i)_mm256_cmp_ps((__m256)t, (__m256)t, _CMP_ORD_Q), _mm256_set1_epi32(a8));
+    } else {
+        al = (__m256i)to8_8(bf(p[9]) + b1 * bf(p[10]) + b2 * bf(p[11]));
+    }
+    /* channels are 0..255, so the saturating packs are plain narrowing: per 128-bit half, bytes
+     * r0..r3 g0..g3 b0..b3 a0..a3, then interleaved into r | g << 8 | b << 16 | a << 24 per pixel */
+    __m256i x = _mm256_packus_epi16(_mm256_packus_epi32(r, g), _mm256_packus_epi32(b, al));
+    const __m256i order = _mm256_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15,
+                                           0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
+    return (v8i)_mm256_shuffle_epi8(x, order);
+}
+
+/* rs_shade_color per lane for job j (white without COLOR0), attribute block a. */
+static inline v8i shade8_job(const rs_job *j, const float *a, v8f b1, v8f b2)
+{
+    return j->color_idx < 0 ? bi(-1) : shade8(a + j->color_idx * RS_ATTR_STRIDE, -1, b1, b2);
 }
 
 /* Copy the n (<= 8) existing values of a group in or out of a full 8-lane vector. */
@@ -96,7 +138,8 @@ static inline void store8(void *dst, const void *v, int n)
     else memcpy(dst, v, (size_t)n * 4);
 }
 
-/* Depth-test, shade and write the covered pixels `cov` (bit i: pixel gx + i) of row y of triangle p. */
+/* Depth-test, shade and write the covered pixels `cov` (bit i: pixel gx + i) of row y of triangle p, any state
+ * (blending and AOV planes per pixel, as the reference), n = the pixels of the group inside the target. */
 static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int gx, int y, unsigned cov)
 {
     const rs_tri *tr = &p->u.t;
@@ -114,7 +157,7 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
         load8(&d, dep, n);
         v8f sx = fx + bf((float)j->sox[0] * k);
         float sy = fy + (float)j->soy[0] * k;
-        v8f z = zclamp8(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), j->zlo, j->zhi);
+        v8f z = zclamp8(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), bf(j->zlo), bf(j->zhi));
         pass &= zpass8(st->z_func, z, d);
         if (st->z_write) {
             d = sel(pass, z, d);
@@ -129,7 +172,7 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     v8f r = bf(1.0f) / sv;
     v8f b1 = (bf(tr->q1[2]) + bf(tr->q1[0]) * fx + bf(tr->q1[1] * fy)) * r;
     v8f b2 = (bf(tr->q2[2]) + bf(tr->q2[0]) * fx + bf(tr->q2[1] * fy)) * r;
-    v8i src = shade8(j, a, b1, b2);
+    v8i src = shade8_job(j, a, b1, b2);
     uint32_t *col = j->rt->color + base;
     if (st->blend_enable || j->rt->n_aov > 0) { /* rare: per pixel, as the reference */
         for (int i = 0; i < 8; i++) {
@@ -145,72 +188,243 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     store8(col, &c, n);
 }
 
-/* span8's per-triangle terms for a fixed group gx, computed once for all rows (same values, same order: the
- * x-dependent part of each plane is the left operand of its sum). */
+/* ---- the plain lanes: no blending, no AOV planes, all 8 lanes inside the target ---- */
+
+/* The state a walk is specialised for: compile-time constants in the common instances, the job's values in
+ * the generic one.  plain: no blending and no AOV planes (else rows go through span8). */
+typedef struct zmode {
+    bool ze, zw;     /* depth test, depth write */
+    int zf;          /* RS_CMP_* */
+    bool plain;
+} zmode;
+
+/* Per-triangle constants of a walk and its sample counters (added to the tile's at the end). */
+typedef struct fctx {
+    const rs_tri *tr;
+    float *depth;          /* the target's planes */
+    uint32_t *color;
+    size_t w;              /* row stride in pixels */
+    v8f zlo, zhi;          /* depth clamp */
+    const float *pc;       /* the colour slot's 12 coefficients (v0, d1, d2 per channel), NULL: white */
+    int a8;                /* alpha_const(pc) */
+    uint64_t tested, written;
+} fctx;
+
+/* The x parts of the planes for one lane layout (same values, same order as tri_pixel's left operands). */
 typedef struct rows8 {
-    v8f zx, sx, q1x, q2x;        /* z2 + z0 * sx, s2 + s0 * fx, q1_2 + q1_0 * fx, q2_2 + q2_0 * fx */
+    v8f zx, sx, q1x, q2x;  /* z2 + z0 * sx, s2 + s0 * fx, q1_2 + q1_0 * fx, q2_2 + q2_0 * fx */
 } rows8;
 
-/* Fill r for triangle p, group gx. */
-static inline void rows8_make(const rs_job *j, const rs_prim *p, int gx, rows8 *r)
+/* The y parts of the planes (per lane: one row, or two rows in the 4x2 walk). */
+typedef struct ypart {
+    v8f zy, sy, q1y, q2y;  /* z1 * sy, s1 * fy, q1_1 * fy, q2_1 * fy */
+} ypart;
+
+/* Fill c for triangle p of job j. */
+static inline void fctx_make(fctx *c, const rs_job *j, const rs_prim *p, const float *a)
 {
-    const rs_tri *tr = &p->u.t;
-    const float k = 1.0f / RS_SUB;
-    v8i X = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
-    v8f fx = __builtin_convertvector(X, v8f) * bf(k);
-    v8f sx = fx + bf((float)j->sox[0] * k);
-    r->zx = bf(tr->z[2]) + bf(tr->z[0]) * sx;
-    r->sx = bf(tr->s[2]) + bf(tr->s[0]) * fx;
-    r->q1x = bf(tr->q1[2]) + bf(tr->q1[0]) * fx;
-    r->q2x = bf(tr->q2[2]) + bf(tr->q2[0]) * fx;
+    c->tr = &p->u.t;
+    c->depth = j->rt->depth;
+    c->color = j->rt->color;
+    c->w = (size_t)j->rt->width;
+    c->zlo = bf(j->zlo);
+    c->zhi = bf(j->zhi);
+    c->pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
+    c->a8 = alpha_const(c->pc);
+    c->tested = c->written = 0;
 }
 
-/* span8 for row y of a group with precomputed terms r (no blending, no AOV planes: the caller checks). */
-static inline void row8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, const rows8 *r, int gx, int y,
-                        unsigned cov)
+/* x parts for lane offsets X (1/256 px, relative to the viewport centre, minus vertex 0). */
+static inline rows8 rows8_at(const rs_job *j, const rs_tri *tr, v8i X)
 {
-    const rs_tri *tr = &p->u.t;
-    const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
-    const size_t base = (size_t)y * (size_t)j->rt->width + (size_t)gx;
-    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    v8f fx = __builtin_convertvector(X, v8f) * bf(k); /* |X| < 2^24: exact in float, as tri_pixel's */
+    v8f sx = fx + bf((float)j->sox[0] * k);
+    rows8 r;
+    r.zx = bf(tr->z[2]) + bf(tr->z[0]) * sx;
+    r.sx = bf(tr->s[2]) + bf(tr->s[0]) * fx;
+    r.q1x = bf(tr->q1[2]) + bf(tr->q1[0]) * fx;
+    r.q2x = bf(tr->q2[2]) + bf(tr->q2[0]) * fx;
+    return r;
+}
+
+/* y parts for lane offsets Y (1/256 px, relative to the viewport centre, minus vertex 0). */
+static inline ypart ypart_at(const rs_job *j, const rs_tri *tr, v8i Y)
+{
+    const float k = 1.0f / RS_SUB;
+    v8f fy = __builtin_convertvector(Y, v8f) * bf(k);
+    ypart y;
+    y.zy = bf(tr->z[1]) * (fy + bf((float)j->soy[0] * k));
+    y.sy = bf(tr->s[1]) * fy;
+    y.q1y = bf(tr->q1[1]) * fy;
+    y.q2y = bf(tr->q2[1]) * fy;
+    return y;
+}
+
+/* 8 lanes from p0 (split: lanes 0..3 from p0, 4..7 from p1, two rows of the 4x2 walk). */
+ALWAYS_INLINE __m256i load_lanes(const void *p0, const void *p1, bool split)
+{
+    if (!split) return _mm256_loadu_si256((const __m256i *)p0);
+    return _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128((const __m128i *)p0)),
+                                   _mm_loadu_si128((const __m128i *)p1), 1);
+}
+ALWAYS_INLINE void store_lanes(void *p0, void *p1, bool split, __m256i v)
+{
+    if (!split) {
+        _mm256_storeu_si256((__m256i *)p0, v);
+        return;
+    }
+    /* lanes 4..7 first: when p1 == p0 (no second row) they are p0's old values, then overwritten */
+    _mm_storeu_si128((__m128i *)p1, _mm256_extracti128_si256(v, 1));
+    _mm_storeu_si128((__m128i *)p0, _mm256_castsi256_si128(v));
+}
+
+/* Depth-test (mode m), shade and write the lanes in cov whose pixels are at offsets o0 (lanes 0..7, or 0..3
+ * when split) and o1 (lanes 4..7 when split; o1 == o0 when there is no second row: then lanes 4..7 are not
+ * covered, load row o0 and are stored before lanes 0..3) of the target's planes, with planes x + y parts. */
+ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, size_t o1, const rows8 *r,
+                         const ypart *y)
+{
     v8i pass = lanes_of(cov);
-    if (st->z_enable) {
-        float *dep = j->rt->depth + base;
-        v8f d;
-        memcpy(&d, dep, 32);
-        float sy = fy + (float)j->soy[0] * k;
-        v8f z = zclamp8(r->zx + bf(tr->z[1] * sy), j->zlo, j->zhi);
-        pass &= zpass8(st->z_func, z, d);
-        if (st->z_write) {
-            d = sel(pass, z, d);
-            memcpy(dep, &d, 32);
-        }
+    if (m.ze) {
+        float *d0 = c->depth + o0, *d1 = c->depth + o1;
+        v8f d = (v8f)load_lanes(d0, d1, split);
+        v8f z = zclamp8(r->zx + y->zy, c->zlo, c->zhi);
+        pass &= zpass8(m.zf, z, d);
+        if (m.zw) store_lanes(d0, d1, split, (__m256i)sel(pass, z, d));
     }
     unsigned pm = mask_of(pass);
-    t->tested += (uint64_t)__builtin_popcount(cov);
+    c->tested += (uint64_t)__builtin_popcount(cov);
     if (!pm) return;
-    t->written += (uint64_t)__builtin_popcount(pm);
-    v8f rr = bf(1.0f) / (r->sx + bf(tr->s[1] * fy));
-    v8f b1 = (r->q1x + bf(tr->q1[1] * fy)) * rr;
-    v8f b2 = (r->q2x + bf(tr->q2[1] * fy)) * rr;
-    v8i src = shade8(j, a, b1, b2);
-    uint32_t *col = j->rt->color + base;
-    v8i cv;
-    memcpy(&cv, col, 32);
-    cv = seli(pass, src, cv);
-    memcpy(col, &cv, 32);
+    c->written += (uint64_t)__builtin_popcount(pm);
+    v8f rr = bf(1.0f) / (r->sx + y->sy);
+    v8f b1 = (r->q1x + y->q1y) * rr;
+    v8f b2 = (r->q2x + y->q2y) * rr;
+    v8i src = c->pc ? shade8(c->pc, c->a8, b1, b2) : bi(-1);
+    uint32_t *c0 = c->color + o0, *c1 = c->color + o1;
+    store_lanes(c0, c1, split, (__m256i)seli(pass, src, (v8i)load_lanes(c0, c1, split)));
 }
 
-/* Does the fast path handle this job?  1-sample targets only (4-sample ones take the reference path). */
-bool rs_span_ok(const rs_job *j) { return j->samples == 1 && !j->reference; }
+/* ---- the small-triangle walks ---- */
 
-void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
-                       int y1, const int64_t *e, bool full)
+/* Does triangle p take the small-triangle walk in tile t: its clipped box [x0, x1] at most 8 pixels wide, the
+ * tile at least 8 wide, and every edge coefficient at most 2^13 (extent below 32 px) so that the edge values of
+ * the walked pixels (within 8 px of the box) stay below 2^28: exact in int32. */
+static inline bool small_ok(const rs_tile *t, const rs_tri *tr, int x0, int x1)
 {
-    const rs_tri *tr = &p->u.t;
-    const int gx = x0 & ~7, l0 = x0 - gx;
-    const unsigned lm = ((1u << (x1 - x0 + 1)) - 1u) << l0;
+    if (x1 - x0 >= 8 || t->x1 - t->x0 < 8) return false;
+    const char *q = (const char *)tr + offsetof(rs_tri, ea); /* ea[0..2], eb[0..2]: lanes 0..3 and 2..5 */
+    v4q u = (v4q)_mm256_loadu_si256((const __m256i *)q), v = (v4q)_mm256_loadu_si256((const __m256i *)(q + 16));
+    const v4q hi = {8192, 8192, 8192, 8192}, lo = -hi;
+    return _mm256_testz_si256((__m256i)((u > hi) | (u < lo) | (v > hi) | (v < lo)), _mm256_set1_epi32(-1));
+}
+_Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int64_t) &&
+               offsetof(rs_tri, ec) == offsetof(rs_tri, eb) + 3 * sizeof(int64_t) &&
+               offsetof(rs_tri, vx) == offsetof(rs_tri, ec) + 3 * sizeof(int64_t),
+               "the walks read the edge coefficients four at a time (the fourth lane is not used)");
+
+/* The three edges' values e[i] at the lanes (column col, row row) of a walk whose lane 0 is at (X, Y) (1/256 px
+ * relative to the centre; only the low 32 bits matter), and their change dy[i] over `rows` rows.  Computed
+ * modulo 2^32 (the low halves of 64-bit products are those of the full products): the true values of the
+ * walked pixels fit in int32 (small_ok), so the wrapped ones are the same. */
+static inline void edges32(const rs_tri *tr, uint32_t X, uint32_t Y, v8i col, v8i row, int rows, v8u *e, v8u *dy)
+{
+    const char *q = (const char *)tr + offsetof(rs_tri, ea); /* lanes 0..2 (as 64 bits): edges 0..2 */
+    __m256i a = _mm256_loadu_si256((const __m256i *)q), b = _mm256_loadu_si256((const __m256i *)(q + 24));
+    __m256i c = _mm256_loadu_si256((const __m256i *)(q + 48));
+    v8u E = (v8u)_mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epu32(a, _mm256_set1_epi32((int)X)),
+                                                   _mm256_mul_epu32(b, _mm256_set1_epi32((int)Y))), c);
+    v8u A = (v8u)_mm256_slli_epi64(a, RS_SUB_BITS), B = (v8u)_mm256_slli_epi64(b, RS_SUB_BITS);
+    for (int i = 0; i < 3; i++) { /* int32 lane 2i: the low half of edge i's 64-bit lane */
+        const __m256i at = _mm256_set1_epi32(2 * i);
+        v8u Bi = (v8u)_mm256_permutevar8x32_epi32((__m256i)B, at);
+        e[i] = (v8u)_mm256_permutevar8x32_epi32((__m256i)E, at) +
+               (v8u)col * (v8u)_mm256_permutevar8x32_epi32((__m256i)A, at) + (v8u)row * Bi;
+        dy[i] = Bi * bu((uint32_t)rows);
+    }
+}
+
+/* The 4x2 walk of a box at most 4 pixels wide (columns gx..gx+3 inside tile t), two rows per step. */
+ALWAYS_INLINE void walk_quads(fctx *c, zmode m, const rs_job *j, const rs_tile *t, int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = c->tr;
+    const int gx = x0 + 4 <= t->x1 ? x0 : t->x1 - 4;
+    const uint32_t X = (uint32_t)((int64_t)gx * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
+    v8u e[3], dy[3];
+    edges32(tr, X, Y, quad_col, quad_row, 2, e, dy);
+    const unsigned row = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
+    const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + quad_col * RS_SUB);
+    v8i Yl = bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)) + quad_row * RS_SUB;
+    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    for (int y = y0; y <= y1; y += 2) {
+        unsigned box = y + 1 <= y1 ? row | row << 4 : row;
+        unsigned cov = box & ~mask_of((v8i)(e[0] | e[1] | e[2])); /* sign bit: some edge < 0 */
+        if (cov) {
+            ypart yp = ypart_at(j, tr, Yl);
+            frag8(c, m, true, cov, o, y + 1 < t->y1 ? o + c->w : o, &r, &yp);
+        }
+        for (int i = 0; i < 3; i++) e[i] += dy[i];
+        Yl += bi(2 * RS_SUB);
+        o += 2 * c->w;
+    }
+}
+
+/* The row walk of a box at most 8 pixels wide: lanes gx..gx+7 inside tile t, one row per step. */
+ALWAYS_INLINE void walk_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                             int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = c->tr;
+    const int gx = x0 + 8 <= t->x1 ? x0 : t->x1 - 8;
+    const uint32_t X = (uint32_t)((int64_t)gx * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
+    v8u e[3], dy[3];
+    edges32(tr, X, Y, lane_idx, bi(0), 1, e, dy);
+    const unsigned box = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
+    const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB);
+    int32_t Yr = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
+    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    for (int y = y0; y <= y1; y++) {
+        unsigned cov = box & ~mask_of((v8i)(e[0] | e[1] | e[2])); /* sign bit: some edge < 0 */
+        if (cov && m.plain) {
+            ypart yp = ypart_at(j, tr, bi(Yr));
+            frag8(c, m, false, cov, o, 0, &r, &yp);
+        } else if (cov) {
+            span8(j, t, p, a, gx, y, cov);
+        }
+        for (int i = 0; i < 3; i++) e[i] += dy[i];
+        Yr += RS_SUB;
+        o += c->w;
+    }
+}
+
+/* ---- the block walk ---- */
+
+/* Rows [y0, y1] of one block of column group gx (lanes lm, x parts r; yp[y - yb]: row y's y parts).  full:
+ * every lane of lm is covered; else coverage from the int32 edge values e0, e1, e2 at the lanes of row y0,
+ * stepped by d0, d1, d2 per row. */
+ALWAYS_INLINE void block_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                              int gx, int y0, int y1, unsigned lm, const rows8 *r, const ypart *yp, int yb,
+                              bool full, v8u e0, v8u e1, v8u e2, v8u d0, v8u d1, v8u d2)
+{
+    const bool lanes = m.plain && gx + 8 <= j->rt->width;
+    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    for (int y = y0; y <= y1; y++, o += c->w) {
+        unsigned cov = lm;
+        if (!full) {
+            cov &= ~mask_of((v8i)(e0 | e1 | e2)); /* sign bit: some edge < 0 */
+            e0 += d0, e1 += d1, e2 += d2;
+        }
+        if (cov && lanes) frag8(c, m, false, cov, o, 0, r, &yp[y - yb]);
+        else if (cov) span8(j, t, p, a, gx, y, cov);
+    }
+}
+
+/* Rows [y0, y1] of one partial block of column group gx with int64 edge values e at lane l0 of row y0 (blocks
+ * of huge triangles, whose edge values may not fit int32). */
+ALWAYS_INLINE void block_rows64(fctx *c, zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                                int gx, int l0, int y0, int y1, unsigned lm, const rows8 *r, const ypart *yp, int yb,
+                                const int64_t *e)
+{
+    const rs_tri *tr = c->tr;
     v4q lo[3], hi[3], dy[3];
     for (int i = 0; i < 3; i++) {
         int64_t s = tr->ea[i] * RS_SUB, e0 = e[i] - (int64_t)l0 * s;
@@ -219,156 +433,191 @@ void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const floa
         int64_t d = tr->eb[i] * RS_SUB;
         dy[i] = (v4q){d, d, d, d};
     }
-    const bool plain = !j->st->blend_enable && j->rt->n_aov == 0 && gx + 8 <= j->rt->width;
-    rows8 r;
-    rows8_make(j, p, gx, &r);
-    for (int y = y0; y <= y1; y++) {
-        unsigned cov = lm;
-        if (!full) {
-            v4q nl = (lo[0] | lo[1] | lo[2]), nh = (hi[0] | hi[1] | hi[2]); /* sign bit: some edge < 0 */
-            unsigned out = (unsigned)_mm256_movemask_pd((__m256d)nl) | (unsigned)_mm256_movemask_pd((__m256d)nh) << 4;
-            cov &= ~out;
-        }
-        if (cov && plain) row8(j, t, p, a, &r, gx, y, cov);
+    const bool lanes = m.plain && gx + 8 <= j->rt->width;
+    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    for (int y = y0; y <= y1; y++, o += c->w) {
+        v4q nl = lo[0] | lo[1] | lo[2], nh = hi[0] | hi[1] | hi[2]; /* sign bit: some edge < 0 */
+        unsigned out = (unsigned)_mm256_movemask_pd((__m256d)nl) | (unsigned)_mm256_movemask_pd((__m256d)nh) << 4;
+        unsigned cov = lm & ~out;
+        if (cov && lanes) frag8(c, m, false, cov, o, 0, r, &yp[y - yb]);
         else if (cov) span8(j, t, p, a, gx, y, cov);
         for (int i = 0; i < 3; i++) lo[i] += dy[i], hi[i] += dy[i];
     }
 }
 
-/* Lane i of the 4x2 walk is column i & 3 of row i >> 2. */
-static const v8i quad_col = {0, 1, 2, 3, 0, 1, 2, 3};
-static const v8i quad_row = {0, 0, 0, 0, 1, 1, 1, 1};
+/* The three edges' coefficients ea, eb, ec as int64 lanes 0..2 (lane 3: whatever follows in rs_tri). */
+typedef struct edges4 {
+    __m256i a, b, c;
+} edges4;
 
-/* Two values as 4 + 4 lanes. */
-static inline v8f halves(float lo, float hi) { return (v8f){lo, lo, lo, lo, hi, hi, hi, hi}; }
+/* The sign bits of int64 lanes 0..2 of v: the edges whose value in v is negative. */
+static inline unsigned neg3(__m256i v) { return (unsigned)_mm256_movemask_pd((__m256d)v) & 7u; }
 
-/* Load / store the 4 + 4 values of rows `p` and `p + stride` (the second only when `two`). */
-static inline v8i load_quad(const uint32_t *p, size_t stride, bool two)
+/* a * X + b * Y per edge for |X|, |Y| < 2^31: |a|, |b| <= 2^23 fit int32 (setup.c), so the signed 32 x 32-bit
+ * products are the exact int64 ones. */
+static inline __m256i edge_xy(const edges4 *E, int64_t X, int64_t Y)
 {
-    v8i v = bi(0);
-    memcpy(&v, p, 16);
-    if (two) memcpy((char *)&v + 16, p + stride, 16);
-    return v;
-}
-static inline void store_quad(uint32_t *p, size_t stride, bool two, v8i v)
-{
-    memcpy(p, &v, 16);
-    if (two) memcpy(p + stride, (char *)&v + 16, 16);
+    return _mm256_add_epi64(_mm256_mul_epi32(E->a, _mm256_set1_epi64x(X)),
+                            _mm256_mul_epi32(E->b, _mm256_set1_epi64x(Y)));
 }
 
-/* span8 for the 4x2 pixels gx..gx+3 of rows y and y + 1 (lanes 4..7; `two`: row y + 1 lies in the tile) with
- * coverage cov, no blending, no AOV planes: each pixel gets tri_pixel's operations in the same order (the
- * x-dependent part r of each plane, then its row's y term). */
-static void quad8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, const rows8 *r, int gx, int y,
-                  bool two, unsigned cov)
+/* Int32 edge values for the lanes of a partial block: e[i] = edge i at lane l of the first row (ev: edge values
+ * at lane l0, all edges), dy[i] its change per row; edges not in `cross` are 0 (inside everywhere).  Modulo
+ * 2^32: exact for the lanes l0..l1 of the crossing edges (the caller checked that their values fit). */
+static inline void edges_block32(const edges4 *E, __m256i ev, unsigned cross, int l0, v8u *e, v8u *dy)
 {
-    const rs_tri *tr = &p->u.t;
+    for (int i = 0; i < 3; i++) {
+        if (!(cross & (1u << i))) {
+            e[i] = dy[i] = bu(0);
+            continue;
+        }
+        const __m256i at = _mm256_set1_epi32(2 * i); /* int32 lane 2i: the low half of edge i's 64-bit lane */
+        v8u s = (v8u)_mm256_permutevar8x32_epi32(_mm256_slli_epi64(E->a, RS_SUB_BITS), at);
+        e[i] = (v8u)_mm256_permutevar8x32_epi32(ev, at) + (v8u)(lane_idx - bi(l0)) * s;
+        dy[i] = (v8u)_mm256_permutevar8x32_epi32(_mm256_slli_epi64(E->b, RS_SUB_BITS), at);
+    }
+}
+
+/* Boxes narrower than this take column groups from their left column rather than 8-aligned ones. */
+#define NARROW_BOX 32
+
+/* The rows [y0, y1] (at most 64) of the box [x0, x1] of triangle p: its groups of 8 columns, each cut into
+ * blocks of up to 8 rows (at multiples of 8) that are rejected, walked without coverage (full) or walked with
+ * coverage.  The trivial test takes the extremes of each edge over the block's pixels (lanes l0..l1, its rows),
+ * in int64, the three edges at once. */
+ALWAYS_INLINE void walk_blocks(fctx *c, zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                               int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = c->tr;
+    ypart yp[RS_TILE];
+    const int nrows = y1 - y0 + 1;
+    const int32_t Y0 = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
+    for (int i = 0; i < nrows; i += 8) { /* the y parts of 8 rows at once, then spread to one row each */
+        ypart v = ypart_at(j, tr, bi(Y0 + i * RS_SUB) + lane_idx * RS_SUB);
+        for (int q = 0; q < 8 && i + q < nrows; q++) {
+            v8i at = bi(q);
+            yp[i + q].zy = (v8f)_mm256_permutevar8x32_ps((__m256)v.zy, (__m256i)at);
+            yp[i + q].sy = (v8f)_mm256_permutevar8x32_ps((__m256)v.sy, (__m256i)at);
+            yp[i + q].q1y = (v8f)_mm256_permutevar8x32_ps((__m256)v.q1y, (__m256i)at);
+            yp[i + q].q2y = (v8f)_mm256_permutevar8x32_ps((__m256)v.q2y, (__m256i)at);
+        }
+    }
+    const char *q = (const char *)tr + offsetof(rs_tri, ea);
+    const edges4 E = {_mm256_loadu_si256((const __m256i *)q), _mm256_loadu_si256((const __m256i *)(q + 24)),
+                      _mm256_loadu_si256((const __m256i *)(q + 48))};
+    const __m256i zero = _mm256_setzero_si256(), i32max = _mm256_set1_epi64x(INT32_MAX);
+    /* narrow boxes: groups of 8 columns from x0 (fewer than 8-aligned ones), each moved left to stay inside the
+     * tile; wide ones: 8-aligned groups (no loads across cache lines) */
+    const bool from_x0 = x1 - x0 < NARROW_BOX && t->x1 - t->x0 >= 8;
+    for (int col = from_x0 ? x0 : x0 & ~7; col <= x1; col += 8) { /* the box's columns col..col+7 */
+        const int gx = from_x0 && col + 8 > t->x1 ? t->x1 - 8 : col;
+        const int l0 = (x0 > col ? x0 : col) - gx, l1 = (x1 < col + 7 ? x1 : col + 7) - gx;
+        const unsigned lm = lane_range(l0, l1);
+        const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB);
+        /* edge values at lane l0 of row y0 (|X|, |Y| <= 2^22: inside the viewport) and the x extent */
+        const __m256i e0 = _mm256_add_epi64(edge_xy(&E, (int64_t)(gx + l0) * RS_SUB - j->cx,
+                                                     (int64_t)y0 * RS_SUB - j->cy), E.c);
+        const __m256i sx = _mm256_mul_epi32(E.a, _mm256_set1_epi64x((l1 - l0) * RS_SUB));
+        const __m256i sxpos = _mm256_cmpgt_epi64(sx, zero);
+        const __m256i sxp = _mm256_and_si256(sxpos, sx), sxn = _mm256_andnot_si256(sxpos, sx);
+        const __m256i sxa = _mm256_sub_epi64(sxp, sxn); /* |sx| */
+        for (int by = y0; by <= y1; by = (by | 7) + 1) {
+            const int by1 = (by | 7) < y1 ? (by | 7) : y1;
+            const __m256i ev = _mm256_add_epi64(e0, _mm256_mul_epi32(E.b, _mm256_set1_epi64x((by - y0) * RS_SUB)));
+            const __m256i sy = _mm256_mul_epi32(E.b, _mm256_set1_epi64x((by1 - by) * RS_SUB));
+            const __m256i sypos = _mm256_cmpgt_epi64(sy, zero);
+            const __m256i syp = _mm256_and_si256(sypos, sy), syn = _mm256_andnot_si256(sypos, sy);
+            const __m256i hi = _mm256_add_epi64(_mm256_add_epi64(ev, sxp), syp);
+            const __m256i lo = _mm256_add_epi64(_mm256_add_epi64(ev, sxn), syn);
+            if (neg3(hi)) continue; /* some edge < 0 over the whole block */
+            const unsigned cross = neg3(lo); /* edges < 0 somewhere in the block (the others: >= 0 everywhere) */
+            if (!cross) {
+                const v8u z = bu(0);
+                block_rows(c, m, j, t, p, a, gx, by, by1, lm, &r, yp, y0, true, z, z, z, z, z, z);
+                continue;
+            }
+            /* a crossing edge (lo < 0 <= hi) has |values| <= hi - lo = |sx| + |sy| in the block */
+            const __m256i span = _mm256_add_epi64(sxa, _mm256_sub_epi64(syp, syn));
+            if (!(neg3(_mm256_cmpgt_epi64(span, i32max)) & cross)) {
+                v8u ee[3], dv[3];
+                edges_block32(&E, ev, cross, l0, ee, dv);
+                block_rows(c, m, j, t, p, a, gx, by, by1, lm, &r, yp, y0, false, ee[0], ee[1], ee[2], dv[0], dv[1],
+                           dv[2]);
+            } else {
+                int64_t e[4];
+                _mm256_storeu_si256((__m256i *)e, ev);
+                block_rows64(c, m, j, t, p, a, gx, l0, by, by1, lm, &r, yp, y0, e);
+            }
+        }
+    }
+}
+
+/* ---- the instances ---- */
+
+/* Triangle p's pixels [x0, x1] x [y0, y1] of tile t through the small-triangle walks (small_ok), in mode m. */
+ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0,
+                              int y0, int x1, int y1)
+{
+    fctx c;
+    fctx_make(&c, j, p, a);
+    if (m.plain && x1 - x0 < 4 && y1 > y0) walk_quads(&c, m, j, t, x0, y0, x1, y1);
+    else walk_rows(&c, m, j, t, p, a, x0, y0, x1, y1);
+    t->tested += c.tested;
+    t->written += c.written;
+}
+
+/* The same through the block walk (any triangle). */
+ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0,
+                            int x1, int y1)
+{
+    fctx c;
+    fctx_make(&c, j, p, a);
+    for (int b = y0; b <= y1; b += RS_TILE) /* a tile has at most 64 rows; any box in bands of 64 */
+        walk_blocks(&c, m, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
+    t->tested += c.tested;
+    t->written += c.written;
+}
+
+/* The modes: depth test LESSEQUAL (D3D9's default) or LESS with writes, no blending, no AOV planes; any other
+ * state with the job's values. */
+#define MODE_LE ((zmode){true, true, RS_CMP_LESSEQUAL, true})
+#define MODE_LESS ((zmode){true, true, RS_CMP_LESS, true})
+#define MODE_JOB(j) ((zmode){(j)->st->z_enable, (j)->st->z_write, (j)->st->z_func, \
+                             !(j)->st->blend_enable && (j)->rt->n_aov == 0})
+
+/* One instance of each walk per mode (same arguments as rs_tri_fast). */
+#define INSTANCE(name, walk, mode)                                                                              \
+    static void name(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,     \
+                     int y1)                                                                                    \
+    {                                                                                                           \
+        walk(mode, j, t, p, a, x0, y0, x1, y1);                                                                 \
+    }
+INSTANCE(small_le, walk_small, MODE_LE)
+INSTANCE(small_less, walk_small, MODE_LESS)
+INSTANCE(small_any, walk_small, MODE_JOB(j))
+INSTANCE(big_le, walk_big, MODE_LE)
+INSTANCE(big_less, walk_big, MODE_LESS)
+INSTANCE(big_any, walk_big, MODE_JOB(j))
+
+void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+{
     const rs_state *st = j->st;
-    const float k = 1.0f / RS_SUB;
-    const size_t w = (size_t)j->rt->width, base = (size_t)y * w + (size_t)gx;
-    float fy0 = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
-    float fy1 = (float)((int64_t)(y + 1) * RS_SUB - j->cy - tr->vy) * k;
-    v8i pass = lanes_of(cov);
-    if (st->z_enable) {
-        uint32_t *dep = (uint32_t *)j->rt->depth + base;
-        v8f d = (v8f)load_quad(dep, w, two);
-        float sy0 = fy0 + (float)j->soy[0] * k, sy1 = fy1 + (float)j->soy[0] * k;
-        v8f z = zclamp8(r->zx + halves(tr->z[1] * sy0, tr->z[1] * sy1), j->zlo, j->zhi);
-        pass &= zpass8(st->z_func, z, d);
-        if (st->z_write) store_quad(dep, w, two, (v8i)sel(pass, z, d));
-    }
-    unsigned pm = mask_of(pass);
-    t->tested += (uint64_t)__builtin_popcount(cov);
-    if (!pm) return;
-    t->written += (uint64_t)__builtin_popcount(pm);
-    v8f rr = bf(1.0f) / (r->sx + halves(tr->s[1] * fy0, tr->s[1] * fy1));
-    v8f b1 = (r->q1x + halves(tr->q1[1] * fy0, tr->q1[1] * fy1)) * rr;
-    v8f b2 = (r->q2x + halves(tr->q2[1] * fy0, tr->q2[1] * fy1)) * rr;
-    v8i src = shade8(j, a, b1, b2);
-    uint32_t *col = j->rt->color + base;
-    store_quad(col, w, two, seli(pass, src, load_quad(col, w, two)));
-}
-
-/* The 4x2 walk of a triangle at most 4 pixels wide (columns gx..gx+3 inside tile t), two rows per step; 32-bit
- * edge values as rs_tri_small's. */
-static void tri_quads(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
-{
-    const rs_tri *tr = &p->u.t;
-    const int gx = x0 + 4 <= t->x1 ? x0 : t->x1 - 4;
-    const int64_t X = (int64_t)gx * RS_SUB - j->cx, Y = (int64_t)y0 * RS_SUB - j->cy;
-    v8i e[3], dy[3];
-    for (int i = 0; i < 3; i++) {
-        e[i] = bi((int32_t)(tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i])) + quad_col * (int32_t)(tr->ea[i] * RS_SUB) +
-               quad_row * (int32_t)(tr->eb[i] * RS_SUB);
-        dy[i] = bi((int32_t)(tr->eb[i] * 2 * RS_SUB));
-    }
-    const unsigned row = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
-    rows8 r;
-    v8i Xl = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + quad_col * RS_SUB;
-    v8f fx = __builtin_convertvector(Xl, v8f) * bf(1.0f / RS_SUB);
-    v8f sx = fx + bf((float)j->sox[0] * (1.0f / RS_SUB));
-    r.zx = bf(tr->z[2]) + bf(tr->z[0]) * sx;
-    r.sx = bf(tr->s[2]) + bf(tr->s[0]) * fx;
-    r.q1x = bf(tr->q1[2]) + bf(tr->q1[0]) * fx;
-    r.q2x = bf(tr->q2[2]) + bf(tr->q2[0]) * fx;
-    for (int y = y0; y <= y1; y += 2) {
-        unsigned box = y + 1 <= y1 ? row | row << 4 : row;
-        unsigned cov = box & ~mask_of(e[0] | e[1] | e[2]) & 0xffu; /* sign bit: some edge < 0 */
-        if (cov) quad8(j, t, p, a, &r, gx, y, y + 1 < t->y1, cov);
-        for (int i = 0; i < 3; i++) e[i] += dy[i];
+    const bool zw = st->z_enable && st->z_write && !st->blend_enable && j->rt->n_aov == 0;
+    const int mode = zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
+    if (small_ok(t, &p->u.t, x0, x1)) {
+        if (mode == 0) small_le(j, t, p, a, x0, y0, x1, y1);
+        else if (mode == 1) small_less(j, t, p, a, x0, y0, x1, y1);
+        else small_any(j, t, p, a, x0, y0, x1, y1);
+    } else {
+        if (mode == 0) big_le(j, t, p, a, x0, y0, x1, y1);
+        else if (mode == 1) big_less(j, t, p, a, x0, y0, x1, y1);
+        else big_any(j, t, p, a, x0, y0, x1, y1);
     }
 }
 
-/* Does triangle p take the small-triangle path in tile t: its clipped box [x0, x1] at most 8 pixels wide, the
- * tile at least 8 wide, and every edge coefficient at most 2^13 (extent below 32 px) so that the edge values of
- * the walked pixels (within 8 px of the box) stay below 2^28: exact in int32. */
-static bool small_ok(const rs_tile *t, const rs_tri *tr, int x0, int x1)
-{
-    if (x1 - x0 >= 8 || t->x1 - t->x0 < 8) return false;
-    for (int i = 0; i < 3; i++)
-        if (tr->ea[i] < -8192 || tr->ea[i] > 8192 || tr->eb[i] < -8192 || tr->eb[i] > 8192) return false;
-    return true;
-}
+#else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
 
-bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
-{
-    const rs_tri *tr = &p->u.t;
-    if (!small_ok(t, tr, x0, x1)) return false;
-    const bool plain = !j->st->blend_enable && j->rt->n_aov == 0;
-    if (plain && x1 - x0 < 4 && y1 > y0) {
-        tri_quads(j, t, p, a, x0, y0, x1, y1);
-        return true;
-    }
-    const int gx = x0 + 8 <= t->x1 ? x0 : t->x1 - 8; /* 8 lanes gx..gx+7, all inside the tile */
-    const int64_t X = (int64_t)gx * RS_SUB - j->cx, Y = (int64_t)y0 * RS_SUB - j->cy;
-    v8i e[3], dy[3];
-    for (int i = 0; i < 3; i++) {
-        e[i] = bi((int32_t)(tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i])) + lane_idx * (int32_t)(tr->ea[i] * RS_SUB);
-        dy[i] = bi((int32_t)(tr->eb[i] * RS_SUB));
-    }
-    const unsigned box = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
-    rows8 r;
-    rows8_make(j, p, gx, &r);
-    for (int y = y0; y <= y1; y++) {
-        unsigned cov = box & ~mask_of(e[0] | e[1] | e[2]) & 0xffu; /* sign bit: some edge < 0 */
-        if (cov && plain) row8(j, t, p, a, &r, gx, y, cov);
-        else if (cov) span8(j, t, p, a, gx, y, cov);
-        for (int i = 0; i < 3; i++) e[i] += dy[i];
-    }
-    return true;
-}
-
-#else /* without AVX2 every draw takes the reference path */
-
-bool rs_tri_small(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
-{
-    return false;
-}
-
-bool rs_span_ok(const rs_job *j) { return false; }
-
-void rs_tri_block_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
-                       int y1, const int64_t *e, bool full)
+void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
 {
 }
 

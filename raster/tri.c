@@ -1,7 +1,9 @@
 /* raster/tri.c -- triangle rasterization inside one tile: 8x8 blocks with a trivial reject / accept test on
  * the integer edge functions, incremental int64 edge stepping inside partial blocks, per-sample depth from
  * the float depth plane, and perspective-correct shading once per pixel (at the pixel centre, D3D9 without
- * centroid sampling).  Shading and writes happen only for samples that pass the depth test. */
+ * centroid sampling).  Shading and writes happen only for samples that pass the depth test.
+ * This per-sample walk (tri_block, tri_pixel) is the reference: 1-sample targets off the reference path take
+ * span.c's 8-lane walks instead, which write the same bytes. */
 #include "raster_internal.h"
 
 /* Per-triangle constants of the walk: edge offsets of each sample and their range. */
@@ -90,14 +92,12 @@ static int block_test(const rs_tri *tr, const walk *w, const int64_t *e, int nx,
     return r;
 }
 
-void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
+/* The reference walk of triangle p's pixels [x0, x1] x [y0, y1] (its box clipped to tile t): 8x8 blocks.  Out of
+ * line, so that rs_tri_tile's call of the fast path does not pay for this walk's frame. */
+static __attribute__((noinline)) void tri_tile_ref(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                                                   int x0, int y0, int x1, int y1)
 {
     const rs_tri *tr = &p->u.t;
-    int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
-    int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
-    if (x0 > x1 || y0 > y1) return;
-    const bool fast = rs_span_ok(j);
-    if (fast && rs_tri_small(j, t, p, a, x0, y0, x1, y1)) return;
     walk w;
     w.full = (1u << j->samples) - 1u;
     for (int i = 0; i < 3; i++) {
@@ -117,8 +117,16 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
             int64_t e[3];
             for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
             int r = block_test(tr, &w, e, bx1 - bx, by1 - by);
-            if (r >= 0 && fast) rs_tri_block_fast(j, t, p, a, bx, by, bx1, by1, e, r > 0);
-            else if (r >= 0) tri_block(j, t, p, a, &w, bx, by, bx1, by1, e, r > 0);
+            if (r >= 0) tri_block(j, t, p, a, &w, bx, by, bx1, by1, e, r > 0);
         }
     }
+}
+
+void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
+{
+    int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
+    int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
+    if (x0 > x1 || y0 > y1) return;
+    if (rs_span_ok(j)) rs_tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
+    else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }
