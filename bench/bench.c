@@ -48,6 +48,9 @@ extern char **environ;
 #define DIFF_MAX_MEAN 0.05
 /* Resident memory may grow by at most this much between the end of the warm-up and the last frame. */
 #define RSS_GROWTH_MAX_KB 1024
+/* The memory budget of the instess side: peak resident set of this process over every scene (the 2048x2048 target
+ * of scene C with its depth plane is 32 MB; measured peaks 45-82 MB). */
+#define RSS_BUDGET_MB 128
 
 /* ---------------------------------------- the scenes ---------------------------------------- */
 
@@ -798,10 +801,54 @@ static int case_ok(const bench_args *a, const bench_scene_def *d, const case_res
     return !isnan(c->gl_best_ms) && c->have_diff && images_agree(&c->diff, (size_t)d->width * d->height);
 }
 
+/* What the targets summary needs of one scene and patch. */
+typedef struct case_summary {
+    char scene;
+    int pk;
+    double ms[2];   /* per instess thread count */
+    double gl_ms;   /* llvmpipe at its best (NAN: not run) */
+} case_summary;
+
+/* Issue 5's ratio target for a scene and patch: B npatch 5x, B smooth 2x, A 2x, C 1x. */
+static double ratio_target(char scene, int pk)
+{
+    if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 5.0 : 2.0;
+    return scene == 'A' ? 2.0 : 1.0;
+}
+
+/* The targets of issue 5 against this run's medians: llvmpipe ratios with all threads, the 2/1-thread speed-up,
+ * the memory budget; "met" or "NOT met" for each.  Returns the number not met. */
+static int print_targets(const bench_args *a, const case_summary *cs, int n)
+{
+    int missed = 0;
+    printf("targets (this run's medians):\n");
+    for (int i = 0; i < n; i++) {
+        const case_summary *c = &cs[i];
+        double want = ratio_target(c->scene, c->pk), ms = c->ms[a->n_threads - 1];
+        if (!isnan(c->gl_ms)) {
+            double got = c->gl_ms / ms;
+            printf("  scene %c %-6s llvmpipe / instess (%d threads) >= %.0fx: %5.2fx  %s\n", c->scene,
+                   bench_patches[c->pk].name, a->threads[a->n_threads - 1], want, got, got >= want ? "met" : "NOT met");
+            missed += got < want;
+        }
+        if (a->n_threads == 2 && a->threads[0] == 1) {
+            double s = c->ms[0] / c->ms[1];
+            printf("  scene %c %-6s %d threads / 1 thread >= 1.8x: %5.2fx  %s\n", c->scene, bench_patches[c->pk].name,
+                   a->threads[1], s, s >= 1.8 ? "met" : "NOT met");
+            missed += s < 1.8;
+        }
+    }
+    double peak = (double)rss_peak_kb() / 1024.0;
+    printf("  peak RSS of the instess process <= %d MB: %.1f MB  %s\n", RSS_BUDGET_MB, peak,
+           peak <= RSS_BUDGET_MB ? "met" : "NOT met");
+    return missed + (peak > RSS_BUDGET_MB);
+}
+
 /* Run every selected scene and patch, printing as it goes; returns the number of disagreements or failures. */
 static int run_all(const bench_args *a, const char *gl_path, const char *dir)
 {
-    int bad = 0;
+    int bad = 0, n_sum = 0;
+    case_summary sum[N_SCENES * N_PATCHES];
     print_header(a);
     for (size_t s = 0; s < N_SCENES; s++) {
         const bench_scene_def *d = &bench_scenes[s];
@@ -825,12 +872,15 @@ static int run_all(const bench_args *a, const char *gl_path, const char *dir)
             print_notes(a, d, &c);
             print_machine(a, d, pk, &c);
             fflush(stdout);
+            sum[n_sum++] = (case_summary){d->id, pk, {c.inst[0].median_ms, c.inst[a->n_threads - 1].median_ms},
+                                          c.gl_best_ms};
             bad += !case_ok(a, d, &c);
             case_free(&c);
         }
         data_free(&bd);
     }
     printf("peak RSS of the instess process: %.1f MB\n", (double)rss_peak_kb() / 1024.0);
+    print_targets(a, sum, n_sum);
     return bad;
 }
 
