@@ -28,6 +28,7 @@ void rs_destroy(rs_context *rs)
     for (size_t i = 0; i < rs->n_chunks_cap; i++) {
         rs_chunk *c = &rs->chunks[i];
         free(c->prims);
+        free(c->ptile);
         free(c->attr);
         free(c->bin_off);
         free(c->bin_idx);
@@ -210,10 +211,13 @@ static void shared_pass(rs_context *rs, rs_job *j, size_t n_verts, size_t n_prim
         rs->pv = p, rs->pv_cap = n_verts;
     }
     rs_pvert *pv = rs->pv;
-    long n = (long)n_verts;
-#pragma omp parallel for schedule(dynamic, 4096) num_threads(nt) if (n >= 8192)
-    for (long v = 0; v < n; v++)
-        rs_project_vertex(j, &j->verts[v], (rs_pvert *)((char *)pv + (size_t)v * rs_pvert_size()));
+    const size_t block = 4096;
+    long nb = (long)((n_verts + block - 1) / block);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nb >= 2)
+    for (long b = 0; b < nb; b++) {
+        size_t v0 = (size_t)b * block, n = n_verts - v0 < block ? n_verts - v0 : block;
+        rs_project_vertices(j, j->verts + v0, n, (rs_pvert *)((char *)pv + v0 * rs_pvert_size()));
+    }
     j->pv = pv;
 }
 
@@ -257,6 +261,20 @@ static bool tile_has_prims(const rs_context *rs, size_t n_chunks, int tile)
     return false;
 }
 
+/* Bin entries between a primitive's prefetch and its rasterization. */
+#define PREFETCH_AHEAD 4
+
+/* Start loading primitive i of chunk ch and its attribute block into the cache (the tile pass reads primitives
+ * that were set up long before, in bin order: a gather the hardware prefetcher does not foresee). */
+static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i)
+{
+    const char *p = (const char *)&ch->prims[i];
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 64);
+    __builtin_prefetch(p + sizeof(rs_prim) - 1);
+    __builtin_prefetch(ch->attr + (size_t)i * (size_t)j->stride);
+}
+
 /* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
 static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts)
 {
@@ -270,7 +288,8 @@ static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, 
     if (tile_has_prims(rs, n_chunks, tile)) rs_tile_flush(rs, j, tile);
     for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
-        for (uint32_t k = ch->bin_off[tile]; k < ch->bin_off[tile + 1]; k++) {
+        for (uint32_t k = ch->bin_off[tile], end = ch->bin_off[tile + 1]; k < end; k++) {
+            if (k + PREFETCH_AHEAD < end) prefetch_prim(j, ch, ch->bin_idx[k + PREFETCH_AHEAD]);
             uint32_t i = ch->bin_idx[k];
             const rs_prim *p = &ch->prims[i];
             const float *a = ch->attr + (size_t)i * (size_t)j->stride;

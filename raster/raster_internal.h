@@ -88,10 +88,14 @@ typedef struct rs_prim {
     union { rs_tri t; rs_line l; rs_point p; } u;
 } rs_prim;
 
+/* ptile value of a primitive whose box touches more than one tile. */
+#define RS_MULTI_TILE UINT32_MAX
+
 /* The set-up output of one chunk of input primitives, with its tile bins (CSR: bin_off[tile]..[tile+1]). */
 typedef struct rs_chunk {
     size_t first, count;         /* input primitives [first, first+count) */
     rs_prim *prims;
+    uint32_t *ptile;             /* per primitive: its tile when its box lies in one, else RS_MULTI_TILE */
     float *attr;                 /* stride floats per primitive */
     size_t n, cap;
     uint32_t *bin_off;           /* n_tiles + 1 */
