@@ -387,7 +387,12 @@ static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
         lo = e->reg_offset < lo ? e->reg_offset : lo;
         hi = e->reg_offset + sizeof(float4) > hi ? e->reg_offset + sizeof(float4) : hi;
     }
-    for (uint32_t v = 0; v < n && lo < hi; v++) memcpy((unsigned char *)&in[v] + lo, (unsigned char *)&t + lo, hi - lo);
+    const float4 *span = (const float4 *)((unsigned char *)&t + lo);
+    const size_t n_span = lo < hi ? (hi - lo) / sizeof(float4) : 0; /* registers are float4-aligned */
+    for (uint32_t v = 0; v < n; v++) {
+        float4 *dst = (float4 *)((unsigned char *)&in[v] + lo);
+        for (size_t r = 0; r < n_span; r++) dst[r] = span[r];
+    }
     fetch_cached(fp, f->cache, 0, n, in);
     const is_vertex_shader *vs = f->dev->vs;
     if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, out);
