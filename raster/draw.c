@@ -37,6 +37,7 @@ void rs_destroy(rs_context *rs)
     free(rs->tile_stats);
     free(rs->pv);
     free(rs->pend);
+    free(rs->tbuf);
     free(rs);
 }
 
@@ -275,8 +276,9 @@ static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i
     __builtin_prefetch(ch->attr + (size_t)i * (size_t)j->stride);
 }
 
-/* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2). */
-static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts)
+/* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2).  buf: the thread's
+ * tile buffer (used when the tile's clear is deferred) or NULL. */
+static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts, void *buf)
 {
     rs_tile t;
     int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
@@ -285,7 +287,11 @@ static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, 
     t.x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
     t.y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
     t.tested = t.written = 0;
-    if (tile_has_prims(rs, n_chunks, tile)) rs_tile_flush(rs, j, tile);
+    t.color = j->rt->color, t.depth = j->rt->depth;
+    t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
+    bool has = tile_has_prims(rs, n_chunks, tile);
+    bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
+    if (has && !buffered) rs_tile_flush(rs, j, tile);
     for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
         for (uint32_t k = ch->bin_off[tile], end = ch->bin_off[tile + 1]; k < end; k++) {
@@ -298,8 +304,22 @@ static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, 
             else rs_point_tile(j, &t, p, a);
         }
     }
+    if (buffered) rs_tile_buffer_end(rs, j, tile, &t);
     ts[0] = t.tested;
     ts[1] = t.written;
+}
+
+/* One tile buffer per thread (32-byte aligned) in rs->tbuf; NULL when out of memory (the tiles are then drawn in
+ * the target directly, the same bytes). */
+static void *tile_buffers(rs_context *rs, const rs_job *j, int nt)
+{
+    size_t need = (size_t)nt * rs_tile_buffer_size(j);
+    if (need > rs->tbuf_cap) {
+        free(rs->tbuf);
+        rs->tbuf = aligned_alloc(64, need);
+        rs->tbuf_cap = rs->tbuf ? need : 0;
+    }
+    return rs->tbuf;
 }
 
 /* Sum the chunk and tile counters into *stats. */
@@ -324,8 +344,12 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks,
 static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, rs_stats *stats)
 {
     int ntl = j->n_tiles;
+    char *bufs = tile_buffers(rs, j, nt);
+    const size_t bsz = rs_tile_buffer_size(j);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
-    for (int t = 0; t < ntl; t++) raster_tile(j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t);
+    for (int t = 0; t < ntl; t++)
+        raster_tile(j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t,
+                    bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL);
     if (stats) gather_stats(j, rs, n_chunks, n_prims, stats);
 }
 

@@ -64,8 +64,8 @@ void rs_frag_const_z(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, fl
                      float b1, float b2)
 {
     const rs_state *st = j->st;
-    size_t base = ((size_t)y * (size_t)j->rt->width + (size_t)x) * (size_t)j->samples;
-    float *dep = j->rt->depth + base;
+    size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
+    float *dep = t->depth + base;
     z = rs_zclamp(z, j->zlo, j->zhi);
     unsigned pass = cov;
     if (st->z_enable) {
@@ -79,6 +79,6 @@ void rs_frag_const_z(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, fl
     t->tested += (uint64_t)__builtin_popcount(cov);
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    rs_write_color(j, base, pass, rs_shade_color(j, a, b1, b2));
+    rs_write_color(j, t->color + base, pass, rs_shade_color(j, a, b1, b2));
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
 }

@@ -123,13 +123,28 @@ struct rs_context {
     unsigned pend_flags;         /* the deferred clear's flags, colour and depth */
     uint32_t pend_rgba;
     float pend_z;
+    void *tbuf;                  /* tile buffers of the tile pass, one per thread (rs_tile_buffer_size bytes each) */
+    size_t tbuf_cap;             /* bytes */
 };
 
-/* A tile being rasterized by one thread: its pixel rectangle (inside the scissor) and its counters. */
+/* A tile being rasterized by one thread: its pixel rectangle (inside the scissor), where its samples live and its
+ * counters.  Sample s of pixel (x, y) is color / depth [rs_tile_index(t, x, y) * samples + s]: the target's planes
+ * themselves (origin (0, 0), pitch = the target's width), or the thread's 64x64 tile buffer (origin = the tile's
+ * corner, pitch 64) that the tile pass fills with a deferred clear and writes back when the tile is done. */
 typedef struct rs_tile {
     int x0, y0, x1, y1;          /* half-open */
     uint64_t tested, written;
+    uint32_t *color;
+    float *depth;
+    int ox, oy;                  /* the pixel at index 0 */
+    size_t pitch;                /* pixels per row */
 } rs_tile;
+
+/* Index (in pixels) of pixel (x, y) of tile t in t->color / t->depth (times the samples per pixel). */
+static inline size_t rs_tile_index(const rs_tile *t, int x, int y)
+{
+    return (size_t)(y - t->oy) * t->pitch + (size_t)(x - t->ox);
+}
 
 /* ---- clip.c: homogeneous clipping of polygons and segments ---- */
 #define RS_CLIP_PLANES 6   /* near, far, left, right, top, bottom (guard band) */
@@ -207,6 +222,14 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
 void rs_target_flush(rs_context *rs, rs_target *rt);
 /* The tile pass: write tile `tile` of the job's target if its clear is deferred on rs. */
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile);
+/* Bytes of one tile buffer for the job's target (64x64 pixels of colour and depth samples). */
+size_t rs_tile_buffer_size(const rs_job *j);
+/* The tile pass, when tile `tile`'s clear is deferred: fill buffer `buf` (rs_tile_buffer_size bytes, 32-byte
+ * aligned) with the clear (planes the clear keeps are copied from the target), clear its AOV pixels in the target,
+ * and point t at the buffer; false (nothing done) when the clear is not deferred. */
+bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf);
+/* Copy tile buffer t back into the job's target and mark the tile's clear done. */
+void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t);
 
 /* ---- span.c: the 8-lane fast path of triangles on 1-sample targets ---- */
 /* True when the job may take the fast path: 1-sample targets off the reference path, with AVX2. */
@@ -290,10 +313,9 @@ static inline uint32_t rs_shade_color(const rs_job *j, const float *a, float b1,
     return r | g << 8 | b << 16 | al << 24;
 }
 
-/* Store colour src (blended when enabled) into the samples in mask `pass` of the pixel starting at `base`. */
-static inline void rs_write_color(const rs_job *j, size_t base, unsigned pass, uint32_t src)
+/* Store colour src (blended when enabled) into the samples in mask `pass` of the pixel whose samples start at col. */
+static inline void rs_write_color(const rs_job *j, uint32_t *col, unsigned pass, uint32_t src)
 {
-    uint32_t *col = j->rt->color + base;
     const rs_state *st = j->st;
     for (int s = 0; s < j->samples; s++) {
         if (!(pass & (1u << s))) continue;

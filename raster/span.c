@@ -146,13 +146,13 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
     const int n = j->rt->width - gx < 8 ? j->rt->width - gx : 8;
-    const size_t base = (size_t)y * (size_t)j->rt->width + (size_t)gx;
+    const size_t base = rs_tile_index(t, gx, y);
     v8i X = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
     v8f fx = __builtin_convertvector(X, v8f) * bf(k);
     float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
     v8i pass = lanes_of(cov);
     if (st->z_enable) {
-        float *dep = j->rt->depth + base;
+        float *dep = t->depth + base;
         v8f d = bf(0.0f);
         load8(&d, dep, n);
         v8f sx = fx + bf((float)j->sox[0] * k);
@@ -173,11 +173,11 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     v8f b1 = (bf(tr->q1[2]) + bf(tr->q1[0]) * fx + bf(tr->q1[1] * fy)) * r;
     v8f b2 = (bf(tr->q2[2]) + bf(tr->q2[0]) * fx + bf(tr->q2[1] * fy)) * r;
     v8i src = shade8_job(j, a, b1, b2);
-    uint32_t *col = j->rt->color + base;
+    uint32_t *col = t->color + base;
     if (st->blend_enable || j->rt->n_aov > 0) { /* rare: per pixel, as the reference */
         for (int i = 0; i < 8; i++) {
             if (!(pm & (1u << i))) continue;
-            rs_write_color(j, base + (size_t)i, 1u, (uint32_t)src[i]);
+            rs_write_color(j, col + i, 1u, (uint32_t)src[i]);
             if (j->rt->n_aov > 0) rs_write_aov(j, a, b1[i], b2[i], gx + i, y);
         }
         return;
@@ -201,9 +201,10 @@ typedef struct zmode {
 /* Per-triangle constants of a walk and its sample counters (added to the tile's at the end). */
 typedef struct fctx {
     const rs_tri *tr;
-    float *depth;          /* the target's planes */
+    float *depth;          /* the tile's storage (rs_tile: the target's planes or the tile buffer) */
     uint32_t *color;
     size_t w;              /* row stride in pixels */
+    int ox, oy;            /* the pixel at index 0 */
     v8f zlo, zhi;          /* depth clamp */
     const float *pc;       /* the colour slot's 12 coefficients (v0, d1, d2 per channel), NULL: white */
     int a8;                /* alpha_const(pc) */
@@ -220,13 +221,17 @@ typedef struct ypart {
     v8f zy, sy, q1y, q2y;  /* z1 * sy, s1 * fy, q1_1 * fy, q2_1 * fy */
 } ypart;
 
-/* Fill c for triangle p of job j. */
-static inline void fctx_make(fctx *c, const rs_job *j, const rs_prim *p, const float *a)
+/* Index of pixel (x, y) in c's planes (rs_tile_index). */
+static inline size_t fidx(const fctx *c, int x, int y) { return (size_t)(y - c->oy) * c->w + (size_t)(x - c->ox); }
+
+/* Fill c for triangle p of job j drawn in tile t. */
+static inline void fctx_make(fctx *c, const rs_job *j, const rs_tile *t, const rs_prim *p, const float *a)
 {
     c->tr = &p->u.t;
-    c->depth = j->rt->depth;
-    c->color = j->rt->color;
-    c->w = (size_t)j->rt->width;
+    c->depth = t->depth;
+    c->color = t->color;
+    c->w = t->pitch;
+    c->ox = t->ox, c->oy = t->oy;
     c->zlo = bf(j->zlo);
     c->zhi = bf(j->zhi);
     c->pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
@@ -355,7 +360,7 @@ ALWAYS_INLINE void walk_quads(fctx *c, zmode m, const rs_job *j, const rs_tile *
     const unsigned row = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
     const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + quad_col * RS_SUB);
     v8i Yl = bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)) + quad_row * RS_SUB;
-    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    size_t o = fidx(c, gx, y0);
     for (int y = y0; y <= y1; y += 2) {
         unsigned box = y + 1 <= y1 ? row | row << 4 : row;
         unsigned cov = box & ~mask_of((v8i)(e[0] | e[1] | e[2])); /* sign bit: some edge < 0 */
@@ -381,7 +386,7 @@ ALWAYS_INLINE void walk_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, cons
     const unsigned box = ((1u << (x1 - x0 + 1)) - 1u) << (x0 - gx);
     const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB);
     int32_t Yr = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    size_t o = fidx(c, gx, y0);
     for (int y = y0; y <= y1; y++) {
         unsigned cov = box & ~mask_of((v8i)(e[0] | e[1] | e[2])); /* sign bit: some edge < 0 */
         if (cov && m.plain) {
@@ -406,7 +411,7 @@ ALWAYS_INLINE void block_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, con
                               bool full, v8u e0, v8u e1, v8u e2, v8u d0, v8u d1, v8u d2)
 {
     const bool lanes = m.plain && gx + 8 <= j->rt->width;
-    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    size_t o = fidx(c, gx, y0);
     for (int y = y0; y <= y1; y++, o += c->w) {
         unsigned cov = lm;
         if (!full) {
@@ -434,7 +439,7 @@ ALWAYS_INLINE void block_rows64(fctx *c, zmode m, const rs_job *j, rs_tile *t, c
         dy[i] = (v4q){d, d, d, d};
     }
     const bool lanes = m.plain && gx + 8 <= j->rt->width;
-    size_t o = (size_t)y0 * c->w + (size_t)gx;
+    size_t o = fidx(c, gx, y0);
     for (int y = y0; y <= y1; y++, o += c->w) {
         v4q nl = lo[0] | lo[1] | lo[2], nh = hi[0] | hi[1] | hi[2]; /* sign bit: some edge < 0 */
         unsigned out = (unsigned)_mm256_movemask_pd((__m256d)nl) | (unsigned)_mm256_movemask_pd((__m256d)nh) << 4;
@@ -559,7 +564,7 @@ ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_pri
                               int y0, int x1, int y1)
 {
     fctx c;
-    fctx_make(&c, j, p, a);
+    fctx_make(&c, j, t, p, a);
     if (m.plain && x1 - x0 < 4 && y1 > y0) walk_quads(&c, m, j, t, x0, y0, x1, y1);
     else walk_rows(&c, m, j, t, p, a, x0, y0, x1, y1);
     t->tested += c.tested;
@@ -571,7 +576,7 @@ ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim 
                             int x1, int y1)
 {
     fctx c;
-    fctx_make(&c, j, p, a);
+    fctx_make(&c, j, t, p, a);
     for (int b = y0; b <= y1; b += RS_TILE) /* a tile has at most 64 rows; any box in bands of 64 */
         walk_blocks(&c, m, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
     t->tested += c.tested;

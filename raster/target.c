@@ -1,8 +1,16 @@
-/* raster/target.c -- render targets: allocation, AOV planes, clear and multisample resolve. */
+/* raster/target.c -- render targets: allocation, AOV planes, clear (immediate, or deferred per 64x64 tile), the
+ * tile pass's tile buffers, and multisample resolve.
+ *
+ * Deferred clear: dev_clear records the clear; the tile pass writes each tile's clear when a draw first touches the
+ * tile -- into the thread's tile buffer (32 KB for 1 sample: it stays in the L1/L2 cache), which the tile's
+ * primitives are drawn into and which is then copied to the target; rs_target_flush writes the tiles no draw
+ * touched.  (Measured on 2 cores: the copy-out costs 1 thread ~2%, and saves 2 threads 6-12% on scenes A and C,
+ * which no longer share the L2/L3 traffic of drawing in the target.  Streaming stores for the copy-out were
+ * slower: 40% on scene C with 1 thread.) */
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef __AVX2__
+#ifdef __SSE2__
 #include <immintrin.h>
 #endif
 
@@ -197,5 +205,52 @@ void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile)
 {
     if (!pending_on(rs, j->rt) || !rs->pend[tile]) return;
     fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x);
+    rs->pend[tile] = 0;
+}
+
+size_t rs_tile_buffer_size(const rs_job *j)
+{
+    return (size_t)RS_TILE * RS_TILE * (size_t)j->samples * (sizeof(uint32_t) + sizeof(float));
+}
+
+bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf)
+{
+    rs_target *rt = j->rt;
+    if (!buf || !pending_on(rs, rt) || !rs->pend[tile]) return false;
+    const int x0 = tile % j->tiles_x * RS_TILE, y0 = tile / j->tiles_x * RS_TILE;
+    const int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
+    const int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
+    const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)RS_TILE * ns;
+    uint32_t *col = buf, *dep = col + row * RS_TILE, zb;
+    memcpy(&zb, &rs->pend_z, 4);
+    for (int y = y0; y < y1; y++) {
+        size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns, bt = (size_t)(y - y0) * row;
+        if (rs->pend_flags & 1u) fill32(col + bt, rs->pend_rgba, n, false);
+        else memcpy(col + bt, rt->color + at, n * sizeof *col);
+        if (rs->pend_flags & 2u) fill32(dep + bt, zb, n, false);
+        else memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
+        for (int k = 0; (rs->pend_flags & 1u) && k < rt->n_aov; k++) {
+            size_t c = (size_t)rt->aov[k].comps;
+            memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
+                   (size_t)(x1 - x0) * c * sizeof(float));
+        }
+    }
+    t->color = col, t->depth = (float *)dep;
+    t->ox = x0, t->oy = y0, t->pitch = RS_TILE;
+    return true;
+}
+
+
+void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t)
+{
+    rs_target *rt = j->rt;
+    const int x1 = t->ox + RS_TILE < rt->width ? t->ox + RS_TILE : rt->width;
+    const int y1 = t->oy + RS_TILE < rt->height ? t->oy + RS_TILE : rt->height;
+    const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - t->ox) * ns;
+    for (int y = t->oy; y < y1; y++) {
+        size_t at = ((size_t)y * (size_t)rt->width + (size_t)t->ox) * ns, bt = rs_tile_index(t, t->ox, y) * ns;
+        memcpy(rt->color + at, t->color + bt, n * sizeof(uint32_t));
+        memcpy(rt->depth + at, t->depth + bt, n * sizeof(float));
+    }
     rs->pend[tile] = 0;
 }

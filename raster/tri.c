@@ -19,13 +19,13 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     const rs_tri *tr = &p->u.t;
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
-    size_t base = ((size_t)y * (size_t)j->rt->width + (size_t)x) * (size_t)j->samples;
+    size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
     float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
     float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
     unsigned pass = cov;
     int first = __builtin_ctz(cov);
     if (st->z_enable) {
-        float *dep = j->rt->depth + base;
+        float *dep = t->depth + base;
         pass = 0;
         for (int s = 0; s < j->samples; s++) {
             if (!(cov & (1u << s))) continue;
@@ -48,7 +48,7 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     float r = 1.0f / sv;
     float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
     float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
-    rs_write_color(j, base, pass, rs_shade_color(j, a, b1, b2));
+    rs_write_color(j, t->color + base, pass, rs_shade_color(j, a, b1, b2));
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
 }
 
