@@ -15,6 +15,9 @@
  * The walks (rs_tri_fast picks one per triangle):
  *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
  *    boxes at most 4 wide go 4x2 pixels at a time (two rows in the 8 lanes), the others one row of 8 lanes;
+ *  - medium ones (box at most 32 wide, the same coefficients): the span walk, no blocks either: each row's
+ *    coverage over a window of 2 or 4 groups of 8 columns (32-bit edge values), then 8-lane groups from the
+ *    row's first covered pixel until its covered interval is done, so lanes hold only covered pixels' runs;
  *  - the others: the box's groups of 8 columns (from its left column when it is narrow, 8-aligned otherwise),
  *    each cut into blocks of up to 8 rows with a trivial reject / accept test; full blocks skip coverage,
  *    partial blocks step int32 edge values when the edges that cross the block provably fit (int64 otherwise).
@@ -312,12 +315,13 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
 
 /* ---- the small-triangle walks ---- */
 
-/* Does triangle p take the small-triangle walk in tile t: its clipped box [x0, x1] at most 8 pixels wide, the
- * tile at least 8 wide, and every edge coefficient at most 2^13 (extent below 32 px) so that the edge values of
- * the walked pixels (within 8 px of the box) stay below 2^28: exact in int32. */
-static inline bool small_ok(const rs_tile *t, const rs_tri *tr, int x0, int x1)
+/* Are all of triangle tr's edge coefficients ea, eb at most 2^13 (its extent at most 32 px both ways)?  Then the
+ * edge values of pixels less than 128 px from each vertex both ways are below 2^29 + 1 in magnitude (|ea| * 256
+ * * 128 + |eb| * 256 * 128, plus the top-left bias): exact in int32.  The walks that rely on it evaluate edges
+ * at most 7 columns left of the box and 32 right of its first column, and the box lies within 33 px of each
+ * vertex. */
+static inline bool coef_small(const rs_tri *tr)
 {
-    if (x1 - x0 >= 8 || t->x1 - t->x0 < 8) return false;
     const char *q = (const char *)tr + offsetof(rs_tri, ea); /* ea[0..2], eb[0..2]: lanes 0..3 and 2..5 */
     v4q u = (v4q)_mm256_loadu_si256((const __m256i *)q), v = (v4q)_mm256_loadu_si256((const __m256i *)(q + 16));
     const v4q hi = {8192, 8192, 8192, 8192}, lo = -hi;
@@ -331,7 +335,7 @@ _Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int64_t
 /* The three edges' values e[i] at the lanes (column col, row row) of a walk whose lane 0 is at (X, Y) (1/256 px
  * relative to the centre; only the low 32 bits matter), and their change dy[i] over `rows` rows.  Computed
  * modulo 2^32 (the low halves of 64-bit products are those of the full products): the true values of the
- * walked pixels fit in int32 (small_ok), so the wrapped ones are the same. */
+ * walked pixels fit in int32 (coef_small), so the wrapped ones are the same. */
 static inline void edges32(const rs_tri *tr, uint32_t X, uint32_t Y, v8i col, v8i row, int rows, v8u *e, v8u *dy)
 {
     const char *q = (const char *)tr + offsetof(rs_tri, ea); /* lanes 0..2 (as 64 bits): edges 0..2 */
@@ -398,6 +402,92 @@ ALWAYS_INLINE void walk_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, cons
         for (int i = 0; i < 3; i++) e[i] += dy[i];
         Yr += RS_SUB;
         o += c->w;
+    }
+}
+
+/* ---- the span walk ---- */
+
+/* Span windows are at most this many groups of 8 columns wide (boxes up to 32 px; wider ones of coef_small
+ * triangles, at most 33 px, take the block walk). */
+#define SPAN_GROUPS 4
+
+/* The x parts of the planes per column: column bx + i at index i, for the columns a span walk's groups can
+ * reach (the window of SPAN_GROUPS groups, plus 8 past it). */
+typedef struct xcols {
+    float zx[8 * SPAN_GROUPS + 8], sx[8 * SPAN_GROUPS + 8], q1x[8 * SPAN_GROUPS + 8], q2x[8 * SPAN_GROUPS + 8];
+} xcols;
+
+/* Fill the first 8n columns of xc from column bx: per column the values rows8_at gives it (its X is the same
+ * integer whichever group holds it, so the same floats). */
+static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int bx, int n)
+{
+    for (int v = 0; v < n; v++) {
+        const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)(bx + 8 * v) * RS_SUB - j->cx - tr->vx)) +
+                                            lane_idx * RS_SUB);
+        memcpy(xc->zx + 8 * v, &r.zx, 32);
+        memcpy(xc->sx + 8 * v, &r.sx, 32);
+        memcpy(xc->q1x + 8 * v, &r.q1x, 32);
+        memcpy(xc->q2x + 8 * v, &r.q2x, 32);
+    }
+}
+
+/* The x parts of the 8 columns from bx + g. */
+static inline rows8 xcols_at(const xcols *xc, int g)
+{
+    rows8 r;
+    memcpy(&r.zx, xc->zx + g, 32);
+    memcpy(&r.sx, xc->sx + g, 32);
+    memcpy(&r.q1x, xc->q1x + g, 32);
+    memcpy(&r.q2x, xc->q2x + g, 32);
+    return r;
+}
+
+/* The span walk of a box at most 8 * ng pixels wide (coef_small, tile at least 8 wide), one row per step: the
+ * row's coverage over a window of ng groups of 8 columns from bx (x0, or the tile's last 8 columns when x0 lies
+ * in them), then 8-lane groups from the row's first covered column (moved left to stay inside the tile) until
+ * every covered pixel is done, so groups hold only the row's covered interval.  (Measured on scene A, packing
+ * the short runs of two rows into one call (4 + 4 lanes), listing the groups first and shading them in one
+ * loop, or scalar per-edge interval stepping instead of the window's vector coverage made no gain or lost.) */
+ALWAYS_INLINE void walk_spans(fctx *c, zmode m, int ng, const rs_job *j, rs_tile *t, const rs_prim *p,
+                              const float *a, int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = c->tr;
+    const int bx = x0 + 8 <= t->x1 ? x0 : t->x1 - 8;
+    const int gmax = t->x1 - 8 - bx; /* the last group start inside the tile, >= 0 */
+    const uint32_t X = (uint32_t)((int64_t)bx * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
+    v8u e[3][SPAN_GROUPS], dy[3];
+    for (int v = 0; v < ng; v++) {
+        v8u ev[3];
+        edges32(tr, X, Y, lane_idx + bi(8 * v), bi(0), 1, ev, dy);
+        for (int i = 0; i < 3; i++) e[i][v] = ev[i];
+    }
+    /* box columns x0 - bx .. x1 - bx (< 8 * ng) */
+    const uint32_t box = (uint32_t)(((2ull << (x1 - bx)) - 1u) & ~((1ull << (x0 - bx)) - 1u));
+    xcols xc; /* groups start at most at x1 - bx and end 7 columns later */
+    xcols_fill(&xc, j, tr, bx, (x1 - bx + 7) / 8 + 1);
+    int32_t Yr = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
+    size_t o = fidx(c, bx, y0);
+    for (int y = y0; y <= y1; y++, Yr += RS_SUB, o += c->w) {
+        uint32_t out = 0;
+        for (int v = 0; v < ng; v++) /* sign bit: some edge < 0 */
+            out |= mask_of((v8i)(e[0][v] | e[1][v] | e[2][v])) << (8 * v);
+        for (int v = 0; v < ng; v++)
+            for (int i = 0; i < 3; i++) e[i][v] += dy[i];
+        uint32_t cov = box & ~out; /* window columns: bit i is column bx + i */
+        if (!cov) continue;
+        const ypart yp = ypart_at(j, tr, bi(Yr));
+        do { /* the group from the first pixel left, inside the tile (g <= x1 - bx: xc holds its columns) */
+            int g = __builtin_ctz(cov);
+            g = g < gmax ? g : gmax;
+            const unsigned c8 = (cov >> g) & 0xffu;
+            cov &= ~(0xffu << g);
+            if (m.plain) {
+                const rows8 r = xcols_at(&xc, g);
+                frag8(c, m, false, c8, o + (size_t)g, 0, &r, &yp);
+            } else {
+                span8(j, t, p, a, bx + g, y, c8);
+            }
+        } while (cov);
     }
 }
 
@@ -559,7 +649,8 @@ ALWAYS_INLINE void walk_blocks(fctx *c, zmode m, const rs_job *j, rs_tile *t, co
 
 /* ---- the instances ---- */
 
-/* Triangle p's pixels [x0, x1] x [y0, y1] of tile t through the small-triangle walks (small_ok), in mode m. */
+/* Triangle p's pixels [x0, x1] x [y0, y1] of tile t through the small-triangle walks (box at most 8 wide,
+ * coef_small), in mode m. */
 ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0,
                               int y0, int x1, int y1)
 {
@@ -570,6 +661,19 @@ ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_pri
     t->tested += c.tested;
     t->written += c.written;
 }
+
+/* The same through the span walk (box at most 8 * ng wide, coef_small, tile at least 8 wide). */
+ALWAYS_INLINE void walk_span(zmode m, int ng, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0,
+                             int y0, int x1, int y1)
+{
+    fctx c;
+    fctx_make(&c, j, t, p, a);
+    walk_spans(&c, m, ng, j, t, p, a, x0, y0, x1, y1);
+    t->tested += c.tested;
+    t->written += c.written;
+}
+#define walk_span2(m, ...) walk_span(m, 2, __VA_ARGS__)
+#define walk_span4(m, ...) walk_span(m, SPAN_GROUPS, __VA_ARGS__)
 
 /* The same through the block walk (any triangle). */
 ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0,
@@ -600,6 +704,12 @@ ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim 
 INSTANCE(small_le, walk_small, MODE_LE)
 INSTANCE(small_less, walk_small, MODE_LESS)
 INSTANCE(small_any, walk_small, MODE_JOB(j))
+INSTANCE(span2_le, walk_span2, MODE_LE)
+INSTANCE(span2_less, walk_span2, MODE_LESS)
+INSTANCE(span2_any, walk_span2, MODE_JOB(j))
+INSTANCE(span4_le, walk_span4, MODE_LE)
+INSTANCE(span4_less, walk_span4, MODE_LESS)
+INSTANCE(span4_any, walk_span4, MODE_JOB(j))
 INSTANCE(big_le, walk_big, MODE_LE)
 INSTANCE(big_less, walk_big, MODE_LESS)
 INSTANCE(big_any, walk_big, MODE_JOB(j))
@@ -609,10 +719,20 @@ void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, 
     const rs_state *st = j->st;
     const bool zw = st->z_enable && st->z_write && !st->blend_enable && j->rt->n_aov == 0;
     const int mode = zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
-    if (small_ok(t, &p->u.t, x0, x1)) {
+    const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
+    const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
+    if (small && wbox <= 8) {
         if (mode == 0) small_le(j, t, p, a, x0, y0, x1, y1);
         else if (mode == 1) small_less(j, t, p, a, x0, y0, x1, y1);
         else small_any(j, t, p, a, x0, y0, x1, y1);
+    } else if (small && wbox <= 16) {
+        if (mode == 0) span2_le(j, t, p, a, x0, y0, x1, y1);
+        else if (mode == 1) span2_less(j, t, p, a, x0, y0, x1, y1);
+        else span2_any(j, t, p, a, x0, y0, x1, y1);
+    } else if (small) {
+        if (mode == 0) span4_le(j, t, p, a, x0, y0, x1, y1);
+        else if (mode == 1) span4_less(j, t, p, a, x0, y0, x1, y1);
+        else span4_any(j, t, p, a, x0, y0, x1, y1);
     } else {
         if (mode == 0) big_le(j, t, p, a, x0, y0, x1, y1);
         else if (mode == 1) big_less(j, t, p, a, x0, y0, x1, y1);
