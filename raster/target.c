@@ -16,6 +16,17 @@
 
 #include "raster_internal.h"
 
+/* n zeroed 32-bit words, 64-byte aligned: a tile row of a target whose rows are whole cache lines then is whole
+ * cache lines too, which the tile copy-out's streaming stores need (a partial line costs the memory a read).
+ * NULL when out of memory. */
+static void *plane_alloc(size_t n)
+{
+    size_t bytes = (n * 4u + 63u) & ~(size_t)63u;
+    void *p = aligned_alloc(64, bytes);
+    if (p) memset(p, 0, bytes);
+    return p;
+}
+
 /* Allocate a w x h target with 1 or 4 samples: RS_OK, RS_EINVAL (bad arguments) or RS_ENOMEM. */
 int rs_target_init(rs_target *rt, int width, int height, int samples)
 {
@@ -24,8 +35,8 @@ int rs_target_init(rs_target *rt, int width, int height, int samples)
     if (width < 1 || height < 1 || width > RS_MAX_SIZE || height > RS_MAX_SIZE) return RS_EINVAL;
     if (samples != 1 && samples != 4) return RS_EINVAL;
     size_t n = (size_t)width * (size_t)height * (size_t)samples;
-    rt->color = calloc(n, sizeof *rt->color);
-    rt->depth = calloc(n, sizeof *rt->depth);
+    rt->color = plane_alloc(n);
+    rt->depth = plane_alloc(n);
     if (!rt->color || !rt->depth) {
         rs_target_free(rt);
         return RS_ENOMEM;
@@ -77,6 +88,25 @@ static void fill32(uint32_t *dst, uint32_t bits, size_t n, bool stream)
     }
 #endif
     for (; i < n; i++) dst[i] = bits;
+}
+
+/* Copy n 32-bit words from src to dst, 8 at a time once dst is 32-byte aligned; streaming (non-temporal) stores
+ * when `stream` (the caller fences). */
+static void copy32(uint32_t *restrict dst, const uint32_t *restrict src, size_t n, bool stream)
+{
+    size_t i = 0;
+#ifdef __AVX2__
+    for (; i < n && ((uintptr_t)(dst + i) & 31u); i++) dst[i] = src[i];
+    if (stream)
+        for (; i + 8 <= n; i += 8)
+            _mm256_stream_si256((__m256i *)(dst + i), _mm256_loadu_si256((const __m256i *)(src + i)));
+    else
+        for (; i + 8 <= n; i += 8)
+            _mm256_store_si256((__m256i *)(dst + i), _mm256_loadu_si256((const __m256i *)(src + i)));
+#else
+    (void)stream;
+#endif
+    for (; i < n; i++) dst[i] = src[i];
 }
 
 /* Clear rows [y0, y1) of the target as rs_target_clear does. */
@@ -247,10 +277,15 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
     const int x1 = t->ox + RS_TILE < rt->width ? t->ox + RS_TILE : rt->width;
     const int y1 = t->oy + RS_TILE < rt->height ? t->oy + RS_TILE : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - t->ox) * ns;
+    const size_t row_bytes = (size_t)rt->width * ns * 4u;
+    const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= CLEAR_STREAM_BYTES;
     for (int y = t->oy; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)t->ox) * ns, bt = rs_tile_index(t, t->ox, y) * ns;
-        memcpy(rt->color + at, t->color + bt, n * sizeof(uint32_t));
-        memcpy(rt->depth + at, t->depth + bt, n * sizeof(float));
+        copy32(rt->color + at, t->color + bt, n, stream);
+        copy32((uint32_t *)rt->depth + at, (const uint32_t *)t->depth + bt, n, stream);
     }
+#ifdef __AVX2__
+    if (stream) _mm_sfence();
+#endif
     rs->pend[tile] = 0;
 }

@@ -115,6 +115,38 @@ static void test_scene_b(void **state) { (void)state; all_patches(4, 6, 192, 192
 /* C: one cube at a low level on a larger target (few large triangles). */
 static void test_scene_c(void **state) { (void)state; all_patches(1, 2, 320, 320, 3.2f); }
 
+/* Targets whose planes take the tile pass's streaming copy-out (2048 x 1024: 8 MB planes, rows of whole cache
+ * lines) and a large one whose rows are not whole cache lines (2056 x 1024: plain stores), 2 threads; then a
+ * second draw without a clear, drawn in the target and depth-tested against what the copy-out wrote. */
+static void test_large_targets(void **state)
+{
+    (void)state;
+    is_mesh m;
+    make_cubes(1, &m);
+    const int widths[2] = {2048, 2056};
+    for (int k = 0; k < 2; k++) {
+        scene_opts o = scene(2, widths[k], 1024, 3.2f);
+        o.threads = 2, o.patch = VS_PATCH_NPATCH;
+        is_device *dev[2];
+        for (int r = 0; r < 2; r++) {
+            dev[r] = render(&o, &m, 0, r == 0);
+            core_grid g;
+            assert_int_equal(core_grid_make(o.grid, o.level, &g), 0);
+            o.yaw += 7.0f; /* a second, turned draw without a clear: depth-tested against the copied-out planes */
+            assert_int_equal(scene_draw(dev[r], &o, &m, &g, NULL), 0);
+            o.yaw -= 7.0f;
+            core_grid_free(&g);
+        }
+        const rs_target *a = dev_render_target(dev[0]), *b = dev_render_target(dev[1]);
+        size_t n = (size_t)a->width * (size_t)a->height;
+        assert_memory_equal(a->color, b->color, n * sizeof *a->color);
+        assert_memory_equal(a->depth, b->depth, n * sizeof *a->depth);
+        assert_true(dev_stats(dev[0])->samples_written > 100000);
+        dev_destroy(dev[0]), dev_destroy(dev[1]);
+    }
+    mesh_free(&m);
+}
+
 /* A draw larger than one fused rasterizer call (2^19 triangles): 15 x 15 cubes at level 16 (691 200 triangles,
  * two calls) on a small target, and a level whose instances exceed a fused piece (level 96: 4753 vertices). */
 static void test_fused_limits(void **state)
@@ -321,6 +353,7 @@ int main(void)
         cmocka_unit_test(test_scene_c),
         cmocka_unit_test(test_edge_cases),
         cmocka_unit_test(test_fused_limits),
+        cmocka_unit_test(test_large_targets),
         cmocka_unit_test(test_offset_mesh),
         cmocka_unit_test(test_shader_batches),
         cmocka_unit_test(test_project_vertices),
