@@ -11,7 +11,8 @@
  * Both sides read the same bytes: this program builds the mesh (meshes/), the grid (core_grid_regular), the
  * instance buffer (mesh_build_instances) and the matrices, and hands them to bench-gl in a scene file
  * (bench_scene_file.h).  Timing: per frame Clear + DrawIndexedPrimitive (instess) and glClear + draw + glFinish
- * (llvmpipe), the median of --frames frames after --warmup frames.  See bench/README.md.
+ * (llvmpipe), the median of --frames frames after --warmup frames (instess: the thread counts' frames interleaved
+ * on one device).  See bench/README.md.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -141,7 +142,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
 static int parse_args(int argc, char **argv, bench_args *a)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    *a = (bench_args){.frames = 11, .warmup = 2, .scenes = "ABC", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
+    *a = (bench_args){.frames = 31, .warmup = 3, .scenes = "ABC", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
                       .lp_threads = {1, 2}, .n_lp = 2};
     for (int i = 1; i < argc; i++) {
         int used = 0;
@@ -392,25 +393,12 @@ static is_result inst_frame(inst_gpu *g, const bench_data *bd)
                                       (unsigned)bd->grid.n_triangles);
 }
 
-/* Warm up, time `frames` frames (median), collect statistics and the image; 0 or -1 with a message. */
-static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, inst_result *r, char *err,
-                        size_t errlen)
+/* Statistics and resolved image of one more (untimed) frame at `threads` threads into r; IS_OK or an error. */
+static is_result inst_capture(inst_gpu *g, const bench_data *bd, int threads, inst_result *r)
 {
-    double *ms = malloc((size_t)a->frames * sizeof *ms);
-    is_result e = ms ? IS_OK : IS_ERR_OUTOFMEMORY;
-    for (int k = 0; k < a->warmup && e == IS_OK; k++) e = inst_frame(g, bd);
-    r->rss_after_warmup_kb = rss_now_kb();
-    for (int k = 0; k < a->frames && e == IS_OK; k++) {
-        double t0 = now_ms();
-        e = inst_frame(g, bd);
-        ms[k] = now_ms() - t0;
-        if (k == 0 && a->warmup == 0) r->rss_after_warmup_kb = rss_now_kb(); /* the first frame allocates */
-    }
-    r->rss_after_frames_kb = rss_now_kb();
-    if (e != IS_OK) return free(ms), snprintf(err, errlen, "instess draw failed: %s", dev_last_error(g->dev)), -1;
-    qsort(ms, (size_t)a->frames, sizeof *ms, cmp_double);
-    r->median_ms = ms[a->frames / 2], r->min_ms = ms[0];
-    free(ms);
+    dev_set_threads(g->dev, threads);
+    is_result e = inst_frame(g, bd);
+    if (e != IS_OK) return e;
     const rs_stats *st = dev_stats(g->dev);
     r->vertices = dev_vertices_shaded(g->dev);
     r->tris_in = st->prims_in, r->tris_drawn = st->prims_drawn;
@@ -418,16 +406,51 @@ static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, 
     rs_target *rt = dev_render_target(g->dev);
     r->image = malloc((size_t)rt->width * rt->height * sizeof *r->image);
     if (r->image) rs_target_resolve(rt, r->image);
+    return IS_OK;
+}
+
+/* Warm up, then time `frames` rounds of one frame per thread count (the same device, its thread count switched
+ * between frames: a slow spell of a shared machine falls on every count alike, so their ratio holds), and take
+ * each count's median; then statistics and image per count.  r[t] for a->threads[t]; 0 or -1 with a message. */
+static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, inst_result *r, char *err,
+                        size_t errlen)
+{
+    const int nt = a->n_threads, nf = a->frames;
+    double *ms = malloc((size_t)nt * (size_t)nf * sizeof *ms);
+    is_result e = ms ? IS_OK : IS_ERR_OUTOFMEMORY;
+    for (int k = 0; k < a->warmup && e == IS_OK; k++)
+        for (int t = 0; t < nt && e == IS_OK; t++) dev_set_threads(g->dev, a->threads[t]), e = inst_frame(g, bd);
+    long rss_warm = rss_now_kb();
+    for (int k = 0; k < nf && e == IS_OK; k++) {
+        for (int t = 0; t < nt && e == IS_OK; t++) {
+            dev_set_threads(g->dev, a->threads[t]);
+            double t0 = now_ms();
+            e = inst_frame(g, bd);
+            ms[(size_t)t * (size_t)nf + (size_t)k] = now_ms() - t0;
+        }
+        if (k == 0 && a->warmup == 0) rss_warm = rss_now_kb(); /* the first round allocates */
+    }
+    long rss_end = rss_now_kb();
+    for (int t = 0; t < nt && e == IS_OK; t++) {
+        double *m = ms + (size_t)t * (size_t)nf;
+        qsort(m, (size_t)nf, sizeof *m, cmp_double);
+        r[t].median_ms = m[nf / 2], r[t].min_ms = m[0];
+        r[t].rss_after_warmup_kb = rss_warm, r[t].rss_after_frames_kb = rss_end;
+        e = inst_capture(g, bd, a->threads[t], &r[t]);
+    }
+    free(ms);
+    if (e != IS_OK) return snprintf(err, errlen, "instess draw failed: %s", dev_last_error(g->dev)), -1;
     return 0;
 }
 
-/* Render a scene with instess at `threads` threads; 0 or -1 with a message. */
-static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads, const bench_args *a,
+/* Render a scene with instess at every thread count of a->threads (r[t] for a->threads[t]); 0 or -1 with a
+ * message. */
+static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch patch, const bench_args *a,
                     inst_result *r, char *err, size_t errlen)
 {
-    memset(r, 0, sizeof *r);
+    memset(r, 0, (size_t)a->n_threads * sizeof *r);
     inst_gpu g;
-    int rc = inst_setup(&g, d, bd, patch, threads, err, errlen);
+    int rc = inst_setup(&g, d, bd, patch, a->threads[0], err, errlen);
     if (rc == 0) rc = inst_measure(&g, bd, a, r, err, errlen);
     inst_release(&g);
     return rc;
@@ -671,8 +694,7 @@ static int run_case(const bench_args *a, const char *gl_path, const char *dir, c
 {
     memset(c, 0, sizeof *c);
     c->gl_best_ms = NAN;
-    for (int t = 0; t < a->n_threads; t++)
-        if (inst_run(d, bd, bench_patches[pk].patch, a->threads[t], a, &c->inst[t], err, errlen) != 0) return -1;
+    if (inst_run(d, bd, bench_patches[pk].patch, a, c->inst, err, errlen) != 0) return -1;
     if (a->no_gl) return 0;
     char scene_file[4096];
     snprintf(scene_file, sizeof scene_file, "%s/%c-%s.scene", dir, d->id, bench_patches[pk].name);
