@@ -90,6 +90,10 @@ static void fill32(uint32_t *dst, uint32_t bits, size_t n, bool stream)
     for (; i < n; i++) dst[i] = bits;
 }
 
+/* Planes of at least this size get the tile copy-out's streaming stores (a 1024x1024 target's two planes, 8 MB,
+ * do not stay in a core's L2 cache; measured on scenes A and B, 2 threads: the tile pass 5-8% faster). */
+#define COPY_STREAM_BYTES (4u << 20)
+
 /* Copy n 32-bit words from src to dst, 8 at a time once dst is 32-byte aligned; streaming (non-temporal) stores
  * when `stream` (the caller fences). */
 static void copy32(uint32_t *restrict dst, const uint32_t *restrict src, size_t n, bool stream)
@@ -278,7 +282,7 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
     const int y1 = t->oy + RS_TILE < rt->height ? t->oy + RS_TILE : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - t->ox) * ns;
     const size_t row_bytes = (size_t)rt->width * ns * 4u;
-    const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= CLEAR_STREAM_BYTES;
+    const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= COPY_STREAM_BYTES;
     for (int y = t->oy; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)t->ox) * ns, bt = rs_tile_index(t, t->ox, y) * ns;
         copy32(rt->color + at, t->color + bt, n, stream);
