@@ -701,18 +701,24 @@ ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim 
     {                                                                                                           \
         walk(mode, j, t, p, a, x0, y0, x1, y1);                                                                 \
     }
-INSTANCE(small_le, walk_small, MODE_LE)
-INSTANCE(small_less, walk_small, MODE_LESS)
-INSTANCE(small_any, walk_small, MODE_JOB(j))
-INSTANCE(span2_le, walk_span2, MODE_LE)
-INSTANCE(span2_less, walk_span2, MODE_LESS)
-INSTANCE(span2_any, walk_span2, MODE_JOB(j))
-INSTANCE(span4_le, walk_span4, MODE_LE)
-INSTANCE(span4_less, walk_span4, MODE_LESS)
-INSTANCE(span4_any, walk_span4, MODE_JOB(j))
-INSTANCE(big_le, walk_big, MODE_LE)
-INSTANCE(big_less, walk_big, MODE_LESS)
-INSTANCE(big_any, walk_big, MODE_JOB(j))
+/* The three instances of a walk: name_le (LESSEQUAL with writes), name_less (LESS with writes), name_any. */
+#define INSTANCES(name, walk)                                                                                   \
+    INSTANCE(name##_le, walk, MODE_LE)                                                                          \
+    INSTANCE(name##_less, walk, MODE_LESS)                                                                      \
+    INSTANCE(name##_any, walk, MODE_JOB(j))
+INSTANCES(small, walk_small)
+INSTANCES(span2, walk_span2)
+INSTANCES(span4, walk_span4)
+INSTANCES(big, walk_big)
+
+typedef void walk_fn(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
+/* walks[walk][mode]: walk 0 small, 1 and 2 span (2 or 4 groups), 3 block; mode 0 LESSEQUAL, 1 LESS, 2 any. */
+static walk_fn *const walks[4][3] = {
+    {small_le, small_less, small_any},
+    {span2_le, span2_less, span2_any},
+    {span4_le, span4_less, span4_any},
+    {big_le, big_less, big_any},
+};
 
 void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
 {
@@ -721,23 +727,8 @@ void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, 
     const int mode = zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
     const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
     const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
-    if (small && wbox <= 8) {
-        if (mode == 0) small_le(j, t, p, a, x0, y0, x1, y1);
-        else if (mode == 1) small_less(j, t, p, a, x0, y0, x1, y1);
-        else small_any(j, t, p, a, x0, y0, x1, y1);
-    } else if (small && wbox <= 16) {
-        if (mode == 0) span2_le(j, t, p, a, x0, y0, x1, y1);
-        else if (mode == 1) span2_less(j, t, p, a, x0, y0, x1, y1);
-        else span2_any(j, t, p, a, x0, y0, x1, y1);
-    } else if (small) {
-        if (mode == 0) span4_le(j, t, p, a, x0, y0, x1, y1);
-        else if (mode == 1) span4_less(j, t, p, a, x0, y0, x1, y1);
-        else span4_any(j, t, p, a, x0, y0, x1, y1);
-    } else {
-        if (mode == 0) big_le(j, t, p, a, x0, y0, x1, y1);
-        else if (mode == 1) big_less(j, t, p, a, x0, y0, x1, y1);
-        else big_any(j, t, p, a, x0, y0, x1, y1);
-    }
+    const int walk = !small ? 3 : wbox <= 8 ? 0 : wbox <= 16 ? 1 : 2;
+    walks[walk][mode](j, t, p, a, x0, y0, x1, y1);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
