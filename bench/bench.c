@@ -417,7 +417,8 @@ static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, 
 {
     const int nt = a->n_threads, nf = a->frames;
     double *ms = malloc((size_t)nt * (size_t)nf * sizeof *ms);
-    is_result e = ms ? IS_OK : IS_ERR_OUTOFMEMORY;
+    if (!ms) return snprintf(err, errlen, "out of memory"), -1;
+    is_result e = IS_OK;
     for (int k = 0; k < a->warmup && e == IS_OK; k++)
         for (int t = 0; t < nt && e == IS_OK; t++) dev_set_threads(g->dev, a->threads[t]), e = inst_frame(g, bd);
     long rss_warm = rss_now_kb();

