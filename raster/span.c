@@ -442,9 +442,9 @@ static inline rows8 xcols_at(const xcols *xc, int g)
     return r;
 }
 
-/* The span walk of a box at most 8 * ng pixels wide (coef_small, tile at least 8 wide), one row per step: the
- * row's coverage over a window of ng groups of 8 columns from bx (x0, or the tile's last 8 columns when x0 lies
- * in them), then 8-lane groups from the row's first covered column (moved left to stay inside the tile) until
+/* The span walk of a box 9 to 8 * ng pixels wide (coef_small, tile at least 8 wide), one row per step: the
+ * row's coverage over a window of ng groups of 8 columns from x0 (x0 + 8 <= x1 < t->x1: the first group lies in
+ * the tile), then 8-lane groups from the row's first covered column (moved left to stay inside the tile) until
  * every covered pixel is done, so groups hold only the row's covered interval.  (Measured on scene A, packing
  * the short runs of two rows into one call (4 + 4 lanes), listing the groups first and shading them in one
  * loop, or scalar per-edge interval stepping instead of the window's vector coverage made no gain or lost.) */
@@ -452,31 +452,29 @@ ALWAYS_INLINE void walk_spans(fctx *c, zmode m, int ng, const rs_job *j, rs_tile
                               const float *a, int x0, int y0, int x1, int y1)
 {
     const rs_tri *tr = c->tr;
-    const int bx = x0 + 8 <= t->x1 ? x0 : t->x1 - 8;
-    const int gmax = t->x1 - 8 - bx; /* the last group start inside the tile, >= 0 */
-    const uint32_t X = (uint32_t)((int64_t)bx * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
+    const int gmax = t->x1 - 8 - x0; /* the last group start inside the tile, >= 0 */
+    const uint32_t X = (uint32_t)((int64_t)x0 * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
     v8u e[3][SPAN_GROUPS], dy[3];
     for (int v = 0; v < ng; v++) {
         v8u ev[3];
         edges32(tr, X, Y, lane_idx + bi(8 * v), bi(0), 1, ev, dy);
         for (int i = 0; i < 3; i++) e[i][v] = ev[i];
     }
-    /* box columns x0 - bx .. x1 - bx (< 8 * ng) */
-    const uint32_t box = (uint32_t)(((2ull << (x1 - bx)) - 1u) & ~((1ull << (x0 - bx)) - 1u));
-    xcols xc; /* groups start at most at x1 - bx and end 7 columns later */
-    xcols_fill(&xc, j, tr, bx, (x1 - bx + 7) / 8 + 1);
+    const uint32_t box = (uint32_t)((2ull << (x1 - x0)) - 1u); /* box columns 0 .. x1 - x0 (< 8 * ng) */
+    xcols xc; /* groups start at most at x1 - x0 and end 7 columns later */
+    xcols_fill(&xc, j, tr, x0, (x1 - x0 + 7) / 8 + 1);
     int32_t Yr = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    size_t o = fidx(c, bx, y0);
+    size_t o = fidx(c, x0, y0);
     for (int y = y0; y <= y1; y++, Yr += RS_SUB, o += c->w) {
         uint32_t out = 0;
         for (int v = 0; v < ng; v++) /* sign bit: some edge < 0 */
             out |= mask_of((v8i)(e[0][v] | e[1][v] | e[2][v])) << (8 * v);
         for (int v = 0; v < ng; v++)
             for (int i = 0; i < 3; i++) e[i][v] += dy[i];
-        uint32_t cov = box & ~out; /* window columns: bit i is column bx + i */
+        uint32_t cov = box & ~out; /* window columns: bit i is column x0 + i */
         if (!cov) continue;
         const ypart yp = ypart_at(j, tr, bi(Yr));
-        do { /* the group from the first pixel left, inside the tile (g <= x1 - bx: xc holds its columns) */
+        do { /* the group from the first pixel left, inside the tile (g <= x1 - x0: xc holds its columns) */
             int g = __builtin_ctz(cov);
             g = g < gmax ? g : gmax;
             const unsigned c8 = (cov >> g) & 0xffu;
@@ -485,7 +483,7 @@ ALWAYS_INLINE void walk_spans(fctx *c, zmode m, int ng, const rs_job *j, rs_tile
                 const rows8 r = xcols_at(&xc, g);
                 frag8(c, m, false, c8, o + (size_t)g, 0, &r, &yp);
             } else {
-                span8(j, t, p, a, bx + g, y, c8);
+                span8(j, t, p, a, x0 + g, y, c8);
             }
         } while (cov);
     }
