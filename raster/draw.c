@@ -277,8 +277,7 @@ static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i
 }
 
 /* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2).  buf: the thread's
- * tile buffer (used when the tile's clear is deferred, except on the reference path, which draws in the target
- * so that the tests compare the buffer and its copy-out against it) or NULL. */
+ * tile buffer (used when the tile's clear is deferred) or NULL (the tile is drawn in the target). */
 static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts, void *buf)
 {
     rs_tile t;
@@ -291,7 +290,7 @@ static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, 
     t.color = j->rt->color, t.depth = j->rt->depth;
     t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
     bool has = tile_has_prims(rs, n_chunks, tile);
-    bool buffered = has && !j->reference && rs_tile_buffer_begin(rs, j, tile, &t, buf); /* reference: in place */
+    bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
     if (has && !buffered) rs_tile_flush(rs, j, tile);
     for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
@@ -345,7 +344,9 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks,
 static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, rs_stats *stats)
 {
     int ntl = j->n_tiles;
-    char *bufs = tile_buffers(rs, j, nt);
+    /* the reference path draws in the target, so that the tests compare the tile buffers and their copy-out
+     * against it */
+    char *bufs = j->reference ? NULL : tile_buffers(rs, j, nt);
     const size_t bsz = rs_tile_buffer_size(j);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (int t = 0; t < ntl; t++)
