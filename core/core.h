@@ -218,12 +218,32 @@ typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constant
  * them, or never reads them). */
 typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
 
+/* The registers of is_vs_input as an array: register r is the r-th float4 (position[0] is 0, texcoord[k] is
+ * IS_VS_REG_TEXCOORD + k); a mask of registers has bit r for register r. */
+#define IS_VS_INPUT_REGS ((int)(sizeof(is_vs_input) / sizeof(float4)))
+#define IS_VS_REG_TEXCOORD ((int)(offsetof(is_vs_input, texcoord) / sizeof(float4)))
+
+/* Vertex v of a batch whose `shared` registers are stored in in[0] only: in + v itself when nothing is shared
+ * or v is 0, else *tmp filled with in[v]'s registers and in[0]'s shared ones (what `main` is given). */
+static inline const is_vs_input *is_vs_input_at(const is_vs_input *in, size_t v, uint32_t shared, is_vs_input *tmp)
+{
+    if (!shared || v == 0) return in + v;
+    *tmp = in[v];
+    for (int r = 0; r < IS_VS_INPUT_REGS; r++)
+        if (shared & (1u << r)) ((float4 *)tmp)[r] = ((const float4 *)in)[r];
+    return tmp;
+}
+
 /* Optional batched entry: shade in[0..n) into out[0..n) (not necessarily zeroed first), producing exactly the
  * bytes of n calls of `main` in oPos and in the outputs of `live` (an IS_OUT_* mask: what the caller will read);
  * lets a shader share the work of consecutive vertices of one instance, and skip outputs nobody reads (as a D3D9
- * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left unwritten. */
+ * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left unwritten.
+ * `shared` (a register mask, 0: none): registers that hold the same value for every vertex of the batch (an
+ * instance's per-instance registers, the ones no element fills) and are stored in in[0] only -- in in[1..n) they
+ * are unspecified; vertex v's inputs are those of is_vs_input_at.  The device's fused path uses it so that one instance's data is neither
+ * copied to every vertex nor compared vertex by vertex. */
 typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                               is_vs_output *out);
+                               uint32_t shared, is_vs_output *out);
 
 typedef struct is_vertex_shader {
     const char *name;

@@ -22,6 +22,8 @@
 #define DRAW_CHUNK_VERTICES (1u << 16)
 #define DRAW_MAX_VERTICES (1u << 26) /* NumVertices of one draw (one instance must fit in scratch memory) */
 
+_Static_assert(sizeof(is_vs_input) % sizeof(float4) == 0 && IS_VS_INPUT_REGS <= 32, "register masks are 32 bits");
+
 /* How one declaration element is read during a draw. */
 typedef struct fetch_elem {
     const unsigned char *base; /* buffer + stream offset + element offset */
@@ -38,6 +40,8 @@ typedef struct fetch_plan {
     unsigned n_instances;
     unsigned n_vert;                 /* per-vertex elements: el[vert[0..n_vert)] (the fast path's fetch) */
     uint8_t vert[IS_MAX_ELEMENTS];
+    uint32_t shared;                 /* registers no per-vertex element fills: the same for every vertex of
+                                        an instance (the fused path's `shared` mask) */
 } fetch_plan;
 
 /* Indices a primitive list of `count` primitives of `type` uses; 0 for an unknown type. */
@@ -86,6 +90,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     fp->n = d->n;
     fp->n_instances = n_instances;
     fp->n_vert = 0;
+    uint32_t vert_regs = 0;
     for (unsigned k = 0; k < d->n; k++) {
         const decl_element *de = &d->el[k];
         const stream_source *s = &dev->streams[de->e.stream];
@@ -103,8 +108,12 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
                             de->e.stream, (unsigned long long)last, s->vb->size);
         fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
                                  de->reg_offset};
-        if (!inst) fp->vert[fp->n_vert++] = (uint8_t)k;
+        if (!inst) {
+            fp->vert[fp->n_vert++] = (uint8_t)k;
+            vert_regs |= 1u << (de->reg_offset / sizeof(float4));
+        }
     }
+    fp->shared = (uint32_t)((1ull << IS_VS_INPUT_REGS) - 1u) & ~vert_regs;
     return IS_OK;
 }
 
@@ -280,7 +289,7 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
         if (cache) fetch_cached(fp, cache, v0 + b, m, in);
         else fetch_vertices(fp, first + v0 + b, m, in);
         memset(out, 0, m * sizeof *out);
-        if (vs->batch) vs->batch(&dev->consts, in, m, live, out);
+        if (vs->batch) vs->batch(&dev->consts, in, m, live, 0, out);
         else
             for (uint32_t k = 0; k < m; k++) vs->main(&dev->consts, &in[k], &out[k]);
     }
@@ -357,45 +366,36 @@ typedef struct fused_ctx {
     rs_vertex *out_v;
     const float4 *cache;       /* fetch_cache of first..first+count-1 (the draw has one) */
     is_vs_input *in;           /* count input registers per slot (see shade_instance) */
-    bool *in_ready;            /* per slot: its inputs hold the defaults outside the declaration's registers */
+    bool *in_ready;            /* per slot: its inputs hold the defaults and the per-vertex registers */
     uint32_t live;             /* live_outputs(dev) */
 } fused_ctx;
 
 /* Shade all `count` vertices of `instance` into out[0..count) with one batch call (so the shader's 8-lane groups
- * are full but for the instance's last ones).  in[0..count) is the slot's input scratch: registers outside the
- * declaration are written with D3D9's defaults once per draw (*ready), the declared ones per instance -- the
- * per-instance elements fetched once into a template whose span [lo, hi) of per-instance registers is copied to
- * every vertex (registers between them are defaults there too), then the per-vertex ones from the draw's
- * fetch_cache.  The outputs are not zeroed first: the rasterizer reads oPos and the live outputs the shader
- * writes (its `outputs` mask), nothing else of this scratch. */
+ * are full but for the instance's last ones).  in[0..count) is the slot's input scratch, made ready once per draw
+ * (*ready): D3D9's defaults, then the per-vertex registers from the draw's fetch_cache (the same for every
+ * instance; no element shares a register with another).  Per instance only the per-instance registers are
+ * fetched: into in[0] alone for a batch shader, into every entry for a shader called per vertex.  A batch shader
+ * is told that every register but the per-vertex ones (fp->shared: the per-instance registers and the defaults)
+ * is the same for all vertices and stored in in[0] only.  The outputs are not zeroed first: the rasterizer reads
+ * oPos and the live outputs the shader writes (its `outputs` mask), nothing else of this scratch. */
 static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, rs_vertex *out)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
+    const is_vertex_shader *vs = f->dev->vs;
     if (!*ready) {
         for (uint32_t v = 0; v < n; v++) input_defaults(&in[v]);
+        fetch_cached(fp, f->cache, 0, n, in);
         *ready = true;
     }
-    is_vs_input t;
-    input_defaults(&t);
-    size_t lo = sizeof t, hi = 0;
+    const uint32_t copies = vs->batch ? 1 : n;
     for (unsigned k = 0; k < fp->n; k++) {
         const fetch_elem *e = &fp->el[k];
         if (!e->per_instance) continue;
-        *(float4 *)((unsigned char *)&t + e->reg_offset) =
-            decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
-        lo = e->reg_offset < lo ? e->reg_offset : lo;
-        hi = e->reg_offset + sizeof(float4) > hi ? e->reg_offset + sizeof(float4) : hi;
+        float4 r = decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
+        for (uint32_t v = 0; v < copies; v++) *(float4 *)((unsigned char *)&in[v] + e->reg_offset) = r;
     }
-    const float4 *span = (const float4 *)((unsigned char *)&t + lo);
-    const size_t n_span = lo < hi ? (hi - lo) / sizeof(float4) : 0; /* registers are float4-aligned */
-    for (uint32_t v = 0; v < n; v++) {
-        float4 *dst = (float4 *)((unsigned char *)&in[v] + lo);
-        for (size_t r = 0; r < n_span; r++) dst[r] = span[r];
-    }
-    fetch_cached(fp, f->cache, 0, n, in);
-    const is_vertex_shader *vs = f->dev->vs;
-    if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, out);
+    if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
     else
         for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
 }

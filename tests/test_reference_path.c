@@ -306,9 +306,9 @@ static void test_shader_batches(void **state)
 {
     (void)state;
     enum { N = 96 };
-    is_vs_input *in = calloc(N, sizeof *in);
+    is_vs_input *in = calloc(N, sizeof *in), *sh = calloc(N, sizeof *sh);
     is_vs_output *a = calloc(N, sizeof *a), *b = calloc(N, sizeof *b);
-    assert_non_null(in), assert_non_null(a), assert_non_null(b);
+    assert_non_null(in), assert_non_null(sh), assert_non_null(a), assert_non_null(b);
     uint32_t st = 12345u;
     float4x4 wvp = mat_mul(&(float4x4){{{1, 0.2f, 0, 0}, {0, 1, 0.1f, 0}, {0.3f, 0, 1, 1}, {0, 0, 3, 4}}}, &(float4x4){{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}});
     float4x4 world = mat_rotation_y(0.5f);
@@ -331,22 +331,39 @@ static void test_shader_batches(void **state)
                 }
                 memset(a, 0, N * sizeof *a), memset(b, 0, N * sizeof *b);
                 for (int v = 0; v < N; v++) vs_shaders[s]->main(&c, &in[v], &a[v]);
-                vs_shaders[s]->batch(&c, in, N, ~0u, b);
+                vs_shaders[s]->batch(&c, in, N, ~0u, 0, b);
                 for (int v = 0; v < N; v++)
                     if (memcmp(&a[v], &b[v], sizeof a[v]) != 0)
                         fail_msg("shader %s mode %d instance %d vertex %d: batch differs", vs_shaders[s]->name, mode, t, v);
                 /* only oD0 live (the device's usual link): oPos and oD0 keep the bytes of main */
                 memset(b, 0, N * sizeof *b);
-                vs_shaders[s]->batch(&c, in, N, IS_OUT_COLOR0, b);
+                vs_shaders[s]->batch(&c, in, N, IS_OUT_COLOR0, 0, b);
                 for (int v = 0; v < N; v++)
                     if (memcmp(&a[v].pos, &b[v].pos, sizeof a[v].pos) != 0 ||
                         memcmp(&a[v].attr[RS_ATTR_COLOR0], &b[v].attr[RS_ATTR_COLOR0], sizeof(rs_vec4)) != 0)
                         fail_msg("shader %s mode %d instance %d vertex %d: batch with oD0 live differs",
                                  vs_shaders[s]->name, mode, t, v);
+                if (t % 2) continue;
+                /* one instance with its shared registers in in[0] only (the device's fused path), the others
+                 * poisoned: a shader that read them would differ */
+                const uint32_t masks[] = {((1u << (VS_IN_ID + 1)) - 1u) << IS_VS_REG_TEXCOORD,
+                                          ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u, 7u << IS_VS_REG_TEXCOORD};
+                for (size_t q = 0; q < sizeof masks / sizeof masks[0]; q++) {
+                    memcpy(sh, in, N * sizeof *in);
+                    for (int v = 1; v < N; v++)
+                        for (int r = 0; r < IS_VS_INPUT_REGS; r++)
+                            if (masks[q] & (1u << r)) ((float4 *)&sh[v])[r] = f4(NAN, -1e30f, NAN, 7);
+                    memset(b, 0, N * sizeof *b);
+                    vs_shaders[s]->batch(&c, sh, N, ~0u, masks[q], b);
+                    for (int v = 0; v < N; v++)
+                        if (memcmp(&a[v], &b[v], sizeof a[v]) != 0)
+                            fail_msg("shader %s mode %d instance %d vertex %d: batch with shared mask %#x differs",
+                                     vs_shaders[s]->name, mode, t, v, masks[q]);
+                }
             }
         }
     }
-    free(in), free(a), free(b);
+    free(in), free(sh), free(a), free(b);
 }
 
 int main(void)

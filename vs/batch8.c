@@ -228,6 +228,8 @@ typedef struct edge_cp { float3 ap, bp, an, bn, b21, b12; bool ok, swapped; } ed
 
 /* One instance as the batch sees it: the triangle, its texture coordinates and its patch's instance data. */
 typedef struct inst8 {
+    const is_vs_input *in0;   /* the batch's in[0] and shared registers (is_vs_input_at) */
+    uint32_t shared;
     vs_patch p;
     vs_triangle T;
     vs_options o;
@@ -268,6 +270,8 @@ static void edge_cp_make(const vs_triangle *T, int k, edge_cp *e)
 /* The per-vertex path (the listing-form evaluation) for one vertex. */
 static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input *in, is_vs_output *out)
 {
+    is_vs_input tmp;
+    in = is_vs_input_at(I->in0, (size_t)(in - I->in0), I->shared, &tmp);
     float3 b = f3_of(in->position[0]); // barycentric coords
     float3 pos, normal, g;
     vs_patch_eval(I->p, &I->T, b, &I->o, &pos, &normal, I->p == VS_PATCH_SMOOTH ? &g : NULL);
@@ -433,6 +437,13 @@ static inline __attribute__((always_inline)) bool same_bytes(const void *a, cons
     return (unsigned)_mm256_movemask_epi8(eq) == 0xffffffffu;
 }
 
+/* The registers patch p's instance part reads: what same_inst compares. */
+static uint32_t inst_regs(vs_patch p)
+{
+    if (p == VS_PATCH_NPATCH) return ((1u << (VS_IN_ID + 1)) - 1u) << IS_VS_REG_TEXCOORD;
+    return ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u; /* all but POSITION0 */
+}
+
 /* Do a and b hold the same registers for patch p's instance data? */
 static bool same_inst(vs_patch p, const is_vs_input *a, const is_vs_input *b)
 {
@@ -441,18 +452,33 @@ static bool same_inst(vs_patch p, const is_vs_input *a, const is_vs_input *b)
     return same_bytes((const char *)a + sizeof(float4), (const char *)b + sizeof(float4), sizeof *a - sizeof(float4));
 }
 
-/* The batch of patch p (npatch or smooth): interior vertices 8 at a time (linear normals), the rest one by one. */
+/* The batch of patch p (npatch or smooth): interior vertices 8 at a time (linear normals), the rest one by one.
+ * When the shared registers hold the whole instance (the device's fused path) it is read once from in[0] and
+ * the vertices are not compared; other shared masks get complete inputs, 32 vertices at a time. */
 static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                   is_vs_output *out)
+                   uint32_t shared, is_vs_output *out)
 {
+    if (shared && ((inst_regs(p) & ~shared) || (shared & 1u))) {
+        is_vs_input t[32];
+        for (size_t b = 0; b < n; b += 32) {
+            size_t m = n - b < 32 ? n - b : 32;
+            for (size_t v = 0; v < m; v++) {
+                const is_vs_input *r = is_vs_input_at(in, b + v, shared, &t[v]);
+                if (r != &t[v]) t[v] = *r;
+            }
+            batch8(p, c, t, m, live, 0, out + b);
+        }
+        return;
+    }
     vs_batch_consts k;
     vs_batch_consts_read(c, &k);
     k.live = live;
     inst8 I;
+    I.in0 = in, I.shared = shared;
     lanes8 L, E;
     L.n_real = E.n_real = 0;
     for (size_t v = 0; v < n; v++) {
-        if (v == 0 || !same_inst(p, &in[v], &in[v - 1])) {
+        if (v == 0 || (!shared && !same_inst(p, &in[v], &in[v - 1]))) {
             flush_lanes(&k, &I, &L, &E);
             inst_read(p, &k, &in[v], &I);
         }
@@ -464,23 +490,26 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
 #else /* without AVX2: the per-vertex evaluation */
 
 static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                   is_vs_output *out)
+                   uint32_t shared, is_vs_output *out)
 {
     if (p == VS_PATCH_SMOOTH) {
-        vs_patch_batch(p, c, in, n, out);
+        vs_patch_batch(p, c, in, n, shared, out);
         return;
     }
-    for (size_t v = 0; v < n; v++) vs_shader_npatch.main(c, &in[v], &out[v]);
+    is_vs_input t;
+    for (size_t v = 0; v < n; v++) vs_shader_npatch.main(c, is_vs_input_at(in, v, shared, &t), &out[v]);
 }
 
 #endif
 
-void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out)
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                     is_vs_output *out)
 {
-    batch8(VS_PATCH_NPATCH, c, in, n, live, out);
+    batch8(VS_PATCH_NPATCH, c, in, n, live, shared, out);
 }
 
-void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out)
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                     is_vs_output *out)
 {
-    batch8(VS_PATCH_SMOOTH, c, in, n, live, out);
+    batch8(VS_PATCH_SMOOTH, c, in, n, live, shared, out);
 }

@@ -99,14 +99,19 @@ bool vs_same_instance(const is_vs_input *a, const is_vs_input *b)
 }
 
 /* run_patch over a batch: the triangle is read once per instance, the options and matrices once per batch. */
-void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out)
+void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t shared,
+                    is_vs_output *out)
 {
     vs_batch_consts k;
     vs_batch_consts_read(c, &k);
     vs_triangle tri;
+    is_vs_input tmp[2]; /* vertex v's inputs when registers are shared (alternating: the previous one stays) */
+    const is_vs_input *prev = NULL;
     for (size_t v = 0; v < n; v++) {
-        if (v == 0 || !vs_same_instance(&in[v], &in[v - 1])) vs_triangle_from_input(&in[v], &tri);
-        float3 b = f3_of(in[v].position[0]); // barycentric coords
+        const is_vs_input *r = is_vs_input_at(in, v, shared, &tmp[v & 1]);
+        if (!prev || !vs_same_instance(r, prev)) vs_triangle_from_input(r, &tri);
+        prev = r;
+        float3 b = f3_of(r->position[0]); // barycentric coords
         float3 pos, normal, g;
         vs_patch_eval(p, &tri, b, &k.o, &pos, &normal, &g);
         float2 oTex = add2(add2(scale2(tri.t[0], b.x), scale2(tri.t[1], b.y)), scale2(tri.t[2], b.z));
@@ -152,19 +157,19 @@ static void VSFixed(const is_vs_constants *c, const is_vs_input *in, is_vs_outpu
 }
 
 static void VSFlatBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                        is_vs_output *out)
+                        uint32_t shared, is_vs_output *out)
 {
-    vs_patch_batch(VS_PATCH_FLAT, c, in, n, out);
+    vs_patch_batch(VS_PATCH_FLAT, c, in, n, shared, out);
 }
 static void VSPhongBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                         is_vs_output *out)
+                         uint32_t shared, is_vs_output *out)
 {
-    vs_patch_batch(VS_PATCH_PHONG, c, in, n, out);
+    vs_patch_batch(VS_PATCH_PHONG, c, in, n, shared, out);
 }
 static void VSPnAenBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                         is_vs_output *out)
+                         uint32_t shared, is_vs_output *out)
 {
-    vs_patch_batch(VS_PATCH_PN_AEN, c, in, n, out);
+    vs_patch_batch(VS_PATCH_PN_AEN, c, in, n, shared, out);
 }
 
 const is_vertex_shader vs_shader_flat = {"flat", VSFlat, VS_OUTPUTS, VSFlatBatch};

@@ -166,9 +166,9 @@ static void VSInstancedPatch(const is_vs_constants *c, const is_vs_input *in, is
 
 /* The batched entries (vs.h): the same evaluation with the instance's triangle read once. */
 static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
-                                         is_vs_output *out)
+                                         uint32_t shared, is_vs_output *out)
 {
-    vs_patch_batch(VS_PATCH_SMOOTH_INITIAL, c, in, n, out);
+    vs_patch_batch(VS_PATCH_SMOOTH_INITIAL, c, in, n, shared, out);
 }
 
 const is_vertex_shader vs_shader_smooth_initial = {"smooth-initial", VSInstancedPatchInitial, VS_OUTPUTS,

@@ -209,7 +209,7 @@ void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float
 /* ---- batched entries (is_vs_batch_fn of every patch shader): the same bytes as per-vertex calls ----
  * Consecutive inputs of one instance (equal registers apart from POSITION0) share the work that depends only
  * on the instance (the triangle's registers, the options, the matrices); each vertex then runs exactly the
- * per-vertex operations of its listing. */
+ * per-vertex operations of its listing.  `shared` as in is_vs_batch_fn (core.h): registers stored in in[0] only. */
 /* The constants a shader decodes per call, decoded once per batch. */
 typedef struct vs_batch_consts {
     float4x4 wvp, world;
@@ -224,13 +224,16 @@ bool vs_same_instance(const is_vs_input *a, const is_vs_input *b);
 void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, float2 oTex, float3 b, float id,
                         float3 g, is_vs_output *out);
 /* The batched body of the comparison shaders (flat, smooth-initial, smooth, phong, pn-aen): patch p. */
-void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, is_vs_output *out);
+void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t shared,
+                    is_vs_output *out);
 
 /* The batched entries of the npatch and smooth shaders (vs/batch8.c): interior vertices with linear normals 8 at a
  * time, the rest through the per-vertex evaluation; the same bytes as the per-vertex shaders in oPos and the live
  * outputs (the 8-lane groups compute and store only those; vertices on the per-vertex path write every output). */
-void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out);
-void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, is_vs_output *out);
+void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                     is_vs_output *out);
+void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                     is_vs_output *out);
 
 /* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
  * term itself; a + (b - a) need not round to b). */
