@@ -11,7 +11,6 @@
 #include "vs.h"
 
 #include <stddef.h>
-#include <string.h>
 
 #ifdef __AVX2__
 #include <immintrin.h>
@@ -238,25 +237,13 @@ typedef struct inst8 {
     edge_cp e[3];
 } inst8;
 
-/* The bits of n floats, compared in order (patch.c's cmp_bits). */
-static int bits_cmp(const float *a, const float *b, int n)
-{
-    for (int i = 0; i < n; i++) {
-        uint32_t x, y;
-        memcpy(&x, &a[i], 4);
-        memcpy(&y, &b[i], 4);
-        if (x != y) return x < y ? -1 : 1;
-    }
-    return 0;
-}
-
 /* Edge k of T (v_k, v_k+1) in canonical order with edge_cubic's control points, as patch.c computes them. */
 static void edge_cp_make(const vs_triangle *T, int k, edge_cp *e)
 {
     int j = (k + 1) % 3;
     float fa[6] = {T->v[k].x, T->v[k].y, T->v[k].z, T->n[k].x, T->n[k].y, T->n[k].z};
     float fb[6] = {T->v[j].x, T->v[j].y, T->v[j].z, T->n[j].x, T->n[j].y, T->n[j].z};
-    int c = bits_cmp(fb, fa, 6);
+    int c = vs_cmp_bits(fb, fa, 6);
     e->ok = c != 0;
     e->swapped = c < 0;
     int a = c < 0 ? j : k, b = c < 0 ? k : j;

@@ -8,8 +8,7 @@
 
 /* ---------------------------------------------------------------- small helpers */
 
-/* Compare n floats by their bit patterns (a total order; equal bits compare equal). */
-static int cmp_bits(const float *a, const float *b, int n)
+int vs_cmp_bits(const float *a, const float *b, int n)
 {
     for (int i = 0; i < n; i++) {
         uint32_t x, y;
@@ -167,7 +166,7 @@ static int end_cmp(const edge_end *a, const edge_end *b, bool aen)
     float3 ka = aen ? add3(a->n, a->na) : a->n, kb = aen ? add3(b->n, b->na) : b->n;
     float fa[7] = {a->p.x, a->p.y, a->p.z, ka.x, ka.y, ka.z, a->w};
     float fb[7] = {b->p.x, b->p.y, b->p.z, kb.x, kb.y, kb.z, b->w};
-    return cmp_bits(fa, fb, 7);
+    return vs_cmp_bits(fa, fb, 7);
 }
 
 /* The ends of edge k of T (v_k, v_k+1) with weights from bw, in canonical order. */

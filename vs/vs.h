@@ -218,6 +218,9 @@ typedef struct vs_batch_consts {
     uint32_t live;  /* IS_OUT_* outputs the caller reads (the batch's `live`; ~0u from vs_batch_consts_read) */
 } vs_batch_consts;
 void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k);
+/* Compare n floats by their bit patterns, in order: -1, 0 or 1 (a total order; equal bits compare equal).  The
+ * watertight edge evaluation orders an edge's ends with it (patch.c, batch8.c). */
+int vs_cmp_bits(const float *a, const float *b, int n);
 /* True when a and b hold the same registers apart from POSITION0 (so a shader may reuse a's instance work). */
 bool vs_same_instance(const is_vs_input *a, const is_vs_input *b);
 /* vs_write_outputs with decoded constants. */
