@@ -66,8 +66,10 @@ typedef struct rs_job {
 
 /* A triangle after setup: integer edge functions and float planes, all relative to vertex 0. */
 typedef struct rs_tri {
-    int64_t ea[3], eb[3], ec[3]; /* E = ea*X + eb*Y + ec (X, Y: sample, 1/256 px, relative to the viewport
-                                    centre); inside iff E >= 0 (top-left bias folded into ec) */
+    int32_t ea[3], eb[3];        /* E = ea*X + eb*Y + ec in int64 (X, Y: sample, 1/256 px, relative to the viewport */
+    int64_t ec[3];               /* centre); inside iff E >= 0 (top-left bias folded into ec).  ea, eb are vertex
+                                    differences, |.| <= 2^23 (setup.c's bit budget): int32 keeps rs_prim at 128
+                                    bytes, 24 fewer for the set-up to write and the tile pass to read */
     int32_t vx, vy;              /* vertex 0, 1/256 px relative to the centre: origin of the float planes */
     float z[3];                  /* depth plane: dz/dx, dz/dy per pixel, z at vertex 0 (bias included) */
     float q1[3], q2[3], s[3];    /* planes of lambda1/w1, lambda2/w2, sum lambda_i/w_i (1/w normalised) */

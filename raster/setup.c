@@ -9,7 +9,7 @@
  *  after the divide keep every snapped coordinate within |X|, |Y| <= RS_GUARD_BAND * 256 = 2^14 * 2^8 = 2^22.
  *  Samples lie inside the viewport, whose half-size is at most RS_MAX_SIZE / 2 = 2^13 px, so they obey the same
  *  bound.  An edge from Vi to Vk:
- *      A = -(Yk - Yi), B = Xk - Xi            |A|, |B| <= 2^23
+ *      A = -(Yk - Yi), B = Xk - Xi            |A|, |B| <= 2^23 (rs_tri keeps them in int32)
  *      C = -(A*Xi + B*Yi) - bias             |C| <= 2 * 2^23 * 2^22 = 2^46
  *      E(X, Y) = A*X + B*Y + C               |E| <= 2^45 + 2^45 + 2^46 = 2^47
  *  The 8x8 block test adds at most (|A| + |B|) * (7*256 + 96) < 2^24 * 2^11 = 2^35 (96 = the largest sample
@@ -190,8 +190,8 @@ static inline void tri_edge(const pvert *a, const pvert *b, int e, rs_tri *t)
 {
     int64_t dx = b->x - a->x, dy = b->y - a->y;
     bool top_left = dy < 0 || (dy == 0 && dx > 0);
-    t->ea[e] = -dy;
-    t->eb[e] = dx;
+    t->ea[e] = (int32_t)-dy; /* |dx|, |dy| <= 2^23 */
+    t->eb[e] = (int32_t)dx;
     t->ec[e] = -(-dy * a->x + dx * a->y) - (top_left ? 0 : 1);
 }
 
@@ -634,19 +634,20 @@ static inline void gather4(const queued *q, int s, __m128i *x, __m128i *y, __m12
     *z = _mm_castsi128_ps(_mm_unpacklo_epi64(t2, t3));
 }
 
-/* tri_edge of edge i -> k of four triangles in int64 lanes, the same integer values: ea, eb, ec.  The inputs
- * are int32 lanes (|x|, |y| <= 2^22, so the differences fit int32 and the products, by mul_epi32, int64). */
-static inline void edge4(__m128i xi, __m128i yi, __m128i xk, __m128i yk, __m256i *ea, __m256i *eb, __m256i *ec)
+/* tri_edge of edge i -> k of four triangles, the same integer values: ea, eb in int32 lanes, ec in int64 lanes.
+ * The inputs are int32 lanes (|x|, |y| <= 2^22, so the differences fit int32 and the products, by mul_epi32,
+ * int64). */
+static inline void edge4(__m128i xi, __m128i yi, __m128i xk, __m128i yk, __m128i *ea, __m128i *eb, __m256i *ec)
 {
     const __m128i zero = _mm_setzero_si128();
     __m128i dx = _mm_sub_epi32(xk, xi), dy = _mm_sub_epi32(yk, yi);
     __m128i tl = _mm_or_si128(_mm_cmpgt_epi32(zero, dy),                    /* top_left: -1, else 0 */
                               _mm_and_si128(_mm_cmpeq_epi32(dy, zero), _mm_cmpgt_epi32(dx, zero)));
-    __m256i a = _mm256_cvtepi32_epi64(_mm_sub_epi32(zero, dy)), b = _mm256_cvtepi32_epi64(dx);
+    *ea = _mm_sub_epi32(zero, dy);
+    *eb = dx;
+    __m256i a = _mm256_cvtepi32_epi64(*ea), b = _mm256_cvtepi32_epi64(dx);
     __m256i s = _mm256_add_epi64(_mm256_mul_epi32(a, _mm256_cvtepi32_epi64(xi)),
                                  _mm256_mul_epi32(b, _mm256_cvtepi32_epi64(yi)));   /* -dy * x + dx * y */
-    *ea = a;
-    *eb = b;
     /* -s - (top_left ? 0 : 1) = -s - 1 - tl */
     *ec = _mm256_sub_epi64(_mm256_sub_epi64(_mm256_sub_epi64(_mm256_setzero_si256(), s), _mm256_set1_epi64x(1)),
                            _mm256_cvtepi32_epi64(tl));
@@ -674,7 +675,7 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane:
- * tri_edge's integer operations in int64 lanes and tri_planes' double operations in double lanes, per lane the
+ * tri_edge's integer operations in int32 / int64 lanes and tri_planes' double operations in double lanes, per lane the
  * same operations in the same order, so the same bytes. */
 static void finish4(const rs_job *j, rs_chunk *c, queued q[4], int n)
 {
@@ -684,7 +685,8 @@ static void finish4(const rs_job *j, rs_chunk *c, queued q[4], int n)
     gather4(q, 0, &x[0], &y[0], &zf[0]);   /* (unrolled by hand: gcc keeps loops over these arrays in memory) */
     gather4(q, 1, &x[1], &y[1], &zf[1]);
     gather4(q, 2, &x[2], &y[2], &zf[2]);
-    __m256i ea[3], eb[3], ec[3];
+    __m128i ea[3], eb[3];
+    __m256i ec[3];
     edge4(x[0], y[0], x[1], y[1], &ea[0], &eb[0], &ec[0]);
     edge4(x[1], y[1], x[2], y[2], &ea[1], &eb[1], &ec[1]);
     edge4(x[2], y[2], x[0], y[0], &ea[2], &eb[2], &ec[2]);
@@ -710,20 +712,21 @@ static void finish4(const rs_job *j, rs_chunk *c, queued q[4], int n)
     /* the stores: lanes t >= n repeat lane 0's values into q[0]'s primitive, the same bytes */
     char *const tr[4] = { (char *)&c->prims[q[0].prim].u.t, (char *)&c->prims[q[1].prim].u.t,
                           (char *)&c->prims[q[2].prim].u.t, (char *)&c->prims[q[3].prim].u.t };
-    _Static_assert(offsetof(rs_tri, eb) == 24 && offsetof(rs_tri, ec) == 48 && offsetof(rs_tri, vx) == 72 &&
-                   offsetof(rs_tri, vy) == 76 && offsetof(rs_tri, z) == 80 && offsetof(rs_tri, q1) == 92 &&
-                   offsetof(rs_tri, q2) == 104 && offsetof(rs_tri, s) == 116 && sizeof(rs_tri) == 128,
+    _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
+                   offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
+                   offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
                    "rs_tri's layout as finish4 writes it");
-    /* rs_tri in six groups: 32, 32, 16, 16, 16 and 16 bytes */
-    store_t64(ea[0], ea[1], ea[2], eb[0], tr, offsetof(rs_tri, ea));       /* ea[0..3), eb[0] */
-    store_t64(eb[1], eb[2], ec[0], ec[1], tr, offsetof(rs_tri, eb[1]));    /* eb[1], eb[2], ec[0], ec[1] */
+    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes */
+    store_t32(_mm_castsi128_ps(ea[0]), _mm_castsi128_ps(ea[1]), _mm_castsi128_ps(ea[2]), _mm_castsi128_ps(eb[0]), tr,
+              offsetof(rs_tri, ea));                                       /* ea[0..3), eb[0] */
+    __m128i e12lo = _mm_unpacklo_epi32(eb[1], eb[2]), e12hi = _mm_unpackhi_epi32(eb[1], eb[2]); /* eb[1], eb[2] */
+    const size_t b1 = offsetof(rs_tri, eb[1]);
+    _mm_storel_epi64((__m128i *)(tr[0] + b1), e12lo);
+    _mm_storel_epi64((__m128i *)(tr[1] + b1), _mm_unpackhi_epi64(e12lo, e12lo));
+    _mm_storel_epi64((__m128i *)(tr[2] + b1), e12hi);
+    _mm_storel_epi64((__m128i *)(tr[3] + b1), _mm_unpackhi_epi64(e12hi, e12hi));
     __m256i vxy = _mm256_setr_m128i(_mm_unpacklo_epi32(x[0], y[0]), _mm_unpackhi_epi32(x[0], y[0]));
-    __m256i lo = _mm256_unpacklo_epi64(ec[2], vxy), hi = _mm256_unpackhi_epi64(ec[2], vxy); /* lanes 0, 2 / 1, 3 */
-    const size_t e2 = offsetof(rs_tri, ec[2]);                             /* ec[2], vx, vy */
-    _mm_storeu_si128((__m128i *)(tr[0] + e2), _mm256_castsi256_si128(lo));
-    _mm_storeu_si128((__m128i *)(tr[1] + e2), _mm256_castsi256_si128(hi));
-    _mm_storeu_si128((__m128i *)(tr[2] + e2), _mm256_extracti128_si256(lo, 1));
-    _mm_storeu_si128((__m128i *)(tr[3] + e2), _mm256_extracti128_si256(hi, 1));
+    store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
 #define F4(v) _mm256_cvtpd_ps((__m256d)(v))
     const __m128 zero = _mm_setzero_ps();
     store_t32(F4(za), F4(zb), F4(z0 + bias), F4(n1 * l1a), tr, offsetof(rs_tri, z));   /* z[0..3), q1[0] */

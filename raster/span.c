@@ -322,15 +322,27 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
  * vertex. */
 static inline bool coef_small(const rs_tri *tr)
 {
-    const char *q = (const char *)tr + offsetof(rs_tri, ea); /* ea[0..2], eb[0..2]: lanes 0..3 and 2..5 */
-    v4q u = (v4q)_mm256_loadu_si256((const __m256i *)q), v = (v4q)_mm256_loadu_si256((const __m256i *)(q + 16));
-    const v4q hi = {8192, 8192, 8192, 8192}, lo = -hi;
-    return _mm256_testz_si256((__m256i)((u > hi) | (u < lo) | (v > hi) | (v < lo)), _mm256_set1_epi32(-1));
+    const v8i u = (v8i)_mm256_loadu_si256((const __m256i *)tr->ea); /* ea[0..2], eb[0..2], ec[0] (not tested) */
+    const v8i big = (u > bi(8192)) | (u < bi(-8192));
+    return _mm256_testz_si256((__m256i)big, _mm256_setr_epi32(-1, -1, -1, -1, -1, -1, 0, 0));
 }
-_Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int64_t) &&
-               offsetof(rs_tri, ec) == offsetof(rs_tri, eb) + 3 * sizeof(int64_t) &&
+_Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int32_t) &&
+               offsetof(rs_tri, ec) == offsetof(rs_tri, eb) + 3 * sizeof(int32_t) &&
                offsetof(rs_tri, vx) == offsetof(rs_tri, ec) + 3 * sizeof(int64_t),
                "the walks read the edge coefficients four at a time (the fourth lane is not used)");
+
+/* The three edges' coefficients ea, eb, ec as int64 lanes 0..2 (lane 3: whatever follows in rs_tri). */
+typedef struct edges4 {
+    __m256i a, b, c;
+} edges4;
+
+/* Triangle tr's edges4: ea and eb sign-extended from int32, ec as stored. */
+static inline edges4 edges4_of(const rs_tri *tr)
+{
+    return (edges4){_mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *)tr->ea)),
+                    _mm256_cvtepi32_epi64(_mm_loadu_si128((const __m128i *)tr->eb)),
+                    _mm256_loadu_si256((const __m256i *)tr->ec)};
+}
 
 /* The three edges' values e[i] at the lanes (column col, row row) of a walk whose lane 0 is at (X, Y) (1/256 px
  * relative to the centre; only the low 32 bits matter), and their change dy[i] over `rows` rows.  Computed
@@ -338,9 +350,8 @@ _Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int64_t
  * walked pixels fit in int32 (coef_small), so the wrapped ones are the same. */
 static inline void edges32(const rs_tri *tr, uint32_t X, uint32_t Y, v8i col, v8i row, int rows, v8u *e, v8u *dy)
 {
-    const char *q = (const char *)tr + offsetof(rs_tri, ea); /* lanes 0..2 (as 64 bits): edges 0..2 */
-    __m256i a = _mm256_loadu_si256((const __m256i *)q), b = _mm256_loadu_si256((const __m256i *)(q + 24));
-    __m256i c = _mm256_loadu_si256((const __m256i *)(q + 48));
+    const edges4 Q = edges4_of(tr); /* lanes 0..2 (as 64 bits): edges 0..2 */
+    const __m256i a = Q.a, b = Q.b, c = Q.c;
     v8u E = (v8u)_mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epu32(a, _mm256_set1_epi32((int)X)),
                                                    _mm256_mul_epu32(b, _mm256_set1_epi32((int)Y))), c);
     v8u A = (v8u)_mm256_slli_epi64(a, RS_SUB_BITS), B = (v8u)_mm256_slli_epi64(b, RS_SUB_BITS);
@@ -520,10 +531,10 @@ ALWAYS_INLINE void block_rows64(fctx *c, zmode m, const rs_job *j, rs_tile *t, c
     const rs_tri *tr = c->tr;
     v4q lo[3], hi[3], dy[3];
     for (int i = 0; i < 3; i++) {
-        int64_t s = tr->ea[i] * RS_SUB, e0 = e[i] - (int64_t)l0 * s;
+        int64_t s = (int64_t)tr->ea[i] * RS_SUB, e0 = e[i] - (int64_t)l0 * s;
         lo[i] = (v4q){e0, e0 + s, e0 + 2 * s, e0 + 3 * s};
         hi[i] = lo[i] + 4 * s;
-        int64_t d = tr->eb[i] * RS_SUB;
+        int64_t d = (int64_t)tr->eb[i] * RS_SUB;
         dy[i] = (v4q){d, d, d, d};
     }
     const bool lanes = m.plain && gx + 8 <= j->rt->width;
@@ -537,11 +548,6 @@ ALWAYS_INLINE void block_rows64(fctx *c, zmode m, const rs_job *j, rs_tile *t, c
         for (int i = 0; i < 3; i++) lo[i] += dy[i], hi[i] += dy[i];
     }
 }
-
-/* The three edges' coefficients ea, eb, ec as int64 lanes 0..2 (lane 3: whatever follows in rs_tri). */
-typedef struct edges4 {
-    __m256i a, b, c;
-} edges4;
 
 /* The sign bits of int64 lanes 0..2 of v: the edges whose value in v is negative. */
 static inline unsigned neg3(__m256i v) { return (unsigned)_mm256_movemask_pd((__m256d)v) & 7u; }
@@ -595,9 +601,7 @@ ALWAYS_INLINE void walk_blocks(fctx *c, zmode m, const rs_job *j, rs_tile *t, co
             yp[i + q].q2y = (v8f)_mm256_permutevar8x32_ps((__m256)v.q2y, (__m256i)at);
         }
     }
-    const char *q = (const char *)tr + offsetof(rs_tri, ea);
-    const edges4 E = {_mm256_loadu_si256((const __m256i *)q), _mm256_loadu_si256((const __m256i *)(q + 24)),
-                      _mm256_loadu_si256((const __m256i *)(q + 48))};
+    const edges4 E = edges4_of(tr);
     const __m256i zero = _mm256_setzero_si256(), i32max = _mm256_set1_epi64x(INT32_MAX);
     /* narrow boxes: groups of 8 columns from x0 (fewer than 8-aligned ones), each moved left to stay inside the
      * tile; wide ones: 8-aligned groups (no loads across cache lines) */

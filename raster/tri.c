@@ -72,9 +72,9 @@ static void tri_block(const rs_job *j, rs_tile *t, const rs_prim *p, const float
         for (int x = x0; x <= x1; x++) {
             unsigned cov = full ? w->full : coverage(j, w, v);
             if (cov) tri_pixel(j, t, p, a, x, y, cov);
-            for (int i = 0; i < 3; i++) v[i] += tr->ea[i] * RS_SUB;
+            for (int i = 0; i < 3; i++) v[i] += (int64_t)tr->ea[i] * RS_SUB;
         }
-        for (int i = 0; i < 3; i++) row[i] += tr->eb[i] * RS_SUB;
+        for (int i = 0; i < 3; i++) row[i] += (int64_t)tr->eb[i] * RS_SUB;
     }
 }
 
@@ -83,7 +83,7 @@ static int block_test(const rs_tri *tr, const walk *w, const int64_t *e, int nx,
 {
     int r = 1;
     for (int i = 0; i < 3; i++) {
-        int64_t sx = tr->ea[i] * RS_SUB * nx, sy = tr->eb[i] * RS_SUB * ny;
+        int64_t sx = (int64_t)tr->ea[i] * RS_SUB * nx, sy = (int64_t)tr->eb[i] * RS_SUB * ny;
         int64_t hi = e[i] + (sx > 0 ? sx : 0) + (sy > 0 ? sy : 0) + w->omax[i];
         int64_t lo = e[i] + (sx < 0 ? sx : 0) + (sy < 0 ? sy : 0) + w->omin[i];
         if (hi < 0) return -1;
@@ -103,7 +103,7 @@ static __attribute__((noinline)) void tri_tile_ref(const rs_job *j, rs_tile *t, 
     for (int i = 0; i < 3; i++) {
         w.omin[i] = w.omax[i] = 0;
         for (int s = 0; s < j->samples; s++) {
-            int64_t o = tr->ea[i] * j->sox[s] + tr->eb[i] * j->soy[s];
+            int64_t o = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
             w.eo[i][s] = o;
             if (s == 0 || o < w.omin[i]) w.omin[i] = o;
             if (s == 0 || o > w.omax[i]) w.omax[i] = o;
