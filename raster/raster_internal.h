@@ -61,6 +61,8 @@ typedef struct rs_job {
     int stride;                 /* floats per primitive in the attribute pool */
     bool flat;
     bool reference;             /* the scalar reference path (rs_set_reference_path): no fast paths */
+    int span_mode;              /* span.c's walk instance for the depth state: 0 LESSEQUAL with writes, 1 LESS
+                                   with writes (both without blending or AOV planes), 2 any other state */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 

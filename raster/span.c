@@ -714,7 +714,8 @@ INSTANCES(span4, walk_span4)
 INSTANCES(big, walk_big)
 
 typedef void walk_fn(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
-/* walks[walk][mode]: walk 0 small, 1 and 2 span (2 or 4 groups), 3 block; mode 0 LESSEQUAL, 1 LESS, 2 any. */
+/* walks[walk][mode]: walk 0 small, 1 and 2 span (2 or 4 groups), 3 block; mode: the job's span_mode (0 LESSEQUAL,
+ * 1 LESS, 2 any). */
 static walk_fn *const walks[4][3] = {
     {small_le, small_less, small_any},
     {span2_le, span2_less, span2_any},
@@ -724,13 +725,10 @@ static walk_fn *const walks[4][3] = {
 
 void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
 {
-    const rs_state *st = j->st;
-    const bool zw = st->z_enable && st->z_write && !st->blend_enable && j->rt->n_aov == 0;
-    const int mode = zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
     const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
     const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
     const int walk = !small ? 3 : wbox <= 8 ? 0 : wbox <= 16 ? 1 : 2;
-    walks[walk][mode](j, t, p, a, x0, y0, x1, y1);
+    walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
