@@ -240,8 +240,8 @@ static inline const is_vs_input *is_vs_input_at(const is_vs_input *in, size_t v,
  * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left unwritten.
  * `shared` (a register mask, 0: none): registers that hold the same value for every vertex of the batch (an
  * instance's per-instance registers, the ones no element fills) and are stored in in[0] only -- in in[1..n) they
- * are unspecified; vertex v's inputs are those of is_vs_input_at.  The device's fused path uses it so that one instance's data is neither
- * copied to every vertex nor compared vertex by vertex. */
+ * are unspecified; vertex v's inputs are those of is_vs_input_at.  The device's fused path uses it so that one
+ * instance's data is neither copied to every vertex nor compared vertex by vertex. */
 typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                                uint32_t shared, is_vs_output *out);
 

@@ -22,7 +22,8 @@
 #define DRAW_CHUNK_VERTICES (1u << 16)
 #define DRAW_MAX_VERTICES (1u << 26) /* NumVertices of one draw (one instance must fit in scratch memory) */
 
-_Static_assert(sizeof(is_vs_input) % sizeof(float4) == 0 && IS_VS_INPUT_REGS <= 32, "register masks are 32 bits");
+_Static_assert(sizeof(is_vs_input) % sizeof(float4) == 0 && IS_VS_INPUT_REGS < 32,
+               "register masks are 32 bits (and 1u << IS_VS_INPUT_REGS is defined)");
 
 /* How one declaration element is read during a draw. */
 typedef struct fetch_elem {
@@ -40,8 +41,9 @@ typedef struct fetch_plan {
     unsigned n_instances;
     unsigned n_vert;                 /* per-vertex elements: el[vert[0..n_vert)] (the fast path's fetch) */
     uint8_t vert[IS_MAX_ELEMENTS];
-    uint32_t shared;                 /* registers no per-vertex element fills: the same for every vertex of
-                                        an instance (the fused path's `shared` mask) */
+    uint32_t shared;                 /* registers no per-vertex element fills, the same for every vertex of an
+                                        instance (the fused path's `shared` mask); 0 without per-instance
+                                        elements */
 } fetch_plan;
 
 /* Indices a primitive list of `count` primitives of `type` uses; 0 for an unknown type. */
@@ -91,6 +93,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     fp->n_instances = n_instances;
     fp->n_vert = 0;
     uint32_t vert_regs = 0;
+    bool any_inst = false;
     for (unsigned k = 0; k < d->n; k++) {
         const decl_element *de = &d->el[k];
         const stream_source *s = &dev->streams[de->e.stream];
@@ -112,8 +115,10 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
             fp->vert[fp->n_vert++] = (uint8_t)k;
             vert_regs |= 1u << (de->reg_offset / sizeof(float4));
         }
+        any_inst |= inst;
     }
-    fp->shared = (uint32_t)((1ull << IS_VS_INPUT_REGS) - 1u) & ~vert_regs;
+    /* without per-instance elements every entry of a batch is complete: nothing to share */
+    fp->shared = any_inst ? ((1u << IS_VS_INPUT_REGS) - 1u) & ~vert_regs : 0u;
     return IS_OK;
 }
 

@@ -305,10 +305,10 @@ static void test_project_vertices(void **state)
 static void test_shader_batches(void **state)
 {
     (void)state;
-    enum { N = 96 };
-    is_vs_input *in = calloc(N, sizeof *in), *sh = calloc(N, sizeof *sh);
+    enum { N = 100 }; /* not a multiple of 8 or 32: partial lane groups and a short last block */
+    is_vs_input *in = calloc(N, sizeof *in), *sh = calloc(N, sizeof *sh), *full = calloc(N, sizeof *full);
     is_vs_output *a = calloc(N, sizeof *a), *b = calloc(N, sizeof *b);
-    assert_non_null(in), assert_non_null(sh), assert_non_null(a), assert_non_null(b);
+    assert_non_null(in), assert_non_null(sh), assert_non_null(full), assert_non_null(a), assert_non_null(b);
     uint32_t st = 12345u;
     float4x4 wvp = mat_mul(&(float4x4){{{1, 0.2f, 0, 0}, {0, 1, 0.1f, 0}, {0.3f, 0, 1, 1}, {0, 0, 3, 4}}}, &(float4x4){{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}});
     float4x4 world = mat_rotation_y(0.5f);
@@ -344,26 +344,43 @@ static void test_shader_batches(void **state)
                         fail_msg("shader %s mode %d instance %d vertex %d: batch with oD0 live differs",
                                  vs_shaders[s]->name, mode, t, v);
                 if (t % 2) continue;
-                /* one instance with its shared registers in in[0] only (the device's fused path), the others
-                 * poisoned: a shader that read them would differ */
+                /* one instance with its shared registers stored in in[0] only (the device's fused path), the
+                 * other vertices' copies poisoned: a shader that read them would differ.  The reference is main
+                 * on complete inputs (the shared registers copied from in[0]); with POSITION0 shared every vertex
+                 * is in[0]'s point. */
+                const int color_reg = (int)(offsetof(is_vs_input, color) / sizeof(float4));
                 const uint32_t masks[] = {((1u << (VS_IN_ID + 1)) - 1u) << IS_VS_REG_TEXCOORD,
-                                          ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u, 7u << IS_VS_REG_TEXCOORD};
+                                          ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u, 7u << IS_VS_REG_TEXCOORD,
+                                          1u | 7u << IS_VS_REG_TEXCOORD, (1u << IS_VS_INPUT_REGS) - 1u,
+                                          3u << color_reg};
                 for (size_t q = 0; q < sizeof masks / sizeof masks[0]; q++) {
-                    memcpy(sh, in, N * sizeof *in);
-                    for (int v = 1; v < N; v++)
-                        for (int r = 0; r < IS_VS_INPUT_REGS; r++)
-                            if (masks[q] & (1u << r)) ((float4 *)&sh[v])[r] = f4(NAN, -1e30f, NAN, 7);
-                    memset(b, 0, N * sizeof *b);
-                    vs_shaders[s]->batch(&c, sh, N, ~0u, masks[q], b);
-                    for (int v = 0; v < N; v++)
-                        if (memcmp(&a[v], &b[v], sizeof a[v]) != 0)
-                            fail_msg("shader %s mode %d instance %d vertex %d: batch with shared mask %#x differs",
-                                     vs_shaders[s]->name, mode, t, v, masks[q]);
+                    for (int v = 0; v < N; v++) {
+                        full[v] = sh[v] = in[v];
+                        for (int r = 0; r < IS_VS_INPUT_REGS; r++) {
+                            if (!(masks[q] & (1u << r)) || v == 0) continue;
+                            ((float4 *)&full[v])[r] = ((const float4 *)&in[0])[r];
+                            ((float4 *)&sh[v])[r] = f4(NAN, -1e30f, NAN, 7);
+                        }
+                    }
+                    memset(a, 0, N * sizeof *a);
+                    for (int v = 0; v < N; v++) vs_shaders[s]->main(&c, &full[v], &a[v]);
+                    for (int live = 0; live < 2; live++) {
+                        memset(b, 0, N * sizeof *b);
+                        vs_shaders[s]->batch(&c, sh, N, live ? IS_OUT_COLOR0 : ~0u, masks[q], b);
+                        for (int v = 0; v < N; v++)
+                            if (live ? memcmp(&a[v].pos, &b[v].pos, sizeof a[v].pos) != 0 ||
+                                           memcmp(&a[v].attr[RS_ATTR_COLOR0], &b[v].attr[RS_ATTR_COLOR0],
+                                                  sizeof(rs_vec4)) != 0
+                                     : memcmp(&a[v], &b[v], sizeof a[v]) != 0)
+                                fail_msg("shader %s mode %d instance %d vertex %d: batch with shared mask %#x "
+                                         "(live %s) differs", vs_shaders[s]->name, mode, t, v, masks[q],
+                                         live ? "oD0" : "all");
+                    }
                 }
             }
         }
     }
-    free(in), free(sh), free(a), free(b);
+    free(in), free(sh), free(full), free(a), free(b);
 }
 
 int main(void)

@@ -227,8 +227,6 @@ typedef struct edge_cp { float3 ap, bp, an, bn, b21, b12; bool ok, swapped; } ed
 
 /* One instance as the batch sees it: the triangle, its texture coordinates and its patch's instance data. */
 typedef struct inst8 {
-    const is_vs_input *in0;   /* the batch's in[0] and shared registers (is_vs_input_at) */
-    uint32_t shared;
     vs_patch p;
     vs_triangle T;
     vs_options o;
@@ -254,11 +252,10 @@ static void edge_cp_make(const vs_triangle *T, int k, edge_cp *e)
     e->b12 = sub3(add3(scale3(e->bp, 2.0f), e->ap), offB);
 }
 
-/* The per-vertex path (the listing-form evaluation) for one vertex. */
+/* The per-vertex path (the listing-form evaluation) for one vertex: the instance I and the vertex's POSITION0 (the
+ * only register read from in, which is never shared: batch8). */
 static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input *in, is_vs_output *out)
 {
-    is_vs_input tmp;
-    in = is_vs_input_at(I->in0, (size_t)(in - I->in0), I->shared, &tmp);
     float3 b = f3_of(in->position[0]); // barycentric coords
     float3 pos, normal, g;
     vs_patch_eval(I->p, &I->T, b, &I->o, &pos, &normal, I->p == VS_PATCH_SMOOTH ? &g : NULL);
@@ -440,8 +437,9 @@ static bool same_inst(vs_patch p, const is_vs_input *a, const is_vs_input *b)
 }
 
 /* The batch of patch p (npatch or smooth): interior vertices 8 at a time (linear normals), the rest one by one.
- * When the shared registers hold the whole instance (the device's fused path) it is read once from in[0] and
- * the vertices are not compared; other shared masks get complete inputs, 32 vertices at a time. */
+ * When the shared registers hold the whole instance and not POSITION0 (the device's fused path) the instance is
+ * read once from in[0], the vertices are not compared, and each vertex's POSITION0 is its own; other shared masks
+ * get complete inputs, 32 vertices at a time. */
 static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                    uint32_t shared, is_vs_output *out)
 {
@@ -461,7 +459,6 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
     vs_batch_consts_read(c, &k);
     k.live = live;
     inst8 I;
-    I.in0 = in, I.shared = shared;
     lanes8 L, E;
     L.n_real = E.n_real = 0;
     for (size_t v = 0; v < n; v++) {

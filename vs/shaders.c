@@ -105,11 +105,13 @@ void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in,
     vs_batch_consts k;
     vs_batch_consts_read(c, &k);
     vs_triangle tri;
-    is_vs_input tmp[2]; /* vertex v's inputs when registers are shared (alternating: the previous one stays) */
+    /* every register but POSITION0 shared (the device's fused path): one instance, read once from in[0] */
+    const bool one = shared == (((1u << IS_VS_INPUT_REGS) - 1u) & ~1u);
+    is_vs_input tmp[2]; /* vertex v's inputs for other shared masks (alternating: the previous one stays) */
     const is_vs_input *prev = NULL;
     for (size_t v = 0; v < n; v++) {
-        const is_vs_input *r = is_vs_input_at(in, v, shared, &tmp[v & 1]);
-        if (!prev || !vs_same_instance(r, prev)) vs_triangle_from_input(r, &tri);
+        const is_vs_input *r = one ? &in[v] : is_vs_input_at(in, v, shared, &tmp[v & 1]);
+        if (!prev || (!one && !vs_same_instance(r, prev))) vs_triangle_from_input(r, &tri);
         prev = r;
         float3 b = f3_of(r->position[0]); // barycentric coords
         float3 pos, normal, g;
