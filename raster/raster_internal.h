@@ -70,8 +70,8 @@ typedef struct rs_job {
 typedef struct rs_tri {
     int32_t ea[3], eb[3];        /* E = ea*X + eb*Y + ec in int64 (X, Y: sample, 1/256 px, relative to the viewport */
     int64_t ec[3];               /* centre); inside iff E >= 0 (top-left bias folded into ec).  ea, eb are vertex
-                                    differences, |.| <= 2^23 (setup.c's bit budget): int32 keeps rs_prim at 128
-                                    bytes, 24 fewer for the set-up to write and the tile pass to read */
+                                    differences, |.| <= 2^23 (setup.c's bit budget): in int32, rs_prim takes 128
+                                    bytes instead of 152 for the set-up to write and the tile pass to read */
     int32_t vx, vy;              /* vertex 0, 1/256 px relative to the centre: origin of the float planes */
     float z[3];                  /* depth plane: dz/dx, dz/dy per pixel, z at vertex 0 (bias included) */
     float q1[3], q2[3], s[3];    /* planes of lambda1/w1, lambda2/w2, sum lambda_i/w_i (1/w normalised) */
@@ -95,6 +95,7 @@ typedef struct rs_prim {
     int kind;                    /* RS_K_* */
     union { rs_tri t; rs_line l; rs_point p; } u;
 } rs_prim;
+_Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment states it");
 
 /* ptile value of a primitive whose box touches more than one tile. */
 #define RS_MULTI_TILE UINT32_MAX

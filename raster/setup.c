@@ -27,8 +27,8 @@
  *  vertex once into a 24-byte record (rs_project_vertices, four vertices in double lanes); setup_shared then
  *  culls each triangle from its three records and pushes a front-facing one at once (pixel box, ptile entry,
  *  attribute slots) but queues its edges and planes, which finish4 computes for four triangles at a time: the
- *  edge functions in int64 lanes and tri_planes' double operations in double lanes, per lane the same operations
- *  in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices are not all
+ *  edge functions in int32 / int64 lanes and tri_planes' double operations in double lanes, per lane the same
+ *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices are not all
  *  inside the clip volume (or a fill mode other than solid) goes back to the definition, in submission order.
  *
  *  Binning: push records each primitive's tile (or RS_MULTI_TILE) in the chunk's ptile array, so rs_bin_chunk's
