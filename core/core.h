@@ -222,6 +222,8 @@ typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_
  * IS_VS_REG_TEXCOORD + k); a mask of registers has bit r for register r. */
 #define IS_VS_INPUT_REGS ((int)(sizeof(is_vs_input) / sizeof(float4)))
 #define IS_VS_REG_TEXCOORD ((int)(offsetof(is_vs_input, texcoord) / sizeof(float4)))
+#define IS_VS_REGS_ALL ((1u << IS_VS_INPUT_REGS) - 1u) /* every register */
+#define IS_VS_REGS_INSTANCE (IS_VS_REGS_ALL & ~1u)      /* every register but POSITION0 (a patch's instance data) */
 
 /* Vertex v of a batch whose `shared` registers are stored in in[0] only: in + v itself when nothing is shared
  * or v is 0, else *tmp filled with in[v]'s registers and in[0]'s shared ones (what `main` is given). */

@@ -118,7 +118,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
         any_inst |= inst;
     }
     /* without per-instance elements every entry of a batch is complete: nothing to share */
-    fp->shared = any_inst ? ((1u << IS_VS_INPUT_REGS) - 1u) & ~vert_regs : 0u;
+    fp->shared = any_inst ? IS_VS_REGS_ALL & ~vert_regs : 0u;
     return IS_OK;
 }
 

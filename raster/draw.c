@@ -152,8 +152,7 @@ static void make_job(rs_job *j, const rs_state *st, rs_target *rt, int prim, con
     j->zlo = vp->min_z < vp->max_z ? vp->min_z : vp->max_z;
     j->zhi = vp->min_z < vp->max_z ? vp->max_z : vp->min_z;
     j->flat = st->shade_mode == RS_SHADE_FLAT;
-    const bool zw = st->z_enable && st->z_write && !st->blend_enable && rt->n_aov == 0;
-    j->span_mode = zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
+    j->span_mode = rs_span_mode(st, rt);
     j->tiles_x = (rt->width + RS_TILE - 1) / RS_TILE;
     j->tiles_y = (rt->height + RS_TILE - 1) / RS_TILE;
     j->n_tiles = j->tiles_x * j->tiles_y;

@@ -61,8 +61,7 @@ typedef struct rs_job {
     int stride;                 /* floats per primitive in the attribute pool */
     bool flat;
     bool reference;             /* the scalar reference path (rs_set_reference_path): no fast paths */
-    int span_mode;              /* span.c's walk instance for the depth state: 0 LESSEQUAL with writes, 1 LESS
-                                   with writes (both without blending or AOV planes), 2 any other state */
+    int span_mode;              /* span.c's walk instance for the depth state (rs_span_mode) */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 
@@ -249,6 +248,13 @@ static inline bool rs_span_ok(const rs_job *j)
 #else
     return false;
 #endif
+}
+/* The walk instance (rs_job.span_mode) for depth state st drawing into rt: 0 LESSEQUAL with writes, 1 LESS with
+ * writes (both without blending or AOV planes), 2 any other state. */
+static inline int rs_span_mode(const rs_state *st, const rs_target *rt)
+{
+    const bool zw = st->z_enable && st->z_write && !st->blend_enable && rt->n_aov == 0;
+    return zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
 }
 /* Rasterize triangle p's pixels [x0, x1] x [y0, y1] (its box clipped to tile t) on the fast path (rs_span_ok):
  * the same bytes and counters as tri.c's reference walk. */

@@ -28,8 +28,9 @@
  *  culls each triangle from its three records and pushes a front-facing one at once (pixel box, ptile entry,
  *  attribute slots) but queues its edges and planes, which finish4 computes for four triangles at a time: the
  *  edge functions in int32 / int64 lanes and tri_planes' double operations in double lanes, per lane the same
- *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices are not all
- *  inside the clip volume (or a fill mode other than solid) goes back to the definition, in submission order.
+ *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices
+ *  are not all inside the clip volume (or a fill mode other than solid) goes back to the definition, in
+ *  submission order.
  *
  *  Binning: push records each primitive's tile (or RS_MULTI_TILE) in the chunk's ptile array, so rs_bin_chunk's
  *  two passes (count, fill) read 4 bytes per primitive and the box only of primitives over several tiles.
@@ -675,8 +676,8 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane:
- * tri_edge's integer operations in int32 / int64 lanes and tri_planes' double operations in double lanes, per lane the
- * same operations in the same order, so the same bytes. */
+ * tri_edge's integer operations in int32 / int64 lanes and tri_planes' double operations in double lanes, per lane
+ * the same operations in the same order, so the same bytes. */
 static void finish4(const rs_job *j, rs_chunk *c, queued q[4], int n)
 {
     for (int t = n; t < 4; t++) q[t] = q[0];

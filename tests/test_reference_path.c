@@ -350,8 +350,8 @@ static void test_shader_batches(void **state)
                  * is in[0]'s point. */
                 const int color_reg = (int)(offsetof(is_vs_input, color) / sizeof(float4));
                 const uint32_t masks[] = {((1u << (VS_IN_ID + 1)) - 1u) << IS_VS_REG_TEXCOORD,
-                                          ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u, 7u << IS_VS_REG_TEXCOORD,
-                                          1u | 7u << IS_VS_REG_TEXCOORD, (1u << IS_VS_INPUT_REGS) - 1u,
+                                          IS_VS_REGS_INSTANCE, 7u << IS_VS_REG_TEXCOORD,
+                                          1u | 7u << IS_VS_REG_TEXCOORD, IS_VS_REGS_ALL,
                                           3u << color_reg};
                 for (size_t q = 0; q < sizeof masks / sizeof masks[0]; q++) {
                     for (int v = 0; v < N; v++) {

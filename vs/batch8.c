@@ -425,7 +425,7 @@ static inline __attribute__((always_inline)) bool same_bytes(const void *a, cons
 static uint32_t inst_regs(vs_patch p)
 {
     if (p == VS_PATCH_NPATCH) return ((1u << (VS_IN_ID + 1)) - 1u) << IS_VS_REG_TEXCOORD;
-    return ((1u << IS_VS_INPUT_REGS) - 1u) & ~1u; /* all but POSITION0 */
+    return IS_VS_REGS_INSTANCE;
 }
 
 /* Do a and b hold the same registers for patch p's instance data? */

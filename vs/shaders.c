@@ -106,7 +106,7 @@ void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in,
     vs_batch_consts_read(c, &k);
     vs_triangle tri;
     /* every register but POSITION0 shared (the device's fused path): one instance, read once from in[0] */
-    const bool one = shared == (((1u << IS_VS_INPUT_REGS) - 1u) & ~1u);
+    const bool one = shared == IS_VS_REGS_INSTANCE;
     is_vs_input tmp[2]; /* vertex v's inputs for other shared masks (alternating: the previous one stays) */
     const is_vs_input *prev = NULL;
     for (size_t v = 0; v < n; v++) {
