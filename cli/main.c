@@ -98,6 +98,18 @@ static void join_args(int argc, char **argv, char *buf, size_t len)
         n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? " " : "", argv[i]);
 }
 
+/* A primitive-generator grid takes levels in a narrower range than --level: say so on stderr (also with -q)
+ * and render the level it will use. */
+static void warn_level_clamp(scene_opts *o)
+{
+    if (o->grid == CORE_GRID_REGULAR) return;
+    float used = core_grid_pg_clamp(o->grid, o->level);
+    if (used == o->level) return;
+    fprintf(stderr, "instess: warning: --level %g is outside the range of --grid %s; rendering level %g\n",
+            (double)o->level, scene_grid_name(o->grid), (double)used);
+    o->level = used;
+}
+
 /* Render one image from the options. */
 static int cmd_render(int argc, char **argv)
 {
@@ -116,6 +128,9 @@ static int cmd_render(int argc, char **argv)
     if (!o.output) return usage_error("no output file (-o FILE.png or FILE.exr)", NULL);
     const char *msg = scene_check_opts(&o);
     if (msg) return usage_error(msg, NULL);
+    if (o.export_obj && outputs_same_target(o.output, o.export_obj))
+        return usage_error("-o and --export-obj name the same file", o.output);
+    warn_level_clamp(&o);
     char cmdline[4096];
     join_args(argc, argv, cmdline, sizeof cmdline);
     o.command_line = cmdline;
@@ -127,21 +142,23 @@ static int cmd_render(int argc, char **argv)
     return 0;
 }
 
-/* SIGTERM / SIGINT / SIGHUP: remove the temporary file of an output being written (image_remove_temp_files is
- * async-signal-safe: lock-free loads and unlink of names prepared in advance; the names live in core/image.cpp's
- * static slots, the one accepted exception to "no globals"), then die of the same signal with its default
- * action, so the caller sees how the program ended.  The target is never partial in any case (rename). */
+/* SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU: remove the temporary files of the outputs being written
+ * (outputs_remove_temp_files is async-signal-safe; the names live in core/output.c's static slots, the one
+ * accepted exception to "no globals"), then die of the same signal with its default action, so the caller sees
+ * how the program ended.  The targets are never partial in any case (rename). */
 static void on_signal(int sig)
 {
-    image_remove_temp_files();
+    outputs_remove_temp_files();
     signal(sig, SIG_DFL);
     raise(sig);
 }
 
-/* Install on_signal for the termination signals that are not ignored (nohup keeps SIGHUP ignored). */
+/* Install on_signal for the termination signals that are not ignored (nohup keeps SIGHUP ignored), and ignore
+ * SIGXFSZ so that a file size limit (`ulimit -f`) makes write(2) fail with EFBIG: an error with a message and
+ * the temporaries removed, instead of a death that leaves them behind. */
 static void install_signal_handlers(void)
 {
-    static const int sigs[] = {SIGTERM, SIGINT, SIGHUP};
+    static const int sigs[] = {SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU};
     for (size_t k = 0; k < sizeof sigs / sizeof sigs[0]; k++) {
         struct sigaction old, sa;
         memset(&sa, 0, sizeof sa);
@@ -149,6 +166,7 @@ static void install_signal_handlers(void)
         sigemptyset(&sa.sa_mask);
         if (sigaction(sigs[k], NULL, &old) == 0 && old.sa_handler != SIG_IGN) sigaction(sigs[k], &sa, NULL);
     }
+    signal(SIGXFSZ, SIG_IGN);
 }
 
 int main(int argc, char **argv)

@@ -53,9 +53,17 @@ bool scene_parse_normals(const char *s, vs_normals *out)
     return true;
 }
 
+/* The --grid names, in core_grid_kind's order. */
+static const char *const grid_names[] = {"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL};
+
+const char *scene_grid_name(core_grid_kind g)
+{
+    return (unsigned)g < sizeof grid_names / sizeof grid_names[0] - 1 ? grid_names[g] : "?";
+}
+
 bool scene_parse_grid(const char *s, core_grid_kind *out)
 {
-    int k = lookup(s, (const char *const[]){"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL});
+    int k = lookup(s, grid_names);
     if (k < 0) return false;
     *out = (core_grid_kind)k;
     return true;
@@ -661,18 +669,16 @@ void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_in
 }
 
 /* Evaluate the patch shader at every grid point of every triangle with identity matrices, as the renderer
- * does, and write positions, normals and faces as OBJ (atomically: temporary file, then rename). */
-static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t errlen)
+ * does, and write positions, normals and faces as OBJ into output k of outs; 0 or -1. */
+static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, int k, char *err, size_t errlen)
 {
     core_grid g;
     if (core_grid_make(o->grid, o->level, &g) != 0) return snprintf(err, errlen, "cannot build the grid"), -1;
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", o->export_obj, (long)getpid());
-    int slot = image_temp_track(tmp);   /* removed by the program's signal handler if killed meanwhile */
-    FILE *f = fopen(tmp, "w");
+    is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
+    FILE *f = inst ? outputs_stream(outs, k, err, errlen) : NULL;
     if (!f) {
-        snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, strerror(errno));
-        image_temp_untrack(slot);
+        if (!inst) snprintf(err, errlen, "%s: out of memory for %zu triangles", o->export_obj, m->n_triangles);
+        free(inst);
         core_grid_free(&g);
         return -1;
     }
@@ -681,38 +687,27 @@ static int export_obj(const scene_opts *o, const is_mesh *m, char *err, size_t e
     memset(&c, 0, sizeof c);
     fill_constants(&c, o, &id, &id, o->diffuse);
     const is_vertex_shader *vs = vs_patch_shader(o->patch);
-    is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
-    int ok = inst != NULL;
-    if (ok) mesh_build_instances(m, inst);
+    mesh_build_instances(m, inst);
     fprintf(f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION, m->name,
             vs->name, (double)o->level, m->n_triangles, g.n_points);
-    for (size_t t = 0; ok && t < m->n_triangles; t++) {
-        for (size_t k = 0; k < g.n_points; k++) {
+    for (size_t t = 0; t < m->n_triangles && !ferror(f); t++) {
+        for (size_t p = 0; p < g.n_points; p++) {
             is_vs_input in;
             is_vs_output out;
-            scene_input_from_instance(&inst[t], g.bary[k], &in);
+            scene_input_from_instance(&inst[t], g.bary[p], &in);
             memset(&out, 0, sizeof out);
             vs->main(&c, &in, &out);
             float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
             fprintf(f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
         }
         size_t base = t * g.n_points + 1;
-        for (size_t k = 0; k < g.n_triangles; k++)
-            fprintf(f, "f %zu//%zu %zu//%zu %zu//%zu\n", base + g.idx[3 * k], base + g.idx[3 * k],
-                    base + g.idx[3 * k + 1], base + g.idx[3 * k + 1], base + g.idx[3 * k + 2], base + g.idx[3 * k + 2]);
+        for (size_t q = 0; q < g.n_triangles; q++)
+            fprintf(f, "f %zu//%zu %zu//%zu %zu//%zu\n", base + g.idx[3 * q], base + g.idx[3 * q],
+                    base + g.idx[3 * q + 1], base + g.idx[3 * q + 1], base + g.idx[3 * q + 2], base + g.idx[3 * q + 2]);
     }
     free(inst);
     core_grid_free(&g);
-    ok = ok && fflush(f) == 0 && !ferror(f);
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp, o->export_obj) != 0) {
-        snprintf(err, errlen, "%s: cannot write: %s", o->export_obj, ok ? strerror(errno) : "write error");
-        remove(tmp);
-        image_temp_untrack(slot);
-        return -1;
-    }
-    image_temp_untrack(slot);
-    return 0;
+    return outputs_close_stream(outs, k, f, err, errlen);
 }
 
 /* The article's per-edge shortcut on the smoothed patch: print how many P_k evaluations it saved. */
@@ -748,29 +743,49 @@ static double now_seconds(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
+/* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
+static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_t errlen)
 {
-    is_mesh m = {0};
-    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
-                          .warn_user = (void *)&o->quiet};
-    if (mesh_open(o->mesh, &mo, &m, err, errlen) != 0) return -1;
+    outputs_init(outs);
+    if (image_check_path(o->output, err, errlen) != 0 || outputs_add(outs, o->output, err, errlen) != 0) return -1;
+    if (o->export_obj && outputs_add(outs, o->export_obj, err, errlen) != 1) return -1;
+    return 0;
+}
+
+/* Render the loaded mesh m and fill the claimed outputs, then commit them; 0 or -1 (nothing left behind). */
+static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *outs, char *err, size_t errlen)
+{
     double t0 = now_seconds();
     is_image img = {0};
     scene_stats st;
-    int rc = scene_render_mesh(o, &m, &img, &st, err, errlen);
+    int rc = scene_render_mesh(o, m, &img, &st, err, errlen);
     double t1 = now_seconds();
     if (rc == 0) {
         is_image_meta meta = {"instess " INSTESS_VERSION, o->command_line ? o->command_line : ""};
-        rc = image_write(&img, o->output, &meta, err, errlen);
+        rc = image_write_output(outs, 0, &img, &meta, err, errlen);
     }
-    if (rc == 0 && o->export_obj) rc = export_obj(o, &m, err, errlen);
-    if (rc == 0) report_shortcut(o, &m);
+    image_free(&img);
+    if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
+    if (rc == 0) rc = outputs_commit(outs, err, errlen);
+    if (rc == 0) report_shortcut(o, m);
     if (rc == 0 && !o->quiet)
         fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
                         "%.1f ms -> %s\n",
-                m.name, st.mesh_triangles, st.grid_points, (unsigned long long)st.vertices_shaded,
+                m->name, st.mesh_triangles, st.grid_points, (unsigned long long)st.vertices_shaded,
                 (unsigned long long)st.triangles_drawn, (t1 - t0) * 1e3, o->output);
-    image_free(&img);
+    return rc;
+}
+
+int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
+{
+    is_outputs outs;
+    is_mesh m = {0};
+    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
+                          .warn_user = (void *)&o->quiet};
+    int rc = claim_outputs(o, &outs, err, errlen);
+    if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
+    if (rc == 0) rc = render_outputs(o, &m, &outs, err, errlen);
+    outputs_abort(&outs);
     mesh_free(&m);
     return rc;
 }

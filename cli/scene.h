@@ -65,6 +65,8 @@ const char *scene_check_opts(const scene_opts *o);
 bool scene_parse_patch(const char *s, vs_patch *out);
 bool scene_parse_normals(const char *s, vs_normals *out);
 bool scene_parse_grid(const char *s, core_grid_kind *out);
+/* The --grid name of g. */
+const char *scene_grid_name(core_grid_kind g);
 bool scene_parse_path(const char *s, scene_path *out);
 bool scene_parse_fill(const char *s, scene_fill *out);
 bool scene_parse_size(const char *s, int *w, int *h);

@@ -20,6 +20,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "../raster/raster.h"
 
@@ -382,15 +383,80 @@ typedef struct core_grid {
     uint32_t *idx;  /* 3 * n_triangles */
 } core_grid;
 #define CORE_PG_MAX_LEVEL 64.0f
+/* The level a primitive-generator grid of this spacing uses for `level`: clamped to [1, 63] (fractional_odd),
+ * [2, 64] (fractional_even) or [1, 64] (equal), as the D3D11 / GL 4 primitive generator does. */
+float core_grid_pg_clamp(core_grid_kind kind, float level);
 /* Primitive-generator grid with an inner level and three outer levels; 0 or -1 (bad level, no memory). */
 int core_grid_pg(core_grid_kind spacing, float inner, const float outer[3], core_grid *out);
 /* Any grid at one level: regular (level rounded to the nearest integer >= 1) or pg with inner = outer = level. */
 int core_grid_make(core_grid_kind kind, float level, core_grid *out);
 void core_grid_free(core_grid *g);
 
-/* ================================ images (OpenImageIO, core/image.cpp) ================================ */
+/* ================================ outputs: the files of one run (core/output.c) ================================ */
 
+/* The files one run writes succeed together or none is left.  outputs_add claims each target before any work:
+ * it must be a regular file or absent (a symbolic link, a directory, a device, a FIFO or a socket is refused,
+ * never replaced), its name within the folder's limit (NAME_MAX, 255 bytes on Linux), not the same file as an
+ * earlier output of the run (same path or same inode), in an existing folder the process may write.  The first
+ * write creates the output's temporary ".instess-XXXXXX.tmp" in that folder with mkstemp (O_EXCL, a random
+ * name: a link planted at a predictable name is never followed).  Writers fill the temporaries
+ * (outputs_write, or outputs_stream for stdio); every write is checked, EFBIG (`ulimit -f`, when
+ * SIGXFSZ is ignored, as the program does) and ENOSPC included.  outputs_commit fsyncs every temporary, checks
+ * each target again, and only then renames them onto their targets one by one; on any failure it calls
+ * outputs_abort, which unlinks every temporary not yet renamed.  A target changes only by rename(2), so after
+ * any signal, also SIGKILL, it holds the previous file or the complete new one; two processes writing the
+ * same target leave one of the two complete files.  (After a failed rename of a second output the first one
+ * has already been replaced: only a failure of rename(2) itself, after all writing succeeded, can do that.)
+ * A run holds no file and no descriptor for its outputs until it writes them (after the import and the render).
+ *
+ * Signals: the temporaries' names sit in a fixed table from before each file exists;
+ * outputs_remove_temp_files() unlinks them and is async-signal-safe (lock-free atomics and unlink(2)), for a
+ * program's handlers of SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU (cli/main.c), which then die of the signal.
+ * SIGKILL cannot be caught: a stale ".instess-*.tmp" may then remain.  At most 16 temporaries are tracked at
+ * once (beyond that a file is written but not removed by a signal).
+ * INSTESS_TEST_WRITE_DELAY_MS=N (at most 60000) makes outputs_commit wait N ms with every temporary complete
+ * and none renamed, so that a test can signal the program in that window. */
+#define IS_OUTPUTS_MAX 4
+typedef struct is_output_file {
+    const char *path;                      /* the target, as given (not copied: keep it alive) */
+    char tmp[4096];                        /* its temporary file, "" when none */
+    int fd, slot;                          /* open descriptor or -1; signal slot or -1 */
+    bool exists, renamed;                  /* the target existed when claimed; the temporary is in place */
+    unsigned long long dev, ino;           /* the existing target's identity (clash check) */
+} is_output_file;
+typedef struct is_outputs {
+    int n;
+    is_output_file f[IS_OUTPUTS_MAX];
+} is_outputs;
+
+void outputs_init(is_outputs *o);
+/* Claim path as the next output (checks above; nothing is created yet); its index k >= 0, or -1 with a
+ * message naming path.  Nothing else of o changes on failure (the caller still calls outputs_abort). */
+int outputs_add(is_outputs *o, const char *path, char *err, size_t errlen);
+/* Append n bytes to output k's temporary; 0 or -1 with a message naming the target. */
+int outputs_write(is_outputs *o, int k, const void *buf, size_t n, char *err, size_t errlen);
+/* A stdio stream appending to output k's temporary, or NULL; finish it with outputs_close_stream (0 or -1:
+ * the first write error of the stream, named). */
+FILE *outputs_stream(is_outputs *o, int k, char *err, size_t errlen);
+int outputs_close_stream(is_outputs *o, int k, FILE *s, char *err, size_t errlen);
+/* fsync every temporary, then rename each onto its target; 0, or -1 with a message (all temporaries gone). */
+int outputs_commit(is_outputs *o, char *err, size_t errlen);
+/* Remove every temporary not yet renamed and release its slot; safe to call twice or after a commit. */
+void outputs_abort(is_outputs *o);
+/* True if paths a and b name the same file: the same string, the same existing inode, or the same name in the
+ * same folder after resolving the folders' links (for a usage check before any output is claimed). */
+bool outputs_same_target(const char *a, const char *b);
+/* Unlink every temporary of this process that exists now: async-signal-safe. */
+void outputs_remove_temp_files(void);
+
+/* ================================ images (core/image.c; files through OpenImageIO, core/image.cpp) ============ */
+
+/* Two halves: core/image.c holds the pixels and writes files through the outputs above; core/image.cpp is the
+ * codec, the only code that touches OpenImageIO (encode into memory, read, compare, text).  A program that
+ * renders without OpenImageIO (the valgrind stage's build, tests/valgrind/) links another codec with the same
+ * five functions in place of core/image.cpp. */
 #define IS_IMAGE_MAX_CHANNELS 32
+#define IS_IMAGE_MAX_DIM 65536
 typedef struct is_image {
     int width, height, channels;
     char channel_names[IS_IMAGE_MAX_CHANNELS][16];  /* "R", "G", "B", "A", "Z", "N.X", ... */
@@ -402,13 +468,28 @@ typedef struct is_image_meta {
     const char *description;  /* the exact command line */
 } is_image_meta;
 
+/* The file formats image files are written in, chosen by the extension (case-insensitive). */
+typedef enum is_image_format { IS_IMAGE_NONE, IS_IMAGE_PNG, IS_IMAGE_EXR } is_image_format;
+/* The format of path's extension (.png, .exr), or IS_IMAGE_NONE. */
+is_image_format image_format_of(const char *path);
+/* 0 if path can name an image file (a known extension after a non-empty stem), else -1 with a message. */
+int image_check_path(const char *path, char *err, size_t errlen);
+
 /* Allocate an image with the given channel names (comma-separated, e.g. "R,G,B,A,Z"); 0 or -1. */
 int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen);
 void image_free(is_image *img);
+/* Index of the channel called name, or -1. */
+int image_channel_index(const is_image *img, const char *name);
 /* Fill RGBA of img from packed RGBA8 pixels (alpha forced to 1 where opaque is asked). */
 void image_from_rgba8(is_image *img, const uint32_t *rgba);
-/* Write atomically (temporary file beside the target, then rename): .png (8-bit RGBA; other channels dropped)
- * or .exr (RGBA half, other channels float).  On failure nothing is left at path; returns 0 or -1. */
+/* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit RGBA (other channels dropped),
+ * .exr RGBA half and other channels float; label names the file in messages.  0 or -1. */
+int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
+                 unsigned char **bytes, size_t *len, char *err, size_t errlen);
+/* Encode img in the format of output k's path and write it into that output's temporary; 0 or -1. */
+int image_write_output(is_outputs *o, int k, const is_image *img, const is_image_meta *meta, char *err,
+                       size_t errlen);
+/* Write one image file as a run of its own (outputs above): nothing is left at path on failure; 0 or -1. */
 int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
 /* Read any file OpenImageIO reads into floats; 0 or -1. */
 int image_read(is_image *img, const char *path, char *err, size_t errlen);
@@ -439,25 +520,6 @@ int image_draw_text(is_image *img, int x, int y, const char *text, float size_px
                     size_t errlen);
 /* Width and height in pixels of the box that image_draw_text(text, size_px) covers (0 x 0 for ""); 0 or -1. */
 int image_text_size(const char *text, float size_px, int *w, int *h);
-
-/* ================================ signals and atomic outputs (core/image.cpp) ================================ */
-
-/* image_write keeps the name of the temporary file it is writing (".<stem>.tmp-<pid>-XXXXXX<ext>" beside the
- * target) where a signal handler can reach it, from before the file exists until after the rename.
- * image_remove_temp_files() unlinks every such file of this process and is async-signal-safe: a program calls
- * it from its SIGTERM / SIGINT / SIGHUP handler (cli/main.c does), then dies of the signal.  The target itself
- * changes only by rename(2), so it is never partial: after any signal, also SIGKILL, it holds the previous file
- * or the complete new one.  SIGKILL cannot be caught, so after it a stale temporary file may remain.
- * Other writers of temporary files (the OBJ export) register them too: image_temp_track(path) returns a slot
- * (or -1 when all 8 are busy or the path is longer than 4095 bytes; the file is then not removed on a signal),
- * image_temp_untrack(slot) releases it after the rename or unlink.
- * Two environment variables serve tests: SOURCE_DATE_EPOCH (seconds since 1970) fixes the DateTime that
- * OpenEXR files carry (otherwise the current time), so the same render gives the same bytes;
- * INSTESS_TEST_WRITE_DELAY_MS=N makes image_write wait N ms (at most 60000) with its temporary file complete
- * and not yet renamed, so that a test can signal the program in that window. */
-void image_remove_temp_files(void);
-int image_temp_track(const char *path);
-void image_temp_untrack(int slot);
 
 #ifdef __cplusplus
 }

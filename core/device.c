@@ -178,29 +178,37 @@ is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const
     return IS_OK;
 }
 
-/* Whether `value` is valid for render state `state` (unknown states are invalid). */
-static bool state_value_ok(is_rs state, uint32_t v)
+/* Whether render state `state` takes `value`: STATE_OK, STATE_BAD_VALUE, or STATE_UNKNOWN for a state this
+ * device does not implement. */
+enum { STATE_UNKNOWN = -1, STATE_BAD_VALUE = 0, STATE_OK = 1 };
+static int state_check(is_rs state, uint32_t v)
 {
+    bool ok;
     switch (state) {
-    case IS_RS_ZENABLE: return v <= 1;
-    case IS_RS_FILLMODE: return v >= IS_FILL_POINT && v <= IS_FILL_SOLID;
-    case IS_RS_SHADEMODE: return v == IS_SHADE_FLAT || v == IS_SHADE_GOURAUD;
-    case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: return v <= 1;
-    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: return v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR;
-    case IS_RS_CULLMODE: return v >= IS_CULL_NONE && v <= IS_CULL_CCW;
-    case IS_RS_ZFUNC: return v >= IS_CMP_NEVER && v <= IS_CMP_ALWAYS;
-    case IS_RS_POSITIONDEGREE: return v == IS_DEGREE_LINEAR || v == IS_DEGREE_CUBIC;
-    case IS_RS_NORMALDEGREE: return v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC;
-    case IS_RS_PATCHEDGESTYLE: return v <= 1;
-    case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: return isfinite(bits_float(v));
-    default: return false;
+    case IS_RS_ZENABLE: ok = v <= 1; break;
+    case IS_RS_FILLMODE: ok = v >= IS_FILL_POINT && v <= IS_FILL_SOLID; break;
+    case IS_RS_SHADEMODE: ok = v == IS_SHADE_FLAT || v == IS_SHADE_GOURAUD; break;
+    case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: ok = v <= 1; break;
+    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR; break;
+    case IS_RS_CULLMODE: ok = v >= IS_CULL_NONE && v <= IS_CULL_CCW; break;
+    case IS_RS_ZFUNC: ok = v >= IS_CMP_NEVER && v <= IS_CMP_ALWAYS; break;
+    case IS_RS_POSITIONDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_CUBIC; break;
+    case IS_RS_NORMALDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC; break;
+    case IS_RS_PATCHEDGESTYLE: ok = v <= 1; break;
+    case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: ok = isfinite(bits_float(v)); break;
+    default: return STATE_UNKNOWN;
     }
+    return ok ? STATE_OK : STATE_BAD_VALUE;
 }
 
 /* SetRenderState: D3D9 values; float states (DEPTHBIAS, SLOPESCALEDEPTHBIAS) as their bits. */
 is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
 {
-    if ((unsigned)state >= IS_RS_COUNT || !state_value_ok(state, value))
+    int r = (unsigned)state < IS_RS_COUNT ? state_check(state, value) : STATE_UNKNOWN;
+    if (r == STATE_UNKNOWN)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: unknown render state %d (this device implements "
+                        "the states listed in core.h)", (int)state);
+    if (r == STATE_BAD_VALUE)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: state %d does not take value %u", state, value);
     dev->rs_state[state] = value;
     return IS_OK;
@@ -208,7 +216,7 @@ is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
 
 is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value)
 {
-    if ((unsigned)state >= IS_RS_COUNT || !value || !state_value_ok(state, dev->rs_state[state]))
+    if ((unsigned)state >= IS_RS_COUNT || !value || state_check(state, dev->rs_state[state]) != STATE_OK)
         return IS_ERR_INVALIDCALL;
     *value = dev->rs_state[state];
     return IS_OK;

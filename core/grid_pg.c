@@ -51,14 +51,28 @@ typedef struct pg_ring {
     int m[3];
 } pg_ring;
 
+/* Spacing in, the range of levels it takes out ([lo, hi]: the spec's clamps). */
+static void pg_range(core_grid_kind kind, double *lo, double *hi)
+{
+    *lo = kind == CORE_GRID_PG_FRACTIONAL_EVEN ? 2.0 : 1.0;
+    *hi = kind == CORE_GRID_PG_FRACTIONAL_ODD ? (double)CORE_PG_MAX_LEVEL - 1.0 : (double)CORE_PG_MAX_LEVEL;
+}
+
+float core_grid_pg_clamp(core_grid_kind kind, float level)
+{
+    double lo, hi;
+    pg_range(kind, &lo, &hi);
+    return (float)fmin(fmax((double)level, lo), hi);
+}
+
 /* Level and spacing in, n segments and clamped level out; false for a non-finite level. */
 static bool pg_spacing_of(core_grid_kind kind, float level, pg_spacing *s)
 {
     if (!isfinite(level)) return false;
     const bool odd = kind == CORE_GRID_PG_FRACTIONAL_ODD;
-    const int lo = kind == CORE_GRID_PG_FRACTIONAL_EVEN ? 2 : 1;
-    const double hi = odd ? (double)CORE_PG_MAX_LEVEL - 1.0 : (double)CORE_PG_MAX_LEVEL;
-    double f = fmin(fmax((double)level, (double)lo), hi);
+    double lo, hi;
+    pg_range(kind, &lo, &hi);
+    double f = fmin(fmax((double)level, lo), hi);
     int n = (int)ceil(f);
     s->equal = kind == CORE_GRID_PG_EQUAL;
     if (!s->equal) {

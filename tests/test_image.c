@@ -86,7 +86,7 @@ static int count_entries(const char *dir, int *tmp_seen)
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
             continue;
         n++;
-        if (strstr(e->d_name, ".tmp-"))
+        if (strstr(e->d_name, ".instess-"))
             *tmp_seen = 1;
     }
     closedir(d);

@@ -224,7 +224,7 @@ static void expect_input_error(const char *name, int rc, const char *what)
     if (got != rc || !strstr(err, name) || !strstr(err, what))
         fail_msg("%s: wanted exit %d and a message with '%s', got exit %d: %s", name, rc, what, got, err);
     assert_false(exists("out.png"));
-    assert_int_equal(entries_with(".tmp-"), 0);
+    assert_int_equal(entries_with(".instess-"), 0);
 }
 
 /* Missing pieces of files, and files that are not meshes. */
@@ -327,7 +327,7 @@ static void test_bad_inputs_other(void **state)
     /* an output folder that does not exist */
     assert_int_equal(run(&err, "--mesh cube --level 1 --size 16x16 -o '%s/no/such/out.png'", dir), 1);
     assert_non_null(strstr(err, "no/such/out.png"));
-    assert_non_null(strstr(err, "cannot create a temporary file"));
+    assert_non_null(strstr(err, "cannot create a file in the folder"));
     clear_dir();
 }
 
@@ -598,7 +598,7 @@ static void kill_render(int sig, bool in_write, long delay_ms)
                                  "--threads", "1", "-q", "-o", keep, NULL};
     pid_t pid = spawn(in_write ? "INSTESS_TEST_WRITE_DELAY_MS=20000" : NULL, in_write ? small : args);
     assert_true(pid > 0);
-    if (in_write) assert_true(wait_for_entry(".keep.tmp-", 20000));
+    if (in_write) assert_true(wait_for_entry(".instess-", 20000));
     else sleep_ms(delay_ms);
     assert_int_equal(kill(pid, sig), 0);
     int st;
@@ -606,13 +606,13 @@ static void kill_render(int sig, bool in_write, long delay_ms)
     if (!WIFSIGNALED(st) || WTERMSIG(st) != sig)
         fail_msg("signal %d (%s): the program ended with status 0x%x", sig, in_write ? "writing" : "rendering", st);
     assert_true(same_bytes(keep, saved));
-    int stale = entries_with(".tmp-");
+    int stale = entries_with(".instess-");
     print_message("  signal %2d while %-9s: previous image intact, %d temporary file(s) left\n", sig,
                   in_write ? "writing" : "rendering", stale);
     if (sig != SIGKILL) assert_int_equal(stale, 0);
     else if (in_write) assert_int_equal(stale, 1);   /* documented: nothing can remove it after SIGKILL */
     char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -f %s/.keep.tmp-*", dir);
+    snprintf(cmd, sizeof cmd, "rm -f %s/.instess-*", dir);
     assert_int_equal(system(cmd), 0);
 }
 
