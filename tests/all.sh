@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # tests/all.sh -- `make test`: the unit/numerical/golden tests, the same tests under ASan+UBSan, and valgrind on
 # the renderer, one stage after the other (each runs even if an earlier one failed), then one total line:
-# "total: N passed, N failed".  Exit status 0 only if every stage passed.
+# "total: N passed, N failed".  Each stage's wall time is printed after it, and all of them at the end.
+# Exit status 0 only if every stage passed.
 set -u
 make=${MAKE:-make}
-passed=0; failed=0; status=0
+passed=0; failed=0; status=0; times=""
 for stage in test-unit sanitize valgrind; do
   echo "== $stage"
+  start=$SECONDS
   log=$(mktemp)
   $make --no-print-directory "$stage" 2>&1 | tee "$log"
   rc=${PIPESTATUS[0]}
@@ -17,6 +19,9 @@ for stage in test-unit sanitize valgrind; do
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; echo "== $stage failed before running its tests (exit $rc)"; fi
   [ "$rc" -ne 0 ] && status=1
   passed=$((passed + p)); failed=$((failed + f))
+  echo "== $stage: $((SECONDS - start)) s"
+  times="$times $stage $((SECONDS - start)) s;"
 done
+echo "== stage times:$times"
 echo "total: $passed passed, $failed failed"
 exit $status

@@ -1,0 +1,37 @@
+/* tests/util/prog.h -- running the instess program from a test, on files in a work folder.
+ *
+ * Conventions: `dir` is the test's own temporary folder (made with prog_mkdtemp, removed with prog_rmdir);
+ * names are relative to it.  The program is $INSTESS_BIN (the sanitizer stage points it at the ASan build) or
+ * build/instess.  Exit codes come back as the program's, or 128 + N when it died of signal N. */
+#ifndef INSTESS_TESTS_PROG_H
+#define INSTESS_TESTS_PROG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* The program under test. */
+const char *prog_bin(void);
+/* Make a fresh folder /tmp/instess-<tag>-XXXXXX into dir (at least 256 bytes); 0 or -1. */
+int prog_mkdtemp(char *dir, const char *tag);
+/* Remove dir and everything in it. */
+void prog_rmdir(const char *dir);
+/* Run the shell command line "prefix program ARGS" (ARGS printf-expanded; prefix may be "" or e.g.
+ * "ulimit -f 8;") with stderr captured into *err (a static buffer, overwritten by the next run) and stdout
+ * discarded; returns the exit code. */
+int prog_run(const char *dir, const char **err, const char *prefix, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+/* dir/name into buf. */
+const char *prog_path(const char *dir, const char *name, char *buf, size_t len);
+/* Write n bytes (or a string) into dir/name; false on failure. */
+bool prog_write_bytes(const char *dir, const char *name, const void *data, size_t n);
+bool prog_write_text(const char *dir, const char *name, const char *text);
+/* Whether dir/name exists (links are not followed). */
+bool prog_exists(const char *dir, const char *name);
+/* Number of entries of dir whose name contains part (NULL: all), not counting stderr.txt. */
+int prog_entries_with(const char *dir, const char *part);
+/* The whole content of path (malloc'ed, *n bytes), or NULL. */
+unsigned char *prog_slurp(const char *path, size_t *n);
+/* Whether two files hold the same bytes (false if either is missing). */
+bool prog_same_bytes(const char *a, const char *b);
+
+#endif
