@@ -163,12 +163,38 @@ static void test_png_and_exr(void **state)
     assert_int_equal(system(args), 0);
 }
 
+/* A primitive-generator grid renders its clamped level and says so on stderr, even with -q; a level inside
+ * the range says nothing. */
+static void test_clamped_level_is_said(void **state)
+{
+    (void)state;
+    const char *err;
+    char args[600];
+    const struct { const char *grid, *level, *said; } cases[] = {
+        {"pg-fractional-odd", "100", "--level 100 is outside the range of --grid pg-fractional-odd; rendering level 63"},
+        {"pg-fractional-even", "1", "--level 1 is outside the range of --grid pg-fractional-even; rendering level 2"},
+        {"pg-equal", "64.5", "rendering level 64"}};
+    for (int k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, "--grid %s --level %s --size 16x16 -q -o %s/a.png", cases[k].grid, cases[k].level,
+                 dir);
+        assert_int_equal(run(args, &err), 0);
+        if (!strstr(err, cases[k].said)) fail_msg("%s: stderr was: %s", cases[k].grid, err);
+    }
+    snprintf(args, sizeof args, "--grid pg-fractional-odd --level 7.5 --size 16x16 -q -o %s/a.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    assert_string_equal(err, "");
+    char p[512];
+    snprintf(p, sizeof p, "%s/a.png", dir);
+    unlink(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_usage_errors),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_png_and_exr),
+        cmocka_unit_test(test_clamped_level_is_said),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }
