@@ -20,6 +20,11 @@
 #include <string.h>
 
 #define DRAW_CHUNK_VERTICES (1u << 16)
+/* The device's word for RS_EWORK (raster.h: work bounded by the output). */
+#define DEV_EWORK_STR2(x) #x
+#define DEV_EWORK_STR(x) DEV_EWORK_STR2(x)
+#define DEV_EWORK_MSG "draw: the frame would cover each pixel more than " DEV_EWORK_STR(RS_MAX_OVERDRAW) \
+                      " times on average (work is bounded by the output's size); nothing drawn"
 #define DRAW_MAX_VERTICES (1u << 26) /* NumVertices of one draw (one instance must fit in scratch memory) */
 
 _Static_assert(sizeof(is_vs_input) % sizeof(float4) == 0 && IS_VS_INPUT_REGS < 32,
@@ -179,6 +184,7 @@ static is_result rasterize(is_device *dev, int prim, size_t n_verts, size_t n_pr
     rs_stats s = {0};
     int r = rs_draw(dev->rs, &st, &dev->rt, prim, dev->out_v, n_verts, dev->out_i, n_prims, &s);
     if (r == RS_ENOMEM) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
+    if (r == RS_EWORK) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s", DEV_EWORK_MSG);
     if (r != RS_OK) return dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
     add_stats(dev, &s);
     return IS_OK;
@@ -458,6 +464,7 @@ static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims
         rs_stats s = {0};
         int e = rs_draw_source(dev->rs, &st, &dev->rt, &src, &s);
         if (e == RS_ENOMEM) r = dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
+        else if (e == RS_EWORK) r = dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s", DEV_EWORK_MSG);
         else if (e != RS_OK) r = dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
         else add_stats(dev, &s);
     }

@@ -341,6 +341,18 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks,
     }
 }
 
+/* Add the set-up chunks' work to the frame's; false (and the frame's work unchanged) when it would pass
+ * RS_MAX_OVERDRAW times the scissor's pixels. */
+static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
+{
+    uint64_t w = 0;
+    for (size_t c = 0; c < n_chunks; c++) w += rs->chunks[c].work;
+    uint64_t limit = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0);
+    if (w > limit || rs->work > limit - w) return false;
+    rs->work += w;
+    return true;
+}
+
 /* Rasterize every tile in parallel, then sum the counters (the second half of a draw). */
 static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, rs_stats *stats)
 {
@@ -379,6 +391,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
         n_prims += rs->chunks[c].count;
     }
     if (n_prims != src->n_prims) return RS_EINVAL;
+    if (!add_work(rs, &j, src->n_pieces)) return RS_EWORK;
     raster_tiles(&j, rs, src->n_pieces, n_prims, nt, stats);
     return RS_OK;
 }
@@ -412,6 +425,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     }
     for (size_t c = 0; c < n_chunks; c++)
         if (rs->chunks[c].oom) return RS_ENOMEM;
+    if (!add_work(rs, &j, n_chunks)) return RS_EWORK;
     raster_tiles(&j, rs, n_chunks, n_prims, nt, stats);
     return RS_OK;
 }

@@ -128,7 +128,14 @@ typedef struct rs_stats {
 
 typedef struct rs_context rs_context;
 
-enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2 };
+enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2, RS_EWORK = -3 };
+/* Work is bounded by the output, not by the input: a frame -- the draws on a context since its last
+ * rs_target_clear_deferred -- may cover the target's pixels at most RS_MAX_OVERDRAW times on average.  Set-up
+ * counts each triangle as min(its area, its pixel box clipped to the scissor), in whole pixels rounded up (an
+ * upper bound of the pixels it covers, exact in integers, the same for any thread count); a draw that would
+ * pass the bound returns RS_EWORK and draws nothing (100,000 copies of one screen-filling triangle, say).
+ * Closed meshes cover a pixel a few times; lines and points are not counted. */
+#define RS_MAX_OVERDRAW 256
 
 /* Create a rasterizer that uses up to `threads` threads (0: all cores). NULL when out of memory. */
 rs_context *rs_create(int threads);
@@ -151,7 +158,8 @@ void rs_target_resolve(const rs_target *rt, uint32_t *out);
 
 /* Draw n_prims primitives of `prim` (points, lines or triangles) whose vertices are verts[idx[k]]
  * (idx == NULL: consecutive).  Triangles obey fill_mode (wireframe draws each triangle's three edges as
- * lines, point fill its three vertices).  Returns RS_OK, or RS_EINVAL / RS_ENOMEM with nothing drawn. */
+ * lines, point fill its three vertices).  Returns RS_OK, or RS_EINVAL / RS_ENOMEM / RS_EWORK with nothing
+ * drawn. */
 int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim,
             const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims,
             rs_stats *stats);

@@ -111,11 +111,13 @@ typedef struct rs_chunk {
     uint32_t *bin_idx;
     size_t n_idx, idx_cap;
     uint64_t culled, clipped, degenerate, drawn;
+    uint64_t work;               /* triangles' min(area, box) in pixels (RS_MAX_OVERDRAW) */
     bool oom;
 } rs_chunk;
 
 struct rs_context {
     int threads;
+    uint64_t work;               /* pixels covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
     bool reference;              /* rs_set_reference_path */
     rs_chunk *chunks;
     size_t n_chunks_cap;
@@ -212,7 +214,7 @@ typedef struct rs_source {
 int rs_threads(const rs_context *rs);
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 size_t rs_max_pieces(const rs_target *rt);
-/* Draw the triangles of src: RS_OK, RS_EINVAL (bad state, target or source) or RS_ENOMEM. */
+/* Draw the triangles of src: RS_OK, RS_EINVAL (bad state, target or source), RS_ENOMEM or RS_EWORK. */
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
 
 /* ---- the reference path switch (the device's dev_set_reference_path; core/ includes this header for it) ----

@@ -234,6 +234,16 @@ static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, 
     t->s[2] = (float)n[0];
 }
 
+/* Add a triangle of doubled area area2 (1/256^2 px^2) and pixel box [x0, x1] x [y0, y1] to c's work: the
+ * smaller of its area and its box, in whole pixels rounded up (RS_MAX_OVERDRAW). */
+static inline void count_work(rs_chunk *c, int64_t area2, int32_t x0, int32_t y0, int32_t x1, int32_t y1)
+{
+    uint64_t a = ((uint64_t)(area2 < 0 ? -area2 : area2) + ((uint64_t)2 * RS_SUB * RS_SUB - 1)) /
+                 ((uint64_t)2 * RS_SUB * RS_SUB);
+    uint64_t b = (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1);
+    c->work += a < b ? a : b;
+}
+
 /* Emit triangle v[0..3) of doubled area `area` > 0 (clockwise) with its pixel box, edges, planes and slots. */
 static void emit_front(const rs_job *j, rs_chunk *c, const pvert *const v[3], int64_t area, const rs_vec4 *flat)
 {
@@ -249,6 +259,7 @@ static void emit_front(const rs_job *j, rs_chunk *c, const pvert *const v[3], in
     float *at;
     rs_prim *p = push(j, c, x0, y0, x1, y1, &at);
     if (!p) return;
+    count_work(c, area, x0, y0, x1, y1);
     p->kind = RS_K_TRI;
     tri_edges(v, &p->u.t);
     p->u.t.vx = (int32_t)v[0]->x;
@@ -590,13 +601,14 @@ static inline bool tri_box(const rs_job *j, const box_consts *bc, const rs_pvert
 /* Push triangle v[0..3) (clockwise, records of vertices id[0..3)) with emit_front's pixel box, kind and slots,
  * its edges and planes left to finish_queued; false (nothing pushed) when the box is empty or memory ran out. */
 static bool push_front(const rs_job *j, rs_chunk *c, const box_consts *bc, const rs_pvert *const v[3],
-                       const uint32_t id[3])
+                       const uint32_t id[3], int64_t area)
 {
     int32_t box[4];
     if (!tri_box(j, bc, v, box)) return false;
     float *at;
     rs_prim *p = push_raw(j, c, &at);
     if (!p) return false;
+    count_work(c, area, box[0], box[1], box[2], box[3]);
     c->ptile[c->n - 1] = tile_entry(j, box[0], box[1], box[2], box[3]);
     _Static_assert(offsetof(rs_prim, y0) == 4 && offsetof(rs_prim, x1) == 8 && offsetof(rs_prim, y1) == 12,
                    "rs_prim's box as tri_box writes it");
@@ -834,7 +846,7 @@ static void setup_shared(const rs_job *j, rs_chunk *c)
         const rs_pvert *const v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };   /* emit_tri, area known */
         const uint32_t ov[3] = { id[0], area > 0 ? id[1] : id[2], area > 0 ? id[2] : id[1] };
         size_t prim = c->n;
-        if (!push_front(j, c, &bc, v, ov)) {
+        if (!push_front(j, c, &bc, v, ov, area)) {
             if (c->oom) break;
             continue;
         }
@@ -848,7 +860,7 @@ static void setup_shared(const rs_job *j, rs_chunk *c)
 void rs_setup_chunk(const rs_job *j, rs_chunk *c)
 {
     c->n = 0;
-    c->culled = c->clipped = c->degenerate = c->drawn = 0;
+    c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
     size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
     if (vpp == 3 && j->pv && j->idx) { /* the shared pass's triangles: indices straight to the projected vertices */

@@ -221,6 +221,7 @@ void rs_target_flush(rs_context *rs, rs_target *rt)
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
     if (!rs || !rt || !rt->color || !(flags & 3u)) return;
+    rs->work = 0;   /* a new frame: RS_MAX_OVERDRAW counts from here */
     if (rs->pend_tiles > 0 && (!pending_on(rs, rt) || (flags & rs->pend_flags) != rs->pend_flags))
         rs_target_flush(rs, rs->pend_rt); /* another target, or a clear that keeps part of the pending one */
     size_t n = (size_t)tile_count(rt);

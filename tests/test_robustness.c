@@ -140,6 +140,39 @@ static int setup(void **state)
     return mkdtemp(dir) ? 0 : -1;
 }
 
+/* Work is bounded by the output (raster.h RS_MAX_OVERDRAW): 3000 copies of one triangle, which the camera
+ * fits to the whole image, are refused within seconds (exit 1, the mesh and the bound named, nothing written);
+ * 100 copies (overdraw about 50) still render. */
+static void test_overdraw_bomb(void **state)
+{
+    (void)state;
+    for (int copies = 100; copies <= 3000; copies += 2900) {
+        size_t cap = 64 + (size_t)copies * 12, n = 0;
+        char *obj = malloc(cap);
+        assert_non_null(obj);
+        n += (size_t)sprintf(obj, "v -1 -1 0\nv 1 -1 0\nv 0 1 0\n");
+        for (int k = 0; k < copies; k++) n += (size_t)sprintf(obj + n, "f 1 2 3\n");
+        write_text("bomb.obj", obj);
+        free(obj);
+        const char *err;
+        char p[512];
+        time_t t0 = time(NULL);
+        int rc = run(&err, "--mesh '%s' --patch flat --level 4 --size 64x64 -o '%s/out.png'",
+                     path_of("bomb.obj", p, sizeof p), dir);
+        print_message("  %d copies: exit %d in %lds: %s", copies, rc, (long)(time(NULL) - t0), err);
+        if (copies == 100) {
+            assert_int_equal(rc, 0);
+            assert_true(exists("out.png"));
+        } else {
+            assert_int_equal(rc, 1);
+            assert_non_null(strstr(err, "bomb.obj"));
+            assert_non_null(strstr(err, "more than 256 times on average"));
+            assert_false(exists("out.png"));
+        }
+        clear_dir();
+    }
+}
+
 static int teardown(void **state)
 {
     (void)state;
@@ -714,6 +747,7 @@ int main(void)
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_atomic_output),
         cmocka_unit_test(test_no_orphan_import),
+        cmocka_unit_test(test_overdraw_bomb),
     };
     return cmocka_run_group_tests_name("robustness", tests, setup, teardown);
 }
