@@ -30,6 +30,7 @@ static const char usage_text[] =
     "  --msaa 1|4           samples per pixel                                                    [4]\n"
     "  --threads N          threads (0: all cores; the image does not depend on it)              [0]\n"
     "  --recompute-normals  ignore the file's normals and recompute them (angle-weighted)\n"
+    "  --max-memory MIB     the memory a render may take, checked before it starts           [4096]\n"
     "  --aov LIST           EXR only: extra channels, comma-separated: normal,bary,instance,gregory\n"
     "  --export-obj FILE    also write the tessellated surface as OBJ (object space)\n"
     "  -o, --output FILE    the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)\n"
@@ -45,7 +46,7 @@ static int usage_error(const char *msg, const char *arg)
 
 enum {
     OPT_MESH = 256, OPT_PATCH, OPT_NORMALS, OPT_LEVEL, OPT_GRID, OPT_PATH, OPT_SIZE, OPT_YAW, OPT_PITCH,
-    OPT_DISTANCE, OPT_FILL, OPT_MSAA, OPT_THREADS, OPT_AOV, OPT_EXPORT_OBJ, OPT_RECOMPUTE
+    OPT_DISTANCE, OPT_FILL, OPT_MSAA, OPT_THREADS, OPT_AOV, OPT_EXPORT_OBJ, OPT_RECOMPUTE, OPT_MAX_MEMORY
 };
 
 static const struct option long_opts[] = {
@@ -58,6 +59,7 @@ static const struct option long_opts[] = {
     {"threads", required_argument, 0, OPT_THREADS}, {"aov", required_argument, 0, OPT_AOV},
     {"export-obj", required_argument, 0, OPT_EXPORT_OBJ},
     {"recompute-normals", no_argument, 0, OPT_RECOMPUTE},
+    {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
     {"output", required_argument, 0, 'o'},          {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, 'h'},                  {"version", no_argument, 0, 'V'},
     {0, 0, 0, 0}};
@@ -83,6 +85,12 @@ static const char *apply_option(scene_opts *o, int c, const char *arg)
     case OPT_AOV: return scene_parse_aovs(arg, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
     case OPT_EXPORT_OBJ: o->export_obj = arg; return NULL;
     case OPT_RECOMPUTE: o->recompute_normals = true; return NULL;
+    case OPT_MAX_MEMORY: {
+        int mib;
+        if (!scene_parse_int(arg, 16, 1 << 20, &mib)) return "--max-memory takes MiB, 16..1048576";
+        o->max_memory_mib = (unsigned)mib;
+        return NULL;
+    }
     case 'o': o->output = arg; return NULL;
     case 'q': o->quiet = true; return NULL;
     default: return "unknown option";

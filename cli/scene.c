@@ -22,7 +22,7 @@ void scene_opts_default(scene_opts *o)
         .grid = CORE_GRID_REGULAR, .path = SCENE_PATH_INSTANCED, .width = 512, .height = 512, .yaw = 30.0f,
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
-        .background = IS_COLOR_ARGB(255, 46, 52, 64),
+        .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
     };
 }
 
@@ -615,6 +615,17 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, s
     return rc;
 }
 
+unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triangles, size_t grid_points)
+{
+    unsigned long long px = (unsigned long long)o->width * (unsigned long long)o->height;
+    unsigned long long bytes = px * ((unsigned long long)o->msaa * 8 + 4 + 5 * 4);   /* target, resolve, image */
+    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 11 * 4);   /* the AOV device's target and planes, the channels */
+    bytes += (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 64);
+    if (o->path == SCENE_PATH_CPU)
+        bytes += SCENE_CPU_BYTES_PER_VERTEX * (unsigned long long)mesh_triangles * grid_points;
+    return bytes;
+}
+
 /* scene_render_mesh on a mesh of ordinary coordinates. */
 static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
                        size_t errlen)
@@ -628,6 +639,14 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
         snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu", m->name,
                  m->n_triangles, (double)o->level, (unsigned long long)g.n_points * m->n_triangles,
                  (unsigned long long)SCENE_MAX_VERTICES);
+        core_grid_free(&g);
+        return -1;
+    }
+    unsigned long long need = scene_memory_estimate(o, m->n_triangles, g.n_points);
+    if (need > (unsigned long long)o->max_memory_mib << 20) {
+        snprintf(err, errlen, "%s: %zu triangles at level %g on this path need about %llu MiB, more than the memory "
+                 "budget of %u MiB (--max-memory MIB raises it)", m->name, m->n_triangles, (double)o->level,
+                 (need + (1u << 20) - 1) >> 20, o->max_memory_mib);
         core_grid_free(&g);
         return -1;
     }

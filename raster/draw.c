@@ -346,8 +346,9 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks,
 static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
 {
     uint64_t w = 0;
-    for (size_t c = 0; c < n_chunks; c++) w += rs->chunks[c].work;
-    uint64_t limit = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0);
+    for (size_t c = 0; c < n_chunks; c++) w = w + rs->chunks[c].work < w ? UINT64_MAX : w + rs->chunks[c].work;
+    uint64_t limit = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0) *
+                     RS_WORK_UNIT;
     if (w > limit || rs->work > limit - w) return false;
     rs->work += w;
     return true;

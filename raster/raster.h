@@ -131,8 +131,8 @@ typedef struct rs_context rs_context;
 enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2, RS_EWORK = -3 };
 /* Work is bounded by the output, not by the input: a frame -- the draws on a context since its last
  * rs_target_clear_deferred -- may cover the target's pixels at most RS_MAX_OVERDRAW times on average.  Set-up
- * counts each triangle as min(its area, its pixel box clipped to the scissor), in whole pixels rounded up (an
- * upper bound of the pixels it covers, exact in integers, the same for any thread count); a draw that would
+ * counts each triangle as min(its area, its pixel box clipped to the scissor), exactly in fixed point (about
+ * the pixels it covers, in integers, so the same for any thread count); a draw that would
  * pass the bound returns RS_EWORK and draws nothing (100,000 copies of one screen-filling triangle, say).
  * Closed meshes cover a pixel a few times; lines and points are not counted. */
 #define RS_MAX_OVERDRAW 256

@@ -29,6 +29,7 @@
  * 1024x1024 target's two planes, 8 MB, do not stay in a core's L2 cache; measured on scenes A and B, 2 threads:
  * the tile pass 5-8% faster). */
 #define COPY_STREAM_BYTES (4u << 20)
+#define RS_WORK_UNIT ((uint64_t)2 * RS_SUB * RS_SUB)   /* work units per pixel: doubled areas in 1/256 px */
 #define RS_BLOCK 8                    /* block side of the trivial reject / accept test */
 #define RS_MAX_POLY 12                /* 3 vertices + one per clip plane (6), with room */
 #define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
@@ -111,13 +112,13 @@ typedef struct rs_chunk {
     uint32_t *bin_idx;
     size_t n_idx, idx_cap;
     uint64_t culled, clipped, degenerate, drawn;
-    uint64_t work;               /* triangles' min(area, box) in pixels (RS_MAX_OVERDRAW) */
+    uint64_t work;               /* triangles' min(area, box) in RS_WORK_UNIT, saturating (RS_MAX_OVERDRAW) */
     bool oom;
 } rs_chunk;
 
 struct rs_context {
     int threads;
-    uint64_t work;               /* pixels covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
+    uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
     bool reference;              /* rs_set_reference_path */
     rs_chunk *chunks;
     size_t n_chunks_cap;

@@ -235,13 +235,13 @@ static void tri_planes(const rs_job *j, const pvert *const v[3], int64_t area2, 
 }
 
 /* Add a triangle of doubled area area2 (1/256^2 px^2) and pixel box [x0, x1] x [y0, y1] to c's work: the
- * smaller of its area and its box, in whole pixels rounded up (RS_MAX_OVERDRAW). */
+ * smaller of its area and its box, exactly, in RS_WORK_UNIT (saturating; RS_MAX_OVERDRAW). */
 static inline void count_work(rs_chunk *c, int64_t area2, int32_t x0, int32_t y0, int32_t x1, int32_t y1)
 {
-    uint64_t a = ((uint64_t)(area2 < 0 ? -area2 : area2) + ((uint64_t)2 * RS_SUB * RS_SUB - 1)) /
-                 ((uint64_t)2 * RS_SUB * RS_SUB);
-    uint64_t b = (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1);
-    c->work += a < b ? a : b;
+    uint64_t a = (uint64_t)(area2 < 0 ? -area2 : area2);
+    uint64_t b = (uint64_t)(x1 - x0 + 1) * (uint64_t)(y1 - y0 + 1) * RS_WORK_UNIT;
+    uint64_t w = c->work + (a < b ? a : b);
+    c->work = w < c->work ? UINT64_MAX : w;
 }
 
 /* Emit triangle v[0..3) of doubled area `area` > 0 (clockwise) with its pixel box, edges, planes and slots. */

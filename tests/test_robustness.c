@@ -173,6 +173,28 @@ static void test_overdraw_bomb(void **state)
     }
 }
 
+/* The memory budget (cli/scene.h SCENE_DEFAULT_MAX_MEMORY_MIB, --max-memory) is checked before anything is
+ * allocated: the CPU path at level 128 (about 270 MiB by the estimate) is refused under a 100 MiB budget with
+ * the estimate and the option named, and renders under the default; the instanced path needs no per-vertex
+ * memory and renders under the smallest budget; a budget below 16 MiB is a usage error. */
+static void test_memory_budget(void **state)
+{
+    (void)state;
+    const char *err;
+    int rc = run(&err, "--mesh sphere --patch npatch --path cpu --level 128 --size 32x32 --max-memory 100 -o '%s/a.png'",
+                 dir);
+    print_message("  cpu, 100 MiB: exit %d: %s", rc, err);
+    assert_int_equal(rc, 1);
+    assert_non_null(strstr(err, "more than the memory budget of 100 MiB (--max-memory MIB raises it)"));
+    assert_false(exists("a.png"));
+    assert_int_equal(run(&err, "--mesh sphere --patch npatch --path cpu --level 128 --size 32x32 -q -o '%s/a.png'", dir), 0);
+    assert_int_equal(run(&err, "--mesh sphere --patch npatch --level 128 --size 32x32 --max-memory 16 -q -o '%s/b.png'",
+                         dir), 0);
+    assert_int_equal(run(&err, "--max-memory 8 -o '%s/c.png'", dir), 2);
+    assert_false(exists("c.png"));
+    clear_dir();
+}
+
 static int teardown(void **state)
 {
     (void)state;
@@ -748,6 +770,7 @@ int main(void)
         cmocka_unit_test(test_atomic_output),
         cmocka_unit_test(test_no_orphan_import),
         cmocka_unit_test(test_overdraw_bomb),
+        cmocka_unit_test(test_memory_budget),
     };
     return cmocka_run_group_tests_name("robustness", tests, setup, teardown);
 }
