@@ -20,7 +20,7 @@ endif
 ARCH     ?= -march=x86-64-v3
 OPT      ?= -O2
 CFLAGS_BASE = -std=c17 $(OPT) -g $(ARCH) -ffp-contract=off -fopenmp -Wall -Wextra -Wno-unused-parameter \
-              -Wshadow -Wstrict-prototypes -D_POSIX_C_SOURCE=200809L
+              -Wshadow -Wstrict-prototypes -Werror=switch -D_POSIX_C_SOURCE=200809L
 CFLAGS   ?= $(CFLAGS_BASE)
 CXXFLAGS ?= -std=c++17 $(OPT) -g $(ARCH) -ffp-contract=off -Wall -Wextra
 B        ?= build

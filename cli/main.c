@@ -10,7 +10,8 @@
 
 #include "scene.h"
 
-static const char usage_text[] =
+/* The usage text; the patch names come from the patch table (vs/vs.h). */
+static const char usage_fmt[] =
     "usage: instess [OPTION]... -o FILE.png|FILE.exr\n"
     "       instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]\n"
     "       instess smoothness [--samples N]\n"
@@ -18,7 +19,7 @@ static const char usage_text[] =
     "\n"
     "  --mesh NAME|FILE     built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, cylinder)\n"
     "                       or a mesh file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...)   [cube]\n"
-    "  --patch P            flat | npatch | smooth-initial | smooth | phong | pn-aen           [smooth]\n"
+    "  --patch P            %-65s[smooth]\n"
     "  --normals N          linear | quadratic | real                                           [linear]\n"
     "  --level N            tessellation level (fractional with the pg-* grids)                 [8]\n"
     "  --grid G             regular | pg-equal | pg-fractional-odd | pg-fractional-even          [regular]\n"
@@ -36,6 +37,13 @@ static const char usage_text[] =
     "  -o, --output FILE    the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)\n"
     "  -q, --quiet          no statistics on stderr\n"
     "  -h, --help           this text       -V, --version   the version\n";
+
+/* Print the usage text to f. */
+static void print_usage(FILE *f)
+{
+    char names[256];
+    fprintf(f, usage_fmt, vs_patch_names(" | ", names, sizeof names));
+}
 
 /* Print msg and the usage hint; exit code 2. */
 static int usage_error(const char *msg, const char *arg)
@@ -126,7 +134,7 @@ static int cmd_render(int argc, char **argv)
     int c;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qhV", long_opts, NULL)) != -1) {
-        if (c == 'h') return fputs(usage_text, stdout), 0;
+        if (c == 'h') return print_usage(stdout), 0;
         if (c == 'V') return printf("instess %s\n", INSTESS_VERSION), 0;
         if (c == '?') return usage_error("unknown option or missing value", argv[optind - 1]);
         const char *msg = apply_option(&o, c, optarg);

@@ -36,12 +36,7 @@ static int lookup(const char *s, const char *const *names)
 
 bool scene_parse_patch(const char *s, vs_patch *out)
 {
-    int k = lookup(s, (const char *const[]){"flat", "npatch", "smooth-initial", "smooth", "phong", "pn-aen", NULL});
-    static const vs_patch map[] = {VS_PATCH_FLAT, VS_PATCH_NPATCH, VS_PATCH_SMOOTH_INITIAL, VS_PATCH_SMOOTH,
-                                   VS_PATCH_PHONG, VS_PATCH_PN_AEN};
-    if (k < 0) return false;
-    *out = map[k];
-    return true;
+    return vs_patch_from_name(s, out) == 0;
 }
 
 bool scene_parse_normals(const char *s, vs_normals *out)
@@ -166,7 +161,7 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->output && !has_ext(o->output, ".png") && !has_ext(o->output, ".exr"))
         return "the output must end in .png or .exr";
     if (o->aovs && (!o->output || !has_ext(o->output, ".exr"))) return "--aov needs an .exr output";
-    if (o->path != SCENE_PATH_INSTANCED && o->patch != VS_PATCH_NPATCH && o->patch != VS_PATCH_FLAT)
+    if (o->path != SCENE_PATH_INSTANCED && !vs_patches[o->patch].fixed_function)
         return "--path npatch-mode and cpu draw the N-Patch (or flat): use --patch npatch or flat";
     if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
         return "--path npatch-mode and cpu offer linear and quadratic normals (as D3D9's NORMALDEGREE)";

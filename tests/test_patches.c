@@ -526,9 +526,47 @@ static void test_smoothness_cube(void **state)
     assert_int_equal(vs_smoothness(VS_PATCH_NPATCH, NULL, pos, nrm, 8, idx, 12, NULL, 0, &bad), -1);
 }
 
+/* The patch table (vs/vs.h) is complete and agrees with what the patches do: every row has a name, a source and
+ * a shader of the same name that vs_find_shader finds; names round-trip (`gregory` is checked against the
+ * shaders' outputs by test_shader_outputs); where `fixed_function` is set, the device's evaluator
+ * (vs_npatch_evaluate, POSITIONDEGREE CUBIC for npatch, LINEAR for flat) gives the patch's own points. */
+static void test_patch_table(void **state)
+{
+    (void)state;
+    float3 v[3] = {f3(0, 0, 0), f3(1, 0, 0.1f), f3(0.2f, 1, 0)};
+    float3 n[3] = {normalize3(f3(-0.3f, -0.2f, 1)), normalize3(f3(0.4f, 0.1f, 1)), normalize3(f3(0, 0.5f, 1))};
+    vs_triangle t = vs_triangle_make(v, n);
+    float3 b = f3(0.2f, 0.3f, 0.5f);
+    char names[256];
+    vs_patch_names(",", names, sizeof names);
+    for (int p = 0; p < VS_PATCH_COUNT; p++) {
+        const vs_patch_info *r = &vs_patches[p];
+        assert_non_null(r->name);
+        assert_non_null(r->reference);
+        assert_non_null(r->shader);
+        assert_string_equal(r->shader->name, r->name);
+        assert_ptr_equal(vs_find_shader(r->name), r->shader);
+        assert_ptr_equal(vs_patch_shader((vs_patch)p), r->shader);
+        vs_patch back;
+        assert_int_equal(vs_patch_from_name(r->name, &back), 0);
+        assert_int_equal(back, p);
+        assert_non_null(strstr(names, r->name));
+        float3 pos;
+        vs_patch_eval((vs_patch)p, &t, b, NULL, &pos, NULL, NULL);
+        float3 q, qn;
+        vs_npatch_evaluate(v, n, b, p == VS_PATCH_FLAT ? IS_DEGREE_LINEAR : IS_DEGREE_CUBIC, IS_DEGREE_LINEAR, &q, &qn);
+        bool same = fabsf(q.x - pos.x) < 1e-6f && fabsf(q.y - pos.y) < 1e-6f && fabsf(q.z - pos.z) < 1e-6f;
+        if (r->fixed_function) assert_true(same);
+    }
+    vs_patch none;
+    assert_int_equal(vs_patch_from_name("fixed", &none), -1);
+    assert_string_equal(vs_patch_name((vs_patch)VS_PATCH_COUNT), "?");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_patch_table),
         cmocka_unit_test(test_corners_exact),
         cmocka_unit_test(test_flat_input_planar),
         cmocka_unit_test(test_level1),

@@ -8,7 +8,7 @@
  * instance by the same expressions.  The watertight edge and corner evaluation, the other normal modes and the
  * non-finite fallbacks are never vectorised: those vertices (and any lane whose result needs a fallback) go
  * through the per-vertex path. */
-#include "vs.h"
+#include "vs_internal.h"
 
 #include <stddef.h>
 

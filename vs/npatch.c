@@ -1,6 +1,6 @@
 /* vs/npatch.c -- the original N-Patch (seed 000, Eq. 1.1.1-1.1.2; Listing 1.1.2's evaluateNPatch), the device's
  * N-patch evaluator and the instanced N-Patch shader. */
-#include "vs.h"
+#include "vs_internal.h"
 
 /* evaluateNPatch of Listing 1.1.2, errata 1 and 2 resolved: the control points lack the /3 of Eq. 1.1.1 and the
  * weights lack the 3 (the products are the same), b111's 6 b111 = 0.5 * (sum of the six) - v0 - v1 - v2. */

@@ -2,7 +2,7 @@
  * interior formulas of flat, N-Patch (control points), PN-AEN and Phong tessellation, normals (linear,
  * quadratic, real) and derivatives.  The Gruen patches' formulas are in smooth.c, the N-Patch's listing form in
  * npatch.c. */
-#include "vs.h"
+#include "vs_internal.h"
 
 #include <string.h>
 
@@ -214,9 +214,10 @@ static float3 edge_position(vs_patch p, const vs_triangle *T, int k, const float
         float3 pr = comb2(A.w, phong_project(q, A.p, A.n), B.w, phong_project(q, B.p, B.n));
         return add3(scale3(q, 1.0f - o->phong_alpha), scale3(pr, o->phong_alpha));
     }
-    default: /* npatch, smooth-initial, smooth (the N-Patch border curve), pn-aen (averaged) */
-        return edge_cubic(&A, &B, aen);
+    case VS_PATCH_NPATCH: case VS_PATCH_SMOOTH_INITIAL: case VS_PATCH_SMOOTH: case VS_PATCH_PN_AEN:
+        return edge_cubic(&A, &B, aen); /* the N-Patch border curve (pn-aen: averaged control points) */
     }
+    return comb2(A.w, A.p, B.w, B.p);   /* not reached for a vs_patch */
 }
 
 /* Linear or quadratic normal of edge k, canonical order (unnormalised). */
@@ -248,8 +249,8 @@ static float3 interior_position(vs_patch p, const vs_triangle *T, float3 b, cons
         bez3_control_points(T, true, &B);
         return bez3_eval(&B, b);
     }
-    default: return flat_point(T, b);
     }
+    return flat_point(T, b);   /* not reached for a vs_patch */
 }
 
 /* Finite-difference step of the Gruen patches' derivatives: second-order schemes, so a large step keeps the
@@ -307,11 +308,10 @@ void vs_patch_derivatives(vs_patch p, const vs_triangle *T, float3 b, const vs_o
         }
         return;
     }
-    default:
-        *du = sub3(T->v[1], T->v[0]);
-        *dv = sub3(T->v[2], T->v[0]);
-        return;
+    case VS_PATCH_FLAT: break;
     }
+    *du = sub3(T->v[1], T->v[0]);   /* flat */
+    *dv = sub3(T->v[2], T->v[0]);
 }
 
 /* ---------------------------------------------------------------- the patch */
@@ -411,7 +411,7 @@ void vs_patch_eval(vs_patch p, const vs_triangle *T, float3 b, const vs_options 
     if (pos) *pos = position_at(p, T, b, bw, at, k, o);
     if (nrm) *nrm = normal_at(p, T, b, bw, at, k, o);
     if (greg) {
-        bool gregory = p == VS_PATCH_SMOOTH || p == VS_PATCH_SMOOTH_INITIAL;
+        bool gregory = (unsigned)p < VS_PATCH_COUNT && vs_patches[p].gregory;
         *greg = gregory ? vs_gregory(f3(bw[0], bw[1], bw[2])) : f3(0, 0, 0);
     }
 }

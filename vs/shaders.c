@@ -1,7 +1,8 @@
 /* vs/shaders.c -- constants and options, the outputs every patch shader writes, the flat, Phong, PN-AEN and
  * fixed shaders, and the table of shaders by name. */
-#include "vs.h"
+#include "vs_internal.h"
 
+#include <stdio.h>
 #include <string.h>
 
 vs_options vs_default_options(void)
@@ -34,8 +35,6 @@ vs_options vs_options_from_constants(const is_vs_constants *c)
 }
 
 static const char *const normals_names[] = {"linear", "quadratic", "real"};
-static const char *const patch_names[VS_PATCH_COUNT] = {"flat", "npatch", "smooth-initial", "smooth", "phong",
-                                                        "pn-aen"};
 
 int vs_normals_from_name(const char *name, vs_normals *out)
 {
@@ -46,14 +45,37 @@ int vs_normals_from_name(const char *name, vs_normals *out)
 
 const char *vs_normals_name(vs_normals n) { return (unsigned)n < 3 ? normals_names[n] : "?"; }
 
+const vs_patch_info vs_patches[VS_PATCH_COUNT] = {
+    [VS_PATCH_FLAT] = {"flat", "linear positions: D3DDEGREE_LINEAR; Akenine-Moller and Haines", &vs_shader_flat,
+                       true, false},
+    [VS_PATCH_NPATCH] = {"npatch", "the N-Patch (PN triangle): Vlachos et al. 2001; Gruen, Eq. 1.1.1-1.1.2",
+                         &vs_shader_npatch, true, false},
+    [VS_PATCH_SMOOTH_INITIAL] = {"smooth-initial", "Gruen, intermediate smoothed patch (Listing 1.1.1)",
+                                 &vs_shader_smooth_initial, false, true},
+    [VS_PATCH_SMOOTH] = {"smooth", "Gruen, final smoothed patch (Listing 1.1.2, Eq. 1.1.9-1.1.11)",
+                         &vs_shader_smooth, false, true},
+    [VS_PATCH_PHONG] = {"phong", "Phong tessellation: Boubekeur and Alexa 2008", &vs_shader_phong, false, false},
+    [VS_PATCH_PN_AEN] = {"pn-aen", "PN triangles with adjacent edge normals: McDonald and Kilgard 2010",
+                         &vs_shader_pn_aen, false, false},
+};
+
 int vs_patch_from_name(const char *name, vs_patch *out)
 {
     for (int i = 0; name && i < VS_PATCH_COUNT; i++)
-        if (strcmp(name, patch_names[i]) == 0) return *out = (vs_patch)i, 0;
+        if (strcmp(name, vs_patches[i].name) == 0) return *out = (vs_patch)i, 0;
     return -1;
 }
 
-const char *vs_patch_name(vs_patch p) { return (unsigned)p < VS_PATCH_COUNT ? patch_names[p] : "?"; }
+const char *vs_patch_name(vs_patch p) { return (unsigned)p < VS_PATCH_COUNT ? vs_patches[p].name : "?"; }
+
+char *vs_patch_names(const char *sep, char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < VS_PATCH_COUNT && n < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? sep : "", vs_patches[i].name);
+    return buf;
+}
 
 void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float2 oTex, float3 b, float id,
                       float3 g, is_vs_output *out)
@@ -192,5 +214,5 @@ const is_vertex_shader *vs_find_shader(const char *name)
 
 const is_vertex_shader *vs_patch_shader(vs_patch p)
 {
-    return (unsigned)p < VS_PATCH_COUNT ? vs_shaders[p] : NULL;
+    return (unsigned)p < VS_PATCH_COUNT ? vs_patches[p].shader : NULL;
 }

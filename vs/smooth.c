@@ -1,6 +1,6 @@
 /* vs/smooth.c -- Gruen's smoothed N-Patches: the intermediate patch (Listing 1.1.1) and the final patch
  * (Listing 1.1.2, Eq. 1.1.9-1.1.11), errata resolved (docs/errata.md), and the per-edge shortcut. */
-#include "vs.h"
+#include "vs_internal.h"
 
 /* evaluateCurve of Listing 1.1.1 (Eq. 1.1.5): the cubic from v0 to v1 with end normals n0, n1 at b; the inner
  * control points lack the /3 and the weights the 3 (erratum 1: the same curve). */

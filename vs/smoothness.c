@@ -1,5 +1,5 @@
 /* vs/smoothness.c -- smoothness in numbers: normal angles across shared edges and the bulge of a patch. */
-#include "vs.h"
+#include "vs_internal.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -94,8 +94,9 @@ typedef enum vs_patch {
     VS_PATCH_SMOOTH = 3,         /* Listing 1.1.2, Eq. 1.1.9-1.1.11: blended towards the N-Patch       */
     VS_PATCH_PHONG = 4,          /* Boubekeur and Alexa 2008, shape factor alpha                      */
     VS_PATCH_PN_AEN = 5,         /* McDonald and Kilgard 2010: edge control points averaged over sides */
-    VS_PATCH_COUNT = 6
 } vs_patch;
+/* Not an enumerator, so that a switch over vs_patch without a default must name every patch (-Werror=switch). */
+#define VS_PATCH_COUNT 6
 
 typedef enum vs_normals { VS_NORMALS_LINEAR = 0, VS_NORMALS_QUADRATIC = 1, VS_NORMALS_REAL = 2 } vs_normals;
 
@@ -118,14 +119,31 @@ vs_options vs_options_from_constants(const is_vs_constants *c);
 /* "linear" | "quadratic" | "real" -> 0 and *out, or -1. */
 int vs_normals_from_name(const char *name, vs_normals *out);
 const char *vs_normals_name(vs_normals n);
-/* "flat" | "npatch" | ... -> 0 and *out, or -1. */
+/* ---- the patch table: the one list of the patches (adding one: README, "Extending instess") ---- */
+typedef struct vs_patch_info {
+    const char *name;                /* --patch NAME, and the shader's name */
+    const char *reference;           /* where the patch comes from */
+    const is_vertex_shader *shader;  /* the instanced shader (its batch entry is shader->batch) */
+    bool fixed_function;             /* also drawn by the device's N-patch mode and the CPU path (D3D9's
+                                        POSITIONDEGREE: npatch is CUBIC, flat LINEAR), with linear and
+                                        quadratic normals; every patch takes linear, quadratic and real
+                                        normals on the instanced path */
+    bool gregory;                    /* writes Gregory weights (TEXCOORD4): the two smoothed patches */
+} vs_patch_info;
+/* Row p describes patch p; vs_patch_eval (object space) and the shaders dispatch on p with switches that name
+ * every patch.  tests/test_patches.c checks that every row is filled and consistent. */
+extern const vs_patch_info vs_patches[VS_PATCH_COUNT];
+/* The table's name -> 0 and *out, or -1. */
 int vs_patch_from_name(const char *name, vs_patch *out);
+/* The table's name of p ("?" out of range). */
 const char *vs_patch_name(vs_patch p);
+/* The names of the table joined by sep into buf ("flat | npatch | ..."), for usage texts; buf. */
+char *vs_patch_names(const char *sep, char *buf, size_t len);
 
 /* ---- shaders ---- */
 /* The shader of a name ("flat", "npatch", "smooth-initial", "smooth", "phong", "pn-aen", "fixed"), or NULL. */
 const is_vertex_shader *vs_find_shader(const char *name);
-/* The shader of a patch. */
+/* The shader of a patch (vs_patches[p].shader), NULL out of range. */
 const is_vertex_shader *vs_patch_shader(vs_patch p);
 /* All shaders, ended by a NULL entry. */
 extern const is_vertex_shader *const vs_shaders[];
@@ -150,8 +168,6 @@ typedef struct vs_triangle {
 
 /* A triangle without neighbours: opp_k = own third vertex, nadj = own normals, t = 0, id = 0. */
 vs_triangle vs_triangle_make(const float3 v[3], const float3 n[3]);
-/* Read the input registers (zero n_adj registers become the own normals). */
-void vs_triangle_from_input(const is_vs_input *in, vs_triangle *tri);
 
 /* Object-space position, unit normal (mode of o) and Gregory weights (0 for patches without) of patch p at b;
  * nrm and greg may be NULL.  Watertight on edges as described above.  o NULL means defaults. */
@@ -159,10 +175,6 @@ void vs_patch_eval(vs_patch p, const vs_triangle *tri, float3 b, const vs_option
                    float3 *greg);
 /* The position only. */
 float3 vs_patch_position(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o);
-/* Partial derivatives of P along the parameter directions (-1, 1, 0) (du) and (-1, 0, 1) (dv), analytic or by
- * finite differences (see "real" above); cross(du, dv) is the unoriented real normal. */
-void vs_patch_derivatives(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o, float3 *du,
-                          float3 *dv);
 
 /* The N-Patch evaluator for the device's N-patch mode (is_npatch_eval_fn) and the CPU path: position_degree
  * IS_DEGREE_CUBIC (default) or IS_DEGREE_LINEAR; normal_degree IS_DEGREE_LINEAR (default), IS_DEGREE_QUADRATIC
@@ -196,52 +208,11 @@ float3 vs_smooth_fn(const vs_triangle *tri);
  * no P_k at all (they are the border curve), so only interior points count. */
 uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level, uint64_t *total);
 
-/* The body of a patch shader: read the instance and b from the input registers, evaluate patch p (options from
- * c9), write the outputs.  The smooth, smooth-initial, flat, phong and pn-aen shaders are this call. */
-void vs_run_patch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
-/* Write the outputs (see the conventions) from an object-space position and unit normal. */
-void vs_write_outputs(const is_vs_constants *c, float3 pos, float3 normal, float2 oTex, float3 b, float id,
-                      float3 g, is_vs_output *out);
+
+
 /* The output mask of the shaders: COLOR0 and TEXCOORD0..4. */
 #define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | \
                     IS_OUT_TEXCOORD(3) | IS_OUT_TEXCOORD(4))
-
-/* ---- batched entries (is_vs_batch_fn of every patch shader): the same bytes as per-vertex calls ----
- * Consecutive inputs of one instance (equal registers apart from POSITION0) share the work that depends only
- * on the instance (the triangle's registers, the options, the matrices); each vertex then runs exactly the
- * per-vertex operations of its listing.  `shared` as in is_vs_batch_fn (core.h): registers stored in in[0] only. */
-/* The constants a shader decodes per call, decoded once per batch. */
-typedef struct vs_batch_consts {
-    float4x4 wvp, world;
-    float4 diffuse;
-    vs_options o;
-    uint32_t live;  /* IS_OUT_* outputs the caller reads (the batch's `live`; ~0u from vs_batch_consts_read) */
-} vs_batch_consts;
-void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k);
-/* Compare n floats by their bit patterns, in order: -1, 0 or 1 (a total order; equal bits compare equal).  The
- * watertight edge evaluation orders an edge's ends with it (patch.c, batch8.c). */
-int vs_cmp_bits(const float *a, const float *b, int n);
-/* True when a and b hold the same registers apart from POSITION0 (so a shader may reuse a's instance work). */
-bool vs_same_instance(const is_vs_input *a, const is_vs_input *b);
-/* vs_write_outputs with decoded constants. */
-void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, float2 oTex, float3 b, float id,
-                        float3 g, is_vs_output *out);
-/* The batched body of the comparison shaders (flat, smooth-initial, smooth, phong, pn-aen): patch p. */
-void vs_patch_batch(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t shared,
-                    is_vs_output *out);
-
-/* The batched entries of the npatch and smooth shaders (vs/batch8.c): interior vertices with linear normals 8 at a
- * time, the rest through the per-vertex evaluation; the same bytes as the per-vertex shaders in oPos and the live
- * outputs (the 8-lane groups compute and store only those; vertices on the per-vertex path write every output). */
-void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
-                     is_vs_output *out);
-void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
-                     is_vs_output *out);
-
-/* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
- * term itself; a + (b - a) need not round to b). */
-static inline float3 vs_lerp3(float3 a, float3 b, float t) { return t == 1.0f ? b : lerp3(a, b, t); }
-static inline bool vs_finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 /* ---- smoothness in numbers ---- */
 typedef struct vs_smoothness_result {
