@@ -4,7 +4,8 @@
 #   make figures    render every figure of the source documents into out/ with out/index.html
 #   make test       build and run every test (tests/run.sh prints "N passed, N failed")
 #   make bench      the benchmark of design.md section 6 against Mesa's llvmpipe
-#   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why)
+#   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
+#                   make goldens ONLY=ID[,ID...] re-renders just those
 #
 # The fixed build configuration (goldens are rendered with it; do not change it casually):
 #   gcc, -O2 -march=x86-64-v3 -ffp-contract=off.  -ffp-contract=off forbids the compiler from fusing a*b+c
@@ -119,8 +120,9 @@ figures: $(B)/instess
 	@mkdir -p out
 	$(B)/instess figures --out out
 
+# make goldens ONLY=fig-1.1.2,fig-003-5 regenerates just those goldens (the rest are checked as usual).
 goldens: $(B)/instess $(TEST_BIN)
-	INSTESS_REGENERATE_GOLDENS=1 bash tests/run.sh $(TEST_BIN)
+	INSTESS_REGENERATE_GOLDENS=1 INSTESS_GOLDENS_ONLY=$(ONLY) bash tests/run.sh $(TEST_BIN)
 
 include bench/bench.mk
 -include tests/fuzz/fuzz.mk

@@ -552,45 +552,45 @@ const figure fig_renders[] = {
      SINGLE_SHOWS("The built-in tetrahedron (4 triangles, one normal per corner) as N-Patches at level 16 (256 "
                   "triangles per face), seen towards a corner; the N-Patch creases across the edges." REAL_NOTE,
                   V_1_1_1A),
-     CMD_SINGLE(V_1_1_1A, "fig-1.1.1a"), true, fig_1_1_1a},
+     CMD_SINGLE(V_1_1_1A, "fig-1.1.1a"), true, fig_1_1_1a, 0},
     {"fig-1.1.1b", "fig-1.1.1", GRUEN "1.1.1b", "A tetrahedron refined using the new patch.",
      SINGLE_SHOWS("The same tetrahedron and view with the final smoothed patch (Listing 1.1.2) at level 16: "
                   "smooth across the edges." REAL_NOTE, V_1_1_1B),
-     CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b},
+     CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b, 0},
     {"fig-1.1.1c", "fig-1.1.1", GRUEN "1.1.1c", "A cube refined using the original N-Patch.",
      SINGLE_SHOWS("The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16; "
                   "creases along the cube's edges." REAL_NOTE, V_1_1_1C),
-     CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c},
+     CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c, 0},
     {"fig-1.1.1d", "fig-1.1.1", GRUEN "1.1.1d", "A cube refined using the new N-Patch.",
      SINGLE_SHOWS("The same cube and view with the final smoothed patch at level 16." REAL_NOTE, V_1_1_1D),
-     CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d},
+     CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d, 0},
     {"fig-1.1.7a", "fig-1.1.7", GRUEN "1.1.7a", "A tetrahedron refined using the original N-Patch.",
      SINGLE_SHOWS("The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0): the "
                   "crease runs across the middle." REAL_NOTE, V_1_1_7A),
-     CMD_SINGLE(V_1_1_7A, "fig-1.1.7a"), true, fig_1_1_7a},
+     CMD_SINGLE(V_1_1_7A, "fig-1.1.7a"), true, fig_1_1_7a, 0},
     {"fig-1.1.7b", "fig-1.1.7", GRUEN "1.1.7b", "A tetrahedron refined using the new intermediate patch.",
      SINGLE_SHOWS("The same view with the intermediate patch of Listing 1.1.1 (smooth-initial: Gregory blend of "
                   "P0, P1, P2) at level 16." REAL_NOTE, V_1_1_7B),
-     CMD_SINGLE(V_1_1_7B, "fig-1.1.7b"), true, fig_1_1_7b},
+     CMD_SINGLE(V_1_1_7B, "fig-1.1.7b"), true, fig_1_1_7b, 0},
     {"fig-1.1.8a", "fig-1.1.8", GRUEN "1.1.8a", "Refined cube showing smooth edges where cube faces meet.",
      SINGLE_SHOWS("The welded cube with the intermediate patch (Listing 1.1.1) at level 12 with a wireframe "
                   "overlay, looking at the vertical edge between two faces (yaw 45, pitch 0): smooth where the "
                   "faces meet; the valleys along the face diagonals are visible too." REAL_NOTE, V_1_1_8A),
-     CMD_SINGLE(V_1_1_8A, "fig-1.1.8a"), true, fig_1_1_8a},
+     CMD_SINGLE(V_1_1_8A, "fig-1.1.8a"), true, fig_1_1_8a, 0},
     {"fig-1.1.8b", "fig-1.1.8", GRUEN "1.1.8b",
      "Refined cube showing ridges along the coplanar triangles that form the faces of the cube.",
      SINGLE_SHOWS("The same cube and patch at level 32, straight at a face (yaw 0, pitch 0), lit by a light grazing "
                   "the face from the upper right (towards-light direction (0.62, 0.62, -0.48) normalized, ambient "
                   "0.08) instead of the headlight, with real normals: the valley along the diagonal shared by the face's two coplanar "
                   "triangles shows in the shading (figure-only option --light grazing).", V_1_1_8B),
-     CMD_FIG("fig-1.1.8b"), true, fig_1_1_8b},
+     CMD_FIG("fig-1.1.8b"), true, fig_1_1_8b, 0},
     {"fig-1.1.10a", "fig-1.1.10", GRUEN "1.1.10a", "A cube refined using the original N-Patch.",
      SINGLE_SHOWS("The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30)." REAL_NOTE,
                   V_1_1_10A),
-     CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a},
+     CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a, 0},
     {"fig-1.1.10b", "fig-1.1.10", GRUEN "1.1.10b", "A cube refined using the final new patch.",
      SINGLE_SHOWS("The same view with the final patch of Listing 1.1.2 at level 16." REAL_NOTE, V_1_1_10B),
-     CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b},
+     CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b, 0},
     {"fig-001-1", NULL, VVB "Figure 1",
      "From left to right, the input triangulation, the model, and the curved point-normal model, colored according "
      "to its normals. The model was taken from Vlachos et al. [Vla+01].",
@@ -598,7 +598,7 @@ const figure fig_renders[] = {
      "yaw 20, pitch 15: the input triangles (flat patch, level 1, wireframe overlay); the PN triangles (npatch, "
      "quadratic normals, level 12) under the listing's headlight; the same PN model coloured by its world-space "
      "unit normal, RGB = 0.5 + 0.5 (x, y, -z) (figure-only option --light normals).",
-     CMD_FIG("fig-001-1"), true, fig_001_1},
+     CMD_FIG("fig-001-1"), true, fig_001_1, 1},
     {"fig-001-5", NULL, VVB "Figure 5",
      "Illustration of what would happen if one renders a model using point-normal triangles where vertices have "
      "different normals, depending on the associated faces. Image taken from [MK10].",
@@ -610,7 +610,7 @@ const figure fig_renders[] = {
      "Right: the N-Patch with one angle-weighted normal per welded position (--recompute-normals): closed but "
      "rounded into a blob. (cube-split is no example: its per-face normals are the face normals, so every "
      "N-Patch stays flat and nothing opens.) Options: " V_001_5 " with --patch npatch / pn-aen.",
-     CMD_FIG("fig-001-5"), true, fig_001_5},
+     CMD_FIG("fig-001-5"), true, fig_001_5, 1},
     {"fig-md2-seams", NULL, RTR "text under Figure 6 (no figure): 'cracks will appear if two adjacent triangles "
                                 "do not share the same normals'",
      "Also worth knowing is that cracks will appear if two adjacent triangles do not share the same normals.",
@@ -620,7 +620,7 @@ const figure fig_renders[] = {
      "weighted over the triangles using that exact vertex index), so the copies of a vertex on the two sides of a "
      "texture seam get different normals and the PN surface cracks along the seams. Right: the same angle-weighted "
      "normals per welded position (--recompute-normals): closed.",
-     CMD_FIG("fig-md2-seams"), true, fig_md2_seams},
+     CMD_FIG("fig-md2-seams"), true, fig_md2_seams, 1},
     {"fig-001-12", NULL, VVB "Figure 12",
      "A family of game characters from the game Quake 1. (a), (b) and (c) are rendered on a CPU by Vlachos et al. "
      "(d), (e), (f) are rendered by our implementation.",
@@ -630,7 +630,7 @@ const figure fig_renders[] = {
      "listing's headlight). Middle: PN triangles (npatch, quadratic normals, level 4 = 16 triangles each). "
      "Bottom: Gruen's final smoothed patch at the same level (its boundary and non-manifold edges fall back to "
      "the N-Patch).",
-     CMD_FIG("fig-001-12"), true, fig_001_12},
+     CMD_FIG("fig-001-12"), true, fig_001_12, 1},
     {"fig-001-fake-vs-real", NULL, VVB "sections 3.2 and 5.1 (the draft has no figure: 'Show results of PN "
                                        "triangles with fake and real normals, and discuss differences')",
      "'Fake' normals (quadratic normal patch) versus 'real' normals (cross product of the partial derivatives of "
@@ -640,7 +640,7 @@ const figure fig_renders[] = {
      "two normals per pixel (from the 1-sample normal AOV of both renders) as a heat map from 0 (black) to 45 "
      "degrees (pale yellow). The real normals crease along the cube's edges, where the N-Patch is only "
      "C0; the fake ones stay smooth. Options: " V_FAKE_REAL " with --normals quadratic / real.",
-     CMD_FIG("fig-001-fake-vs-real"), true, fig_001_fake_vs_real},
+     CMD_FIG("fig-001-fake-vs-real"), true, fig_001_fake_vs_real, 1},
     {"fig-003-3", NULL, RTR "Figure 3",
      "The columns show different levels of detail of the same model. The original triangle data, consisting of "
      "414 triangles, is shown on the left. The middle model has 3,726 triangles, while the right has 20,286 "
@@ -651,5 +651,5 @@ const figure fig_renders[] = {
      "LOD 0, 2, 6 = levels 1, 3, 7 = x1, x9, x49 triangles (679, 6111, 33271), 3x2 panels of 300x520 with 4x "
      "MSAA, seen from the front (yaw 90, pitch 0, distance 2.7); top row shaded by the listing's headlight, "
      "bottom row wireframe (--fill wire).",
-     CMD_FIG("fig-003-3"), true, fig_003_3},
-    {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL}};
+     CMD_FIG("fig-003-3"), true, fig_003_3, 2},
+    {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0}};

@@ -8,6 +8,7 @@
  * (unknown option or id) exit 2.  Every file is written atomically. */
 #include <errno.h>
 #include <omp.h>
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,22 +30,11 @@ static const char figures_usage[] =
     "  --list         print the figure ids and exit\n"
     "  -h, --help     this text\n";
 
-/* The figures in gallery order with the section of the document they belong to; ids not listed here come last
- * in table order under "Other figures". */
-typedef struct fig_order { const char *id; int section; } fig_order;
-static const char *const section_titles[] = {
+/* The gallery's sections, indexed by figure.section. */
+static const char *const section_titles[FIG_SECTIONS] = {
     "Seed 000: H. Gruen, Smoothed N-Patches",
     "Seed 001: R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles",
-    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)",
-    "Other figures"};
-enum { N_SECTIONS = 4 };
-static const fig_order gallery_order[] = {
-    {"fig-1.1.1a", 0}, {"fig-1.1.1b", 0}, {"fig-1.1.1c", 0}, {"fig-1.1.1d", 0}, {"fig-1.1.2", 0},
-    {"fig-1.1.3", 0}, {"fig-1.1.4", 0}, {"fig-1.1.5", 0}, {"fig-1.1.6", 0}, {"fig-1.1.7a", 0},
-    {"fig-1.1.7b", 0}, {"fig-1.1.8a", 0}, {"fig-1.1.8b", 0}, {"fig-1.1.9", 0}, {"fig-1.1.10a", 0},
-    {"fig-1.1.10b", 0}, {"fig-001-1", 1}, {"fig-001-4", 1}, {"fig-001-5", 1}, {"fig-md2-seams", 1},
-    {"fig-001-6", 1}, {"fig-001-7", 1}, {"fig-001-11", 1}, {"fig-001-12", 1}, {"fig-001-fake-vs-real", 1},
-    {"fig-003-3", 2}, {"fig-003-4", 2}, {"fig-003-5", 2}, {"fig-003-6", 2}, {NULL, 0}};
+    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)"};
 
 #define MAX_FIGURES 128
 
@@ -264,13 +254,25 @@ static const char gallery_css[] =
     "border-radius:3px;font:12px/1.4 ui-monospace,monospace}\n"
     ".fail{color:#a00;font-weight:700}\n";
 
-/* The section of figure id (gallery_order), N_SECTIONS - 1 if not listed; *rank gets its position. */
-static int section_of(const char *id, int *rank)
+/* strcmp, except that runs of digits compare by their value ("fig-1.1.9" < "fig-1.1.10"), digits before other
+ * characters. */
+static int natural_cmp(const char *a, const char *b)
 {
-    for (int k = 0; gallery_order[k].id; k++)
-        if (!strcmp(gallery_order[k].id, id)) return *rank = k, gallery_order[k].section;
-    *rank = 1000;
-    return N_SECTIONS - 1;
+    while (*a && *b) {
+        bool da = isdigit((unsigned char)*a), db = isdigit((unsigned char)*b);
+        if (da && db) {
+            char *ea, *eb;
+            unsigned long x = strtoul(a, &ea, 10), y = strtoul(b, &eb, 10);
+            if (x != y) return x < y ? -1 : 1;
+            a = ea, b = eb;
+        } else if (da != db) {
+            return da ? -1 : 1;
+        } else {
+            if (*a != *b) return (unsigned char)*a < (unsigned char)*b ? -1 : 1;
+            a++, b++;
+        }
+    }
+    return (unsigned char)*a - (unsigned char)*b;
 }
 
 /* The result of figure f in this run, or NULL if it was not rendered now. */
@@ -307,17 +309,16 @@ static void html_figure(FILE *f, const figure *fg, const fig_result *r)
     fputs("</figcaption>\n</figure>\n", f);
 }
 
-/* Sort all[0..n-1] into gallery order (stable: insertion sort by (section, rank, table position)). */
+/* Sort all[0..n-1] into gallery order: by section, then by id with numbers in order (insertion sort). */
 static void gallery_sort(const figure **all, size_t n)
 {
     for (size_t i = 1; i < n; i++) {
         const figure *x = all[i];
-        int rx, sx = section_of(x->id, &rx);
         size_t j = i;
         for (; j > 0; j--) {
-            int ry, sy = section_of(all[j - 1]->id, &ry);
-            if (sy < sx || (sy == sx && ry <= rx)) break;
-            all[j] = all[j - 1];
+            const figure *y = all[j - 1];
+            if (y->section < x->section || (y->section == x->section && natural_cmp(y->id, x->id) <= 0)) break;
+            all[j] = y;
         }
         all[j] = x;
     }
@@ -329,7 +330,7 @@ static void html_body(FILE *f, const figure **all, size_t n, const figure *const
 {
     int section = -1;
     for (size_t k = 0; k < n;) {
-        int rank, s = section_of(all[k]->id, &rank);
+        int s = all[k]->section;
         if (s != section) {
             fprintf(f, "<h2>%s</h2>\n", section_titles[s]);
             section = s;

@@ -32,9 +32,12 @@ typedef struct figure {
                               `instess figures --only ID` for composites and diagrams) */
     bool rendering;        /* a rendering of a surface: also written as .exr with Z and N.X, N.Y, N.Z */
     fig_fn render;
+    int section;           /* the gallery section: the document it reproduces (0: seed 000, 1: 001, 2: 003) */
 } figure;
+#define FIG_SECTIONS 3
 
-/* The two tables, each ended by an entry with id == NULL. */
+/* The two tables, each ended by an entry with id == NULL.  A figure is one row: adding one is a row here and its
+ * render function (README, "Extending instess"); the gallery orders them by section, then by id. */
 extern const figure fig_renders[];   /* cli/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
 extern const figure fig_diagrams[];  /* cli/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
 

@@ -78,7 +78,8 @@ static void test_diagram_figures(void **state)
     check_table(fig_diagrams);
 }
 
-/* The table entries are complete: id, source, caption, shows, command, a render function; ids are unique. */
+/* The table entries are complete: id, source, caption, shows, command, a render function, a gallery section;
+ * ids are unique. */
 static void test_tables_complete(void **state)
 {
     (void)state;
@@ -88,6 +89,7 @@ static void test_tables_complete(void **state)
             assert_non_null(f->source), assert_non_null(f->caption), assert_non_null(f->shows);
             assert_non_null(f->command), assert_non_null(f->render);
             assert_true(strncmp(f->command, "instess ", 8) == 0);
+            assert_true(f->section >= 0 && f->section < FIG_SECTIONS);
             for (int b = 0; b < 2; b++)
                 for (const figure *g = tables[b]; g->id; g++)
                     if (g != f) assert_true(strcmp(f->id, g->id) != 0);

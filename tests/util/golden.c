@@ -33,10 +33,19 @@ const char *golden_failure_dir(void)
 }
 
 /* True when `make goldens` asks for the goldens to be rewritten. */
-static int regenerating(void)
+static int regenerating(const char *stem)
 {
     const char *r = getenv("INSTESS_REGENERATE_GOLDENS");
-    return r && strcmp(r, "1") == 0;
+    if (!r || strcmp(r, "1") != 0) return 0;
+    const char *only = getenv("INSTESS_GOLDENS_ONLY");
+    if (!only || !*only) return 1;
+    size_t n = strlen(stem);
+    for (const char *p = only; *p;) {   /* a comma-separated list of golden names */
+        size_t len = strcspn(p, ",");
+        if (len == n && strncmp(p, stem, n) == 0) return 1;
+        p += len + (p[len] == ',');
+    }
+    return 0;
 }
 
 /* mkdir -p; 0 or -1 (errno set). */
@@ -174,7 +183,7 @@ int golden_check(const is_image *actual, const char *name, float fail_thresh, fl
     snprintf(actual_path, sizeof actual_path, "%s/%s.actual%s", golden_failure_dir(), stem, ext);
     snprintf(diff_path, sizeof diff_path, "%s/%s.diff.png", golden_failure_dir(), stem);
     is_image_meta meta = {"instess " INSTESS_VERSION, name};
-    if (regenerating())
+    if (regenerating(stem))
         return regenerate(actual, name, golden, &meta);
     is_image got = {0}, gold = {0};
     int r = store_actual(actual, name, actual_path, &meta, &got);

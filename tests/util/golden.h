@@ -9,7 +9,9 @@
  * golden_check first writes the actual image to the failure directory in the golden's format and reads it back,
  * so the comparison sees exactly what a regeneration would store (8-bit or half rounding included); a
  * threshold of 0 therefore means "the same file content".
- *  - INSTESS_REGENERATE_GOLDENS=1 (set by `make goldens`): (re)writes the golden and passes.
+ *  - INSTESS_REGENERATE_GOLDENS=1 (set by `make goldens`): (re)writes the golden and passes; with
+ *    INSTESS_GOLDENS_ONLY=NAME[,NAME...] (`make goldens ONLY=...`) only those goldens (names without the
+ *    extension, e.g. fig-1.1.2), the others are checked as usual.
  *  - Otherwise the golden is compared with image_compare; the check passes when at most fail_percent percent
  *    of the pixels have a channel differing by more than fail_thresh.  A missing golden is a FAILURE.
  *  - On failure it keeps <failures>/<name>.actual.<ext> and writes <failures>/<name>.diff.png (red: failing
