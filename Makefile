@@ -3,7 +3,7 @@
 #   make            install missing Debian packages (scripts/setup.sh), build the library and build/instess
 #   make figures    render every figure of the source documents into out/ with out/index.html
 #   make test       build and run every test (tests/run.sh prints "N passed, N failed")
-#   make bench      the benchmark of design.md section 6 against Mesa's llvmpipe
+#   make bench      the benchmark of docs/design.md, section 6, against Mesa's llvmpipe
 #   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
 #                   make goldens ONLY=ID[,ID...] re-renders just those
 #

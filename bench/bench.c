@@ -1,4 +1,4 @@
-/* bench/bench.c -- build/bench: the benchmark of design.md section 6 (`make bench`).
+/* bench/bench.c -- build/bench: the benchmark of docs/design.md, section 6, (`make bench`).
  *
  * For each scene (A: the cube at level 32, 1024x1024; B: 100 cubes at level 16, 1024x1024; C: the cube at level
  * 4, 2048x2048) and patch (npatch, smooth) it renders tessellation through instancing with instess in-process
@@ -839,7 +839,7 @@ static double ratio_target(char scene, int pk)
     return scene == 'A' ? 2.0 : 1.0;
 }
 
-/* The targets of issue 5 against this run's medians: llvmpipe ratios with all threads, the 2/1-thread speed-up,
+/* The performance targets against this run's medians: llvmpipe ratios with all threads, the 2/1-thread speed-up,
  * the memory budget; "met" or "NOT met" for each.  Returns the number not met. */
 static int print_targets(const bench_args *a, const case_summary *cs, int n)
 {

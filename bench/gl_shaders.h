@@ -1,6 +1,6 @@
 /* bench/gl_shaders.h -- the GLSL 330 ports of instess's patch shaders for the llvmpipe reference (bench-gl).
  *
- * The vertex shaders are Listing 1.1.2 of seed 000 with the errata of design.md section 4 resolved exactly as
+ * The vertex shaders are Listing 1.1.2 of seed 000 with the errata of docs/design.md, section 4, resolved exactly as
  * vs/smooth.c and vs/npatch.c resolve them (same formulas, same guards), so that both sides do the same work:
  *  - evaluateNPatch / evaluateCurve keep the listing's form (control points without the /3, Bernstein weights
  *    without the 3: the same surface as Eq. 1.1.1-1.1.2);

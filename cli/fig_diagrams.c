@@ -1,4 +1,4 @@
-/* cli/fig_diagrams.c -- the explanatory drawings of the three source documents (design.md section 5), drawn with
+/* cli/fig_diagrams.c -- the explanatory drawings of the three source documents (docs/design.md, section 5), drawn with
  * the canvas of cli/canvas.c from the project's own formulas (vs/: vs_evaluate_curve, vs_patch_eval,
  * vs_npatch_evaluate; core/: core_grid_regular, core_grid_pg), so every diagram shows what the code computes.
  *

@@ -1,5 +1,5 @@
-/* cli/figures.c -- `instess figures`: every figure of the three source documents (design.md section 5) into
- * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html (issue 4).
+/* cli/figures.c -- `instess figures`: every figure of the three source documents (docs/design.md, section 5) into
+ * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html.
  *
  * One process renders all figures (OpenImageIO's start-up is paid once), in parallel over figures with OpenMP
  * (each figure's own renders then run on one thread; a lone figure gets all of them -- the bytes are the same
@@ -357,8 +357,10 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
                "<title>instess: the figures of the source documents</title>\n<style>\n%s</style>\n</head>\n<body>\n"
-               "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">Every figure of design.md "
-               "section 5, rendered on the CPU by instess %s (tessellation through instancing on a Direct3D 9-style "
+               "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">The figures of H. Gruen's "
+               "<i>Smoothed N-Patches</i>, R. van Veen and L. Baakman's <i>A Discussion of Curved Point-Normal "
+               "Triangles</i> and the <i>Bezier Triangles and N-Patches</i> section of Akenine-Moller and Haines' "
+               "<i>Real-Time Rendering</i>, rendered on the CPU by instess %s (tessellation through instancing on a Direct3D 9-style "
                "device). Each entry cites its document and figure, quotes the caption, says what the image shows "
                "and gives the command that reproduces it. Renderings also come as OpenEXR with depth (Z) and "
                "normal (N.X, N.Y, N.Z) channels. Regenerate everything with <code style=\"display:inline\">make "

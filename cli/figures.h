@@ -1,4 +1,4 @@
-/* cli/figures.h -- the figures of the three source documents (design.md section 5): one table entry per figure,
+/* cli/figures.h -- the figures of the three source documents (docs/design.md, section 5): one table entry per figure,
  * rendered by `instess figures` (cli/figures.c) into out/<id>.png (+ .exr for renderings) and out/index.html, and
  * by tests/test_figures.c at a small size against golden images.
  *
@@ -23,7 +23,7 @@ typedef struct fig_ctx {
 typedef int (*fig_fn)(const fig_ctx *ctx, is_image *out, char *err, size_t errlen);
 
 typedef struct figure {
-    const char *id;        /* "fig-1.1.1a" (design.md section 5) */
+    const char *id;        /* "fig-1.1.1a" (docs/design.md, section 5) */
     const char *group;     /* figures shown side by side share a group ("fig-1.1.1"); NULL: alone */
     const char *source;    /* "Gruen, Smoothed N-Patches (seed 000), Figure 1.1.1a" */
     const char *caption;   /* the document's caption, as printed (OCR fixed) */

@@ -1,4 +1,4 @@
-/* tests/test_errata.c -- one test per erratum of design.md section 4 (see docs/errata.md): each shows what the
+/* tests/test_errata.c -- one test per erratum of docs/design.md, section 4 (see docs/errata.md): each shows what the
  * printed text would do and that vs/ does what the equations say. */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,4 +1,4 @@
-/* tests/test_fuzz_regressions.c -- replay the fuzzers' inputs without libFuzzer (issue 6, item 4), through the
+/* tests/test_fuzz_regressions.c -- replay the fuzzers' inputs without libFuzzer , through the
  * same code paths as the harnesses (tests/fuzz/fuzz_targets.c, compiled into this test):
  *  - tests/fuzz/regressions/mesh/      raw mesh arrays that once broke an invariant: fuzz_mesh_input;
  *  - tests/fuzz/regressions/import/    files that once crashed our import code: fuzz_import_input, in this

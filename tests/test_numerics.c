@@ -1,5 +1,5 @@
-/* tests/test_numerics.c -- numerical edge cases of the patch shaders, rendered through the device (issue 6,
- * item 2): barycentrics exactly at corners and on edges (and -0.0, denormals, a hair outside the triangle),
+/* tests/test_numerics.c -- numerical edge cases of the patch shaders, rendered through the device:
+ * barycentrics exactly at corners and on edges (and -0.0, denormals, a hair outside the triangle),
  * Gregory 0/0, nearly parallel and exactly opposite normals, zero / NaN / in-plane normals handed straight to
  * the shader, degenerate and folded triangles, neighbours folded back onto the triangle, and vertices behind the
  * eye, on the eye plane (w = 0) and on the near plane (z = 0).  For every patch, normal mode and a few grids:

@@ -1,4 +1,4 @@
-/* tests/test_paths.c -- the three ways D3D9 offered to draw an N-Patch give identical images (issue 3, item 6):
+/* tests/test_paths.c -- the three ways D3D9 offered to draw an N-Patch give identical images :
  * (a) the device's N-patch mode, (b) tessellation through instancing with the N-Patch vertex shader, (c) CPU
  * tessellation into a dynamic vertex buffer drawn without instancing.  Also: images do not depend on the thread
  * count (determinism), and the golden images of the flat, N-Patch and smoothed cube and tetrahedron. */

@@ -1,4 +1,4 @@
-/* tests/test_watertight.c -- design.md erratum 6: positions on a shared edge are bitwise identical from both
+/* tests/test_watertight.c -- docs/design.md, erratum 6: positions on a shared edge are bitwise identical from both
  * triangles, for every patch, normal mode and level 1..16 (random pairs, the tetrahedron, the welded cube; PN-AEN
  * on the cube with split normals). */
 #include <setjmp.h>

@@ -18,7 +18,7 @@
  *      TEXCOORD9..11 = t0, t1, t2 (xy);  TEXCOORD12.x = instance id.
  *      Edge k joins v_k and v_(k+1)%3 (edge 0 = v0-v1, edge 1 = v1-v2, edge 2 = v2-v0); opp_k is the vertex of
  *      the triangle across edge k that is not on the edge.  On a boundary edge (and on a non-manifold edge,
- *      design.md erratum 5) opp_k is this triangle's own third vertex v_(k+2)%3: fn_k is then exactly 1.
+ *      docs/design.md, erratum 5) opp_k is this triangle's own third vertex v_(k+2)%3: fn_k is then exactly 1.
  *      PN-AEN only (optional; absent registers read (0, 0, 0, 1) and mean "same normals as mine"):
  *      n_adj[k][j] = the normal that the triangle across edge k has at v_(k+j)%3 (j = 0, 1), in the registers
  *      of vs_nadj_regs[k][j]: TEXCOORD13..15 for j = 0 and NORMAL0, NORMAL1, TANGENT0 for j = 1 (18 floats do
@@ -43,7 +43,7 @@
  *    fn_k + bl = 1, so its real normal jumps there (the finite difference smears the jump over h).
  *  - Winding: a patch keeps the winding of its input triangle (v0, v1, v2); real normals are oriented like the
  *    linear normal, never by the winding.
- *  - Watertightness (design.md erratum 6): where one b component is 0 (<= 0) the point is on an edge and every
+ *  - Watertightness (docs/design.md, erratum 6): where one b component is 0 (<= 0) the point is on an edge and every
  *    patch returns the edge's curve evaluated in a canonical vertex order (endpoints ordered by the bits of
  *    position, then normal), with the two barycentrics of the endpoints as weights; where two are 0 it returns
  *    the vertex itself.  Two triangles sharing an edge (same vertex bits, same normal bits) therefore give

@@ -2,7 +2,7 @@
  * (tests/fuzz/fuzz_import.c, fuzz_mesh.c) and the cmocka replay of the regression inputs
  * (tests/test_fuzz_regressions.c), which runs them in-process without libFuzzer.
  *
- * Each function runs one input through instess and checks the invariants of design.md section 6 (an error
+ * Each function runs one input through instess and checks the invariants of docs/design.md, section 6 (an error
  * with a message naming the input, or a valid mesh whose 32x32 render has only finite pixels in range).  It
  * returns 0 when every invariant held and -1 with the broken one described in why[] otherwise; the harnesses
  * turn -1 into abort() so that libFuzzer keeps the input.  Crashes (sanitizer reports) are found by the
