@@ -832,7 +832,7 @@ typedef struct case_summary {
     double gl_ms;   /* llvmpipe at its best (NAN: not run) */
 } case_summary;
 
-/* Issue 5's ratio target for a scene and patch: B npatch 5x, B smooth 2x, A 2x, C 1x. */
+/* The ratio target for a scene and patch: B npatch 5x, B smooth 2x, A 2x, C 1x. */
 static double ratio_target(char scene, int pk)
 {
     if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 5.0 : 2.0;
