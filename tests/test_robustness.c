@@ -31,113 +31,53 @@
 #include <unistd.h>
 
 #include "../core/core.h"
+#include "util/prog.h"
 
 int putenv(char *string);   /* POSIX (XSI), not declared under _POSIX_C_SOURCE alone */
 
 static char dir[256];
 
-/* The program under test. */
-static const char *program(void)
-{
-    return getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
-}
+/* The helpers of tests/util/prog.h on this file's work folder. */
+static const char *program(void) { return prog_bin(); }
+static const char *path_of(const char *name, char *buf, size_t len) { return prog_path(dir, name, buf, len); }
+static void write_bytes(const char *name, const void *data, size_t n) { assert_true(prog_write_bytes(dir, name, data, n)); }
+static void write_text(const char *name, const char *text) { assert_true(prog_write_text(dir, name, text)); }
+static bool exists(const char *name) { return prog_exists(dir, name); }
+static unsigned char *slurp(const char *path, size_t *n) { return prog_slurp(path, n); }
 
-/* Run `instess ARGS` (a shell command line, %s-expanded with the work folder via fmt) with stderr captured
- * into *err_out (a static buffer); returns the exit code (128 + signal when killed). */
+/* Run `instess ARGS` (fmt expanded; a shell command line) with stderr captured into *err_out (a static
+ * buffer); returns the exit code (128 + signal when killed). */
+static int run(const char **err_out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int run(const char **err_out, const char *fmt, ...)
 {
-    static char errbuf[16384];
-    char args[3000], cmd[4096], errfile[300];
+    char args[3000];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
     va_end(ap);
-    snprintf(errfile, sizeof errfile, "%s/stderr.txt", dir);
-    snprintf(cmd, sizeof cmd, "%s %s 2>%s >/dev/null", program(), args, errfile);
-    int st = system(cmd);
-    FILE *f = fopen(errfile, "r");
-    size_t n = f ? fread(errbuf, 1, sizeof errbuf - 1, f) : 0;
-    if (f) fclose(f);
-    errbuf[n] = 0;
-    if (err_out) *err_out = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
-}
-
-/* dir/name into buf. */
-static const char *path_of(const char *name, char *buf, size_t len)
-{
-    snprintf(buf, len, "%s/%s", dir, name);
-    return buf;
-}
-
-/* Write n bytes into dir/name. */
-static void write_bytes(const char *name, const void *data, size_t n)
-{
-    char p[512];
-    FILE *f = fopen(path_of(name, p, sizeof p), "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-}
-
-/* Write a text file into dir/name. */
-static void write_text(const char *name, const char *text)
-{
-    write_bytes(name, text, strlen(text));
-}
-
-/* Whether dir/name exists. */
-static bool exists(const char *name)
-{
-    char p[512];
-    struct stat s;
-    return stat(path_of(name, p, sizeof p), &s) == 0;
+    return prog_run(dir, err_out, "", "%s", args);
 }
 
 /* Number of entries of the work folder whose name contains `part` (NULL: all but stderr.txt). */
 static int entries_with(const char *part)
 {
-    DIR *d = opendir(dir);
-    assert_non_null(d);
-    int n = 0;
-    for (struct dirent *e; (e = readdir(d));) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || !strcmp(e->d_name, "stderr.txt")) continue;
-        if (!part || strstr(e->d_name, part)) n++;
-    }
-    closedir(d);
+    int n = prog_entries_with(dir, part);
+    assert_true(n >= 0);
     return n;
 }
 
 /* Remove every file of the work folder (not folders). */
 static void clear_dir(void)
 {
-    DIR *d = opendir(dir);
-    assert_non_null(d);
-    char p[512];
-    for (struct dirent *e; (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) unlink(path_of(e->d_name, p, sizeof p));
-    closedir(d);
-}
-
-/* The whole content of a file (malloc'ed, *n bytes), or NULL. */
-static unsigned char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *buf = malloc(len > 0 ? (size_t)len : 1);
-    *n = buf ? fread(buf, 1, (size_t)len, f) : 0;
-    fclose(f);
-    return buf;
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "find '%s' -mindepth 1 -maxdepth 1 ! -type d -delete", dir);
+    assert_int_equal(system(cmd), 0);
 }
 
 static int setup(void **state)
 {
     (void)state;
-    snprintf(dir, sizeof dir, "/tmp/instess-robust-XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
+    return prog_mkdtemp(dir, "robust");
 }
 
 /* Work is bounded by the output (raster.h RS_MAX_OVERDRAW): 20000 copies of one triangle, which the camera
@@ -198,9 +138,8 @@ static void test_memory_budget(void **state)
 static int teardown(void **state)
 {
     (void)state;
-    char cmd[300];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    prog_rmdir(dir);
+    return 0;
 }
 
 /* ------------------------------------------------ mesh files ------------------------------------------------ */
@@ -534,14 +473,7 @@ static void test_odd_topology(void **state)
 /* ------------------------------------------------ determinism ------------------------------------------------ */
 
 /* Whether two files hold the same bytes. */
-static bool same_bytes(const char *a, const char *b)
-{
-    size_t na, nb;
-    unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
-    bool same = x && y && na == nb && memcmp(x, y, na) == 0;
-    free(x), free(y);
-    return same;
-}
+static bool same_bytes(const char *a, const char *b) { return prog_same_bytes(a, b); }
 
 /* Whether two image files hold the same pixels (all channels, bitwise). */
 static bool same_pixels(const char *a, const char *b)
