@@ -28,9 +28,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../core/core.h"
-#include "../meshes/meshes.h"
-#include "../vs/vs.h"
+#include "../cli/scene.h"   /* the scene layer: core, meshes, vs and the instanced draw */
 #include "bench_scene_file.h"
 
 extern char **environ;
@@ -313,57 +311,22 @@ typedef struct inst_result {
     uint32_t *image;    /* resolved RGBA8 of the last frame, top row first */
 } inst_result;
 
-/* The device resources of the instanced path. */
+/* The device and the resources of the instanced path. */
 typedef struct inst_gpu {
     is_device *dev;
-    is_vertex_buffer *vb0, *vb1;
-    is_index_buffer *ib;
-    is_vertex_declaration *decl;
+    scene_resources r;
 } inst_gpu;
 
 /* Release what inst_setup created. */
 static void inst_release(inst_gpu *g)
 {
-    vb_release(g->vb0), vb_release(g->vb1), ib_release(g->ib), decl_release(g->decl);
+    scene_resources_free(&g->r);
     dev_destroy(g->dev);
     memset(g, 0, sizeof *g);
 }
 
-/* Fill the three buffers (16-bit indices when the grid allows, as scene.c). */
-static void inst_fill(inst_gpu *g, const bench_data *bd, int small)
-{
-    memcpy(vb_lock(g->vb0), bd->grid.bary, bd->grid.n_points * sizeof(float3));
-    vb_unlock(g->vb0);
-    memcpy(vb_lock(g->vb1), bd->inst, bd->mesh.n_triangles * sizeof(is_patch_instance));
-    vb_unlock(g->vb1);
-    void *ip = ib_lock(g->ib);
-    for (size_t k = 0; k < 3 * bd->grid.n_triangles; k++) {
-        if (small) ((uint16_t *)ip)[k] = (uint16_t)bd->grid.idx[k];
-        else ((uint32_t *)ip)[k] = bd->grid.idx[k];
-    }
-    ib_unlock(g->ib);
-}
-
-/* Bind streams, frequencies, declaration, shader and constants of the instanced path. */
-static is_result inst_bind(inst_gpu *g, const bench_data *bd, vs_patch patch)
-{
-    is_device *dev = g->dev;
-    is_vs_constants c;
-    memset(&c, 0, sizeof c);
-    vs_set_constants(&c, &bd->wvp, &bd->world, f4(bench_diffuse[0], bench_diffuse[1], bench_diffuse[2], bench_diffuse[3]),
-                     NULL);
-    is_result e = dev_set_vertex_declaration(dev, g->decl);
-    if (e == IS_OK) e = dev_set_stream_source(dev, 0, g->vb0, 0, sizeof(float3));
-    if (e == IS_OK) e = dev_set_stream_source(dev, 1, g->vb1, 0, sizeof(is_patch_instance));
-    if (e == IS_OK) e = dev_set_indices(dev, g->ib);
-    if (e == IS_OK) e = dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | (uint32_t)bd->mesh.n_triangles);
-    if (e == IS_OK) e = dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
-    if (e == IS_OK) e = dev_set_vertex_shader(dev, vs_patch_shader(patch));
-    if (e == IS_OK) e = dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, VS_C_COUNT);
-    return e;
-}
-
-/* Create the device (1 sample, D3D9's default states) and the buffers of a scene; 0 or -1 with a message. */
+/* Create the device (1 sample, D3D9's default states), bind the scene layer's instanced draw of the scene, the
+ * patch's shader and the constants; 0 or -1 with a message. */
 static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads,
                       char *err, size_t errlen)
 {
@@ -371,14 +334,13 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     g->dev = dev_create(d->width, d->height, 1, err, errlen);
     if (!g->dev) return -1;
     dev_set_threads(g->dev, threads);
-    int small = bd->grid.n_points <= 65536;
-    is_result e = dev_create_vertex_buffer(g->dev, bd->grid.n_points * sizeof(float3), &g->vb0);
-    if (e == IS_OK) e = dev_create_vertex_buffer(g->dev, bd->mesh.n_triangles * sizeof(is_patch_instance), &g->vb1);
-    if (e == IS_OK)
-        e = dev_create_index_buffer(g->dev, 3 * bd->grid.n_triangles * (small ? 2 : 4),
-                                    small ? IS_FMT_INDEX16 : IS_FMT_INDEX32, &g->ib);
-    if (e == IS_OK) e = dev_create_vertex_declaration(g->dev, mesh_patch_declaration, &g->decl);
-    if (e == IS_OK) inst_fill(g, bd, small), e = inst_bind(g, bd, patch);
+    is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    vs_set_constants(&c, &bd->wvp, &bd->world, f4(bench_diffuse[0], bench_diffuse[1], bench_diffuse[2], bench_diffuse[3]),
+                     NULL);
+    is_result e = scene_bind_instanced(g->dev, &bd->mesh, &bd->grid, &g->r);
+    if (e == IS_OK) e = dev_set_vertex_shader(g->dev, vs_patch_shader(patch));
+    if (e == IS_OK) e = dev_set_vertex_shader_constant_f(g->dev, 0, &c.c[0].x, VS_C_COUNT);
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
     return 0;
 }

@@ -248,15 +248,7 @@ static void set_constants(is_device *dev, const scene_opts *o, const scene_camer
 
 /* ---------------------------------------- buffers ---------------------------------------- */
 
-/* The resources of one draw (released by scene_resources_free). */
-typedef struct scene_resources {
-    is_vertex_buffer *vb0, *vb1, *vb2;
-    is_index_buffer *ib;
-    is_vertex_declaration *decl;
-    unsigned n_vertices, n_prims, n_instances;
-} scene_resources;
-
-static void scene_resources_free(scene_resources *r)
+void scene_resources_free(scene_resources *r)
 {
     vb_release(r->vb0);
     vb_release(r->vb1);
@@ -282,9 +274,7 @@ static is_result make_index_buffer(is_device *dev, const uint32_t *idx, size_t n
     return IS_OK;
 }
 
-/* Tessellation through instancing: the grid in stream 0 (INDEXEDDATA | n_triangles), one instance per mesh
- * triangle in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's declaration. */
-static is_result build_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r)
+is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r)
 {
     is_result e = dev_create_vertex_buffer(dev, g->n_points * sizeof(float3), &r->vb0);
     if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
@@ -357,7 +347,7 @@ static int adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
 }
 
 /* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals and a declaration that adds vs_nadj_regs to
- * Listing 1.1.2's; replaces the declaration of build_instanced. */
+ * Listing 1.1.2's; replaces the declaration of scene_bind_instanced. */
 static is_result bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r)
 {
     is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
@@ -489,7 +479,7 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
     case SCENE_PATH_NPATCH_MODE: return build_npatch_mode(dev, o, m, r);
     case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
     default: {
-        is_result e = build_instanced(dev, m, g, r);
+        is_result e = scene_bind_instanced(dev, m, g, r);
         return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? bind_adjacent_normals(dev, m, r) : e;
     }
     }

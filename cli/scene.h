@@ -61,6 +61,19 @@ typedef struct scene_opts {
  * estimate stated at SCENE_DEFAULT_MAX_MEMORY_MIB. */
 unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triangles, size_t grid_points);
 
+/* The device resources of one scene draw (released by scene_resources_free). */
+typedef struct scene_resources {
+    is_vertex_buffer *vb0, *vb1, *vb2;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    unsigned n_vertices, n_prims, n_instances;   /* the draw's NumVertices, PrimitiveCount, instances */
+} scene_resources;
+void scene_resources_free(scene_resources *r);
+/* Tessellation through instancing on dev: the grid g in stream 0 (INDEXEDDATA | n_triangles; 16-bit indices
+ * when they fit), one is_patch_instance per triangle of m in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
+ * declaration; created in r and bound.  The shader and constants are the caller's.  IS_OK or an error. */
+is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r);
+
 /* What a render did (for statistics and the benchmark). */
 typedef struct scene_stats {
     size_t mesh_triangles, grid_points, grid_triangles;
