@@ -86,17 +86,19 @@ test:
 	@MAKE="$(MAKE)" bash tests/all.sh
 
 test-unit: $(TEST_BIN) $(B)/instess
+	@bash tests/check_includes.sh
 	@bash tests/run.sh $(TEST_BIN)
 
 # The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
-# halting on the first error (-fno-sanitize-recover=all), leaks checked by LeakSanitizer at exit.
+# halting on the first error (-fno-sanitize-recover=all), leaks checked by LeakSanitizer at exit, and the
+# rasterizer's stated preconditions checked (INSTESS_CHECKS turns RS_ASSERT into assert).
 SAN      = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
            -fno-omit-frame-pointer
 SAN_B    = build-asan
 sanitize: $(SETUP)
 	@bash scripts/setup.sh --sanitize
 	@$(MAKE) --no-print-directory B=$(SAN_B) CC=clang CXX=clang++ OPT=-O1 \
-	    CFLAGS="$(CFLAGS_BASE) $(SAN) -Wno-unknown-warning-option" \
+	    CFLAGS="$(CFLAGS_BASE) $(SAN) -DINSTESS_CHECKS -Wno-unknown-warning-option" \
 	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN) -fno-sanitize=vptr" \
 	    LDFLAGS="-fopenmp -Wl,--as-needed $(SAN)" $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \

@@ -1,6 +1,5 @@
 /* core/device.c -- device creation and state: streams, frequencies, render states, constants, viewport, clear. */
 #include "device_internal.h"
-#include "../raster/raster_internal.h" /* rs_set_reference_path */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,7 +70,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     set_default_states(dev);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
-    rs_target_clear(&dev->rt, 3, 0xff000000u, 1.0f);
+    rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
     return dev;
 }
 
@@ -262,7 +261,7 @@ is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn)
 /* Clear: D3DCOLOR (ARGB) into packed RGBA8; z must be in [0, 1].  Resets the statistics. */
 is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
 {
-    if ((flags & ~3u) || !(z >= 0.0f && z <= 1.0f))
+    if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER)) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
     rs_target_clear_deferred(dev->rs, &dev->rt, flags, r | g << 8 | b << 16 | a << 24, z); /* per tile, on first use */
@@ -279,6 +278,31 @@ rs_target *dev_render_target(is_device *dev)
 }
 const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
 uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
+
+/* The render-state values dev_rs_state and dev_clear pass to the rasterizer unchanged: D3D9's values on both
+ * sides (core.h's IS_*, raster.h's RS_*), tied here so that a change to one side that breaks the other does not
+ * compile.  (Compared as int: they are constants of different enums.) */
+#define SAME(a, b) ((int)(a) == (int)(b))
+_Static_assert(SAME(IS_CULL_NONE, RS_CULL_NONE) && SAME(IS_CULL_CW, RS_CULL_CW) && SAME(IS_CULL_CCW, RS_CULL_CCW),
+               "cull modes: IS_CULL_* == RS_CULL_*");
+_Static_assert(SAME(IS_FILL_POINT, RS_FILL_POINT) && SAME(IS_FILL_WIREFRAME, RS_FILL_WIREFRAME) &&
+               SAME(IS_FILL_SOLID, RS_FILL_SOLID), "fill modes: IS_FILL_* == RS_FILL_*");
+_Static_assert(SAME(IS_SHADE_FLAT, RS_SHADE_FLAT) && SAME(IS_SHADE_GOURAUD, RS_SHADE_GOURAUD),
+               "shade modes: IS_SHADE_* == RS_SHADE_*");
+_Static_assert(SAME(IS_CMP_NEVER, RS_CMP_NEVER) && SAME(IS_CMP_LESS, RS_CMP_LESS) &&
+               SAME(IS_CMP_EQUAL, RS_CMP_EQUAL) && SAME(IS_CMP_LESSEQUAL, RS_CMP_LESSEQUAL) &&
+               SAME(IS_CMP_GREATER, RS_CMP_GREATER) && SAME(IS_CMP_NOTEQUAL, RS_CMP_NOTEQUAL) &&
+               SAME(IS_CMP_GREATEREQUAL, RS_CMP_GREATEREQUAL) && SAME(IS_CMP_ALWAYS, RS_CMP_ALWAYS),
+               "compare functions: IS_CMP_* == RS_CMP_*");
+_Static_assert(SAME(IS_BLEND_ZERO, RS_BLEND_ZERO) && SAME(IS_BLEND_ONE, RS_BLEND_ONE) &&
+               SAME(IS_BLEND_SRCCOLOR, RS_BLEND_SRCCOLOR) && SAME(IS_BLEND_INVSRCCOLOR, RS_BLEND_INVSRCCOLOR) &&
+               SAME(IS_BLEND_SRCALPHA, RS_BLEND_SRCALPHA) && SAME(IS_BLEND_INVSRCALPHA, RS_BLEND_INVSRCALPHA) &&
+               SAME(IS_BLEND_DESTALPHA, RS_BLEND_DESTALPHA) && SAME(IS_BLEND_INVDESTALPHA, RS_BLEND_INVDESTALPHA) &&
+               SAME(IS_BLEND_DESTCOLOR, RS_BLEND_DESTCOLOR) && SAME(IS_BLEND_INVDESTCOLOR, RS_BLEND_INVDESTCOLOR),
+               "blend factors: IS_BLEND_* == RS_BLEND_*");
+_Static_assert(SAME(IS_CLEAR_TARGET, RS_CLEAR_COLOR) && SAME(IS_CLEAR_ZBUFFER, RS_CLEAR_DEPTH),
+               "clear flags: IS_CLEAR_* == RS_CLEAR_*");
+#undef SAME
 
 /* The rasterizer's copy of the current states. */
 rs_state dev_rs_state(const is_device *dev)

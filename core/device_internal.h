@@ -1,4 +1,7 @@
-/* core/device_internal.h -- the device's private state, shared by core/device.c, resources.c and draw.c. */
+/* core/device_internal.h -- the device's private state, shared by core/device.c, resources.c, draw.c and
+ * draw_fused.c: the device, buffers and declarations, and a draw's fetch plan.  Private to core/ (tests/ may look).
+ *
+ * Conventions: as core.h; D3D9's fetch address is spelled once, in fetch_offset. */
 #ifndef INSTESS_DEVICE_INTERNAL_H
 #define INSTESS_DEVICE_INTERNAL_H
 
@@ -75,5 +78,91 @@ rs_state dev_rs_state(const is_device *dev);
 
 /* Expand one element at src into a float4 register (D3D9 defaults fill missing components). */
 float4 decl_fetch(uint8_t type, const unsigned char *src);
+
+/* ---- a draw's vertex fetch (draw.c, draw_fused.c) ---- */
+
+/* D3D9's fetch address, in bytes from an element's first byte in its stream: vertex (or instance) `index` of a
+ * stream with frequency divider `divider` and stride `stride` is read at index / divider * stride (per-vertex data
+ * has divider 1: index * stride).  A 32-bit index takes a 32-bit division, as D3D9's DWORD indices do. */
+static inline uint64_t fetch_offset(uint64_t index, uint32_t divider, uint64_t stride)
+{
+    return (index <= UINT32_MAX ? (uint32_t)index / divider : index / divider) * stride;
+}
+
+/* How one declaration element is read during a draw. */
+typedef struct fetch_elem {
+    const unsigned char *base; /* buffer + stream offset + element offset */
+    size_t stride;
+    uint32_t divider;
+    bool per_instance;
+    uint8_t type;
+    unsigned reg_offset;
+} fetch_elem;
+
+/* The elements of a draw, checked against their buffers (draw.c's plan_fetch). */
+typedef struct fetch_plan {
+    unsigned n;
+    fetch_elem el[IS_MAX_ELEMENTS];
+    unsigned n_instances;
+    unsigned n_vert;                 /* per-vertex elements: el[vert[0..n_vert)] (the fast path's fetch) */
+    uint8_t vert[IS_MAX_ELEMENTS];
+    uint32_t shared;                 /* registers no per-vertex element fills, the same for every vertex of an
+                                        instance (the fused path's `shared` mask); 0 without per-instance
+                                        elements */
+} fetch_plan;
+
+/* Where element e of vertex (per-vertex element) or instance (per-instance element) `index` is read. */
+static inline const unsigned char *fetch_at(const fetch_elem *e, uint32_t index)
+{
+    return e->base + fetch_offset(index, e->divider, e->stride);
+}
+
+/* The input registers before fetch: every register (0, 0, 0, 1). */
+static inline void input_defaults(is_vs_input *in)
+{
+    float4 *r = (float4 *)in;
+    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
+}
+
+/* fetch_vertices (draw.c) from a fetch_cache: vertices v0..v0+n-1 of the cache (relative to its first vertex)
+ * into the per-vertex registers of in[0..n). */
+static inline void fetch_cached(const fetch_plan *fp, const float4 *cache, uint32_t v0, uint32_t n, is_vs_input *in)
+{
+    const float4 *c = cache + (size_t)v0 * fp->n_vert;
+    for (uint32_t v = 0; v < n; v++)
+        for (unsigned q = 0; q < fp->n_vert; q++)
+            *(float4 *)((unsigned char *)&in[v] + fp->el[fp->vert[q]].reg_offset) = *c++;
+}
+
+/* The outputs the rasterizer reads when drawing into dev's target: oD0 (the pixel colour) and the slots of the
+ * target's AOV planes (raster.h).  A batch may skip the others, as a D3D9 driver links the vertex outputs to what
+ * the pixel stage consumes. */
+static inline uint32_t live_outputs(const is_device *dev)
+{
+    uint32_t live = IS_OUT_COLOR0;
+    for (int k = 0; k < dev->rt.n_aov; k++) live |= 1u << dev->rt.aov[k].slot;
+    return live;
+}
+
+/* The per-vertex elements of vertices first..first+count-1 fetched once: cache[v * n_vert + q] holds what
+ * fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of memory. */
+float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count);
+/* Make sure the draw scratch (dev->out_v, dev->out_i) holds nv vertices and ni indices. */
+is_result reserve_scratch(is_device *dev, size_t nv, size_t ni);
+/* The device's result of a rasterizer call that returned r (RS_OK or RS_E*): IS_OK with its counters s added to
+ * the device's, or the error with its message. */
+is_result draw_result(is_device *dev, int r, const rs_stats *s);
+
+/* ---- draw_fused.c: the fused path of instanced triangle draws ---- */
+
+/* Whether the fused path takes a draw of rasterizer primitive `prim` with `count` vertices per instance. */
+bool draw_fused_takes(const is_device *dev, int prim, uint32_t count);
+/* The indices draw_fused's list must have room for (a full piece of instances of n_prims triangles). */
+size_t draw_fused_list_room(const fetch_plan *fp, uint32_t count, size_t n_prims);
+/* The fused draw of n_prims triangles per instance of fp's instances, vertices first..first+count-1: list holds
+ * instance 0's index list (3 per triangle, rebased to first) and has draw_fused_list_room entries (it is
+ * overwritten). */
+is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
+                     uint32_t *list);
 
 #endif

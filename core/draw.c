@@ -9,12 +9,12 @@
  * Post-transform cache: each instance's vertices MinVertexIndex .. MinVertexIndex + NumVertices - 1 are shaded
  * once, then the instance's primitives index them.  Instances are processed in chunks of at most
  * DRAW_CHUNK_VERTICES shaded vertices, so memory stays bounded whatever the instance count; chunks are drawn in
- * order, so the result is the same as one big draw.  Off the reference path, triangle draws with at most
- * FUSED_PIECE_VERTICES vertices per instance take the fused path instead (below draw_shaded's helpers): pieces of
- * a few instances shaded and set up by one thread each, per-thread scratch, at most FUSED_MAX_PRIMS triangles per
- * rasterizer call. */
+ * order, so the result is the same as one big draw.  This is the definition (and the reference path's only
+ * route); off the reference path, triangle draws with few vertices per instance take the fused path instead
+ * (draw_fused.c: pieces of a few instances shaded and set up by one thread each), which writes the same bytes.
+ *
+ * D3D9's fetch address (index / divider * stride) is device_internal.h's fetch_offset. */
 #include "device_internal.h"
-#include "../raster/raster_internal.h" /* rs_draw_source: the fused path */
 
 #include <stdlib.h>
 #include <string.h>
@@ -29,27 +29,6 @@
 
 _Static_assert(sizeof(is_vs_input) % sizeof(float4) == 0 && IS_VS_INPUT_REGS < 32,
                "register masks are 32 bits (and 1u << IS_VS_INPUT_REGS is defined)");
-
-/* How one declaration element is read during a draw. */
-typedef struct fetch_elem {
-    const unsigned char *base; /* buffer + stream offset + element offset */
-    size_t stride;
-    uint32_t divider;
-    bool per_instance;
-    uint8_t type;
-    unsigned reg_offset;
-} fetch_elem;
-
-typedef struct fetch_plan {
-    unsigned n;
-    fetch_elem el[IS_MAX_ELEMENTS];
-    unsigned n_instances;
-    unsigned n_vert;                 /* per-vertex elements: el[vert[0..n_vert)] (the fast path's fetch) */
-    uint8_t vert[IS_MAX_ELEMENTS];
-    uint32_t shared;                 /* registers no per-vertex element fills, the same for every vertex of an
-                                        instance (the fused path's `shared` mask); 0 without per-instance
-                                        elements */
-} fetch_plan;
 
 /* Indices a primitive list of `count` primitives of `type` uses; 0 for an unknown type. */
 static size_t prim_index_count(is_primtype type, unsigned count)
@@ -108,12 +87,12 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
                             : ((s->freq & IS_STREAMSOURCE_INDEXEDDATA) ? 1 : s->freq);
         if (inst && n_instances <= 1 && !(dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA))
             inst = false, div = 1; /* INSTANCEDATA without an instanced draw: D3D9 reads it per vertex */
-        uint64_t last = inst ? (n_instances - 1) / div : max_vertex / div;
-        uint64_t end = s->offset + de->e.offset + last * s->stride + de->size;
+        uint64_t index = inst ? n_instances - 1 : max_vertex; /* the last vertex or instance read */
+        uint64_t end = s->offset + de->e.offset + fetch_offset(index, div, s->stride) + de->size;
         if (end > s->vb->size)
             return dev_fail(dev, IS_ERR_INVALIDCALL,
                             "%s: element %u reads stream %u vertex %llu, beyond its %zu-byte buffer", call, k,
-                            de->e.stream, (unsigned long long)last, s->vb->size);
+                            de->e.stream, (unsigned long long)(index / div), s->vb->size);
         fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
                                  de->reg_offset};
         if (!inst) {
@@ -127,21 +106,14 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     return IS_OK;
 }
 
-/* The input registers before fetch: every register (0, 0, 0, 1). */
-static void input_defaults(is_vs_input *in)
-{
-    float4 *r = (float4 *)in;
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
-}
-
 /* Fetch vertex `vertex` of instance `instance` into the input registers. */
 static void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instance, is_vs_input *in)
 {
     input_defaults(in);
     for (unsigned k = 0; k < fp->n; k++) {
         const fetch_elem *e = &fp->el[k];
-        size_t i = e->per_instance ? instance / e->divider : vertex / e->divider;
-        *(float4 *)((unsigned char *)in + e->reg_offset) = decl_fetch(e->type, e->base + i * e->stride);
+        *(float4 *)((unsigned char *)in + e->reg_offset) =
+            decl_fetch(e->type, fetch_at(e, e->per_instance ? instance : vertex));
     }
 }
 
@@ -153,7 +125,7 @@ static void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
 }
 
 /* Make sure the scratch holds nv vertices and ni indices. */
-static is_result reserve_scratch(is_device *dev, size_t nv, size_t ni)
+is_result reserve_scratch(is_device *dev, size_t nv, size_t ni)
 {
     if (nv > dev->out_v_cap) {
         rs_vertex *v = realloc(dev->out_v, nv * sizeof *v);
@@ -177,17 +149,23 @@ static void add_stats(is_device *dev, const rs_stats *s)
     dev->stats.samples_written += s->samples_written;
 }
 
+/* IS_OK with the call's counters added, or the rasterizer's error r as the device's. */
+is_result draw_result(is_device *dev, int r, const rs_stats *s)
+{
+    if (r == RS_ENOMEM) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
+    if (r == RS_EWORK) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s", DEV_EWORK_MSG);
+    if (r != RS_OK) return dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
+    add_stats(dev, s);
+    return IS_OK;
+}
+
 /* Hand n_prims primitives over to the rasterizer and add its counters to the device's. */
 static is_result rasterize(is_device *dev, int prim, size_t n_verts, size_t n_prims)
 {
     rs_state st = dev_rs_state(dev);
     rs_stats s = {0};
-    int r = rs_draw(dev->rs, &st, &dev->rt, prim, dev->out_v, n_verts, dev->out_i, n_prims, &s);
-    if (r == RS_ENOMEM) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
-    if (r == RS_EWORK) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s", DEV_EWORK_MSG);
-    if (r != RS_OK) return dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
-    add_stats(dev, &s);
-    return IS_OK;
+    return draw_result(dev, rs_draw(dev->rs, &st, &dev->rt, prim, dev->out_v, n_verts, dev->out_i, n_prims, &s),
+                       &s);
 }
 
 /* Read index k of the bound index buffer. */
@@ -235,7 +213,7 @@ static void fetch_batch(const fetch_plan *fp, uint32_t first, uint32_t n, uint32
         const fetch_elem *e = &fp->el[k];
         if (e->per_instance)
             *(float4 *)((unsigned char *)&in[0] + e->reg_offset) =
-                decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
+                decl_fetch(e->type, fetch_at(e, instance));
     }
     for (uint32_t v = 1; v < n; v++) in[v] = in[0];
 }
@@ -247,42 +225,22 @@ static void fetch_vertices(const fetch_plan *fp, uint32_t first, uint32_t n, is_
     for (uint32_t v = 0; v < n; v++)
         for (unsigned q = 0; q < fp->n_vert; q++) {
             const fetch_elem *e = &fp->el[fp->vert[q]];
-            *(float4 *)((unsigned char *)&in[v] + e->reg_offset) =
-                decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
+            *(float4 *)((unsigned char *)&in[v] + e->reg_offset) = decl_fetch(e->type, fetch_at(e, first + v));
         }
 }
 
 /* The per-vertex elements of vertices first..first+count-1 fetched once: cache[v * n_vert + q] holds what
  * fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of memory. */
-static float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count)
+float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count)
 {
     float4 *c = malloc(((size_t)count * fp->n_vert + 1) * sizeof *c);
     if (!c) return NULL;
     for (uint32_t v = 0; v < count; v++)
         for (unsigned q = 0; q < fp->n_vert; q++) {
             const fetch_elem *e = &fp->el[fp->vert[q]];
-            c[(size_t)v * fp->n_vert + q] = decl_fetch(e->type, e->base + (size_t)((first + v) / e->divider) * e->stride);
+            c[(size_t)v * fp->n_vert + q] = decl_fetch(e->type, fetch_at(e, first + v));
         }
     return c;
-}
-
-/* fetch_vertices from a fetch_cache: vertices v0..v0+n-1 of the cache (relative to its first vertex). */
-static void fetch_cached(const fetch_plan *fp, const float4 *cache, uint32_t v0, uint32_t n, is_vs_input *in)
-{
-    const float4 *c = cache + (size_t)v0 * fp->n_vert;
-    for (uint32_t v = 0; v < n; v++)
-        for (unsigned q = 0; q < fp->n_vert; q++)
-            *(float4 *)((unsigned char *)&in[v] + fp->el[fp->vert[q]].reg_offset) = *c++;
-}
-
-/* The outputs the rasterizer reads when drawing into dev's target: oD0 (the pixel colour) and the slots of the
- * target's AOV planes (raster.h).  A batch may skip the others, as a D3D9 driver links the vertex outputs to what
- * the pixel stage consumes. */
-static uint32_t live_outputs(const is_device *dev)
-{
-    uint32_t live = IS_OUT_COLOR0;
-    for (int k = 0; k < dev->rt.n_aov; k++) live |= 1u << dev->rt.aov[k].slot;
-    return live;
 }
 
 /* Shade vertices v0..v0+n-1 of `instance` into out[0..n), in batches of SHADE_BATCH; cache: the draw's
@@ -350,137 +308,14 @@ static size_t assemble(is_device *dev, is_primtype type, size_t n_prims, uint32_
     return (size_t)ni * n_prims;
 }
 
-/* ---------------------------------------- the fused path ----------------------------------------
- * Instanced triangle draws with few vertices per instance (the tessellation grids): the rasterizer's setup threads
- * ask for pieces of a few instances (rs_draw_source), which are fetched, shaded, projected and set up by one thread
- * while they are in the cache, into per-thread scratch.  Same bytes as shading everything first (each instance's
- * vertices and triangles are the same, in the same order).  A draw is then two parallel regions (setup, tiles)
- * plus the Clear's: on a machine whose cores are busy with other processes, each region's end can wait for a
- * descheduled thread while libgomp's default busy-waiting keeps the core -- run with OMP_WAIT_POLICY=passive there. */
-
-/* Vertices per piece at most (about 700 KB of shaded vertices: the piece stays in the cache), and pieces per draw
- * aimed at (enough for load balance, few enough that the per-tile walk over pieces stays cheap). */
-#define FUSED_PIECE_VERTICES 4096u
-#define FUSED_PIECES 64u
-#define FUSED_PIECE_PRIMS 16384u
-/* Triangles per rs_draw_source call at most: bounds the set-up triangles held before the tile pass. */
-#define FUSED_MAX_PRIMS (1u << 19)
-
-/* A fused draw pass: instances i0..i0+ni-1 in pieces of per_piece instances. */
-typedef struct fused_ctx {
-    const is_device *dev;
-    const fetch_plan *fp;
-    uint32_t first, count, i0, ni, per_piece;
-    size_t n_idx;              /* indices of one instance (3 per triangle) */
-    const uint32_t *list;      /* the index list of a full piece (instance i's vertices at i * count) */
-    size_t slot_verts;         /* scratch per slot in out_v */
-    rs_vertex *out_v;
-    const float4 *cache;       /* fetch_cache of first..first+count-1 (the draw has one) */
-    is_vs_input *in;           /* count input registers per slot (see shade_instance) */
-    bool *in_ready;            /* per slot: its inputs hold the defaults and the per-vertex registers */
-    uint32_t live;             /* live_outputs(dev) */
-} fused_ctx;
-
-/* Shade all `count` vertices of `instance` into out[0..count) with one batch call (so the shader's 8-lane groups
- * are full but for the instance's last ones).  in[0..count) is the slot's input scratch, made ready once per draw
- * (*ready): D3D9's defaults, then the per-vertex registers from the draw's fetch_cache (the same for every
- * instance; no element shares a register with another).  Per instance only the per-instance registers are
- * fetched: into in[0] alone for a batch shader, into every entry for a shader called per vertex.  A batch shader
- * is told that every register but the per-vertex ones (fp->shared: the per-instance registers and the defaults)
- * is the same for all vertices and stored in in[0] only.  The outputs are not zeroed first: the rasterizer reads
- * oPos and the live outputs the shader writes (its `outputs` mask), nothing else of this scratch. */
-static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, rs_vertex *out)
-{
-    const fetch_plan *fp = f->fp;
-    const uint32_t n = f->count;
-    const is_vertex_shader *vs = f->dev->vs;
-    if (!*ready) {
-        for (uint32_t v = 0; v < n; v++) input_defaults(&in[v]);
-        fetch_cached(fp, f->cache, 0, n, in);
-        *ready = true;
-    }
-    const uint32_t copies = vs->batch ? 1 : n;
-    for (unsigned k = 0; k < fp->n; k++) {
-        const fetch_elem *e = &fp->el[k];
-        if (!e->per_instance) continue;
-        float4 r = decl_fetch(e->type, e->base + (size_t)(instance / e->divider) * e->stride);
-        for (uint32_t v = 0; v < copies; v++) *(float4 *)((unsigned char *)&in[v] + e->reg_offset) = r;
-    }
-    if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
-    else
-        for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
-}
-
-/* rs_produce_fn: shade the piece's instances into the slot's scratch and build its index list. */
-static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
-                            const uint32_t **idx)
-{
-    const fused_ctx *f = ctx;
-    uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
-    rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
-    is_vs_input *in = f->in + (size_t)slot * f->count;
-    for (uint32_t i = 0; i < n; i++) shade_instance(f, f->i0 + a + i, in, &f->in_ready[slot], out + (size_t)i * f->count);
-    *verts = out, *n_verts = (size_t)n * f->count, *idx = f->list; /* a short piece uses a prefix */
-    return (size_t)n * (f->n_idx / 3);
-}
-
-/* Instances per piece: about 1/FUSED_PIECES of the draw, at most FUSED_PIECE_VERTICES vertices and
- * FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance. */
-static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
-{
-    uint64_t want = (uint64_t)n_inst * count / FUSED_PIECES;
-    uint64_t per = want <= count ? 1u : want / count;
-    if (per * count > FUSED_PIECE_VERTICES) per = FUSED_PIECE_VERTICES / count;
-    if (per * n_prims > FUSED_PIECE_PRIMS) per = FUSED_PIECE_PRIMS / n_prims;
-    return per < 1 ? 1u : (uint32_t)per;
-}
-
-/* The fused draw of n_prims triangles per instance (see above); list = instance 0's index list, with room for
- * the index list of a full piece (fused_per_piece instances). */
-static is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
-                            uint32_t *list)
-{
-    const uint32_t n_inst = fp->n_instances, per_piece = fused_per_piece(n_inst, count, n_prims);
-    const uint64_t total = (uint64_t)n_inst * count;
-    size_t max_pieces = rs_max_pieces(&dev->rt), per_pass = FUSED_MAX_PRIMS / n_prims;
-    if (per_pass < per_piece) per_pass = per_piece;
-    if (per_pass / per_piece > max_pieces) per_pass = max_pieces * per_piece;
-    int slots = rs_threads(dev->rs);
-    for (uint32_t i = 1; i < per_piece; i++) /* instance i of a piece: instance 0's list moved by i * count */
-        for (size_t k = 0; k < 3 * n_prims; k++) list[(size_t)i * 3 * n_prims + k] = i * count + list[k];
-    float4 *cache = fetch_cache(fp, first, count);
-    is_vs_input *in = malloc((size_t)slots * count * sizeof *in);
-    bool *in_ready = calloc((size_t)slots, sizeof *in_ready);
-    fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache,
-                   in, in_ready, live_outputs(dev)};
-    is_result r = cache && in && in_ready ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)
-                                          : dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for the inputs");
-    f.out_v = dev->out_v;
-    for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass) {
-        f.i0 = i0;
-        f.ni = n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass;
-        rs_source src = {(f.ni + per_piece - 1) / per_piece, (size_t)f.ni * n_prims, f.slot_verts, fused_produce, &f};
-        rs_state st = dev_rs_state(dev);
-        rs_stats s = {0};
-        int e = rs_draw_source(dev->rs, &st, &dev->rt, &src, &s);
-        if (e == RS_ENOMEM) r = dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: the rasterizer ran out of memory");
-        else if (e == RS_EWORK) r = dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s", DEV_EWORK_MSG);
-        else if (e != RS_OK) r = dev_fail(dev, IS_ERR_INVALIDCALL, "draw: the rasterizer refused the primitives");
-        else add_stats(dev, &s);
-    }
-    free(cache), free(in), free(in_ready);
-    dev->shaded += total;
-    return r;
-}
-
 /* The draw after validation: stream_idx[k] are index-stream entries already rebased to `first`. */
 static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims,
                              uint32_t first, uint32_t count, const uint32_t *stream_idx)
 {
     unsigned per;
     int prim = prim_raster_type(type, &per);
-    if (!dev->reference && prim == RS_PRIM_TRIANGLES && count <= FUSED_PIECE_VERTICES) {
-        uint32_t *list = malloc((size_t)fused_per_piece(fp->n_instances, count, n_prims) * n_prims * 3 * sizeof *list);
+    if (draw_fused_takes(dev, prim, count)) { /* the fast path: draw_fused.c */
+        uint32_t *list = malloc(draw_fused_list_room(fp, count, n_prims) * sizeof *list);
         if (!list) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", n_prims * 3);
         for (size_t p = 0; p < n_prims; p++)
             for (unsigned c = 0; c < 3; c++) list[3 * p + c] = stream_idx[prim_vertex(type, p, c)];

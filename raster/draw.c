@@ -347,8 +347,9 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
 {
     uint64_t w = 0;
     for (size_t c = 0; c < n_chunks; c++) w = w + rs->chunks[c].work < w ? UINT64_MAX : w + rs->chunks[c].work;
-    uint64_t limit = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0) *
-                     RS_WORK_UNIT;
+    uint64_t px = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0);
+    uint64_t limit = (px > RS_MIN_WORK ? px : RS_MIN_WORK) * RS_WORK_UNIT;
+    if (!rs->frame) rs->work = 0;   /* no frame started: each draw counts alone */
     if (w > limit || rs->work > limit - w) return false;
     rs->work += w;
     return true;

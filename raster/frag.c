@@ -11,6 +11,7 @@
 /* round(a * f / 255) for a, f in 0..255, exact. */
 static inline uint32_t mul8(uint32_t a, uint32_t f)
 {
+    RS_ASSERT(a <= 255 && f <= 255);
     uint32_t t = a * f + 128u;
     return (t + (t >> 8)) >> 8;
 }

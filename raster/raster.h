@@ -37,6 +37,14 @@
  *    primitives are silently dropped (counted in rs_stats) -- they are not errors.
  *  - Determinism: the same draw gives the same bytes for any thread count (tiles are owned by one thread and
  *    walk primitives in submission order).
+ *  - Paths: every draw has a scalar reference path (rs_set_reference_path) and fast paths (shared vertex
+ *    projection, four-lane set-up, 8-lane spans) that write the same bytes; the tests compare the two.
+ *  - Frames: rs_target_clear_deferred starts a frame on a context (its clear is written tile by tile when a draw
+ *    first touches a tile); until rs_target_flush the target's planes must be read or written only through that
+ *    context.  The work bound (RS_MAX_OVERDRAW) counts per frame (each draw alone on a context that never
+ *    started one).
+ *  - Draw sources: rs_draw_source draws triangles whose vertices a callback produces piece by piece on the
+ *    set-up threads (the device's instanced draws); same bytes as rs_draw on the concatenated pieces.
  */
 #ifndef INSTESS_RASTER_H
 #define INSTESS_RASTER_H
@@ -130,12 +138,14 @@ typedef struct rs_context rs_context;
 
 enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2, RS_EWORK = -3 };
 /* Work is bounded by the output, not by the input: a frame -- the draws on a context since its last
- * rs_target_clear_deferred -- may cover the target's pixels at most RS_MAX_OVERDRAW times on average.  Set-up
- * counts each triangle as min(its area, its pixel box clipped to the scissor), exactly in fixed point (about
- * the pixels it covers, in integers, so the same for any thread count); a draw that would
- * pass the bound returns RS_EWORK and draws nothing (100,000 copies of one screen-filling triangle, say).
- * Closed meshes cover a pixel a few times; lines and points are not counted. */
-#define RS_MAX_OVERDRAW 256
+ * rs_target_clear_deferred, or one draw on a context that never had one -- may cover the target's pixels at
+ * most RS_MAX_OVERDRAW times on average.  Set-up counts each triangle as min(its area, its pixel box clipped
+ * to the scissor), exactly in fixed point (about the pixels it covers, in integers, so the same for any thread
+ * count); a draw that would pass the bound returns RS_EWORK and draws nothing (100,000 copies of one
+ * screen-filling triangle, say).  Closed meshes cover a pixel a few times; lines and points are not counted. */
+#define RS_MAX_OVERDRAW 1024
+/* ... but never less than this many pixels of work (4 M: a few milliseconds), so small targets keep room. */
+#define RS_MIN_WORK ((uint64_t)1 << 22)
 
 /* Create a rasterizer that uses up to `threads` threads (0: all cores). NULL when out of memory. */
 rs_context *rs_create(int threads);
@@ -143,6 +153,11 @@ rs_context *rs_create(int threads);
 void rs_destroy(rs_context *rs);
 /* Change the thread count (0: all cores). */
 void rs_set_threads(rs_context *rs, int threads);
+/* The threads a draw on rs uses (the count set, or the cores for 0); at least 1. */
+int rs_threads(const rs_context *rs);
+/* The scalar reference path on (every draw takes the simplest per-sample loops: set-up per triangle, tri.c's
+ * per-pixel walk, no tile buffers) or off (the default: the fast paths, which write the same bytes). */
+void rs_set_reference_path(rs_context *rs, bool on);
 
 /* Allocate a target of w x h pixels with `samples` (1 or 4) samples; RS_EINVAL for bad sizes. */
 int rs_target_init(rs_target *rt, int width, int height, int samples);
@@ -150,8 +165,17 @@ int rs_target_init(rs_target *rt, int width, int height, int samples);
 void rs_target_free(rs_target *rt);
 /* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
 int rs_target_add_aov(rs_target *rt, int slot, int comps);
-/* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: 1 colour and AOVs, 2 depth). */
+/* What a clear writes (D3DCLEAR_TARGET and D3DCLEAR_ZBUFFER have these values). */
+enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2 };
+/* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
 void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
+/* rs_target_clear deferred, and a new frame on rs (its work count restarts): each 64x64 tile of rt is written
+ * (in cache) when a draw on rs first touches it, or by rs_target_flush.  Until rs_target_flush, rt's planes must
+ * only be drawn into through rs.  Nothing happens without flags (or without rs, rt or its planes). */
+void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
+/* Write every tile of rt whose clear is still deferred on rs (call before anything else reads or writes rt's
+ * planes). */
+void rs_target_flush(rs_context *rs, rs_target *rt);
 /* Average the samples of each pixel into out (width*height packed RGBA8), per channel, rounding to nearest
  * (halves up: (sum + 2) / 4). */
 void rs_target_resolve(const rs_target *rt, uint32_t *out);
@@ -163,6 +187,30 @@ void rs_target_resolve(const rs_target *rt, uint32_t *out);
 int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim,
             const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims,
             rs_stats *stats);
+
+/* ---- draw sources: triangles whose vertices are produced piece by piece on the set-up threads ----
+ * The device's fast path for instanced draws: each piece (a few instances) is shaded, projected, set up and
+ * binned by one thread while its vertices are still in the cache, so one draw costs one set-up region and one
+ * tile region, and the shaded vertices never go through memory.  Each piece is one set-up chunk, in order, so the
+ * bytes are those of rs_draw on the concatenated pieces. */
+/* Produce piece `piece`: vertices into *verts (n_verts of them, at most the source's max_verts), its triangles'
+ * indices (into *verts, 3 per triangle) into *idx; returns the triangle count.  `slot` (below rs_threads) is the
+ * calling thread's: pieces produced at the same time have different slots, so a producer may keep one scratch
+ * per slot.  Called from several threads at once. */
+typedef size_t (*rs_produce_fn)(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
+                                const uint32_t **idx);
+typedef struct rs_source {
+    size_t n_pieces;      /* at most rs_max_pieces */
+    size_t n_prims;       /* triangles of all pieces */
+    size_t max_verts;     /* vertices of the largest piece */
+    rs_produce_fn produce;
+    void *ctx;            /* passed to produce */
+} rs_source;
+/* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
+size_t rs_max_pieces(const rs_target *rt);
+/* Draw the triangles of src: RS_OK, or RS_EINVAL (bad state, target or source: too many pieces, or pieces whose
+ * triangles do not add up to n_prims), RS_ENOMEM or RS_EWORK with nothing drawn. */
+int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
 
 #ifdef __cplusplus
 }

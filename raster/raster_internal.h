@@ -3,13 +3,18 @@
  *
  * Pipeline of one rs_draw (draw.c):
  *   1. validate, build the job (per-draw constants);
- *   2. in parallel over chunks of input primitives (clip.c, setup.c): clip, project, snap, cull, set up
- *      triangles / lines / points into the chunk's own arrays (submission order inside the chunk), then bin
- *      them to 64x64 tiles (per chunk, so no locks);
- *   3. in parallel over tiles (tri.c, line.c): walk the chunks in order and each chunk's bin in order, so every
- *      sample sees the primitives in submission order whatever the thread count.
- * rs_draw_source (the device's fused path) is the same with step 2 fed piece by piece: each chunk's vertices are
- * produced (shaded) by the thread that sets the chunk up.
+ *   2. in parallel over chunks of input primitives (clip.c, setup.c, setup_simd.c): clip, project, snap, cull,
+ *      set up triangles / lines / points into the chunk's own arrays (submission order inside the chunk), then
+ *      bin them to 64x64 tiles (bin.c; per chunk, so no locks);
+ *   3. in parallel over tiles (tri.c, span.c, line.c): walk the chunks in order and each chunk's bin in order, so
+ *      every sample sees the primitives in submission order whatever the thread count.
+ * rs_draw_source (raster.h; the device's fused path) is the same with step 2 fed piece by piece: each chunk's
+ * vertices are produced (shaded) by the thread that sets the chunk up.
+ *
+ * Every fast path sits in its own file beside its definition: setup.c (reference set-up) / setup_simd.c (shared
+ * pass, four-lane finish); tri.c (reference walk) / span.c (8-lane walks).  setup_internal.h is what the two
+ * set-ups share.  Preconditions of the fast paths ("|x| < 2^N", "fits int32") are RS_ASSERTs, live in the
+ * INSTESS_CHECKS build (the sanitizer build) and nothing otherwise.
  */
 #ifndef INSTESS_RASTER_INTERNAL_H
 #define INSTESS_RASTER_INTERNAL_H
@@ -20,6 +25,18 @@
 #include <stddef.h>
 
 #include "raster.h"
+
+/* RS_ASSERT(cond): assert(cond) when INSTESS_CHECKS is defined; otherwise no code at all (cond is not evaluated,
+ * only type-checked, so it may name variables that exist for the check alone). */
+#ifdef INSTESS_CHECKS
+#include <assert.h>
+#define RS_ASSERT(cond) assert(cond)
+#else
+#define RS_ASSERT(cond) ((void)sizeof(!(cond)))
+#endif
+
+/* |v| <= 2^n: the bit budgets' claims (setup.c), for RS_ASSERT. */
+static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) && v <= (int64_t)1 << n; }
 
 #define RS_SUB_BITS 8                 /* sub-pixel bits of snapped positions */
 #define RS_SUB (1 << RS_SUB_BITS)     /* 256 */
@@ -119,6 +136,7 @@ typedef struct rs_chunk {
 struct rs_context {
     int threads;
     uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
+    bool frame;                  /* a deferred clear started a frame (else each draw's work counts alone) */
     bool reference;              /* rs_set_reference_path */
     rs_chunk *chunks;
     size_t n_chunks_cap;
@@ -182,55 +200,25 @@ int rs_clip_poly(const rs_job *j, rs_cvert *poly, int n, unsigned planes, rs_cli
 /* Clip segment v[0]-v[1] in place; false when it is entirely outside. */
 bool rs_clip_line(const rs_job *j, rs_cvert *v, unsigned planes, rs_clipbuf *cb);
 
-/* ---- setup.c ---- */
+/* ---- setup.c: set-up of a chunk (the shared pass's triangles go to setup_simd.c) ---- */
 /* Set up input primitives [c->first, c->first+c->count) of the job into chunk c (prims, attr, counters). */
 void rs_setup_chunk(const rs_job *j, rs_chunk *c);
-/* The shared pass: outcode and projection of vertex v (once per vertex, not once per triangle). */
+
+/* ---- setup_simd.c: the shared pass ---- */
+/* Outcode and projection of vertex v into its record (once per vertex, not once per triangle). */
 void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out);
+/* Bytes of one rs_pvert record (the type is opaque outside setup_simd.c). */
 size_t rs_pvert_size(void);
 /* rs_project_vertex for v[0..n) into out[0..n) (four at a time where AVX2 is available, same results). */
 void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
+
+/* ---- bin.c ---- */
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
 
-/* ---- draw.c: triangle draws whose vertices are produced piece by piece by the setup threads ----
- * The device's fast path for instanced draws: each piece (a few instances) is shaded, projected, set up and
- * binned by one thread while its vertices are still in the cache, so one draw costs one setup region and one
- * tile region, and the shaded vertices never go through memory.  Each piece is one setup chunk, in order, so the
- * bytes are those of rs_draw on the concatenated pieces. */
-/* Produce piece `piece`: vertices into *verts (n_verts of them, at most the source's max_verts), its triangles'
- * indices (into *verts, 3 per triangle) into *idx; returns the triangle count.  `slot` (below rs_threads) is the
- * calling thread's: pieces produced at the same time have different slots, so a producer may keep one scratch
- * per slot. */
-typedef size_t (*rs_produce_fn)(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
-                                const uint32_t **idx);
-typedef struct rs_source {
-    size_t n_pieces;      /* at most rs_max_pieces */
-    size_t n_prims;       /* triangles of all pieces */
-    size_t max_verts;     /* vertices of the largest piece */
-    rs_produce_fn produce;
-    void *ctx;
-} rs_source;
-/* Threads (and so scratch slots) a draw uses. */
-int rs_threads(const rs_context *rs);
-/* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
-size_t rs_max_pieces(const rs_target *rt);
-/* Draw the triangles of src: RS_OK, RS_EINVAL (bad state, target or source), RS_ENOMEM or RS_EWORK. */
-int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
-
-/* ---- the reference path switch (the device's dev_set_reference_path; core/ includes this header for it) ----
- * On: every draw takes the simplest per-sample loops (tri.c's tri_pixel, setup per triangle); off (default): the
- * fast paths (span.c, shared vertex projection), which write the same bytes. */
-void rs_set_reference_path(rs_context *rs, bool on);
-
 /* ---- target.c ---- */
-/* rs_target_clear on `threads` threads (0: all cores), split by rows (the device's Clear). */
+/* rs_target_clear on `threads` threads (0: all cores), split by rows (rs_target_clear_deferred's fallback). */
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads);
-/* rs_target_clear deferred: each 64x64 tile of rt is written (in cache) when a draw on rs first touches it,
- * or by rs_target_flush.  Until rs_target_flush, rt's planes must only be drawn into through rs. */
-void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
-/* Write every tile of rt whose clear is still deferred (call before anything reads rt's planes). */
-void rs_target_flush(rs_context *rs, rs_target *rt);
 /* The tile pass: write tile `tile` of the job's target if its clear is deferred on rs. */
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile);
 /* Bytes of one tile buffer for the job's target (64x64 pixels of colour and depth samples). */

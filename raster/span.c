@@ -67,6 +67,9 @@ static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m
 /* Lanes l0..l1 as an 8-bit mask. */
 static inline unsigned lane_range(int l0, int l1) { return ((2u << l1) - 1u) & ~((1u << l0) - 1u); }
 
+/* |X| < 2^24 in every lane: the offsets (1/256 px) whose conversion to float is exact (for RS_ASSERT). */
+static inline bool lanes_exact(v8i X) { return mask_of((X >= bi(1 << 24)) | (X <= bi(-(1 << 24)))) == 0; }
+
 /* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
 static inline v8f zclamp8(v8f z, v8f lo, v8f hi) { return sel(z >= lo, sel(z <= hi, z, hi), lo); }
 
@@ -151,6 +154,7 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
     const int n = j->rt->width - gx < 8 ? j->rt->width - gx : 8;
     const size_t base = rs_tile_index(t, gx, y);
     v8i X = bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
+    RS_ASSERT(lanes_exact(X) && rs_within((int64_t)y * RS_SUB - j->cy - tr->vy, 24));
     v8f fx = __builtin_convertvector(X, v8f) * bf(k);
     float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
     v8i pass = lanes_of(cov);
@@ -246,6 +250,7 @@ static inline void fctx_make(fctx *c, const rs_job *j, const rs_tile *t, const r
 static inline rows8 rows8_at(const rs_job *j, const rs_tri *tr, v8i X)
 {
     const float k = 1.0f / RS_SUB;
+    RS_ASSERT(lanes_exact(X));
     v8f fx = __builtin_convertvector(X, v8f) * bf(k); /* |X| < 2^24: exact in float, as tri_pixel's */
     v8f sx = fx + bf((float)j->sox[0] * k);
     rows8 r;
@@ -260,6 +265,7 @@ static inline rows8 rows8_at(const rs_job *j, const rs_tri *tr, v8i X)
 static inline ypart ypart_at(const rs_job *j, const rs_tri *tr, v8i Y)
 {
     const float k = 1.0f / RS_SUB;
+    RS_ASSERT(lanes_exact(Y));
     v8f fy = __builtin_convertvector(Y, v8f) * bf(k);
     ypart y;
     y.zy = bf(tr->z[1]) * (fy + bf((float)j->soy[0] * k));
@@ -330,6 +336,19 @@ _Static_assert(offsetof(rs_tri, eb) == offsetof(rs_tri, ea) + 3 * sizeof(int32_t
                offsetof(rs_tri, ec) == offsetof(rs_tri, eb) + 3 * sizeof(int32_t) &&
                offsetof(rs_tri, vx) == offsetof(rs_tri, ec) + 3 * sizeof(int64_t),
                "the walks read the edge coefficients four at a time (the fourth lane is not used)");
+
+/* Do the three edges' exact values fit int32 at every pixel of [x0, x1] x [y0, y1] (at its corners: the edge
+ * functions are linear)?  The precondition of the 32-bit walks (coef_small's claim), for RS_ASSERT. */
+static inline bool box_fits32(const rs_job *j, const rs_tri *tr, int x0, int y0, int x1, int y1)
+{
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 4; k++) {
+            int64_t X = (int64_t)(k & 1 ? x1 : x0) * RS_SUB - j->cx, Y = (int64_t)(k & 2 ? y1 : y0) * RS_SUB - j->cy;
+            int64_t e = (int64_t)tr->ea[i] * X + (int64_t)tr->eb[i] * Y + tr->ec[i];
+            if (e < INT32_MIN || e > INT32_MAX) return false;
+        }
+    return true;
+}
 
 /* The three edges' coefficients ea, eb, ec as int64 lanes 0..2 (lane 3: whatever follows in rs_tri). */
 typedef struct edges4 {
@@ -464,6 +483,7 @@ ALWAYS_INLINE void walk_spans(fctx *c, zmode m, int ng, const rs_job *j, rs_tile
 {
     const rs_tri *tr = c->tr;
     const int gmax = t->x1 - 8 - x0; /* the last group start inside the tile, >= 0 */
+    RS_ASSERT(gmax >= 0 && x0 + 8 <= x1 && x1 < t->x1 && x1 - x0 < 8 * ng);
     const uint32_t X = (uint32_t)((int64_t)x0 * RS_SUB - j->cx), Y = (uint32_t)((int64_t)y0 * RS_SUB - j->cy);
     v8u e[3][SPAN_GROUPS], dy[3];
     for (int v = 0; v < ng; v++) {
@@ -556,6 +576,7 @@ static inline unsigned neg3(__m256i v) { return (unsigned)_mm256_movemask_pd((__
  * products are the exact int64 ones. */
 static inline __m256i edge_xy(const edges4 *E, int64_t X, int64_t Y)
 {
+    RS_ASSERT(X >= INT32_MIN && X <= INT32_MAX && Y >= INT32_MIN && Y <= INT32_MAX);
     return _mm256_add_epi64(_mm256_mul_epi32(E->a, _mm256_set1_epi64x(X)),
                             _mm256_mul_epi32(E->b, _mm256_set1_epi64x(Y)));
 }
@@ -612,6 +633,7 @@ ALWAYS_INLINE void walk_blocks(fctx *c, zmode m, const rs_job *j, rs_tile *t, co
         const unsigned lm = lane_range(l0, l1);
         const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)gx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB);
         /* edge values at lane l0 of row y0 (|X|, |Y| <= 2^22: inside the viewport) and the x extent */
+        RS_ASSERT(rs_within((int64_t)(gx + l0) * RS_SUB - j->cx, 22) && rs_within((int64_t)y0 * RS_SUB - j->cy, 22));
         const __m256i e0 = _mm256_add_epi64(edge_xy(&E, (int64_t)(gx + l0) * RS_SUB - j->cx,
                                                      (int64_t)y0 * RS_SUB - j->cy), E.c);
         const __m256i sx = _mm256_mul_epi32(E.a, _mm256_set1_epi64x((l1 - l0) * RS_SUB));
@@ -658,6 +680,7 @@ ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_pri
 {
     fctx c;
     fctx_make(&c, j, t, p, a);
+    RS_ASSERT(x1 - x0 < 8 && box_fits32(j, &p->u.t, x0, y0, x1, y1)); /* coef_small's claim */
     if (m.plain && x1 - x0 < 4 && y1 > y0) walk_quads(&c, m, j, t, x0, y0, x1, y1);
     else walk_rows(&c, m, j, t, p, a, x0, y0, x1, y1);
     t->tested += c.tested;
@@ -670,6 +693,7 @@ ALWAYS_INLINE void walk_span(zmode m, int ng, const rs_job *j, rs_tile *t, const
 {
     fctx c;
     fctx_make(&c, j, t, p, a);
+    RS_ASSERT(box_fits32(j, &p->u.t, x0, y0, x1, y1)); /* coef_small's claim */
     walk_spans(&c, m, ng, j, t, p, a, x0, y0, x1, y1);
     t->tested += c.tested;
     t->written += c.written;

@@ -122,14 +122,14 @@ static void clear_rows(rs_target *rt, unsigned flags, uint32_t rgba, float z, in
     bool stream = row * (size_t)rt->height * 4u >= CLEAR_STREAM_BYTES;
     uint32_t zb;
     memcpy(&zb, &z, 4);
-    if (flags & 1u) {
+    if (flags & RS_CLEAR_COLOR) {
         fill32(rt->color + at, rgba, n, stream);
         for (int k = 0; k < rt->n_aov; k++) {
             size_t w = (size_t)rt->width * (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + w * (size_t)y0, 0, w * (size_t)(y1 - y0) * sizeof(float));
         }
     }
-    if (flags & 2u) fill32((word32 *)rt->depth + at, zb, n, stream);
+    if (flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, stream);
 }
 
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads)
@@ -181,9 +181,9 @@ static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty)
     memcpy(&zb, &rs->pend_z, 4);
     for (int y = y0; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns;
-        if (rs->pend_flags & 1u) fill32(rt->color + at, rs->pend_rgba, n, false);
-        if (rs->pend_flags & 2u) fill32((word32 *)rt->depth + at, zb, n, false);
-        for (int k = 0; (rs->pend_flags & 1u) && k < rt->n_aov; k++) {
+        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(rt->color + at, rs->pend_rgba, n, false);
+        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, false);
+        for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
                    (size_t)(x1 - x0) * c * sizeof(float));
@@ -220,8 +220,9 @@ void rs_target_flush(rs_context *rs, rs_target *rt)
 
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
-    if (!rs || !rt || !rt->color || !(flags & 3u)) return;
+    if (!rs || !rt || !rt->color || !(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH))) return;
     rs->work = 0;   /* a new frame: RS_MAX_OVERDRAW counts from here */
+    rs->frame = true;
     if (rs->pend_tiles > 0 && (!pending_on(rs, rt) || (flags & rs->pend_flags) != rs->pend_flags))
         rs_target_flush(rs, rs->pend_rt); /* another target, or a clear that keeps part of the pending one */
     size_t n = (size_t)tile_count(rt);
@@ -262,11 +263,11 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
     memcpy(&zb, &rs->pend_z, 4);
     for (int y = y0; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns, bt = (size_t)(y - y0) * row;
-        if (rs->pend_flags & 1u) fill32(col + bt, rs->pend_rgba, n, false);
+        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(col + bt, rs->pend_rgba, n, false);
         else memcpy(col + bt, rt->color + at, n * sizeof *col);
-        if (rs->pend_flags & 2u) fill32(dep + bt, zb, n, false);
+        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32(dep + bt, zb, n, false);
         else memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
-        for (int k = 0; (rs->pend_flags & 1u) && k < rt->n_aov; k++) {
+        for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
                    (size_t)(x1 - x0) * c * sizeof(float));

@@ -20,6 +20,9 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
     size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
+    /* offsets from vertex 0 below 2^24 (1/256 px): exact in float (setup.c's bit budget) */
+    RS_ASSERT(rs_within((int64_t)x * RS_SUB - j->cx - tr->vx, 24) &&
+              rs_within((int64_t)y * RS_SUB - j->cy - tr->vy, 24));
     float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
     float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
     unsigned pass = cov;

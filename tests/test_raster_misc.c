@@ -12,7 +12,6 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
-#include "../raster/raster_internal.h"  /* rs_target_clear_deferred, rs_target_flush: a frame */
 #include "util/raster_util.h"
 
 /* D3D9 defaults: cull CCW, solid, Gouraud, z LESSEQUAL on with write, no blending, full viewport. */
@@ -526,26 +525,29 @@ static void test_stats(void **state)
     rs_target_free(&rt);
 }
 
-/* RS_MAX_OVERDRAW: a frame may cover the target RS_MAX_OVERDRAW times on average.  A triangle over the whole
- * 16x16 target counts its clipped box (256 px), so RS_MAX_OVERDRAW copies fit exactly and one more is refused
- * (RS_EWORK, nothing drawn), on a fresh context or added to an earlier draw of the same frame, for 1 and 2
- * threads alike; rs_target_clear_deferred starts a new frame. */
+/* RS_MAX_OVERDRAW: a frame may cover the target RS_MAX_OVERDRAW times on average (and at least RS_MIN_WORK
+ * pixels).  A triangle over the whole 64x64 target counts its clipped box, so RS_MAX_OVERDRAW copies fit
+ * exactly and one more is refused (RS_EWORK, nothing drawn), in one draw or added to an earlier draw of the
+ * same frame, for 1 and 2 threads alike; rs_target_clear_deferred starts a new frame.  Without a frame each
+ * draw counts alone. */
 static void test_work_bound(void **state)
 {
     (void)state;
+    enum { S = 64 };
+    _Static_assert((uint64_t)RS_MAX_OVERDRAW * S * S >= RS_MIN_WORK, "the bound, not the floor, applies");
     const int n = RS_MAX_OVERDRAW + 1;
     rs_vertex *v = malloc(sizeof *v * 3 * (size_t)n);
     assert_non_null(v);
     for (int k = 0; k < n; k++) {
-        v[3 * k] = sv(-1, -1, 0.5f, WHITE, 16, 16);
-        v[3 * k + 1] = sv(40, -1, 0.5f, WHITE, 16, 16);
-        v[3 * k + 2] = sv(-1, 40, 0.5f, WHITE, 16, 16);
+        v[3 * k] = sv(-1, -1, 0.5f, WHITE, S, S);
+        v[3 * k + 1] = sv(600, -1, 0.5f, WHITE, S, S);
+        v[3 * k + 2] = sv(-1, 600, 0.5f, WHITE, S, S);
     }
-    rs_state st = def_state(16, 16);
+    rs_state st = def_state(S, S);
     st.z_enable = false;
     for (int threads = 1; threads <= 2; threads++) {
         rs_target rt;
-        assert_int_equal(rs_target_init(&rt, 16, 16, 1), RS_OK);
+        assert_int_equal(rs_target_init(&rt, S, S, 1), RS_OK);
         rs_context *rs = rs_create(threads);
         rs_target_clear_deferred(rs, &rt, 3, 0, 1.0f);
         rs_stats s;
@@ -560,6 +562,11 @@ static void test_work_bound(void **state)
         assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, &s), RS_OK);
         rs_target_flush(rs, &rt);
         assert_int_equal(red(&rt, 8, 8, 0), 255);
+        rs_destroy(rs);
+        rs = rs_create(threads);                                        /* no frame: each draw alone */
+        for (int k = 0; k < 2; k++)
+            assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3 * (size_t)(n - 1), NULL, (size_t)(n - 1), &s),
+                             RS_OK);
         rs_destroy(rs);
         rs_target_free(&rt);
     }

@@ -14,7 +14,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "../raster/raster_internal.h" /* rs_set_reference_path */
+#include "../raster/raster.h"
 
 /* xorshift64 random numbers: the test's only state, passed by pointer. */
 static uint32_t rnd(uint64_t *s)

@@ -1,0 +1,458 @@
+/* raster/setup_simd.c -- the fast path of triangle set-up (off the reference path): the shared pass and the
+ * four-lane finish.  setup.c's rs_setup_triangle is the definition; every function here gives its bytes.
+ *
+ *  The shared pass (indexed triangles off the reference path, rs_draw's and rs_draw_source's) first projects every
+ *  vertex once into a 24-byte record (rs_project_vertices, four vertices in double lanes); rs_setup_shared then
+ *  culls each triangle from its three records and pushes a front-facing one at once (pixel box, ptile entry,
+ *  attribute slots) but queues its edges and planes, which finish4 computes for four triangles at a time: the
+ *  edge functions in int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per lane the same
+ *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices
+ *  are not all inside the clip volume (or a fill mode other than solid) goes back to the definition, in
+ *  submission order.  Without AVX2 the same records are finished one triangle at a time (finish_one).
+ */
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef __SSE2__
+#include <immintrin.h>
+#endif
+
+#include "setup_internal.h"
+
+/* A vertex after the shared pass (rs_project_vertices): outcode and projection, done once per vertex, in a
+ * compact record (24 bytes, no padding: ready3, area3, tri_box and finish4 read the first 16 bytes as one
+ * vector).  The attribute slots are not in it: they are the job's verts[i].attr for record i. */
+struct rs_pvert {
+    int32_t x, y;    /* snapped position, 1/256 px relative to the viewport centre (|x|, |y| <= 2^22; 0 unless
+                        projected) */
+    float z;         /* viewport depth (0 unless projected) */
+    uint8_t flags;   /* PV_* */
+    uint8_t oc;      /* outcode (0 unless finite) */
+    uint16_t pad;    /* 0 */
+    double iw;       /* 1 / w (0 unless projected) */
+};
+enum {
+    PV_FINITE = 1,    /* setup.c's load() would accept the position */
+    PV_PROJECTED = 2, /* rs_project() succeeded (x, y, z, iw valid) */
+    PV_READY = 4      /* finite, inside every clip plane (oc == 0) and projected: no triangle check needed */
+};
+_Static_assert(sizeof(rs_pvert) == 24, "rs_pvert: x, y, z, flags, oc, pad, iw without padding");
+
+size_t rs_pvert_size(void) { return sizeof(rs_pvert); }
+
+/* rs_outcode inline: bit k set when p is outside clip plane k (clip.c's plane_dist, same expressions). */
+static inline unsigned outcode6(const rs_job *j, const double *p)
+{
+    _Static_assert(RS_CLIP_PLANES == 6, "near, far and four guard-band planes");
+    return (unsigned)!(p[2] >= 0.0) | (unsigned)!(p[3] - p[2] >= 0.0) << 1 |
+           (unsigned)!(p[0] + j->gx * p[3] >= 0.0) << 2 | (unsigned)!(j->gx * p[3] - p[0] >= 0.0) << 3 |
+           (unsigned)!(p[1] + j->gy * p[3] >= 0.0) << 4 | (unsigned)!(j->gy * p[3] - p[1] >= 0.0) << 5;
+}
+
+/* What setup.c's load() and rs_project() give for one vertex, without building the clip vertex's other fields. */
+void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+{
+    const rs_vec4 *q = &v->pos;
+    *out = (rs_pvert){ 0 };
+    if (!(isfinite(q->x) && isfinite(q->y) && isfinite(q->z) && isfinite(q->w))) return;
+    rs_cvert cv;
+    cv.p[0] = q->x, cv.p[1] = q->y, cv.p[2] = q->z, cv.p[3] = q->w;
+    cv.a = v->attr, cv.edge = true, cv.orig = true;
+    unsigned oc = outcode6(j, cv.p);
+    rs_svert p;
+    bool pr = rs_project(j, &cv, &p);
+    out->oc = (uint8_t)oc;
+    out->flags = (uint8_t)(PV_FINITE | (pr ? PV_PROJECTED : 0) | (pr && oc == 0 ? PV_READY : 0));
+    if (!pr) return;
+    out->x = (int32_t)p.x, out->y = (int32_t)p.y, out->z = p.z, out->iw = p.iw;
+}
+
+/* The projected vertex of record r (attribute slots a), as rs_project() gives it. */
+static inline rs_svert svert_of(const rs_pvert *r, const rs_vec4 *a)
+{
+    return (rs_svert){ .x = r->x, .y = r->y, .z = r->z, .iw = r->iw, .a = a, .edge = true, .orig = true };
+}
+
+#ifdef __AVX2__
+typedef int64_t v4q __attribute__((vector_size(32)));
+
+/* Store rows r0..r3 of a 4x4 matrix of 32-bit values transposed: column t to base[t] + off. */
+static inline void store_t32(__m128 r0, __m128 r1, __m128 r2, __m128 r3, char *const base[4], size_t off)
+{
+    __m128 a = _mm_unpacklo_ps(r0, r1), b = _mm_unpackhi_ps(r0, r1);   /* 00 10 01 11, 02 12 03 13 */
+    __m128 c = _mm_unpacklo_ps(r2, r3), d = _mm_unpackhi_ps(r2, r3);   /* 20 30 21 31, 22 32 23 33 */
+    _mm_storeu_ps((float *)(base[0] + off), _mm_movelh_ps(a, c));
+    _mm_storeu_ps((float *)(base[1] + off), _mm_movehl_ps(c, a));
+    _mm_storeu_ps((float *)(base[2] + off), _mm_movelh_ps(b, d));
+    _mm_storeu_ps((float *)(base[3] + off), _mm_movehl_ps(d, b));
+}
+
+/* rs_project's clamp per lane: x < -lim ? -lim : (x > lim ? lim : x). */
+static inline v4d clamp4(v4d x, double lim)
+{
+    v4d hi = { lim, lim, lim, lim }, lo = -hi;
+    v4q l = x < lo, h = x > hi;
+    v4q r = ((v4q)lo & l) | (~l & (((v4q)hi & h) | ((v4q)x & ~h)));
+    return (v4d)r;
+}
+
+/* rs_project_vertex for the four vertices v[0..4): outcode6 and rs_project per lane with the same double
+ * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22). */
+static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+{
+    v4d x = { v[0].pos.x, v[1].pos.x, v[2].pos.x, v[3].pos.x }, y = { v[0].pos.y, v[1].pos.y, v[2].pos.y, v[3].pos.y };
+    v4d z = { v[0].pos.z, v[1].pos.z, v[2].pos.z, v[3].pos.z }, w = { v[0].pos.w, v[1].pos.w, v[2].pos.w, v[3].pos.w };
+    v4q fin = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
+    v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
+             (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
+    v4d fx = x / w * j->sx_scale, fy = y / w * j->sy_scale, zw = z / w, iw = 1.0 / w;
+    v4q ok = fin & (w > 0.0) & (fx - fx == 0.0) & (fy - fy == 0.0) & (zw - zw == 0.0) & (iw - iw == 0.0);
+    const double lim = (double)RS_GUARD_BAND * RS_SUB;
+    fx = clamp4(fx, lim);
+    fy = clamp4(fy, lim);
+    RS_ASSERT(_mm256_movemask_pd((__m256d)((~ok) | ((fx >= -lim) & (fx <= lim) & (fy >= -lim) & (fy <= lim)))) == 15);
+    __m128i rx = _mm256_cvtpd_epi32((__m256d)fx), ry = _mm256_cvtpd_epi32((__m256d)fy);
+    v4d zd = (double)j->zoff + (double)j->zscale * zw;
+    __m128i zf = _mm_castps_si128(_mm256_cvtpd_ps((__m256d)zd));
+    /* the records' first 16 bytes in int32 lanes (0 where not projected), then transposed into place */
+    const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+    __m128i fin32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)fin, even));
+    __m128i ok32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)ok, even));
+    __m128i oc32 = _mm_and_si128(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)oc, even)), fin32);
+    __m128i ready = _mm_and_si128(ok32, _mm_cmpeq_epi32(oc32, _mm_setzero_si128()));
+    __m128i fl = _mm_or_si128(_mm_or_si128(_mm_and_si128(fin32, _mm_set1_epi32(PV_FINITE)),
+                                           _mm_and_si128(ok32, _mm_set1_epi32(PV_PROJECTED))),
+                              _mm_or_si128(_mm_and_si128(ready, _mm_set1_epi32(PV_READY)), _mm_slli_epi32(oc32, 8)));
+    char *const dst[4] = { (char *)&out[0], (char *)&out[1], (char *)&out[2], (char *)&out[3] };
+    _Static_assert(offsetof(rs_pvert, y) == 4 && offsetof(rs_pvert, z) == 8 && offsetof(rs_pvert, flags) == 12 &&
+                   offsetof(rs_pvert, oc) == 13 && offsetof(rs_pvert, iw) == 16, "rs_pvert's layout as project4 writes it");
+    store_t32(_mm_castsi128_ps(_mm_and_si128(rx, ok32)), _mm_castsi128_ps(_mm_and_si128(ry, ok32)),
+              _mm_castsi128_ps(_mm_and_si128(zf, ok32)), _mm_castsi128_ps(fl), dst, 0);   /* little endian: flags, oc */
+    __m256d w4 = (__m256d)((v4q)iw & ok);
+    __m128d w01 = _mm256_castpd256_pd128(w4), w23 = _mm256_extractf128_pd(w4, 1);
+    _mm_storel_pd(&out[0].iw, w01), _mm_storeh_pd(&out[1].iw, w01);
+    _mm_storel_pd(&out[2].iw, w23), _mm_storeh_pd(&out[3].iw, w23);
+}
+#endif
+
+void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out)
+{
+    size_t i = 0;
+#ifdef __AVX2__
+    for (; i + 4 <= n; i += 4) project4(j, v + i, out + i);
+#endif
+    for (; i < n; i++) rs_project_vertex(j, &v[i], &out[i]);
+}
+
+/* Set up triangle k[0..3) of the shared pass when some vertex is not `ready` or the fill mode is not solid: the
+ * same outcome as rs_setup_triangle, which it falls back to when a vertex is not finite or the triangle needs
+ * clipping. */
+static void setup_triangle_checked(const rs_job *j, rs_chunk *c, const uint32_t *k)
+{
+    const rs_pvert *a = &j->pv[k[0]], *b = &j->pv[k[1]], *d = &j->pv[k[2]];
+    const rs_vertex *const v[3] = { &j->verts[k[0]], &j->verts[k[1]], &j->verts[k[2]] };
+    if (!(a->flags & b->flags & d->flags & PV_FINITE) || ((a->oc | b->oc | d->oc) && !(a->oc & b->oc & d->oc))) {
+        rs_setup_triangle(j, c, v);
+        return;
+    }
+    if (a->oc & b->oc & d->oc) { c->clipped++; return; }
+    if (!(a->flags & b->flags & d->flags & PV_PROJECTED)) { c->clipped++; return; }
+    rs_svert pv[3] = { svert_of(a, v[0]->attr), svert_of(b, v[1]->attr), svert_of(d, v[2]->attr) };
+    rs_finish_triangle(j, c, v, pv, 3);
+}
+
+/* A front-facing triangle pushed by push_front, waiting for its edges and planes: its primitive's index in the
+ * chunk and its vertex records in clockwise order. */
+typedef struct queued {
+    const rs_pvert *v[3];
+    size_t prim;
+} queued;
+
+/* The job's constants of tri_box. */
+typedef struct box_consts {
+#ifdef __AVX2__
+    __m128i off, lo, hi;   /* added to (min x, min y, max x, max y); the clamps below and above */
+#else
+    int unused;
+#endif
+} box_consts;
+
+/* tri_box's constants for job j. */
+static box_consts box_consts_of(const rs_job *j)
+{
+    box_consts b;
+    /* tri_box's int32 sums: 0 <= cx, cy < RS_MAX_SIZE * 256 = 2^22 (the viewport's centre), omax <= 96 */
+    RS_ASSERT(j->cx >= 0 && j->cx < (1 << 22) && j->cy >= 0 && j->cy < (1 << 22) && j->omax >= 0 && j->omax <= 96);
+#ifdef __AVX2__
+    int32_t cx = (int32_t)j->cx, cy = (int32_t)j->cy;
+    b.off = _mm_setr_epi32(cx - j->omax, cy - j->omax, cx + j->omax, cy + j->omax);
+    b.lo = _mm_setr_epi32(j->sx0, j->sy0, INT32_MIN, INT32_MIN);
+    b.hi = _mm_setr_epi32(INT32_MAX, INT32_MAX, j->sx1 - 1, j->sy1 - 1);
+#else
+    b.unused = 0;
+#endif
+    return b;
+}
+
+/* The pixel box of setup.c's emit_front for the triangle with vertex records v[0..3): x0, y0, x1, y1 into box;
+ * false when it is empty. */
+static inline bool tri_box(const rs_job *j, const box_consts *bc, const rs_pvert *const v[3], int32_t box[4])
+{
+#ifdef __AVX2__
+    /* rs_pixel_range in int32 lanes (x0, y0, x1, y1): |coordinate| <= 2^22, 0 <= cx, cy < RS_MAX_SIZE * 256 = 2^22
+     * and omax <= 96 (asserted in box_consts_of), so the sums stay below 2^24; ceil(u / 256) = -((-u) >> 8) on the
+     * first two lanes, floor on the last two */
+    __m128i a = _mm_loadu_si128((const __m128i *)v[0]), b = _mm_loadu_si128((const __m128i *)v[1]);
+    __m128i d = _mm_loadu_si128((const __m128i *)v[2]);
+    __m128i mn = _mm_min_epi32(_mm_min_epi32(a, b), d), mx = _mm_max_epi32(_mm_max_epi32(a, b), d);
+    __m128i u = _mm_add_epi32(_mm_unpacklo_epi64(mn, mx), bc->off);
+    const __m128i neg = _mm_setr_epi32(-1, -1, 1, 1);
+    __m128i r = _mm_sign_epi32(_mm_srai_epi32(_mm_sign_epi32(u, neg), RS_SUB_BITS), neg);
+    r = _mm_min_epi32(_mm_max_epi32(r, bc->lo), bc->hi);
+    _mm_storeu_si128((__m128i *)box, r);
+    __m128i gt = _mm_cmpgt_epi32(r, _mm_shuffle_epi32(r, _MM_SHUFFLE(1, 0, 3, 2)));   /* x0 > x1, y0 > y1 */
+    return (_mm_movemask_ps(_mm_castsi128_ps(gt)) & 3) == 0;
+#else
+    (void)bc;
+    int64_t mnx = v[0]->x, mxx = v[0]->x, mny = v[0]->y, mxy = v[0]->y;
+    for (int i = 1; i < 3; i++) {
+        mnx = v[i]->x < mnx ? v[i]->x : mnx; mxx = v[i]->x > mxx ? v[i]->x : mxx;
+        mny = v[i]->y < mny ? v[i]->y : mny; mxy = v[i]->y > mxy ? v[i]->y : mxy;
+    }
+    rs_pixel_range(j, mnx + j->cx, mxx + j->cx, j->sx0, j->sx1, &box[0], &box[2]);
+    rs_pixel_range(j, mny + j->cy, mxy + j->cy, j->sy0, j->sy1, &box[1], &box[3]);
+    return box[0] <= box[2] && box[1] <= box[3];
+#endif
+}
+
+/* Push triangle v[0..3) (clockwise, records of vertices id[0..3)) with emit_front's pixel box, kind and slots,
+ * its edges and planes left to finish_queued; false (nothing pushed) when the box is empty or memory ran out. */
+static bool push_front(const rs_job *j, rs_chunk *c, const box_consts *bc, const rs_pvert *const v[3],
+                       const uint32_t id[3], int64_t area)
+{
+    int32_t box[4];
+    if (!tri_box(j, bc, v, box)) return false;
+    float *at;
+    rs_prim *p = rs_push_raw(j, c, &at);
+    if (!p) return false;
+    rs_count_work(c, area, box[0], box[1], box[2], box[3]);
+    c->ptile[c->n - 1] = rs_tile_entry(j, box[0], box[1], box[2], box[3]);
+    _Static_assert(offsetof(rs_prim, y0) == 4 && offsetof(rs_prim, x1) == 8 && offsetof(rs_prim, y1) == 12,
+                   "rs_prim's box as tri_box writes it");
+    memcpy(&p->x0, box, sizeof box);
+    p->kind = RS_K_TRI;
+    const rs_vec4 *a0 = j->verts[id[0]].attr, *a1 = j->verts[id[1]].attr, *a2 = j->verts[id[2]].attr;
+    if (j->flat) rs_fill_attr(j, at, a0, a1, a2, a0);
+    else for (int s = 0; s < j->n_slots; s++) rs_fill_slot(at + s * RS_ATTR_STRIDE, &a0[j->slot[s]], &a1[j->slot[s]],
+                                                            &a2[j->slot[s]]);
+    return true;
+}
+
+/* Edges, vertex 0 and planes of queued triangle q, one at a time: emit_front's rs_tri_edges and rs_tri_planes
+ * (setup.c). */
+static void finish_one(const rs_job *j, rs_chunk *c, const queued *q)
+{
+    rs_svert pv[3] = { svert_of(q->v[0], NULL), svert_of(q->v[1], NULL), svert_of(q->v[2], NULL) };
+    const rs_svert *const v[3] = { &pv[0], &pv[1], &pv[2] };
+    rs_tri *t = &c->prims[q->prim].u.t;
+    rs_tri_edges(v, t);
+    t->vx = q->v[0]->x;
+    t->vy = q->v[0]->y;
+    int64_t area = (pv[1].x - pv[0].x) * (pv[2].y - pv[0].y) - (pv[1].y - pv[0].y) * (pv[2].x - pv[0].x);
+    rs_tri_planes(j, v, area, t);
+}
+
+#ifdef __AVX2__
+/* Vertex s of four queued triangles in lanes: x, y (int32) and z (float) from the first 16 bytes of each record. */
+static inline void gather4(const queued *q, int s, __m128i *x, __m128i *y, __m128 *z)
+{
+    __m128i r0 = _mm_loadu_si128((const __m128i *)q[0].v[s]), r1 = _mm_loadu_si128((const __m128i *)q[1].v[s]);
+    __m128i r2 = _mm_loadu_si128((const __m128i *)q[2].v[s]), r3 = _mm_loadu_si128((const __m128i *)q[3].v[s]);
+    __m128i t0 = _mm_unpacklo_epi32(r0, r1), t1 = _mm_unpacklo_epi32(r2, r3);  /* x0 x1 y0 y1, x2 x3 y2 y3 */
+    __m128i t2 = _mm_unpackhi_epi32(r0, r1), t3 = _mm_unpackhi_epi32(r2, r3);  /* z0 z1 f0 f1, z2 z3 f2 f3 */
+    *x = _mm_unpacklo_epi64(t0, t1);
+    *y = _mm_unpackhi_epi64(t0, t1);
+    *z = _mm_castsi128_ps(_mm_unpacklo_epi64(t2, t3));
+}
+
+/* rs_tri_edge of edge i -> k of four triangles, the same integer values: ea, eb in int32 lanes, ec in int64 lanes.
+ * The inputs are int32 lanes (|x|, |y| <= 2^22, so the differences fit int32 and the products, by mul_epi32,
+ * int64). */
+static inline void edge4(__m128i xi, __m128i yi, __m128i xk, __m128i yk, __m128i *ea, __m128i *eb, __m256i *ec)
+{
+    const __m128i zero = _mm_setzero_si128();
+    __m128i dx = _mm_sub_epi32(xk, xi), dy = _mm_sub_epi32(yk, yi);
+    __m128i tl = _mm_or_si128(_mm_cmpgt_epi32(zero, dy),                    /* top_left: -1, else 0 */
+                              _mm_and_si128(_mm_cmpeq_epi32(dy, zero), _mm_cmpgt_epi32(dx, zero)));
+    *ea = _mm_sub_epi32(zero, dy);
+    *eb = dx;
+    __m256i a = _mm256_cvtepi32_epi64(*ea), b = _mm256_cvtepi32_epi64(dx);
+    __m256i s = _mm256_add_epi64(_mm256_mul_epi32(a, _mm256_cvtepi32_epi64(xi)),
+                                 _mm256_mul_epi32(b, _mm256_cvtepi32_epi64(yi)));   /* -dy * x + dx * y */
+    /* -s - (top_left ? 0 : 1) = -s - 1 - tl */
+    *ec = _mm256_sub_epi64(_mm256_sub_epi64(_mm256_sub_epi64(_mm256_setzero_si256(), s), _mm256_set1_epi64x(1)),
+                           _mm256_cvtepi32_epi64(tl));
+}
+
+/* |x| per lane. */
+static inline v4d abs4(v4d x) { return (v4d)((v4q)x & ~(v4q)(v4d){ -0.0, -0.0, -0.0, -0.0 }); }
+
+/* dmax per lane: a where a > b or b is NaN, else b. */
+static inline v4d max4(v4d a, v4d b)
+{
+    v4q m = (a > b) | (b != b);
+    return (v4d)(((v4q)a & m) | ((v4q)b & ~m));
+}
+
+/* Store rows r0..r3 of a 4x4 matrix of int64 transposed: column t (lane t of every row) to base[t] + off. */
+static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *const base[4], size_t off)
+{
+    __m256i a = _mm256_unpacklo_epi64(r0, r1), b = _mm256_unpackhi_epi64(r0, r1);   /* 00 10 02 12, 01 11 03 13 */
+    __m256i c = _mm256_unpacklo_epi64(r2, r3), d = _mm256_unpackhi_epi64(r2, r3);   /* 20 30 22 32, 21 31 23 33 */
+    _mm256_storeu_si256((__m256i *)(base[0] + off), _mm256_permute2x128_si256(a, c, 0x20));
+    _mm256_storeu_si256((__m256i *)(base[1] + off), _mm256_permute2x128_si256(b, d, 0x20));
+    _mm256_storeu_si256((__m256i *)(base[2] + off), _mm256_permute2x128_si256(a, c, 0x31));
+    _mm256_storeu_si256((__m256i *)(base[3] + off), _mm256_permute2x128_si256(b, d, 0x31));
+}
+
+/* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane:
+ * rs_tri_edge's integer operations in int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per
+ * lane the same operations in the same order, so the same bytes. */
+static void finish4(const rs_job *j, rs_chunk *c, queued q[4], int n)
+{
+    for (int t = n; t < 4; t++) q[t] = q[0];
+    __m128i x[3], y[3];
+    __m128 zf[3];
+    gather4(q, 0, &x[0], &y[0], &zf[0]);   /* (unrolled by hand: gcc keeps loops over these arrays in memory) */
+    gather4(q, 1, &x[1], &y[1], &zf[1]);
+    gather4(q, 2, &x[2], &y[2], &zf[2]);
+    __m128i ea[3], eb[3];
+    __m256i ec[3];
+    edge4(x[0], y[0], x[1], y[1], &ea[0], &eb[0], &ec[0]);
+    edge4(x[1], y[1], x[2], y[2], &ea[1], &eb[1], &ec[1]);
+    edge4(x[2], y[2], x[0], y[0], &ea[2], &eb[2], &ec[2]);
+    /* rs_tri_planes: the differences are exact in int32 and in double; so is the doubled area, products of
+     * integers below 2^23 and their difference below 2^47 being integers below 2^53, the value (double)area2 */
+    const double k = 1.0 / RS_SUB;
+    v4d dx1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[1], x[0])), dy1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[1], y[0]));
+    v4d dx2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[2], x[0])), dy2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[2], y[0]));
+    v4d area = dx1 * dy2 - dy1 * dx2;
+    v4d x1 = dx1 * k, y1 = dy1 * k, x2 = dx2 * k, y2 = dy2 * k;
+    v4d ar = 1.0 / (area * k * k);
+    v4d l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar;
+    v4d z0 = (v4d)_mm256_cvtps_pd(zf[0]);
+    v4d dz1 = (v4d)_mm256_cvtps_pd(zf[1]) - z0, dz2 = (v4d)_mm256_cvtps_pd(zf[2]) - z0;
+    v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
+    v4d bias = (double)j->st->depth_bias + (double)j->st->slope_scale_depth_bias * max4(abs4(za), abs4(zb));
+    v4d w0 = { q[0].v[0]->iw, q[1].v[0]->iw, q[2].v[0]->iw, q[3].v[0]->iw };
+    v4d w1 = { q[0].v[1]->iw, q[1].v[1]->iw, q[2].v[1]->iw, q[3].v[1]->iw };
+    v4d w2 = { q[0].v[2]->iw, q[1].v[2]->iw, q[2].v[2]->iw, q[3].v[2]->iw };
+    v4d m = max4(w0, max4(w1, w2));
+    v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
+    v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
+    /* the stores: lanes t >= n repeat lane 0's values into q[0]'s primitive, the same bytes */
+    char *const tr[4] = { (char *)&c->prims[q[0].prim].u.t, (char *)&c->prims[q[1].prim].u.t,
+                          (char *)&c->prims[q[2].prim].u.t, (char *)&c->prims[q[3].prim].u.t };
+    _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
+                   offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
+                   offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
+                   "rs_tri's layout as finish4 writes it");
+    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes */
+    store_t32(_mm_castsi128_ps(ea[0]), _mm_castsi128_ps(ea[1]), _mm_castsi128_ps(ea[2]), _mm_castsi128_ps(eb[0]), tr,
+              offsetof(rs_tri, ea));                                       /* ea[0..3), eb[0] */
+    __m128i e12lo = _mm_unpacklo_epi32(eb[1], eb[2]), e12hi = _mm_unpackhi_epi32(eb[1], eb[2]); /* eb[1], eb[2] */
+    const size_t b1 = offsetof(rs_tri, eb[1]);
+    _mm_storel_epi64((__m128i *)(tr[0] + b1), e12lo);
+    _mm_storel_epi64((__m128i *)(tr[1] + b1), _mm_unpackhi_epi64(e12lo, e12lo));
+    _mm_storel_epi64((__m128i *)(tr[2] + b1), e12hi);
+    _mm_storel_epi64((__m128i *)(tr[3] + b1), _mm_unpackhi_epi64(e12hi, e12hi));
+    __m256i vxy = _mm256_setr_m128i(_mm_unpacklo_epi32(x[0], y[0]), _mm_unpackhi_epi32(x[0], y[0]));
+    store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
+#define F4(v) _mm256_cvtpd_ps((__m256d)(v))
+    const __m128 zero = _mm_setzero_ps();
+    store_t32(F4(za), F4(zb), F4(z0 + bias), F4(n1 * l1a), tr, offsetof(rs_tri, z));   /* z[0..3), q1[0] */
+    store_t32(F4(n1 * l1b), zero, F4(n2 * l2a), F4(n2 * l2b), tr, offsetof(rs_tri, q1[1])); /* q1[1..3), q2[0..2) */
+    store_t32(zero, F4(s0), F4(s1), F4(n0), tr, offsetof(rs_tri, q2[2]));              /* q2[2], s[0..3) */
+#undef F4
+}
+#endif
+
+/* Edges and planes of queued triangles q[0..n) (n <= 4; q has room for 4): in lanes, or one by one when alone. */
+static void finish_queued(const rs_job *j, rs_chunk *c, queued q[4], int n)
+{
+#ifdef __AVX2__
+    if (n > 1) {
+        finish4(j, c, q, n);
+        return;
+    }
+#endif
+    for (int t = 0; t < n; t++) finish_one(j, c, &q[t]);
+}
+
+/* Are the records a, b, d all PV_READY? */
+static inline bool ready3(const rs_pvert *a, const rs_pvert *b, const rs_pvert *d)
+{
+#ifdef __AVX2__
+    __m128i h = _mm_and_si128(_mm_and_si128(_mm_loadu_si128((const __m128i *)a), _mm_loadu_si128((const __m128i *)b)),
+                              _mm_loadu_si128((const __m128i *)d));   /* the same loads as area3 and tri_box */
+    return _mm_extract_epi32(h, 3) & PV_READY;
+#else
+    return a->flags & b->flags & d->flags & PV_READY;
+#endif
+}
+
+/* Doubled signed area of the triangle of records a, b, d, as rs_finish_triangle's poly_area computes it: the
+ * differences (below 2^23) are exact in int32, their products in int64. */
+static inline int64_t area3(const rs_pvert *a, const rs_pvert *b, const rs_pvert *d)
+{
+#ifdef __AVX2__
+    __m128i ha = _mm_loadu_si128((const __m128i *)a);
+    __m128i e1 = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)b), ha);   /* dx1 dy1 - - */
+    __m128i e2 = _mm_sub_epi32(_mm_loadu_si128((const __m128i *)d), ha);   /* dx2 dy2 - - */
+    __m128i p = _mm_mul_epi32(_mm_shuffle_epi32(e1, _MM_SHUFFLE(1, 1, 0, 0)),
+                              _mm_shuffle_epi32(e2, _MM_SHUFFLE(0, 0, 1, 1)));   /* dx1 dy2, dy1 dx2 */
+    return _mm_cvtsi128_si64(_mm_sub_epi64(p, _mm_unpackhi_epi64(p, p)));
+#else
+    return (int64_t)(b->x - a->x) * (d->y - a->y) - (int64_t)(b->y - a->y) * (d->x - a->x);
+#endif
+}
+
+/* Set up the shared pass's triangles of chunk c (indices j->idx into the records j->pv): per triangle what
+ * rs_setup_triangle gives.  A ready, solid, front-facing triangle is pushed with its box and slots at once, in
+ * submission order, and queued; its edges and planes are written four triangles at a time (finish_queued). */
+void rs_setup_shared(const rs_job *j, rs_chunk *c)
+{
+    const rs_pvert *pv = j->pv;
+    const uint32_t *idx = j->idx;
+    queued q[4];
+    int nq = 0;
+    bool solid = j->st->fill_mode == RS_FILL_SOLID;
+    bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
+    uint64_t culled = 0, degenerate = 0, drawn = 0;
+    box_consts bc = box_consts_of(j);
+    for (size_t k = c->first; k < c->first + c->count; k++) {
+        const uint32_t *id = &idx[3 * k];
+        const rs_pvert *a = &pv[id[0]], *b = &pv[id[1]], *d = &pv[id[2]];
+        if (!ready3(a, b, d) || !solid) {
+            setup_triangle_checked(j, c, id);
+            if (c->oom) break;
+            continue;
+        }
+        /* rs_finish_triangle and setup.c's emit_polygon for a solid unclipped triangle */
+        int64_t area = area3(a, b, d);
+        if (area == 0) { degenerate++; continue; }
+        if ((cull_neg && area < 0) || (cull_pos && area > 0)) { culled++; continue; }
+        drawn++;
+        const rs_pvert *const v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };   /* emit_tri, area known */
+        const uint32_t ov[3] = { id[0], area > 0 ? id[1] : id[2], area > 0 ? id[2] : id[1] };
+        size_t prim = c->n;
+        if (!push_front(j, c, &bc, v, ov, area)) {
+            if (c->oom) break;
+            continue;
+        }
+        q[nq++] = (queued){ { v[0], v[1], v[2] }, prim };
+        if (nq == 4) finish_queued(j, c, q, nq), nq = 0;
+    }
+    finish_queued(j, c, q, nq);
+    c->culled += culled, c->degenerate += degenerate, c->drawn += drawn;
+}
