@@ -10,6 +10,9 @@
 #include <omp.h>
 #include <stdarg.h>
 
+/* printf into err (when err and errlen are given), always NUL-terminated: the message of a failed call. */
+void core_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
 /* Threads when the caller asked for "all cores". */
 static inline int omp_threads(void) { return omp_get_num_procs(); }
 

@@ -1,6 +1,6 @@
 /* core/image.c -- images in memory and image files written through the outputs of a run (core/output.c).
  * The codec (encode, read, compare, text) is core/image.cpp, the one file that uses OpenImageIO; see core.h. */
-#include "core.h"
+#include "device_internal.h"
 
 #include <ctype.h>
 #include <stdarg.h>
@@ -8,16 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* printf into err (if given), always NUL-terminated. */
-static void set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void set_err(char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
 
 /* path's extension (from the last '.' of its file name), or "" when there is none. */
 static const char *extension_of(const char *path)
@@ -38,14 +28,14 @@ is_image_format image_format_of(const char *path)
 
 int image_check_path(const char *path, char *err, size_t errlen)
 {
-    if (!path || !*path) return set_err(err, errlen, "empty image path"), -1;
+    if (!path || !*path) return core_set_err(err, errlen, "empty image path"), -1;
     if (image_format_of(path) == IS_IMAGE_NONE) {
-        set_err(err, errlen, "%s: unknown image extension \"%s\" (use .png or .exr)", path, extension_of(path));
+        core_set_err(err, errlen, "%s: unknown image extension \"%s\" (use .png or .exr)", path, extension_of(path));
         return -1;
     }
     const char *slash = strrchr(path, '/');
     if (extension_of(path) == (slash ? slash + 1 : path)) {
-        set_err(err, errlen, "%s: the file name has no stem before its extension", path);
+        core_set_err(err, errlen, "%s: the file name has no stem before its extension", path);
         return -1;
     }
     return 0;
@@ -69,23 +59,23 @@ static bool parse_names(is_image *img, const char *list)
 
 int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen)
 {
-    if (!img) return set_err(err, errlen, "image_alloc: NULL image"), -1;
+    if (!img) return core_set_err(err, errlen, "image_alloc: NULL image"), -1;
     memset(img, 0, sizeof *img);
     if (!channel_names || !parse_names(img, channel_names)) {
-        set_err(err, errlen, "image_alloc: bad channel names \"%s\" (1 to %d names of 1 to 15 characters)",
+        core_set_err(err, errlen, "image_alloc: bad channel names \"%s\" (1 to %d names of 1 to 15 characters)",
                 channel_names ? channel_names : "(null)", IS_IMAGE_MAX_CHANNELS);
         memset(img, 0, sizeof *img);
         return -1;
     }
     if (width <= 0 || height <= 0 || width > IS_IMAGE_MAX_DIM || height > IS_IMAGE_MAX_DIM) {
-        set_err(err, errlen, "image_alloc: bad size %dx%d (1 to %d pixels each way)", width, height,
+        core_set_err(err, errlen, "image_alloc: bad size %dx%d (1 to %d pixels each way)", width, height,
                 IS_IMAGE_MAX_DIM);
         memset(img, 0, sizeof *img);
         return -1;
     }
     img->data = calloc((size_t)width * (size_t)height * (size_t)img->channels, sizeof(float));
     if (!img->data) {
-        set_err(err, errlen, "image_alloc: out of memory for %dx%d x %d channels", width, height, img->channels);
+        core_set_err(err, errlen, "image_alloc: out of memory for %dx%d x %d channels", width, height, img->channels);
         memset(img, 0, sizeof *img);
         return -1;
     }
