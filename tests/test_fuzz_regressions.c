@@ -20,29 +20,17 @@
 #include <string.h>
 
 #include "fuzz/fuzz_targets.c"
+#include "util/prog.h"
 
 /* How to replay a folder's inputs. */
 typedef enum { REPLAY_MESH, REPLAY_IMPORT_BOTH, REPLAY_IMPORT_CHILD, REPLAY_IMPORT_LOADS } replay_kind;
 
-/* The bytes of a file (malloc'ed), or NULL. */
-static uint8_t *read_all_bytes(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *buf = malloc(len > 0 ? (size_t)len : 1);
-    *n = buf ? fread(buf, 1, (size_t)len, f) : 0;
-    fclose(f);
-    return buf;
-}
 
 /* Replay one input; fails the test with the broken invariant. */
 static void replay_one(const char *path, replay_kind kind)
 {
     size_t n = 0;
-    uint8_t *d = read_all_bytes(path, &n);
+    uint8_t *d = prog_slurp(path, &n);
     assert_non_null(d);
     char why[1024] = "";
     int rc = 0;
