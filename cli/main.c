@@ -12,14 +12,14 @@
 
 /* The usage text; the patch names come from the patch table (vs/vs.h). */
 static const char usage_fmt[] =
-    "usage: instess [OPTION]... -o FILE.png|FILE.exr\n"
+    "usage: instess [OPTION]... [MESH] -o FILE.png|FILE.exr\n"
     "       instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]\n"
     "       instess smoothness [--samples N]\n"
     "Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n"
     "\n"
-    "  --mesh NAME|FILE     built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, cylinder)\n"
-    "                       or a mesh file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...)   [cube]\n"
-    "  --patch P            %-65s[smooth]\n"
+    "  MESH, --mesh NAME|FILE  the mesh: a built-in (tetrahedron, cube, cube-split, octahedron, icosahedron,\n"
+    "                       sphere, cylinder) or a file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...)  [cube]\n"
+    "  --patch P            %-68s[smooth]\n"
     "  --normals N          linear | quadratic | real                                           [linear]\n"
     "  --level N            tessellation level (fractional with the pg-* grids)                 [8]\n"
     "  --grid G             regular | pg-equal | pg-fractional-odd | pg-fractional-even          [regular]\n"
@@ -72,22 +72,37 @@ static const struct option long_opts[] = {
     {"help", no_argument, 0, 'h'},                  {"version", no_argument, 0, 'V'},
     {0, 0, 0, 0}};
 
-/* Apply one option to opts; returns NULL or the text of a usage error. */
-static const char *apply_option(scene_opts *o, int c, const char *arg)
+/* The usage error of a choice option whose value is unknown, naming the valid ones, into buf; buf. */
+static const char *unknown_choice(int c, char *buf, size_t len)
+{
+    char names[256];
+    const char *opt = c == OPT_PATCH ? "--patch" : c == OPT_NORMALS ? "--normals" : c == OPT_GRID ? "--grid"
+                      : c == OPT_PATH ? "--path" : "--fill";
+    if (c == OPT_PATCH) vs_patch_names(" | ", names, sizeof names);
+    else if (c == OPT_NORMALS) snprintf(names, sizeof names, "%s | %s | %s", vs_normals_name(VS_NORMALS_LINEAR),
+                                        vs_normals_name(VS_NORMALS_QUADRATIC), vs_normals_name(VS_NORMALS_REAL));
+    else scene_join_names(c == OPT_GRID ? scene_grid_names : c == OPT_PATH ? scene_path_names : scene_fill_names,
+                          " | ", names, sizeof names);
+    snprintf(buf, len, "unknown %s (one of: %s)", opt, names);
+    return buf;
+}
+
+/* Apply one option to opts; returns NULL or the text of a usage error (in buf when it is built). */
+static const char *apply_option(scene_opts *o, int c, const char *arg, char *buf, size_t len)
 {
     switch (c) {
     case OPT_MESH: o->mesh = arg; return NULL;
-    case OPT_PATCH: return scene_parse_patch(arg, &o->patch) ? NULL : "unknown --patch";
-    case OPT_NORMALS: return scene_parse_normals(arg, &o->normals) ? NULL : "unknown --normals";
+    case OPT_PATCH: return scene_parse_patch(arg, &o->patch) ? NULL : unknown_choice(c, buf, len);
+    case OPT_NORMALS: return scene_parse_normals(arg, &o->normals) ? NULL : unknown_choice(c, buf, len);
     case OPT_LEVEL: return scene_parse_float(arg, 1.0f, SCENE_MAX_LEVEL, &o->level) ? NULL : SCENE_LEVEL_MSG;
-    case OPT_GRID: return scene_parse_grid(arg, &o->grid) ? NULL : "unknown --grid";
-    case OPT_PATH: return scene_parse_path(arg, &o->path) ? NULL : "unknown --path";
+    case OPT_GRID: return scene_parse_grid(arg, &o->grid) ? NULL : unknown_choice(c, buf, len);
+    case OPT_PATH: return scene_parse_path(arg, &o->path) ? NULL : unknown_choice(c, buf, len);
     case OPT_SIZE: return scene_parse_size(arg, &o->width, &o->height) ? NULL : SCENE_SIZE_MSG;
     case OPT_YAW: return scene_parse_float(arg, -1e6f, 1e6f, &o->yaw) ? NULL : "--yaw needs a number of degrees";
     case OPT_PITCH: return scene_parse_float(arg, -1e6f, 1e6f, &o->pitch) ? NULL : "--pitch needs a number of degrees";
     case OPT_DISTANCE:
         return scene_parse_float(arg, 1.01f, 1000.0f, &o->distance) ? NULL : "--distance must be 1.01..1000";
-    case OPT_FILL: return scene_parse_fill(arg, &o->fill) ? NULL : "unknown --fill";
+    case OPT_FILL: return scene_parse_fill(arg, &o->fill) ? NULL : unknown_choice(c, buf, len);
     case OPT_MSAA: return scene_parse_msaa(arg, &o->msaa) ? NULL : "--msaa must be 1 or 4";
     case OPT_THREADS: return scene_parse_int(arg, 0, 256, &o->threads) ? NULL : "--threads must be 0..256";
     case OPT_AOV: return scene_parse_aovs(arg, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
@@ -132,15 +147,20 @@ static int cmd_render(int argc, char **argv)
     scene_opts o;
     scene_opts_default(&o);
     int c;
+    bool mesh_given = false;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "o:qhV", long_opts, NULL)) != -1) {
         if (c == 'h') return print_usage(stdout), 0;
         if (c == 'V') return printf("instess %s\n", INSTESS_VERSION), 0;
         if (c == '?') return usage_error("unknown option or missing value", argv[optind - 1]);
-        const char *msg = apply_option(&o, c, optarg);
+        char buf[400];
+        const char *msg = apply_option(&o, c, optarg, buf, sizeof buf);
         if (msg) return usage_error(msg, optarg);
+        mesh_given |= c == OPT_MESH;
     }
-    if (optind < argc) return usage_error("unexpected argument", argv[optind]);
+    if (optind < argc && !mesh_given) o.mesh = argv[optind++];   /* instess MESH -o OUT */
+    if (optind < argc) return usage_error(mesh_given ? "unexpected argument (the mesh is given by --mesh)"
+                                                     : "unexpected argument", argv[optind]);
     if (!o.output) return usage_error("no output file (-o FILE.png or FILE.exr)", NULL);
     const char *msg = scene_check_opts(&o);
     if (msg) return usage_error(msg, NULL);
@@ -188,6 +208,11 @@ static void install_signal_handlers(void)
 int main(int argc, char **argv)
 {
     install_signal_handlers();
+    if (argc < 2) {   /* no arguments: the usage, as a usage error */
+        print_usage(stderr);
+        fputs("\ninstess: no arguments: `instess MESH -o FILE.png` renders a mesh\n", stderr);
+        return 2;
+    }
     if (argc > 1 && strcmp(argv[1], "figures") == 0) return scene_cmd_figures(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "smoothness") == 0) return scene_cmd_smoothness(argc - 1, argv + 1);
     return cmd_render(argc, argv);

@@ -41,24 +41,22 @@ bool scene_parse_patch(const char *s, vs_patch *out)
 
 bool scene_parse_normals(const char *s, vs_normals *out)
 {
-    int k = lookup(s, (const char *const[]){"linear", "quadratic", "real", NULL});
-    static const vs_normals map[] = {VS_NORMALS_LINEAR, VS_NORMALS_QUADRATIC, VS_NORMALS_REAL};
-    if (k < 0) return false;
-    *out = map[k];
-    return true;
+    return vs_normals_from_name(s, out) == 0;
 }
 
-/* The --grid names, in core_grid_kind's order. */
-static const char *const grid_names[] = {"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL};
+/* The names of --grid, --path and --fill, in their enums' order (scene.h). */
+const char *const scene_grid_names[] = {"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL};
+const char *const scene_path_names[] = {"instanced", "npatch-mode", "cpu", NULL};
+const char *const scene_fill_names[] = {"solid", "wire", "solid+wire", "point", NULL};
 
 const char *scene_grid_name(core_grid_kind g)
 {
-    return (unsigned)g < sizeof grid_names / sizeof grid_names[0] - 1 ? grid_names[g] : "?";
+    return (unsigned)g < sizeof scene_grid_names / sizeof scene_grid_names[0] - 1 ? scene_grid_names[g] : "?";
 }
 
 bool scene_parse_grid(const char *s, core_grid_kind *out)
 {
-    int k = lookup(s, grid_names);
+    int k = lookup(s, scene_grid_names);
     if (k < 0) return false;
     *out = (core_grid_kind)k;
     return true;
@@ -66,7 +64,7 @@ bool scene_parse_grid(const char *s, core_grid_kind *out)
 
 bool scene_parse_path(const char *s, scene_path *out)
 {
-    int k = lookup(s, (const char *const[]){"instanced", "npatch-mode", "cpu", NULL});
+    int k = lookup(s, scene_path_names);
     if (k < 0) return false;
     *out = (scene_path)k;
     return true;
@@ -74,10 +72,18 @@ bool scene_parse_path(const char *s, scene_path *out)
 
 bool scene_parse_fill(const char *s, scene_fill *out)
 {
-    int k = lookup(s, (const char *const[]){"solid", "wire", "solid+wire", "point", NULL});
+    int k = lookup(s, scene_fill_names);
     if (k < 0) return false;
     *out = (scene_fill)k;
     return true;
+}
+
+char *scene_join_names(const char *const *names, const char *sep, char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; names[i] && n < len; i++) n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? sep : "", names[i]);
+    return buf;
 }
 
 /* A whole decimal integer in [lo, hi]. */

@@ -92,6 +92,11 @@ bool scene_parse_normals(const char *s, vs_normals *out);
 bool scene_parse_grid(const char *s, core_grid_kind *out);
 /* The --grid name of g. */
 const char *scene_grid_name(core_grid_kind g);
+/* The names --grid, --path and --fill take, NULL-terminated, in their enums' order (the patches' are vs/vs.h's
+ * table, the normals' vs_normals_name). */
+extern const char *const scene_grid_names[], *const scene_path_names[], *const scene_fill_names[];
+/* names joined by sep into buf (for messages and usage texts); buf. */
+char *scene_join_names(const char *const *names, const char *sep, char *buf, size_t len);
 bool scene_parse_path(const char *s, scene_path *out);
 bool scene_parse_fill(const char *s, scene_fill *out);
 bool scene_parse_size(const char *s, int *w, int *h);

@@ -39,6 +39,13 @@ int scene_cmd_smoothness(int argc, char **argv)
 {
     int samples = 16;
     for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            printf("usage: instess smoothness [--samples N]\n"
+                   "For every built-in mesh and patch: the largest and mean angle between the real normals on the\n"
+                   "two sides of shared edges (N samples per edge, 16 by default), split into coplanar and\n"
+                   "feature edges, and the largest distance from the flat triangle; a Markdown table.\n");
+            return 0;
+        }
         if (strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
             if (!scene_parse_int(argv[++i], 1, 1024, &samples)) {
                 fprintf(stderr, "instess: --samples must be 1..1024\n");

@@ -71,7 +71,8 @@ static void test_usage_errors(void **state)
                          "--level 1000000 -o X.png", "--size 0x10 -o X.png", "--size 1000000x1000000 -o X.png",
                          "--size 12 -o X.png", "--msaa 3 -o X.png", "--patch curvy -o X.png", "--fill dots -o X.png",
                          "--threads -1 -o X.png", "", "-o X.tiff", "--aov normal -o X.png", "--level 2.5 -o X.png",
-                         "--path cpu --patch smooth -o X.png", "--yaw abc -o X.png", "extra -o X.png"};
+                         "--path cpu --patch smooth -o X.png", "--yaw abc -o X.png",
+                         "--mesh cube extra -o X.png", "cube extra -o X.png"};
     char args[1024];
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *x = strstr(bad[k], "X.");
@@ -188,6 +189,55 @@ static void test_clamped_level_is_said(void **state)
     unlink(p);
 }
 
+/* Whether files a and b (in the work folder) decode to the same pixels. */
+static bool same_pixels(const char *a, const char *b)
+{
+    char pa[512], pb[512], e[512];
+    is_image x, y;
+    snprintf(pa, sizeof pa, "%s/%s", dir, a);
+    snprintf(pb, sizeof pb, "%s/%s", dir, b);
+    if (image_read(&x, pa, e, sizeof e) != 0 || image_read(&y, pb, e, sizeof e) != 0) fail_msg("%s", e);
+    bool same = x.width == y.width && x.height == y.height && x.channels == y.channels &&
+                !memcmp(x.data, y.data, sizeof(float) * (size_t)x.width * x.height * x.channels);
+    image_free(&x);
+    image_free(&y);
+    return same;
+}
+
+/* What people expect of a command line: no arguments print the usage (exit 2); the mesh may be positional
+ * (the same image as --mesh), but not both; an unknown value lists the valid ones; every subcommand takes
+ * --help. */
+static void test_command_line_conventions(void **state)
+{
+    (void)state;
+    const char *err;
+    assert_int_equal(run("", &err), 2);
+    assert_non_null(strstr(err, "usage: instess"));
+    char args[600];
+    snprintf(args, sizeof args, "tests/data/meshes/box.obj --size 24x24 -q -o %s/pos.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    snprintf(args, sizeof args, "--mesh tests/data/meshes/box.obj --size 24x24 -q -o %s/opt.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    assert_true(same_pixels("pos.png", "opt.png"));
+    snprintf(args, sizeof args, "--mesh cube tests/data/meshes/box.obj -o %s/two.png", dir);
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "the mesh is given by --mesh"));
+    snprintf(args, sizeof args, "--patch curvy -o %s/x.png", dir);
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "one of: flat | npatch | smooth-initial | smooth | phong | pn-aen"));
+    snprintf(args, sizeof args, "--normals bent -o %s/x.png", dir);
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "one of: linear | quadratic | real"));
+    assert_int_equal(run("smoothness --help", &err), 0);
+    assert_int_equal(run("figures --help", &err), 0);
+    assert_int_equal(run("--help", &err), 0);
+    char p[512];
+    const char *names[] = {"pos.png", "opt.png"};
+    for (int k = 0; k < 2; k++) snprintf(p, sizeof p, "%s/%s", dir, names[k]), unlink(p);
+    assert_false(exists("two.png"));
+    assert_false(exists("x.png"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -195,6 +245,7 @@ int main(void)
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_png_and_exr),
         cmocka_unit_test(test_clamped_level_is_said),
+        cmocka_unit_test(test_command_line_conventions),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }
