@@ -120,14 +120,6 @@ static const char *apply_option(scene_opts *o, int c, const char *arg, char *buf
     }
 }
 
-/* The exact command line, for the image's ImageDescription. */
-static void join_args(int argc, char **argv, char *buf, size_t len)
-{
-    size_t n = 0;
-    buf[0] = 0;
-    for (int i = 0; i < argc && n + 1 < len; i++)
-        n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? " " : "", argv[i]);
-}
 
 /* A primitive-generator grid takes levels in a narrower range than --level: say so on stderr (also with -q)
  * and render the level it will use. */
@@ -167,9 +159,6 @@ static int cmd_render(int argc, char **argv)
     if (o.export_obj && outputs_same_target(o.output, o.export_obj))
         return usage_error("-o and --export-obj name the same file", o.output);
     warn_level_clamp(&o);
-    char cmdline[4096];
-    join_args(argc, argv, cmdline, sizeof cmdline);
-    o.command_line = cmdline;
     char err[1024];
     if (scene_render_to_file(&o, err, sizeof err) != 0) {
         fprintf(stderr, "instess: %s\n", err);

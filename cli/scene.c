@@ -753,6 +753,36 @@ static double now_seconds(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* FNV-1a, 64 bits, of n bytes continuing from h. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t k = 0; k < n; k++) h = (h ^ p[k]) * 0x100000001b3ull;
+    return h;
+}
+
+/* The hash of the mesh as rendered: its vertices, normals, texture coordinates and triangles. */
+static uint64_t mesh_hash(const is_mesh *m)
+{
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv1a(h, m->positions, m->n_vertices * sizeof *m->positions);
+    h = fnv1a(h, m->normals, m->n_vertices * sizeof *m->normals);
+    h = fnv1a(h, m->texcoords, m->n_vertices * sizeof *m->texcoords);
+    return fnv1a(h, m->indices, 3 * m->n_triangles * sizeof *m->indices);
+}
+
+void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
+{
+    char names[64] = "none";
+    channel_list(o->aovs, names, sizeof names);
+    snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
+             "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, msaa %d, channels %s",
+             INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
+             vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
+             o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
+             o->msaa, names);
+}
+
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
 static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_t errlen)
 {
@@ -771,7 +801,9 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     int rc = scene_render_mesh(o, m, &img, &st, err, errlen);
     double t1 = now_seconds();
     if (rc == 0) {
-        is_image_meta meta = {"instess " INSTESS_VERSION, o->command_line ? o->command_line : ""};
+        char desc[1024];
+        scene_describe(o, m, desc, sizeof desc);
+        is_image_meta meta = {"instess " INSTESS_VERSION, desc};
         rc = image_write_output(outs, 0, &img, &meta, err, errlen);
     }
     image_free(&img);

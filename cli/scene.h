@@ -52,7 +52,7 @@ typedef struct scene_opts {
     float diffuse[4];           /* g_vDiffuse */
     float wire_color[4];        /* g_vDiffuse of the wireframe overlay */
     uint32_t background;        /* D3DCOLOR (ARGB) */
-    const char *output, *export_obj, *command_line;
+    const char *output, *export_obj;
     bool quiet;
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
 } scene_opts;
@@ -73,6 +73,11 @@ void scene_resources_free(scene_resources *r);
  * when they fit), one is_patch_instance per triangle of m in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
  * declaration; created in r and bound.  The shader and constants are the caller's.  IS_OK or an error. */
 is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r);
+
+/* The canonical description of a render of mesh m, stored in its image (ImageDescription): the mesh's name,
+ * size and hash, and every option that changes pixels -- not the thread count, the output's name or the time,
+ * so that two runs of one render write the same bytes. */
+void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len);
 
 /* What a render did (for statistics and the benchmark). */
 typedef struct scene_stats {

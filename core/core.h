@@ -465,7 +465,7 @@ typedef struct is_image {
 
 typedef struct is_image_meta {
     const char *software;     /* "instess 0.1.0" */
-    const char *description;  /* the exact command line */
+    const char *description;  /* what was rendered (the program stores scene_describe's canonical text) */
 } is_image_meta;
 
 /* The file formats image files are written in, chosen by the extension (case-insensitive). */

@@ -67,16 +67,18 @@ bool is_rgba_name(const char *n)
     return !strcmp(n, "R") || !strcmp(n, "G") || !strcmp(n, "B") || !strcmp(n, "A");
 }
 
-// DateTime: OIIO stamps OpenEXR files with the current time, so two renders of the same scene differ in those
-// bytes.  SOURCE_DATE_EPOCH (seconds since 1970, the reproducible-builds convention) fixes it: then the same
-// render gives the same file.  PNG files carry no time.
+// DateTime: OIIO stamps OpenEXR files with the current time unless DateTime is set, so two renders of the same
+// scene would differ in those bytes.  It is set empty (no time stored), or to SOURCE_DATE_EPOCH (seconds since
+// 1970, the reproducible-builds convention) when that is given.  PNG files carry no time.
 void set_date_time(ImageSpec &spec)
 {
     const char *e = getenv("SOURCE_DATE_EPOCH");
     char *end = nullptr;
     long long t = e ? strtoll(e, &end, 10) : -1;
-    if (!e || end == e || *end || t < 0 || t > 253402300799LL)  // up to 9999-12-31
+    if (!e || end == e || *end || t < 0 || t > 253402300799LL) {  // up to 9999-12-31
+        spec.attribute("DateTime", "");
         return;
+    }
     time_t tt = (time_t)t;
     struct tm tm;
     char buf[32];
