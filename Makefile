@@ -12,6 +12,11 @@
 #   into FMA behind our back, so the scalar reference path and the SIMD path round identically and images are
 #   the same bytes on every machine of this kind.
 
+# All cores unless the caller chose a -j.
+ifeq ($(filter -j%,$(MAKEFLAGS)),)
+MAKEFLAGS += -j$(shell nproc)
+endif
+
 ifeq ($(origin CC),default)
 CC       = gcc
 endif
@@ -129,7 +134,8 @@ goldens: $(B)/instess $(TEST_BIN)
 include bench/bench.mk
 -include tests/fuzz/fuzz.mk
 
+# Every build folder: build/, the sanitizer's, the fuzzers' and any other build-*/ (and tests/failures/).
 clean:
-	rm -rf $(B)
+	rm -rf $(B) build build-* tests/failures
 
 -include $(shell find $(B) -name '*.d' 2>/dev/null)
