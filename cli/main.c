@@ -32,6 +32,8 @@ static const char usage_fmt[] =
     "  --threads N          threads (0: all cores; the image does not depend on it)              [0]\n"
     "  --recompute-normals  ignore the file's normals and recompute them (angle-weighted)\n"
     "  --max-memory MIB     the memory a render may take, checked before it starts           [4096]\n"
+    "  --max-file-size MIB  the largest mesh file (with the files it refers to) read          [256]\n"
+    "  --max-import-memory MIB  memory for the mesh import (default: by the files' size)\n"
     "  --aov LIST           EXR only: extra channels, comma-separated: normal,bary,instance,gregory\n"
     "  --export-obj FILE    also write the tessellated surface as OBJ (object space)\n"
     "  -o, --output FILE    the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)\n"
@@ -54,7 +56,8 @@ static int usage_error(const char *msg, const char *arg)
 
 enum {
     OPT_MESH = 256, OPT_PATCH, OPT_NORMALS, OPT_LEVEL, OPT_GRID, OPT_PATH, OPT_SIZE, OPT_YAW, OPT_PITCH,
-    OPT_DISTANCE, OPT_FILL, OPT_MSAA, OPT_THREADS, OPT_AOV, OPT_EXPORT_OBJ, OPT_RECOMPUTE, OPT_MAX_MEMORY
+    OPT_DISTANCE, OPT_FILL, OPT_MSAA, OPT_THREADS, OPT_AOV, OPT_EXPORT_OBJ, OPT_RECOMPUTE, OPT_MAX_MEMORY,
+    OPT_MAX_FILE_SIZE, OPT_MAX_IMPORT_MEMORY
 };
 
 static const struct option long_opts[] = {
@@ -68,6 +71,8 @@ static const struct option long_opts[] = {
     {"export-obj", required_argument, 0, OPT_EXPORT_OBJ},
     {"recompute-normals", no_argument, 0, OPT_RECOMPUTE},
     {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
+    {"max-file-size", required_argument, 0, OPT_MAX_FILE_SIZE},
+    {"max-import-memory", required_argument, 0, OPT_MAX_IMPORT_MEMORY},
     {"output", required_argument, 0, 'o'},          {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, 'h'},                  {"version", no_argument, 0, 'V'},
     {0, 0, 0, 0}};
@@ -112,6 +117,18 @@ static const char *apply_option(scene_opts *o, int c, const char *arg, char *buf
         int mib;
         if (!scene_parse_int(arg, 16, 1 << 20, &mib)) return "--max-memory takes MiB, 16..1048576";
         o->max_memory_mib = (unsigned)mib;
+        return NULL;
+    }
+    case OPT_MAX_FILE_SIZE: {
+        int mib;
+        if (!scene_parse_int(arg, 1, 1 << 20, &mib)) return "--max-file-size takes MiB, 1..1048576";
+        o->max_file_mib = (unsigned)mib;
+        return NULL;
+    }
+    case OPT_MAX_IMPORT_MEMORY: {
+        int mib;
+        if (!scene_parse_int(arg, 16, 1 << 20, &mib)) return "--max-import-memory takes MiB, 16..1048576";
+        o->max_import_memory_mib = (unsigned)mib;
         return NULL;
     }
     case 'o': o->output = arg; return NULL;

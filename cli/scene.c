@@ -203,8 +203,8 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
         }
         if (l > r2) r2 = l;
     }
-    /* below 1e-37 (denormal coordinates) 1 / radius would overflow: such a mesh is drawn unscaled (a dot) */
-    *radius = r2 > 0 && sqrt(r2) >= 1e-37 ? (float)sqrt(r2) : 1.0f;
+    /* a denormal radius is kept: rescaled_copy divides by it in double (1 / radius would overflow in float) */
+    *radius = r2 > 0 ? (float)sqrt(r2) : 1.0f;
 }
 
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
@@ -823,7 +823,8 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     is_outputs outs;
     is_mesh m = {0};
     is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
-                          .warn_user = (void *)&o->quiet};
+                          .warn_user = (void *)&o->quiet, .max_file_bytes = (uint64_t)o->max_file_mib << 20,
+                          .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
     int rc = claim_outputs(o, &outs, err, errlen);
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
     if (rc == 0) rc = render_outputs(o, &m, &outs, err, errlen);

@@ -55,6 +55,8 @@ typedef struct scene_opts {
     const char *output, *export_obj;
     bool quiet;
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
+    unsigned max_file_mib;      /* a mesh file with its side files (0: meshes.h's default, 256 MiB) */
+    unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
 } scene_opts;
 
 /* Bytes a render of mesh_triangles triangles with grid_points points per triangle takes at most, by the

@@ -2,6 +2,7 @@
 #include "meshes.h"
 #include "mesh_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -13,8 +14,10 @@
 /* Height / longest edge below which a triangle counts as collinear (about FLT_EPSILON: its float normal
  * would be rounding noise). */
 #define DEGENERATE_RATIO 1e-7
-/* File normals shorter than this (or non-finite) are replaced. */
-#define MIN_NORMAL_LENGTH 1e-12
+/* File normals shorter than this (or non-finite) are replaced: only zero and denormal ones, whose direction
+ * float cannot hold.  Any other length is normalized in double: a normal is a direction, and a file that stores
+ * area-weighted normals of a mesh in micrometres or light years must not lose them (scale invariance). */
+#define MIN_NORMAL_LENGTH ((double)FLT_MIN)
 
 /* Write a formatted message into err (if any). */
 void mesh_set_err(char *err, size_t errlen, const char *fmt, ...)
@@ -26,8 +29,8 @@ void mesh_set_err(char *err, size_t errlen, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Send a formatted warning to the caller's callback (if any). */
-static void warn(const is_mesh_options *opt, const char *fmt, ...)
+/* mesh_warn: see mesh_internal.h. */
+void mesh_warn(const is_mesh_options *opt, const char *fmt, ...)
 {
     if (!opt || !opt->warn) return;
     char msg[512];
@@ -383,16 +386,16 @@ static void report_warnings(const is_mesh *m, const char *label, const is_mesh_o
 {
     const is_mesh_stats *s = &m->stats;
     if (s->degenerates_dropped)
-        warn(opt, "%s: dropped %zu degenerate triangle(s) (repeated vertex, zero area or collinear)", label,
-             s->degenerates_dropped);
+        mesh_warn(opt, "%s: dropped %zu degenerate triangle(s) (repeated vertex, zero area or collinear)", label,
+                  s->degenerates_dropped);
     if (s->normals_replaced)
-        warn(opt, "%s: replaced %zu zero, non-finite or missing normal(s) by recomputed ones", label,
-             s->normals_replaced);
+        mesh_warn(opt, "%s: replaced %zu zero, non-finite or missing normal(s) by recomputed ones", label,
+                  s->normals_replaced);
     if (s->nonmanifold_edges)
-        warn(opt, "%s: %zu non-manifold edge(s) (3+ triangles): treated like boundaries", label,
-             s->nonmanifold_edges);
+        mesh_warn(opt, "%s: %zu non-manifold edge(s) (3+ triangles): treated like boundaries", label,
+                  s->nonmanifold_edges);
     if (s->inconsistent_edges)
-        warn(opt, "%s: %zu edge(s) between inconsistently wound triangles", label, s->inconsistent_edges);
+        mesh_warn(opt, "%s: %zu edge(s) between inconsistently wound triangles", label, s->inconsistent_edges);
 }
 
 /* The steps of mesh_create after validation; m is allocated for the input's sizes. */

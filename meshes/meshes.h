@@ -16,7 +16,10 @@
  *    edge 2 = v2-v0.  The corner not on edge k is (k+2) % 3.
  *  - Welding: vertices are welded for adjacency (and for recomputed normals) when their positions are bitwise
  *    equal, after turning -0.0 into +0.0.  No epsilon: the patches need bitwise-identical shared edges anyway
- *    (design.md 4.6), and vertices an ulp apart do not make a watertight edge.  The mesh's own vertices (with
+ *    (docs/design.md, erratum 6), and vertices an ulp apart do not make a watertight edge.  No tolerance in meshes/
+ *    depends on the mesh's size or unit: welding and joining are exact, the degenerate test is a ratio
+ *    (height / longest edge), normals are normalized in double, so a mesh scaled by 1e-30 or 1e20 becomes the
+ *    same mesh up to float rounding.  The mesh's own vertices (with
  *    split normals / texcoords) are kept; `welded` is a second index buffer (meshopt_generateShadowIndexBuffer).
  *  - Opposite vertex: for edge k of triangle t, the vertex of the neighbouring triangle (the other triangle
  *    containing the same welded edge) that is not on the edge, as an index into the vertex arrays.
@@ -73,6 +76,9 @@ typedef struct is_mesh_stats {
     size_t normals_replaced;     /* file normals that were zero, non-finite or missing: recomputed */
     size_t primitives_skipped;   /* points and lines in an imported file */
     bool normals_computed;       /* all normals computed (file had none, or options.recompute_normals) */
+    /* Imported files only (see mesh_load_file): */
+    bool facet_normals;          /* every corner's normal is its face's normal (within ~0.8 degrees) */
+    size_t normals_against_faces;/* corners whose normal points against their face's outward normal */
 } is_mesh_stats;
 
 typedef struct is_mesh {
@@ -99,6 +105,15 @@ typedef struct is_mesh_options {
      * (for fuzzers that need in-process coverage).  import_timeout_ms: the child's limit (0: 60000). */
     bool in_process;
     int import_timeout_ms;
+    /* Limits against resource bombs (docs/robustness.md, "Limits"); 0 means the default.
+     * max_file_bytes: the mesh file and the side files it refers to, together (default 256 MiB); the mesh
+     * file is checked before the import, side files when assimp opens them.
+     * max_import_memory_bytes: address space and data the import child may add to what it had when it was
+     * forked (setrlimit RLIMIT_AS and RLIMIT_DATA).  Default: 256 MiB plus 32 bytes per byte of the files
+     * assimp opens.  An import that needs more fails with "assimp ran out of the import memory limit of N
+     * MiB".  Not with in_process. */
+    uint64_t max_file_bytes;
+    uint64_t max_import_memory_bytes;
 } is_mesh_options;
 
 /* Raw arrays for mesh_create.  normals and texcoords may be NULL (computed / zero). */
@@ -128,14 +143,22 @@ int mesh_builtin_ex(const char *name, const is_mesh_options *opt, is_mesh *out, 
 /* The built-in names, NULL-terminated (a const table). */
 const char *const *mesh_builtin_names(void);
 
-/* Import any format assimp 5.2 reads, by extension.  Post-processing: Triangulate, JoinIdenticalVertices,
- * ValidateDataStructure and ConvertToLeftHanded (= MakeLeftHanded: z -> -z, FlipWindingOrder, FlipUVs), which
- * turns assimp's right-handed counter-clockwise data into this file's convention without changing how the
- * model looks (the file's +z towards the viewer becomes our -z towards the viewer).  Normals are never
- * generated or smoothed by assimp; ours are computed only where the file has none.  All meshes of the scene
- * are merged with their node transforms (normals by the inverse transpose; a mirroring node flips winding).
- * Points and lines are skipped (counted).  Errors name the path: missing, directory, empty, unknown extension,
- * assimp's message, assimp crashed / timed out (see is_mesh_options.in_process), no triangles, invalid data. */
+/* Import any format assimp 5.2 reads, by extension.  Post-processing: Triangulate, ValidateDataStructure and
+ * ConvertToLeftHanded (= MakeLeftHanded: z -> -z, FlipWindingOrder, FlipUVs), which turns assimp's
+ * right-handed counter-clockwise data into this file's convention without changing how the model looks (the
+ * file's +z towards the viewer becomes our -z towards the viewer).  Vertices that are bitwise identical in
+ * position, normal and texcoord are joined (meshoptimizer's vertex remap; assimp's JoinIdenticalVertices is
+ * not used: its absolute 1e-5 tolerance joins distinct vertices of a small mesh), each in the place of its
+ * first copy (as JoinIdenticalVertices numbered them).  Normals are never generated or smoothed by assimp;
+ * ours are computed only where the file has none.  All meshes of the scene are merged with their node
+ * transforms (normals by the inverse transpose, then normalized; a mirroring node flips winding).  Points and
+ * lines are skipped (counted).  Hostile input (docs/robustness.md, "Threat model: inputs"): only regular files
+ * are read, side files only from the mesh's folder and never material libraries (meshes/import_io.c), PLY and
+ * OFF headers are checked against the file's size, and the files' size, the instanced triangles and the
+ * import's time and memory are limited (is_mesh_options).  Facet normals and normals against the winding are
+ * warned about.  Errors name the path: missing, not a regular file, empty, too large, unknown extension, a
+ * refused side file, assimp's message, assimp crashed / timed out / ran out of memory, no triangles, invalid
+ * data. */
 int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* The same from memory (for fuzzers): hint is the format's extension ("obj", may be NULL or "" to let assimp
  * guess), label names the buffer in messages (NULL: "<memory>"). */

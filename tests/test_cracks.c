@@ -1,4 +1,4 @@
-/* tests/test_cracks.c -- zero crack pixels, for every patch, level and built-in mesh (design.md section 6).
+/* tests/test_cracks.c -- zero crack pixels, for every patch, level and built-in mesh (docs/design.md, section 6).
  *
  * The detector: every ray through a closed surface crosses it an even number of times.  Each tessellated
  * triangle is drawn with culling off, no depth test and additive blending of 1/255, so a pixel's red channel
