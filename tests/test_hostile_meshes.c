@@ -37,6 +37,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "util/prog.h"
 #include "../core/core.h"
 
 char *realpath(const char *restrict path, char *restrict resolved);   /* POSIX (XSI) */
@@ -85,36 +86,11 @@ static int shell(const char **err_out, double *seconds, const char *fmt, ...)
     return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
 }
 
-/* dir/name into buf. */
-static const char *path_of(const char *name, char *buf, size_t len)
-{
-    snprintf(buf, len, "%s/%s", dir, name);
-    return buf;
-}
-
-/* Write n bytes into dir/name. */
-static void write_bytes(const char *name, const void *data, size_t n)
-{
-    char p[512];
-    FILE *f = fopen(path_of(name, p, sizeof p), "wb");
-    if (!f) fail_msg("cannot write %s: %s", p, strerror(errno));
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-}
-
-/* Write a text file into dir/name. */
-static void write_text(const char *name, const char *text)
-{
-    write_bytes(name, text, strlen(text));
-}
-
-/* Whether dir/name exists (without following a symlink). */
-static bool exists(const char *name)
-{
-    char p[512];
-    struct stat s;
-    return lstat(path_of(name, p, sizeof p), &s) == 0;
-}
+/* The helpers of tests/util/prog.h on this file's work folder. */
+static const char *path_of(const char *name, char *buf, size_t len) { return prog_path(dir, name, buf, len); }
+static void write_bytes(const char *name, const void *data, size_t n) { assert_true(prog_write_bytes(dir, name, data, n)); }
+static void write_text(const char *name, const char *text) { assert_true(prog_write_text(dir, name, text)); }
+static bool exists(const char *name) { return prog_exists(dir, name); }
 
 /* Number of entries of folder dir/sub whose name contains `part`. */
 static int entries_with(const char *sub, const char *part)
