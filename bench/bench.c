@@ -12,7 +12,8 @@
  * instance buffer (mesh_build_instances) and the matrices, and hands them to bench-gl in a scene file
  * (bench_scene_file.h).  Timing: per frame Clear + DrawIndexedPrimitive (instess) and glClear + draw + glFinish
  * (llvmpipe), the median of --frames frames after --warmup frames (instess: the thread counts' frames interleaved
- * on one device).  See bench/README.md.
+ * on one device); for instess also the medians of the frame's phases (set-up region, tile pass, the rest: the
+ * device's dev_stats with dev_set_timing on) and the minor page faults per frame (getrusage).  See bench/README.md.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -95,7 +96,7 @@ typedef struct bench_args {
 /* Print the usage to f. */
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABC] [--patch npatch|smooth|both]\n"
+    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABC|A,B,C] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl]\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
@@ -128,7 +129,8 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     if (strcmp(opt, "--gl") == 0) return a->gl_path = v, 0;
     if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
     if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
-    if (strcmp(opt, "--scenes") == 0) return a->scenes = v, strspn(v, "ABC") == strlen(v) && *v ? 0 : -1;
+    if (strcmp(opt, "--scenes") == 0) /* "ABC" or "A,B,C" */
+        return a->scenes = v, strspn(v, "ABC,") == strlen(v) && strpbrk(v, "ABC") ? 0 : -1;
     if (strcmp(opt, "--patch") == 0) {
         a->patches = strcmp(v, "npatch") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 2u : strcmp(v, "both") == 0 ? 3u : 0u;
         return a->patches ? 0 : -1;
@@ -286,6 +288,14 @@ static long rss_now_kb(void)
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
+/* Minor page faults of this process so far (getrusage ru_minflt: every thread). */
+static long minflt_now(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_minflt;
+}
+
 /* Peak resident set size of this process so far, in kB. */
 static long rss_peak_kb(void)
 {
@@ -306,6 +316,8 @@ static int cmp_double(const void *a, const void *b)
 /* One instess measurement. */
 typedef struct inst_result {
     double median_ms, min_ms;
+    double setup_ms, tile_ms, other_ms; /* medians of the frame's phases (rs_stats.setup_ms, tile_ms, the rest) */
+    double faults_per_frame;            /* minor page faults per timed frame (mean) */
     uint64_t vertices, tris_in, tris_drawn, samples_tested, samples_written;
     long rss_after_warmup_kb, rss_after_frames_kb;
     uint32_t *image;    /* resolved RGBA8 of the last frame, top row first */
@@ -342,6 +354,7 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     if (e == IS_OK) e = dev_set_vertex_shader(g->dev, vs_patch_shader(patch));
     if (e == IS_OK) e = dev_set_vertex_shader_constant_f(g->dev, 0, &c.c[0].x, VS_C_COUNT);
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
+    dev_set_timing(g->dev, true);
     return 0;
 }
 
@@ -371,14 +384,52 @@ static is_result inst_capture(inst_gpu *g, const bench_data *bd, int threads, in
     return IS_OK;
 }
 
+/* The phases of a timed frame: all of it, set-up (rs_stats.setup_ms), tile pass (tile_ms), the rest. */
+enum { PH_TOTAL, PH_SETUP, PH_TILE, PH_OTHER, N_PH };
+
+/* One timed frame at `threads` threads: its phase times (ms) into ph[0..N_PH), its minor page faults added to
+ * *faults (counted outside the timed interval); IS_OK or the frame's error. */
+static is_result timed_frame(inst_gpu *g, const bench_data *bd, int threads, double *ph, long *faults)
+{
+    dev_set_threads(g->dev, threads);
+    long f0 = minflt_now();
+    double t0 = now_ms();
+    is_result e = inst_frame(g, bd);
+    double t1 = now_ms();
+    *faults += minflt_now() - f0;
+    const rs_stats *st = dev_stats(g->dev);
+    ph[PH_TOTAL] = t1 - t0, ph[PH_SETUP] = st->setup_ms, ph[PH_TILE] = st->tile_ms;
+    ph[PH_OTHER] = ph[PH_TOTAL] - st->setup_ms - st->tile_ms;
+    return e;
+}
+
+/* Median of x[0..n) (sorted in place). */
+static double median(double *x, int n)
+{
+    qsort(x, (size_t)n, sizeof *x, cmp_double);
+    return x[n / 2];
+}
+
+/* Medians of nf frames' phases ms[ph * nf + k] (sorted in place), and the faults per frame, into r. */
+static void phase_medians(double *ms, int nf, long faults, inst_result *r)
+{
+    r->median_ms = median(ms + PH_TOTAL * nf, nf), r->min_ms = ms[PH_TOTAL * nf];
+    r->setup_ms = median(ms + PH_SETUP * nf, nf);
+    r->tile_ms = median(ms + PH_TILE * nf, nf);
+    r->other_ms = median(ms + PH_OTHER * nf, nf);
+    r->faults_per_frame = (double)faults / nf;
+}
+
 /* Warm up, then time `frames` rounds of one frame per thread count (the same device, its thread count switched
  * between frames: a slow spell of a shared machine falls on every count alike, so their ratio holds), and take
- * each count's median; then statistics and image per count.  r[t] for a->threads[t]; 0 or -1 with a message. */
+ * each count's medians (frame and phases) and page faults per frame; then statistics and image per count.  r[t]
+ * for a->threads[t]; 0 or -1 with a message. */
 static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, inst_result *r, char *err,
                         size_t errlen)
 {
     const int nt = a->n_threads, nf = a->frames;
-    double *ms = malloc((size_t)nt * (size_t)nf * sizeof *ms);
+    double *ms = malloc((size_t)nt * N_PH * (size_t)nf * sizeof *ms), ph[N_PH];
+    long faults[2] = {0, 0};
     if (!ms) return snprintf(err, errlen, "out of memory"), -1;
     is_result e = IS_OK;
     for (int k = 0; k < a->warmup && e == IS_OK; k++)
@@ -386,18 +437,14 @@ static int inst_measure(inst_gpu *g, const bench_data *bd, const bench_args *a, 
     long rss_warm = rss_now_kb();
     for (int k = 0; k < nf && e == IS_OK; k++) {
         for (int t = 0; t < nt && e == IS_OK; t++) {
-            dev_set_threads(g->dev, a->threads[t]);
-            double t0 = now_ms();
-            e = inst_frame(g, bd);
-            ms[(size_t)t * (size_t)nf + (size_t)k] = now_ms() - t0;
+            e = timed_frame(g, bd, a->threads[t], ph, &faults[t]);
+            for (int p = 0; p < N_PH; p++) ms[((size_t)t * N_PH + (size_t)p) * (size_t)nf + (size_t)k] = ph[p];
         }
         if (k == 0 && a->warmup == 0) rss_warm = rss_now_kb(); /* the first round allocates */
     }
     long rss_end = rss_now_kb();
     for (int t = 0; t < nt && e == IS_OK; t++) {
-        double *m = ms + (size_t)t * (size_t)nf;
-        qsort(m, (size_t)nf, sizeof *m, cmp_double);
-        r[t].median_ms = m[nf / 2], r[t].min_ms = m[0];
+        phase_medians(ms + (size_t)t * N_PH * (size_t)nf, nf, faults[t], &r[t]);
         r[t].rss_after_warmup_kb = rss_warm, r[t].rss_after_frames_kb = rss_end;
         e = inst_capture(g, bd, a->threads[t], &r[t]);
     }
@@ -682,9 +729,10 @@ static void print_rows(const bench_args *a, const bench_scene_def *d, int pk, co
 {
     for (int t = 0; t < a->n_threads; t++) {
         const inst_result *r = &c->inst[t];
-        printf("%-5c %-7s %7d %9.2f %9.1f %9.1f %9.1f %9.0f", d->id, bench_patches[pk].name, a->threads[t],
-               r->median_ms, mega_per_s(r->vertices, r->median_ms), mega_per_s(r->tris_in, r->median_ms),
-               mega_per_s(r->samples_tested, r->median_ms), (double)r->rss_after_frames_kb / 1024.0);
+        printf("%-5c %-7s %7d %9.2f %8.2f %8.2f %8.2f %9.1f %9.1f %9.1f %9.0f %8.1f", d->id, bench_patches[pk].name,
+               a->threads[t], r->median_ms, r->setup_ms, r->tile_ms, r->other_ms, mega_per_s(r->vertices, r->median_ms),
+               mega_per_s(r->tris_in, r->median_ms), mega_per_s(r->samples_tested, r->median_ms),
+               (double)r->rss_after_frames_kb / 1024.0, r->faults_per_frame);
         for (int k = 0; k < c->n_gl; k++)
             if (c->gl[k].ok) printf(" %9.2f", c->gl[k].median_ms);
             else printf(" %9s", "failed");
@@ -725,9 +773,11 @@ static void print_notes(const bench_args *a, const bench_scene_def *d, const cas
 static void print_machine(const bench_args *a, const bench_scene_def *d, int pk, const case_result *c)
 {
     for (int t = 0; t < a->n_threads; t++) {
-        double ms = c->inst[t].median_ms, gl = c->gl_best_ms;
-        printf("scene=%c patch=%s threads=%d ms=%.3f llvmpipe_ms=%.3f ratio=%.3f\n", d->id, bench_patches[pk].name,
-               a->threads[t], ms, gl, isnan(gl) ? NAN : gl / ms);
+        const inst_result *r = &c->inst[t];
+        double ms = r->median_ms, gl = c->gl_best_ms;
+        printf("scene=%c patch=%s threads=%d ms=%.3f llvmpipe_ms=%.3f ratio=%.3f setup_ms=%.3f tile_ms=%.3f "
+               "other_ms=%.3f minflt_per_frame=%.1f\n", d->id, bench_patches[pk].name, a->threads[t], ms, gl,
+               isnan(gl) ? NAN : gl / ms, r->setup_ms, r->tile_ms, r->other_ms, r->faults_per_frame);
     }
 }
 
@@ -747,8 +797,10 @@ static void print_header(const bench_args *a)
     warn_load();
     printf("instess vs llvmpipe: median of %d frames after %d warm-up frames; ratio = llvmpipe best / instess\n",
            a->frames, a->warmup);
-    printf("%-5s %-7s %7s %9s %9s %9s %9s %9s", "scene", "patch", "threads", "ms", "Mvert/s", "Mtri/s", "Mpix/s",
-           "RSS MB");
+    printf("setup, tiles, other: medians of the frame's set-up region (shading, set-up, binning), tile pass and the "
+           "rest (ms); flt/fr: minor page faults per frame\n");
+    printf("%-5s %-7s %7s %9s %8s %8s %8s %9s %9s %9s %9s %8s", "scene", "patch", "threads", "ms", "setup", "tiles",
+           "other", "Mvert/s", "Mtri/s", "Mpix/s", "RSS MB", "flt/fr");
     for (int k = 0; k < (a->no_gl ? 0 : a->n_lp); k++) printf("  lp%d  ms ", a->lp_threads[k]);
     printf("%s\n", a->no_gl ? "" : "   ratio");
 }

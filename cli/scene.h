@@ -71,7 +71,9 @@ typedef struct scene_resources {
     unsigned n_vertices, n_prims, n_instances;   /* the draw's NumVertices, PrimitiveCount, instances */
 } scene_resources;
 void scene_resources_free(scene_resources *r);
-/* Tessellation through instancing on dev: the grid g in stream 0 (INDEXEDDATA | n_triangles; 16-bit indices
+/* An index buffer of n indices copied from idx: 16-bit when max_index < 65536, else 32-bit; IS_OK or an error. */
+is_result scene_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out);
+/* (cli/instancing.c) Tessellation through instancing on dev: the grid g in stream 0 (INDEXEDDATA | n_triangles; 16-bit indices
  * when they fit), one is_patch_instance per triangle of m in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
  * declaration; created in r and bound.  The shader and constants are the caller's.  IS_OK or an error. */
 is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r);

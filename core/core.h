@@ -280,6 +280,10 @@ void dev_destroy(is_device *dev);
 const char *dev_last_error(const is_device *dev);
 /* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
 void dev_set_threads(is_device *dev, int threads);
+/* Phase times on or off (default off): dev_stats' setup_ms and tile_ms then sum the frame's set-up regions
+ * (vertex shading included) and tile passes; off, both stay 0 so that the statistics of two renders compare
+ * equal. */
+void dev_set_timing(is_device *dev, bool on);
 
 /* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
 is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);

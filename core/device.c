@@ -82,6 +82,11 @@ void dev_destroy(is_device *dev)
     rs_destroy(dev->rs);
     free(dev->out_v);
     free(dev->out_i);
+    free(dev->idx.p);
+    free(dev->list.p);
+    free(dev->fcache.p);
+    free(dev->in.p);
+    free(dev->in_ready.p);
     free(dev);
 }
 
@@ -102,6 +107,13 @@ void dev_set_reference_path(is_device *dev, bool on)
 }
 
 bool dev_reference_path(const is_device *dev) { return dev->reference; }
+
+/* Phase times in dev_stats on or off (device_internal.h). */
+void dev_set_timing(is_device *dev, bool on)
+{
+    dev->timing = on;
+    rs_set_timing(dev->rs, on);
+}
 
 is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
 {

@@ -49,11 +49,18 @@ typedef struct stream_source {
     uint32_t freq;          /* as given to SetStreamSourceFreq; 1 by default */
 } stream_source;
 
+/* A buffer of a device's draw scratch: kept between draws and grown only (scratch_get). */
+typedef struct scratch_buf {
+    void *p;
+    size_t bytes;
+} scratch_buf;
+
 struct is_device {
     rs_context *rs;
     rs_target rt;
     int threads;
     bool reference;         /* dev_set_reference_path */
+    bool timing;            /* dev_set_timing: phase times into stats (setup_ms, tile_ms) */
     uint32_t rs_state[IS_RS_COUNT];
     is_viewport viewport;
     stream_source streams[IS_MAX_STREAMS];
@@ -66,12 +73,21 @@ struct is_device {
     rs_stats stats;
     uint64_t shaded;
     char err[512];
-    /* scratch of draw calls, kept between draws (bounded by DRAW_CHUNK_VERTICES) */
+    /* scratch of draw calls, kept between draws and grown only, so that a frame like the last one allocates
+     * nothing and touches no fresh pages (out_v, out_i: bounded by DRAW_CHUNK_VERTICES) */
     rs_vertex *out_v;
     size_t out_v_cap;
     uint32_t *out_i;
     size_t out_i_cap;
+    scratch_buf idx;        /* uint32_t: the draw's index-stream entries (both draw calls) */
+    scratch_buf list;       /* uint32_t: draw_fused's index list of a full piece */
+    scratch_buf fcache;     /* float4: fetch_cache */
+    scratch_buf in;         /* is_vs_input: draw_fused's input registers, count per slot */
+    scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
 };
+
+/* Wall-clock milliseconds now when dev times its draws (dev_set_timing), else 0. */
+static inline double dev_clock(const is_device *dev) { return dev->timing ? omp_get_wtime() * 1e3 : 0.0; }
 
 /* Record a message for dev_last_error and return code. */
 is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -147,9 +163,13 @@ static inline uint32_t live_outputs(const is_device *dev)
     return live;
 }
 
-/* The per-vertex elements of vertices first..first+count-1 fetched once: cache[v * n_vert + q] holds what
- * fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of memory. */
-float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count);
+/* The per-vertex elements of vertices first..first+count-1 fetched once into dev's scratch (dev->fcache, valid
+ * until the next call): cache[v * n_vert + q] holds what fetch_vertices writes for vertex first + v, element q
+ * (the same for every instance); NULL when out of memory. */
+float4 *fetch_cache(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count);
+/* Scratch s with room for n elements of `size` bytes: grown only, without keeping its contents; NULL when out of
+ * memory (s unchanged). */
+void *scratch_get(scratch_buf *s, size_t n, size_t size);
 /* Make sure the draw scratch (dev->out_v, dev->out_i) holds nv vertices and ni indices. */
 is_result reserve_scratch(is_device *dev, size_t nv, size_t ni);
 /* The device's result of a rasterizer call that returned r (RS_OK or RS_E*): IS_OK with its counters s added to

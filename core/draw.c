@@ -124,6 +124,20 @@ static void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
     dev->vs->main(&dev->consts, in, out);
 }
 
+/* Scratch s with room for n elements of `size` bytes (device_internal.h): a larger block replaces a smaller one
+ * without copying (scratch contents are not kept), and nothing is freed between draws, so a frame like the last
+ * one allocates nothing and touches no fresh pages. */
+void *scratch_get(scratch_buf *s, size_t n, size_t size)
+{
+    if (size && n > SIZE_MAX / size) return NULL;
+    if (n * size <= s->bytes) return s->p;
+    void *p = malloc(n * size);
+    if (!p) return NULL;
+    free(s->p);
+    s->p = p, s->bytes = n * size;
+    return p;
+}
+
 /* Make sure the scratch holds nv vertices and ni indices. */
 is_result reserve_scratch(is_device *dev, size_t nv, size_t ni)
 {
@@ -147,6 +161,7 @@ static void add_stats(is_device *dev, const rs_stats *s)
     dev->stats.prims_clipped_away += s->prims_clipped_away, dev->stats.prims_degenerate += s->prims_degenerate;
     dev->stats.prims_drawn += s->prims_drawn, dev->stats.samples_tested += s->samples_tested;
     dev->stats.samples_written += s->samples_written;
+    dev->stats.setup_ms += s->setup_ms, dev->stats.tile_ms += s->tile_ms;
 }
 
 /* IS_OK with the call's counters added, or the rasterizer's error r as the device's. */
@@ -229,11 +244,12 @@ static void fetch_vertices(const fetch_plan *fp, uint32_t first, uint32_t n, is_
         }
 }
 
-/* The per-vertex elements of vertices first..first+count-1 fetched once: cache[v * n_vert + q] holds what
- * fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of memory. */
-float4 *fetch_cache(const fetch_plan *fp, uint32_t first, uint32_t count)
+/* The per-vertex elements of vertices first..first+count-1 fetched once into dev->fcache: cache[v * n_vert + q]
+ * holds what fetch_vertices writes for vertex first + v, element q (the same for every instance); NULL when out of
+ * memory. */
+float4 *fetch_cache(is_device *dev, const fetch_plan *fp, uint32_t first, uint32_t count)
 {
-    float4 *c = malloc(((size_t)count * fp->n_vert + 1) * sizeof *c);
+    float4 *c = scratch_get(&dev->fcache, (size_t)count * fp->n_vert + 1, sizeof *c);
     if (!c) return NULL;
     for (uint32_t v = 0; v < count; v++)
         for (unsigned q = 0; q < fp->n_vert; q++) {
@@ -315,20 +331,20 @@ static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype t
     unsigned per;
     int prim = prim_raster_type(type, &per);
     if (draw_fused_takes(dev, prim, count)) { /* the fast path: draw_fused.c */
-        uint32_t *list = malloc(draw_fused_list_room(fp, count, n_prims) * sizeof *list);
+        uint32_t *list = scratch_get(&dev->list, draw_fused_list_room(fp, count, n_prims), sizeof *list);
         if (!list) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", n_prims * 3);
         for (size_t p = 0; p < n_prims; p++)
             for (unsigned c = 0; c < 3; c++) list[3 * p + c] = stream_idx[prim_vertex(type, p, c)];
-        is_result r = draw_fused(dev, fp, n_prims, first, count, list);
-        free(list);
-        return r;
+        return draw_fused(dev, fp, n_prims, first, count, list);
     }
     uint32_t chunk = count >= DRAW_CHUNK_VERTICES ? 1 : DRAW_CHUNK_VERTICES / count;
     if (chunk > fp->n_instances) chunk = fp->n_instances;
     is_result r = reserve_scratch(dev, (size_t)chunk * count, (size_t)chunk * n_prims * per);
     for (uint32_t i0 = 0; r == IS_OK && i0 < fp->n_instances; i0 += chunk) {
         uint32_t ni = fp->n_instances - i0 < chunk ? fp->n_instances - i0 : chunk;
+        const double t0 = dev_clock(dev);
         shade_range(dev, fp, first, count, i0, ni);
+        dev->stats.setup_ms += dev_clock(dev) - t0;
         size_t np = assemble(dev, type, n_prims, ni, count, stream_idx);
         r = rasterize(dev, prim, (size_t)ni * count, np);
     }
@@ -361,15 +377,12 @@ is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_ve
     fetch_plan fp;
     r = plan_fetch(dev, "DrawPrimitive", (uint64_t)start_vertex + n_idx - 1, 1, &fp);
     if (r != IS_OK) return r;
-    uint32_t *seq = malloc(n_idx * sizeof *seq);
+    uint32_t *seq = scratch_get(&dev->idx, n_idx, sizeof *seq);
     if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: out of memory");
     for (size_t k = 0; k < n_idx; k++) seq[k] = (uint32_t)k;
     if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
-        r = draw_npatch(dev, &fp, prim_count, seq, start_vertex);
-    else
-        r = draw_shaded(dev, &fp, type, prim_count, start_vertex, (uint32_t)n_idx, seq);
-    free(seq);
-    return r;
+        return draw_npatch(dev, &fp, prim_count, seq, start_vertex);
+    return draw_shaded(dev, &fp, type, prim_count, start_vertex, (uint32_t)n_idx, seq);
 }
 
 /* Read the draw's indices, check them against [min, min + num) and rebase them to min. */
@@ -411,7 +424,7 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
     uint32_t f0 = dev->streams[0].freq;
     unsigned n_inst = (f0 & IS_STREAMSOURCE_INDEXEDDATA) ? (f0 & ~IS_STREAMSOURCE_INDEXEDDATA) : 1;
     size_t n_idx = prim_index_count(type, prim_count);
-    uint32_t *idx = malloc(n_idx * sizeof *idx);
+    uint32_t *idx = scratch_get(&dev->idx, n_idx, sizeof *idx);
     if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);
     fetch_plan fp;
     r = read_indices(dev, start_index, n_idx, min_vertex_index, num_vertices, idx);
@@ -423,7 +436,6 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
         else
             r = draw_shaded(dev, &fp, type, prim_count, (uint32_t)first, num_vertices, idx);
     }
-    free(idx);
     return r;
 }
 
@@ -478,12 +490,14 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
     is_result r = reserve_scratch(dev, chunk * n_pts, chunk * 3 * n_grid);
     for (size_t t0 = 0; r == IS_OK && t0 < n_tris; t0 += chunk) {
         long nt = (long)(n_tris - t0 < chunk ? n_tris - t0 : chunk);
+        const double c0 = dev_clock(dev);
 #pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
         for (long t = 0; t < nt; t++) {
             uint32_t tri[3];
             for (int c = 0; c < 3; c++) tri[c] = first + stream_idx[3 * (t0 + (size_t)t) + (size_t)c];
             npatch_triangle(dev, fp, tri, bary, n_pts, &dev->out_v[(size_t)t * n_pts]);
         }
+        dev->stats.setup_ms += dev_clock(dev) - c0;
         dev->shaded += (uint64_t)nt * n_pts;
         for (long t = 0; t < nt; t++)
             for (size_t k = 0; k < 3 * n_grid; k++) dev->out_i[(size_t)t * 3 * n_grid + k] = (uint32_t)(t * n_pts) + gidx[k];

@@ -116,9 +116,11 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
     int slots = rs_threads(dev->rs);
     for (uint32_t i = 1; i < per_piece; i++) /* instance i of a piece: instance 0's list moved by i * count */
         for (size_t k = 0; k < 3 * n_prims; k++) list[(size_t)i * 3 * n_prims + k] = i * count + list[k];
-    float4 *cache = fetch_cache(fp, first, count);
-    is_vs_input *in = malloc((size_t)slots * count * sizeof *in);
-    bool *in_ready = calloc((size_t)slots, sizeof *in_ready);
+    /* the device's scratch, kept between draws: in_ready is cleared, the inputs are made ready again per draw */
+    const float4 *cache = fetch_cache(dev, fp, first, count);
+    is_vs_input *in = scratch_get(&dev->in, (size_t)slots * count, sizeof *in);
+    bool *in_ready = scratch_get(&dev->in_ready, (size_t)slots, sizeof *in_ready);
+    if (in_ready) memset(in_ready, 0, (size_t)slots * sizeof *in_ready);
     fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache,
                    in, in_ready, live_outputs(dev)};
     is_result r = cache && in && in_ready ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)
@@ -132,7 +134,6 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
         rs_stats s = {0};
         r = draw_result(dev, rs_draw_source(dev->rs, &st, &dev->rt, &src, &s), &s);
     }
-    free(cache), free(in), free(in_ready);
     dev->shaded += total;
     return r;
 }

@@ -46,6 +46,17 @@ void rs_set_reference_path(rs_context *rs, bool on)
     if (rs) rs->reference = on;
 }
 
+void rs_set_timing(rs_context *rs, bool on)
+{
+    if (rs) rs->timing = on;
+}
+
+/* Wall-clock milliseconds now when rs times its draws (rs_set_timing), else 0. */
+static double phase_clock(const rs_context *rs)
+{
+    return rs->timing ? omp_get_wtime() * 1e3 : 0.0;
+}
+
 void rs_set_threads(rs_context *rs, int threads)
 {
     if (rs) rs->threads = threads > 0 ? threads : 0;
@@ -355,19 +366,25 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
     return true;
 }
 
-/* Rasterize every tile in parallel, then sum the counters (the second half of a draw). */
-static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, rs_stats *stats)
+/* Rasterize every tile in parallel, then sum the counters and the phase times (setup_ms: the first half's) into
+ * *stats (the second half of a draw). */
+static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, double setup_ms,
+                         rs_stats *stats)
 {
     int ntl = j->n_tiles;
     /* the reference path draws in the target, so that the tests compare the tile buffers and their copy-out
      * against it */
     char *bufs = j->reference ? NULL : tile_buffers(rs, j, nt);
     const size_t bsz = rs_tile_buffer_size(j);
+    const double t0 = phase_clock(rs);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (int t = 0; t < ntl; t++)
         raster_tile(j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t,
                     bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL);
-    if (stats) gather_stats(j, rs, n_chunks, n_prims, stats);
+    const double t1 = phase_clock(rs);
+    if (!stats) return;
+    gather_stats(j, rs, n_chunks, n_prims, stats);
+    stats->setup_ms = setup_ms, stats->tile_ms = t1 - t0;
 }
 
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
@@ -385,8 +402,10 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     if (!reserve_context(rs, src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
         return RS_ENOMEM;
     long nc = (long)src->n_pieces;
+    const double t0 = phase_clock(rs);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1)
     for (long c = 0; c < nc; c++) source_chunk(&j, rs, src, (size_t)c, omp_get_thread_num());
+    const double setup_ms = phase_clock(rs) - t0;
     size_t n_prims = 0;
     for (size_t c = 0; c < src->n_pieces; c++) {
         if (rs->chunks[c].oom) return RS_ENOMEM;
@@ -394,7 +413,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     }
     if (n_prims != src->n_prims) return RS_EINVAL;
     if (!add_work(rs, &j, src->n_pieces)) return RS_EWORK;
-    raster_tiles(&j, rs, src->n_pieces, n_prims, nt, stats);
+    raster_tiles(&j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
     return RS_OK;
 }
 
@@ -418,6 +437,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
         rs->chunks[c].count = c * per < n_prims ? (n_prims - c * per < per ? n_prims - c * per : per) : 0;
     }
     int nt = thread_count(rs);
+    const double t0 = phase_clock(rs);
     shared_pass(rs, &j, n_verts, n_prims, nt);
     long nc = (long)n_chunks;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1)
@@ -425,9 +445,10 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
         rs_setup_chunk(&j, &rs->chunks[c]);
         rs_bin_chunk(&j, &rs->chunks[c]);
     }
+    const double setup_ms = phase_clock(rs) - t0;
     for (size_t c = 0; c < n_chunks; c++)
         if (rs->chunks[c].oom) return RS_ENOMEM;
     if (!add_work(rs, &j, n_chunks)) return RS_EWORK;
-    raster_tiles(&j, rs, n_chunks, n_prims, nt, stats);
+    raster_tiles(&j, rs, n_chunks, n_prims, nt, setup_ms, stats);
     return RS_OK;
 }

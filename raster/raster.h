@@ -128,10 +128,16 @@ typedef struct rs_target {
 /* Counters of one rs_draw call (for tests and the benchmark).  prims_* count input primitives: culled by
  * winding, clipped away (entirely outside the clip volume), degenerate (zero area after snapping, zero-length
  * line, or a non-finite position), drawn (the rest).  samples_tested: covered samples that reached the depth
- * test; samples_written: those that passed it (colour written).  Zeroed when rs_draw fails. */
+ * test; samples_written: those that passed it (colour written).  Zeroed when rs_draw fails.
+ * setup_ms, tile_ms: wall-clock milliseconds of the draw's two parallel regions, measured only with
+ * rs_set_timing on (else 0, so that the counters of two runs compare equal byte for byte): setup_ms the set-up
+ * region (projection, clipping, set-up and binning of every chunk; for rs_draw_source also the producer's
+ * shading), tile_ms the tile pass (deferred clear into the tile buffers, rasterization, copy-out).  Everything
+ * else of a draw (validation, the checks between the regions, summing the counters) is in neither. */
 typedef struct rs_stats {
     uint64_t prims_in, prims_culled, prims_clipped_away, prims_degenerate, prims_drawn;
     uint64_t samples_tested, samples_written;
+    double setup_ms, tile_ms;
 } rs_stats;
 
 typedef struct rs_context rs_context;
@@ -158,6 +164,9 @@ int rs_threads(const rs_context *rs);
 /* The scalar reference path on (every draw takes the simplest per-sample loops: set-up per triangle, tri.c's
  * per-pixel walk, no tile buffers) or off (the default: the fast paths, which write the same bytes). */
 void rs_set_reference_path(rs_context *rs, bool on);
+/* Measure each draw's phase times into rs_stats.setup_ms / tile_ms (on) or leave them 0 (off, the default).
+ * Timing changes no image byte and no counter; it costs two clock reads per region. */
+void rs_set_timing(rs_context *rs, bool on);
 
 /* Allocate a target of w x h pixels with `samples` (1 or 4) samples; RS_EINVAL for bad sizes. */
 int rs_target_init(rs_target *rt, int width, int height, int samples);

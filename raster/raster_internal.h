@@ -138,6 +138,7 @@ struct rs_context {
     uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
     bool frame;                  /* a deferred clear started a frame (else each draw's work counts alone) */
     bool reference;              /* rs_set_reference_path */
+    bool timing;                 /* rs_set_timing: phase times into rs_stats */
     rs_chunk *chunks;
     size_t n_chunks_cap;
     uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
