@@ -455,10 +455,11 @@ void outputs_remove_temp_files(void);
 
 /* ================================ images (core/image.c; files through OpenImageIO, core/image.cpp) ============ */
 
-/* Two halves: core/image.c holds the pixels and writes files through the outputs above; core/image.cpp is the
- * codec, the only code that touches OpenImageIO (encode into memory, read, compare, text).  A program that
- * renders without OpenImageIO (the valgrind stage's build, tests/valgrind/) links another codec with the same
- * five functions in place of core/image.cpp. */
+/* Two halves: core/image.c holds the pixels and writes files through the outputs above; the codec (encode into
+ * memory, read, compare, text) is core/image_oiio.cpp, the only code that touches OpenImageIO, built as the
+ * module libinstess_codec.so that core/image_codec.c opens on the first codec call (so a program that never
+ * reads or writes an image never loads OpenImageIO's libraries).  The valgrind stage's build
+ * (tests/valgrind/) links another codec with the same five functions in place of core/image_codec.c. */
 #define IS_IMAGE_MAX_CHANNELS 32
 #define IS_IMAGE_MAX_DIM 65536
 typedef struct is_image {

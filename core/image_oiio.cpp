@@ -1,5 +1,7 @@
-// core/image_oiio.cpp -- the image codec through OpenImageIO: encode into memory, read, compare, text (the API
-// is in core/core.h; the pixels and the writing of files are core/image.c and core/output.c, in C).
+// core/image_oiio.cpp -- the image codec through OpenImageIO: encode into memory, read, compare, text.  Built as
+// the module libinstess_codec.so, which core/image_codec.c opens on the first image call (the API is
+// core/core.h's image_encode, image_read, ...; here they are codec_*).  The pixels and the writing of files are
+// core/image.c and core/output.c, in C, in the program, which exports them to this module (-rdynamic).
 //
 // The only C++ file of the project.  Every entry point is extern "C", catches every exception and reports
 // failures as -1 with a message in err that names the file and the reason.  Encoding goes into memory, not
@@ -350,7 +352,7 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
 extern "C" {
 
 // Encode img as a PNG or EXR file in a malloc'd buffer.
-int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
+int codec_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
 {
     label = label ? label : "image";
@@ -378,7 +380,7 @@ int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *
 }
 
 // Read any image file into float channels.
-int image_read(is_image *img, const char *path, char *err, size_t errlen)
+int codec_read(is_image *img, const char *path, char *err, size_t errlen)
 {
     if (!img || !path || !*path)
         return set_err(err, errlen, "image_read: %s", img ? "empty path" : "NULL image"), -1;
@@ -395,7 +397,7 @@ int image_read(is_image *img, const char *path, char *err, size_t errlen)
 }
 
 // Compare two images with ImageBufAlgo::compare and optionally write a visual diff.
-int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
+int codec_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
                   const char *diff_path, char *err, size_t errlen)
 {
     try {
@@ -409,7 +411,7 @@ int image_compare(const is_image *a, const is_image *b, float fail_thresh, float
 }
 
 // Draw text with DejaVu Sans over the image's R, G, B, A; (x, y) is the left end of the baseline.
-int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
+int codec_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
                     size_t errlen)
 {
     try {
@@ -423,7 +425,7 @@ int image_draw_text(is_image *img, int x, int y, const char *text, float size_px
 }
 
 // Size in pixels of the box image_draw_text would cover for text; 0 or -1.
-int image_text_size(const char *text, float size_px, int *w, int *h)
+int codec_text_size(const char *text, float size_px, int *w, int *h)
 {
     try {
         int px = font_px(size_px);

@@ -238,6 +238,38 @@ static void test_command_line_conventions(void **state)
     assert_false(exists("x.png"));
 }
 
+/* The image codec (OpenImageIO) is a module loaded on the first image call: a copy of the program without
+ * the module beside it still answers --help and reports usage errors, and a render fails with exit 1 naming
+ * the module, writing nothing. */
+static void test_codec_loaded_on_demand(void **state)
+{
+    (void)state;
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char cmd[2400], copy[512], err_path[512];
+    snprintf(copy, sizeof copy, "%s/lonely/instess", dir);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/lonely && cp %s %s", dir, bin, copy);
+    assert_int_equal(system(cmd), 0);
+    snprintf(err_path, sizeof err_path, "%s/lonely/err.txt", dir);
+    snprintf(cmd, sizeof cmd, "%s --help >/dev/null 2>%s", copy, err_path);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s --patch curvy -o %s/x.png 2>%s", copy, dir, err_path);
+    int st = system(cmd);
+    assert_int_equal(WEXITSTATUS(st), 2);
+    snprintf(cmd, sizeof cmd, "%s --size 16x16 -q -o %s/x.png 2>%s", copy, dir, err_path);
+    st = system(cmd);
+    assert_int_equal(WEXITSTATUS(st), 1);
+    FILE *f = fopen(err_path, "r");
+    char msg[2048] = "";
+    size_t n = f ? fread(msg, 1, sizeof msg - 1, f) : 0;
+    if (f) fclose(f);
+    msg[n] = 0;
+    print_message("  without the module: %s", msg);
+    assert_non_null(strstr(msg, "cannot load libinstess_codec.so"));
+    assert_false(exists("x.png"));
+    snprintf(cmd, sizeof cmd, "rm -rf %s/lonely", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -246,6 +278,7 @@ int main(void)
         cmocka_unit_test(test_png_and_exr),
         cmocka_unit_test(test_clamped_level_is_said),
         cmocka_unit_test(test_command_line_conventions),
+        cmocka_unit_test(test_codec_loaded_on_demand),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }
