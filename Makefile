@@ -103,7 +103,8 @@ test-unit: $(TEST_BIN) $(B)/instess
 
 # The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
 # halting on the first error (-fno-sanitize-recover=all), leaks checked by LeakSanitizer at exit, and the
-# rasterizer's stated preconditions checked (INSTESS_CHECKS turns RS_ASSERT into assert).
+# rasterizer's stated preconditions checked (INSTESS_CHECKS turns RS_ASSERT into assert).  Every program loads
+# libstdc++ at start: ASan finds the real __cxa_throw only if it is there before the codec module is opened.
 SAN      = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
            -fno-omit-frame-pointer
 SAN_B    = build-asan
@@ -112,7 +113,8 @@ sanitize: $(SETUP)
 	@$(MAKE) --no-print-directory B=$(SAN_B) CC=clang CXX=clang++ OPT=-O1 \
 	    CFLAGS="$(CFLAGS_BASE) $(SAN) -DINSTESS_CHECKS -Wno-unknown-warning-option" \
 	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN) -fno-sanitize=vptr" \
-	    LDFLAGS="-fopenmp -Wl,--as-needed $(SAN)" $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess
+	    LDFLAGS="-fopenmp -Wl,--no-as-needed -lstdc++ -Wl,--as-needed $(SAN)" \
+	    $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
 	 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp \
 	 INSTESS_BIN=$(SAN_B)/instess TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
