@@ -199,20 +199,6 @@ static size_t tet_buffer(unsigned char *buf)
     return sizeof p + sizeof idx;
 }
 
-/* Base64 of n bytes into out (NUL-terminated). */
-static void base64(const unsigned char *in, size_t n, char *out)
-{
-    static const char a[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t k = 0; k < n; k += 3) {
-        uint32_t v = (uint32_t)in[k] << 16 | (k + 1 < n ? (uint32_t)in[k + 1] << 8 : 0) | (k + 2 < n ? in[k + 2] : 0);
-        out[o++] = a[v >> 18 & 63];
-        out[o++] = a[v >> 12 & 63];
-        out[o++] = k + 1 < n ? a[v >> 6 & 63] : '=';
-        out[o++] = k + 2 < n ? a[v & 63] : '=';
-    }
-    out[o] = 0;
-}
 
 /* A glTF 2.0 tetrahedron whose buffer is `uri` (NULL: a buffer without one), with `nodes` (a JSON array;
  * NULL: one node with the mesh). */
@@ -267,7 +253,7 @@ static void test_gltf_buffers(void **state)
     const char *w;
     write_gltf("m/inside.gltf", "tet.bin", NULL);
     expect_image("m/inside.gltf", "--patch smooth --level 3", &w);
-    base64(buf, n, b64);
+    prog_base64(buf, n, b64);
     snprintf(uri, sizeof uri, "data:application/octet-stream;base64,%s", b64);
     write_gltf("m/data.gltf", uri, NULL);
     expect_image("m/data.gltf", "--patch npatch --level 3", &w);

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "util/prog.h"
 #include "../meshes/meshes.h"
 
 #define FAERIE "/usr/share/assimp/models/MD2/faerie.md2"
@@ -749,20 +750,6 @@ static void write_tmp(const char *dir, const char *name, const void *data, size_
     assert_int_equal(fclose(f), 0);
 }
 
-/* Base64 of n bytes into out. */
-static void to_base64(const unsigned char *in, size_t n, char *out)
-{
-    static const char a[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t k = 0; k < n; k += 3) {
-        uint32_t v = (uint32_t)in[k] << 16 | (k + 1 < n ? (uint32_t)in[k + 1] << 8 : 0) | (k + 2 < n ? in[k + 2] : 0);
-        out[o++] = a[v >> 18 & 63];
-        out[o++] = a[v >> 12 & 63];
-        out[o++] = k + 1 < n ? a[v >> 6 & 63] : '=';
-        out[o++] = k + 2 < n ? a[v & 63] : '=';
-    }
-    out[o] = 0;
-}
 
 /* A glTF tetrahedron with NORMAL (outward unit normals) in a data: URI, its one node scaled by `scale`. */
 static void gltf_scaled_tet(char *text, size_t len, double scale)
@@ -774,7 +761,7 @@ static void gltf_scaled_tet(char *text, size_t len, double scale)
     unsigned char buf[120];
     char b64[200];
     memcpy(buf, p, 48), memcpy(buf + 48, n, 48), memcpy(buf + 96, idx, 24);
-    to_base64(buf, sizeof buf, b64);
+    prog_base64(buf, sizeof buf, b64);
     snprintf(text, len,
              "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"data:application/octet-stream;base64,%s\","
              "\"byteLength\":120}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
@@ -1038,7 +1025,7 @@ static char *gltf_grid_graph(int depth)
             uint32_t a = (uint32_t)(j * (W + 1) + i), q[6] = {a, a + 1, a + W + 2, a, a + W + 2, a + W + 1};
             memcpy(buf + NV * 12 + 12 * t, q, sizeof q);
         }
-    to_base64(buf, bytes, b64);
+    prog_base64(buf, bytes, b64);
     size_t n = (size_t)sprintf(text,
         "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"data:application/octet-stream;base64,%s\","
         "\"byteLength\":%zu}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":%d},{\"buffer\":0,\"byteOffset\":%d,"

@@ -2,6 +2,7 @@
 #include "prog.h"
 
 #include <dirent.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -112,4 +113,18 @@ bool prog_same_bytes(const char *a, const char *b)
     free(x);
     free(y);
     return same;
+}
+
+void prog_base64(const unsigned char *in, size_t n, char *out)
+{
+    static const char a[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    size_t o = 0;
+    for (size_t k = 0; k < n; k += 3) {
+        uint32_t v = (uint32_t)in[k] << 16 | (k + 1 < n ? (uint32_t)in[k + 1] << 8 : 0) | (k + 2 < n ? in[k + 2] : 0);
+        out[o++] = a[v >> 18 & 63];
+        out[o++] = a[v >> 12 & 63];
+        out[o++] = k + 1 < n ? a[v >> 6 & 63] : '=';
+        out[o++] = k + 2 < n ? a[v & 63] : '=';
+    }
+    out[o] = 0;
 }
