@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "util/prog.h"
 #include "../core/core.h"
 
 static char dir[256];
@@ -189,19 +190,14 @@ static void test_clamped_level_is_said(void **state)
     unlink(p);
 }
 
-/* Whether files a and b (in the work folder) decode to the same pixels. */
+
+/* Whether dir/a and dir/b decode to the same pixels. */
 static bool same_pixels(const char *a, const char *b)
 {
-    char pa[512], pb[512], e[512];
-    is_image x, y;
+    char pa[512], pb[512];
     snprintf(pa, sizeof pa, "%s/%s", dir, a);
     snprintf(pb, sizeof pb, "%s/%s", dir, b);
-    if (image_read(&x, pa, e, sizeof e) != 0 || image_read(&y, pb, e, sizeof e) != 0) fail_msg("%s", e);
-    bool same = x.width == y.width && x.height == y.height && x.channels == y.channels &&
-                !memcmp(x.data, y.data, sizeof(float) * (size_t)x.width * x.height * x.channels);
-    image_free(&x);
-    image_free(&y);
-    return same;
+    return prog_same_pixels(pa, pb);
 }
 
 /* What people expect of a command line: no arguments print the usage (exit 2); the mesh may be positional

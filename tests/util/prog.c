@@ -1,6 +1,8 @@
 /* tests/util/prog.c -- running the instess program from a test (see prog.h). */
 #include "prog.h"
 
+#include "../../core/core.h"
+
 #include <dirent.h>
 #include <stdint.h>
 #include <stdarg.h>
@@ -127,4 +129,16 @@ void prog_base64(const unsigned char *in, size_t n, char *out)
         out[o++] = k + 2 < n ? a[v & 63] : '=';
     }
     out[o] = 0;
+}
+
+bool prog_same_pixels(const char *a, const char *b)
+{
+    is_image x = {0}, y = {0};
+    char err[512];
+    bool read = image_read(&x, a, err, sizeof err) == 0 && image_read(&y, b, err, sizeof err) == 0;
+    if (!read) fprintf(stderr, "prog_same_pixels: %s\n", err);
+    bool same = read && x.width == y.width && x.height == y.height && x.channels == y.channels &&
+                memcmp(x.data, y.data, sizeof(float) * (size_t)x.width * x.height * x.channels) == 0;
+    image_free(&x), image_free(&y);
+    return same;
 }

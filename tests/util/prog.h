@@ -31,6 +31,9 @@ bool prog_exists(const char *dir, const char *name);
 int prog_entries_with(const char *dir, const char *part);
 /* The whole content of path (malloc'ed, *n bytes), or NULL. */
 unsigned char *prog_slurp(const char *path, size_t *n);
+/* Whether image files a and b decode to the same size, channels and pixel values (false, with the reason on
+ * stderr, when either cannot be read). */
+bool prog_same_pixels(const char *a, const char *b);
 /* Base64 (RFC 4648, with padding) of n bytes into out, which holds 4 * ((n + 2) / 3) + 1 bytes. */
 void prog_base64(const unsigned char *in, size_t n, char *out);
 /* Whether two files hold the same bytes (false if either is missing). */
