@@ -239,14 +239,20 @@ static void folder_of(const char *path, char *dir, size_t len)
     snprintf(dir, len, "%.*s", (int)(n ? n : 1), path);
 }
 
-/* mesh_io_init_file: see mesh_internal.h. */
-int mesh_io_init_file(mesh_io *io, const char *path, const char *label, uint64_t max_bytes, char *err,
-                      size_t errlen)
+/* A cleared io whose aiFileIO opens and closes through this file, reporting as label. */
+static void io_init(mesh_io *io, const char *label)
 {
     memset(io, 0, sizeof *io);
     io->fio.OpenProc = io_open;
     io->fio.CloseProc = io_close;
     io->label = label;
+}
+
+/* mesh_io_init_file: see mesh_internal.h. */
+int mesh_io_init_file(mesh_io *io, const char *path, const char *label, uint64_t max_bytes, char *err,
+                      size_t errlen)
+{
+    io_init(io, label);
     io->path = path;
     io->max_bytes = max_bytes;
     size_t n = strlen(path);
@@ -263,10 +269,7 @@ int mesh_io_init_file(mesh_io *io, const char *path, const char *label, uint64_t
 /* mesh_io_init_memory: see mesh_internal.h. */
 void mesh_io_init_memory(mesh_io *io, const void *data, size_t size, const char *hint, const char *label)
 {
-    memset(io, 0, sizeof *io);
-    io->fio.OpenProc = io_open;
-    io->fio.CloseProc = io_close;
-    io->label = label;
+    io_init(io, label);
     io->data = data;
     io->size = size;
     char ext[32];
