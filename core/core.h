@@ -425,8 +425,7 @@ typedef struct is_output_file {
     const char *path;                      /* the target, as given (not copied: keep it alive) */
     char tmp[4096];                        /* its temporary file, "" when none */
     int fd, slot;                          /* open descriptor or -1; signal slot or -1 */
-    bool exists, renamed;                  /* the target existed when claimed; the temporary is in place */
-    unsigned long long dev, ino;           /* the existing target's identity (clash check) */
+    bool renamed;                          /* the temporary is in place */
 } is_output_file;
 typedef struct is_outputs {
     int n;

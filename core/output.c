@@ -138,12 +138,6 @@ static int check_target(const char *path, struct stat *st, bool *exists, char *e
     return 0;
 }
 
-/* True if output k of o names the same file as path (same string, or the same existing inode). */
-static bool same_file(const is_output_file *f, const char *path, const struct stat *st, bool exists)
-{
-    if (!strcmp(f->path, path)) return true;
-    return exists && f->exists && f->dev == (unsigned long long)st->st_dev && f->ino == (unsigned long long)st->st_ino;
-}
 
 bool outputs_same_target(const char *a, const char *b)
 {
@@ -192,16 +186,13 @@ int outputs_add(is_outputs *o, const char *path, char *err, size_t errlen)
     bool exists;
     if (check_target(path, &st, &exists, err, errlen) != 0) return -1;
     for (int k = 0; k < o->n; k++)
-        if (same_file(&o->f[k], path, &st, exists) || outputs_same_target(o->f[k].path, path)) {
+        if (outputs_same_target(o->f[k].path, path)) {
             core_set_err(err, errlen, "%s: named as two outputs of one run (%s and %s)", path, o->f[k].path, path);
             return -1;
         }
     is_output_file *f = &o->f[o->n];
     memset(f, 0, sizeof *f);
     f->path = path;
-    f->exists = exists;
-    f->dev = exists ? (unsigned long long)st.st_dev : 0;
-    f->ino = exists ? (unsigned long long)st.st_ino : 0;
     f->fd = -1;
     f->slot = -1;
     return o->n++;
