@@ -60,23 +60,18 @@ static const is_vertex_shader fig_shader = {.name = "figure", .main = vs_fig, .o
 
 /* ---------------------------------------- views ---------------------------------------- */
 
-/* Apply one option of a view string; NULL or the problem. */
-static const char *view_option(fig_view *v, const char *key, const char *val)
+/* Apply one option of a view string (--mesh and --light here, the rest by the option table); NULL or the
+ * problem (in buf when it is built). */
+static const char *view_option(fig_view *v, const char *key, const char *val, char *buf, size_t len)
 {
     scene_opts *o = &v->o;
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
-    if (!strcmp(key, "--patch")) return scene_parse_patch(val, &o->patch) ? NULL : "bad --patch";
-    if (!strcmp(key, "--normals")) return scene_parse_normals(val, &o->normals) ? NULL : "bad --normals";
-    if (!strcmp(key, "--level")) return scene_parse_float(val, 1, SCENE_MAX_LEVEL, &o->level) ? NULL : "bad --level";
-    if (!strcmp(key, "--yaw")) return scene_parse_float(val, -360, 360, &o->yaw) ? NULL : "bad --yaw";
-    if (!strcmp(key, "--pitch")) return scene_parse_float(val, -360, 360, &o->pitch) ? NULL : "bad --pitch";
-    if (!strcmp(key, "--distance")) return scene_parse_float(val, 1.01f, 1000, &o->distance) ? NULL : "bad --distance";
-    if (!strcmp(key, "--fill")) return scene_parse_fill(val, &o->fill) ? NULL : "bad --fill";
     if (!strcmp(key, "--light")) {
         v->light = !strcmp(val, "grazing") ? LIGHT_GRAZING : !strcmp(val, "normals") ? LIGHT_NORMALS : -1;
         return v->light < 0 ? "bad --light" : NULL;
     }
-    return "unknown option";
+    const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
+    return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
 }
 
 /* Parse a view string ("--mesh cube --patch npatch ...") over the scene defaults; 0 or -1. */
@@ -93,7 +88,8 @@ static int view_parse(fig_view *v, const char *spec, char *err, size_t errlen)
             continue;
         }
         char *val = strtok_r(NULL, " ", &save);
-        const char *msg = val ? view_option(v, k, val) : "missing value";
+        char why[600];
+        const char *msg = val ? view_option(v, k, val, why, sizeof why) : "missing value";
         if (msg) return snprintf(err, errlen, "view \"%s\": %s: %s", spec, k, msg), -1;
     }
     if (v->light == LIGHT_NORMALS) memcpy(v->o.diffuse, (float[4]){1, 1, 1, 1}, sizeof v->o.diffuse);

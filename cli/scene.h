@@ -11,6 +11,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "../core/core.h"
 #include "../meshes/meshes.h"
@@ -131,6 +132,37 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
 void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
+
+/* ------------- the command line (cli/options.c): one table for getopt, --help, the man page ------------- */
+
+/* One render option: `--name METAVAR` (or a flag when metavar is NULL), its help line, its default as shown,
+ * the function that applies a value to scene_opts, and for options that take one of a set of names, the names. */
+typedef struct scene_option {
+    const char *name;        /* the long name, without "--" */
+    int short_name;          /* 'o', 'q', or 0 */
+    const char *metavar;     /* the value's name in --help, or NULL for a flag */
+    const char *help;        /* what it does, one line */
+    const char *deflt;       /* the default as --help shows it, or NULL */
+    /* Apply the value (NULL for a flag) to o: NULL, or the usage error. */
+    const char *(*apply)(scene_opts *o, const char *arg);
+    /* The names the option takes joined by sep into buf (buf), or NULL for options without a set of names. */
+    const char *(*choices)(const char *sep, char *buf, size_t len);
+} scene_option;
+extern const scene_option scene_options[];
+extern const size_t scene_option_count;
+
+/* The option called name (without "--"), or NULL. */
+const scene_option *scene_find_option(const char *name);
+/* Apply arg to o by opt: NULL, or the usage error (an unknown name lists the valid ones, built in buf). */
+const char *scene_apply_option(scene_opts *o, const scene_option *opt, const char *arg, char *buf, size_t len);
+/* Every option's help lines into f (the table's order, then --help and --version). */
+void scene_print_options(FILE *f);
+
+typedef enum { SCENE_ARGS_RUN, SCENE_ARGS_HELP, SCENE_ARGS_VERSION } scene_args_result;
+/* The render options of argv[1..argc-1] applied to o (which holds the defaults), with at most one positional
+ * argument, the mesh.  0 with *res saying whether to render or that --help / --version was asked; -1 with the
+ * usage error in err. */
+int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *res, char *err, size_t errlen);
 
 /* Subcommands: `instess figures` (cli/figures.c) and `instess smoothness` (cli/smoothness.c). */
 int scene_cmd_figures(int argc, char **argv);

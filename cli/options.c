@@ -1,0 +1,277 @@
+/* cli/options.c -- the render options of the command line: one table (scene_options) from which getopt's
+ * long options, `--help` and the parsing of every program that renders a scene (instess, instess view, the
+ * figures' "Reproduce" lines) are made, so that no list of options is repeated anywhere else. */
+#include "scene.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------ choices ------------------------------------ */
+
+/* The names --patch takes, joined by sep into buf; buf. */
+static const char *patch_choices(const char *sep, char *buf, size_t len)
+{
+    return vs_patch_names(sep, buf, len);
+}
+
+/* The names --normals takes, joined by sep into buf; buf. */
+static const char *normals_choices(const char *sep, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s%s%s%s%s", vs_normals_name(VS_NORMALS_LINEAR), sep, vs_normals_name(VS_NORMALS_QUADRATIC),
+             sep, vs_normals_name(VS_NORMALS_REAL));
+    return buf;
+}
+
+/* The names --grid, --path and --fill take, joined by sep into buf; buf. */
+static const char *grid_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_grid_names, sep, buf, len);
+}
+static const char *path_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_path_names, sep, buf, len);
+}
+static const char *fill_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_fill_names, sep, buf, len);
+}
+
+/* "unknown --NAME (one of: ...)" for option opt into buf; buf. */
+static const char *unknown_choice(const scene_option *opt, char *buf, size_t len)
+{
+    char names[512];
+    snprintf(buf, len, "unknown --%s (one of: %s)", opt->name, opt->choices(" | ", names, sizeof names));
+    return buf;
+}
+
+/* ------------------------------------ appliers ------------------------------------ */
+/* Each takes the option's value and returns NULL, or the usage error (CHOICE_ERROR: "unknown --x (one of ...)"). */
+
+static const char CHOICE_ERROR[] = "";
+
+static const char *opt_mesh(scene_opts *o, const char *a) { return o->mesh = a, NULL; }
+static const char *opt_patch(scene_opts *o, const char *a)
+{
+    return scene_parse_patch(a, &o->patch) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_normals(scene_opts *o, const char *a)
+{
+    return scene_parse_normals(a, &o->normals) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_level(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 1.0f, SCENE_MAX_LEVEL, &o->level) ? NULL : SCENE_LEVEL_MSG;
+}
+static const char *opt_grid(scene_opts *o, const char *a)
+{
+    return scene_parse_grid(a, &o->grid) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_path(scene_opts *o, const char *a)
+{
+    return scene_parse_path(a, &o->path) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_size(scene_opts *o, const char *a)
+{
+    return scene_parse_size(a, &o->width, &o->height) ? NULL : SCENE_SIZE_MSG;
+}
+static const char *opt_yaw(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, -1e6f, 1e6f, &o->yaw) ? NULL : "--yaw needs a number of degrees";
+}
+static const char *opt_pitch(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, -1e6f, 1e6f, &o->pitch) ? NULL : "--pitch needs a number of degrees";
+}
+static const char *opt_distance(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 1.01f, 1000.0f, &o->distance) ? NULL : "--distance must be 1.01..1000";
+}
+static const char *opt_fill(scene_opts *o, const char *a)
+{
+    return scene_parse_fill(a, &o->fill) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_msaa(scene_opts *o, const char *a)
+{
+    return scene_parse_msaa(a, &o->msaa) ? NULL : "--msaa must be 1 or 4";
+}
+static const char *opt_threads(scene_opts *o, const char *a)
+{
+    return scene_parse_int(a, 0, 256, &o->threads) ? NULL : "--threads must be 0..256";
+}
+static const char *opt_recompute(scene_opts *o, const char *a) { return o->recompute_normals = true, NULL; }
+
+/* A size in MiB in [lo, 2^20] into *out; NULL or msg. */
+static const char *parse_mib(const char *a, int lo, unsigned *out, const char *msg)
+{
+    int mib;
+    if (!scene_parse_int(a, lo, 1 << 20, &mib)) return msg;
+    *out = (unsigned)mib;
+    return NULL;
+}
+static const char *opt_max_memory(scene_opts *o, const char *a)
+{
+    return parse_mib(a, 16, &o->max_memory_mib, "--max-memory takes MiB, 16..1048576");
+}
+static const char *opt_max_file_size(scene_opts *o, const char *a)
+{
+    return parse_mib(a, 1, &o->max_file_mib, "--max-file-size takes MiB, 1..1048576");
+}
+static const char *opt_max_import_memory(scene_opts *o, const char *a)
+{
+    return parse_mib(a, 16, &o->max_import_memory_mib, "--max-import-memory takes MiB, 16..1048576");
+}
+static const char *opt_aov(scene_opts *o, const char *a)
+{
+    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
+}
+static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
+static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
+static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
+
+/* ------------------------------------ the table ------------------------------------ */
+
+const scene_option scene_options[] = {
+    {"mesh", 0, "NAME|FILE", "the mesh: a built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, "
+     "cylinder) or a file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...); also the positional MESH", "cube",
+     opt_mesh, NULL},
+    {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices},
+    {"normals", 0, "N", "the normals the patch shades with", "linear", opt_normals, normals_choices},
+    {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL},
+    {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices},
+    {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
+     path_choices},
+    {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL},
+    {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL},
+    {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
+    {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
+    {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
+    {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
+    {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
+    {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
+     opt_recompute, NULL},
+    {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},
+    {"max-file-size", 0, "MIB", "the largest mesh file (with the files it refers to) read", "256",
+     opt_max_file_size, NULL},
+    {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL},
+    {"aov", 0, "LIST", "EXR only: extra channels, comma-separated: normal,bary,instance,gregory", NULL, opt_aov, NULL},
+    {"export-obj", 0, "FILE", "also write the tessellated surface as OBJ", NULL, opt_export_obj, NULL},
+    {"output", 'o', "FILE", "the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)", NULL, opt_output,
+     NULL},
+    {"quiet", 'q', NULL, "no statistics on stderr (warnings are still printed)", NULL, opt_quiet, NULL},
+};
+const size_t scene_option_count = sizeof scene_options / sizeof scene_options[0];
+
+const scene_option *scene_find_option(const char *name)
+{
+    for (size_t k = 0; k < scene_option_count; k++)
+        if (strcmp(scene_options[k].name, name) == 0) return &scene_options[k];
+    return NULL;
+}
+
+const char *scene_apply_option(scene_opts *o, const scene_option *opt, const char *arg, char *buf, size_t len)
+{
+    const char *msg = opt->apply(o, arg);
+    return msg == CHOICE_ERROR ? unknown_choice(opt, buf, len) : msg;
+}
+
+/* ------------------------------------ usage ------------------------------------ */
+
+/* The left column of opt's help line ("  -o, --output FILE") into buf; buf. */
+static const char *option_label(const scene_option *opt, char *buf, size_t len)
+{
+    char shortname[8] = "";
+    if (opt->short_name) snprintf(shortname, sizeof shortname, "-%c, ", opt->short_name);
+    snprintf(buf, len, "  %s--%s%s%s", shortname, opt->name, opt->metavar ? " " : "", opt->metavar ? opt->metavar : "");
+    return buf;
+}
+
+enum { HELP_INDENT = 28, HELP_WIDTH = 110 };
+
+/* text into f, wrapped at spaces to HELP_WIDTH columns, continuation lines indented HELP_INDENT; col is the
+ * column the text starts at. */
+static void print_wrapped(FILE *f, const char *text, int col)
+{
+    while (*text) {
+        int room = HELP_WIDTH - col, n = (int)strlen(text);
+        if (n > room) {   /* break at the last space that fits (or the first one, for a long word) */
+            int cut = room;
+            while (cut > 0 && text[cut] != ' ') cut--;
+            if (cut == 0) cut = (int)(strchr(text, ' ') ? strchr(text, ' ') - text : n);
+            n = cut;
+        }
+        while (n > 0 && text[n - 1] == ' ') n--;
+        fprintf(f, "%.*s\n", n, text);
+        text += n;
+        while (*text == ' ') text++;
+        if (*text) fprintf(f, "%*s", HELP_INDENT, ""), col = HELP_INDENT;
+    }
+}
+
+/* One option's lines of --help into f: label, text, the choices and the default. */
+static void print_option(FILE *f, const scene_option *opt)
+{
+    char label[96], names[512] = "", text[1400];
+    option_label(opt, label, sizeof label);
+    if (opt->choices) opt->choices(" | ", names, sizeof names);
+    snprintf(text, sizeof text, "%s%s%s%s%s%s", opt->help, *names ? ": " : "", names, opt->deflt ? "  [" : "",
+             opt->deflt ? opt->deflt : "", opt->deflt ? "]" : "");
+    fprintf(f, "%-*s", HELP_INDENT, label);
+    print_wrapped(f, text, HELP_INDENT > (int)strlen(label) ? HELP_INDENT : (int)strlen(label));
+}
+
+void scene_print_options(FILE *f)
+{
+    for (size_t k = 0; k < scene_option_count; k++) print_option(f, &scene_options[k]);
+    fprintf(f, "%-*s%s\n%-*s%s\n", HELP_INDENT, "  -h, --help", "this text", HELP_INDENT, "  -V, --version",
+            "the version");
+}
+
+/* ------------------------------------ parsing ------------------------------------ */
+
+/* getopt_long's table of scene_options (plus --help, --version) into lo (scene_option_count + 3 entries). */
+static void long_options(struct option *lo)
+{
+    size_t k = 0;
+    for (; k < scene_option_count; k++)
+        lo[k] = (struct option){scene_options[k].name, scene_options[k].metavar ? required_argument : no_argument, 0,
+                                (int)(256 + k)};
+    lo[k++] = (struct option){"help", no_argument, 0, 'h'};
+    lo[k++] = (struct option){"version", no_argument, 0, 'V'};
+    lo[k] = (struct option){0, 0, 0, 0};
+}
+
+/* The option of getopt's return value c, or NULL. */
+static const scene_option *option_of(int c)
+{
+    if (c >= 256 && (size_t)(c - 256) < scene_option_count) return &scene_options[c - 256];
+    for (size_t k = 0; k < scene_option_count; k++)
+        if (scene_options[k].short_name && scene_options[k].short_name == c) return &scene_options[k];
+    return NULL;
+}
+
+int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *res, char *err, size_t errlen)
+{
+    struct option lo[sizeof scene_options / sizeof scene_options[0] + 3];
+    long_options(lo);
+    bool mesh_given = false;
+    int c;
+    opterr = 0;
+    optind = 1;
+    *res = SCENE_ARGS_RUN;
+    while ((c = getopt_long(argc, argv, "o:qhV", lo, NULL)) != -1) {
+        if (c == 'h' || c == 'V') return *res = c == 'h' ? SCENE_ARGS_HELP : SCENE_ARGS_VERSION, 0;
+        const scene_option *opt = option_of(c);
+        if (!opt) return snprintf(err, errlen, "unknown option or missing value: %s", argv[optind - 1]), -1;
+        char buf[600];
+        const char *msg = scene_apply_option(o, opt, optarg, buf, sizeof buf);
+        if (msg) return snprintf(err, errlen, "%s%s%s", msg, optarg ? ": " : "", optarg ? optarg : ""), -1;
+        mesh_given |= opt->apply == opt_mesh;
+    }
+    if (optind < argc && !mesh_given) o->mesh = argv[optind++];   /* instess MESH -o OUT (getopt moved it last) */
+    if (optind < argc)
+        return snprintf(err, errlen, "%s: %s", mesh_given ? "unexpected argument (the mesh is given by --mesh)"
+                                                          : "unexpected argument", argv[optind]), -1;
+    return 0;
+}
