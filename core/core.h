@@ -161,7 +161,12 @@ typedef enum is_rs {
     IS_RS_SRCBLEND = 19, IS_RS_DESTBLEND = 20, IS_RS_CULLMODE = 22, IS_RS_ZFUNC = 23,
     IS_RS_ALPHABLENDENABLE = 27, IS_RS_MULTISAMPLEANTIALIAS = 161, IS_RS_POSITIONDEGREE = 172,
     IS_RS_NORMALDEGREE = 173, IS_RS_SLOPESCALEDEPTHBIAS = 175, IS_RS_DEPTHBIAS = 195,
-    IS_RS_PATCHEDGESTYLE = 163
+    IS_RS_PATCHEDGESTYLE = 163,
+    /* D3D9's adaptive tessellation of N-patches (see "adaptive N-patch mode" below): floats passed as their
+     * bits, but ENABLEADAPTIVETESSELLATION, a BOOL */
+    IS_RS_MINTESSELLATIONLEVEL = 178, IS_RS_MAXTESSELLATIONLEVEL = 179, IS_RS_ADAPTIVETESS_X = 180,
+    IS_RS_ADAPTIVETESS_Y = 181, IS_RS_ADAPTIVETESS_Z = 182, IS_RS_ADAPTIVETESS_W = 183,
+    IS_RS_ENABLEADAPTIVETESSELLATION = 184
 } is_rs;
 
 enum { IS_CULL_NONE = 1, IS_CULL_CW = 2, IS_CULL_CCW = 3 };
@@ -203,6 +208,7 @@ typedef struct is_vs_input {
     float4 tangent[1];
     float4 binormal[1];
     float4 color[2];
+    float4 tessfactor[1]; /* D3DDECLUSAGE_TESSFACTOR index 0 (FLOAT1 only): the adaptive N-patch mode's factor */
 } is_vs_input;
 
 /* The outputs: oPos, oD0/oD1, oT0..oT7 (the rasterizer's vertex). */
@@ -347,6 +353,38 @@ uint64_t dev_vertices_shaded(const is_device *dev);
 typedef void (*is_npatch_eval_fn)(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
                                   uint32_t normal_degree, float3 *pos, float3 *nrm);
 is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
+
+/* Adaptive N-patch mode (D3DRS_ENABLEADAPTIVETESSELLATION TRUE, with N-patch mode on as above).  The rule, as the
+ * DirectX 9 documentation states it (Microsoft, "Tessellation (Direct3D 9)", section "Adaptive Tessellation",
+ * and its "Math" part; the D3DX counterpart is ID3DXPatchMesh::TessellateAdaptive):
+ *  - each vertex i of a triangle gets T_i = S * F_i / dot(V_i, Mdm), where S is the N-patch segments
+ *    (SetNPatchMode: the documentation's "MaxTessellationLevel ... set by SetNPatchMode for N-patches", the level
+ *    at eye depth 1), F_i the vertex's D3DDECLUSAGE_TESSFACTOR (FLOAT1, usage index 0; 1.0 when the declaration
+ *    has none), V_i its POSITION0 register as fetched (x, y, z, w; w = 1 for FLOAT3: the control vertex before any
+ *    transform) and Mdm = (ADAPTIVETESS_X, _Y, _Z, _W), which maps V to its eye-space depth: e.g. the third column
+ *    of World * View, so that dot(V, Mdm) is the vertex's view z;
+ *  - each edge gets the mean of its two ends, T_e = (T_1 + T_2) / 2; a T_e above MAXTESSELLATIONLEVEL, below 0,
+ *    or not a number becomes MAXTESSELLATIONLEVEL (the documentation's "> MAX || < 0"; NaN, which it does not
+ *    name -- 0/0, or +inf and -inf averaged -- is taken as out of range too), and then a T_e below
+ *    MINTESSELLATIONLEVEL becomes MINTESSELLATIONLEVEL (so MIN wins when MIN > MAX).
+ * An edge's level depends on its two vertices alone (the mean is symmetric), so both triangles of an edge agree.
+ * Defaults (the documentation's): ENABLEADAPTIVETESSELLATION FALSE, MIN = MAX = 1.0f, Mdm = (0, 0, 1, 0); MIN and
+ * MAX must be finite and >= 1 ("cannot be less than 1"), X..W finite.  Disabled, the mode draws as above, bit
+ * for bit as before these states existed.
+ * The tessellation of a triangle with edge levels (e0, e1, e2) (edge k from v[k] to v[k+1 mod 3]): DISCRETE
+ * truncates each to an integer, CONTINUOUS keeps them; levels above CORE_PG_MAX_LEVEL (64) are taken as 64 (the
+ * primitive generator's bound).  Equal levels give exactly the non-adaptive grid of that level (so MIN = MAX = S
+ * renders the same bytes as the mode without adaptivity); otherwise the primitive generator's grid
+ * (core_grid_pg: equal spacing for DISCRETE, fractional_even for CONTINUOUS) with outer = (e0, e1, e2) and inner =
+ * max(e0, e1, e2) -- D3D11's ProcessTriTessFactorsMax rule: the interior is never coarser than the triangle's
+ * finest edge, so a triangle refined for one near vertex keeps that detail inside.  Edge points depend only on
+ * the edge's level and ends (core_grid_pg's watertightness), so neighbours at different levels share them bit
+ * for bit.  (The documentation's sentence that adaptive tessellation also draws triangles as N-patches when
+ * SetNPatchMode is below 1 is not followed: below 1, S is below 1 and the mode is off.) */
+/* T_i of one vertex: S * factor / dot(v, mdm) in float, as above (not clamped: that is per edge). */
+float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm);
+/* T_e of an edge from its ends' T_1, T_2 and the MIN / MAX states, as above. */
+float core_adaptive_edge_level(float t1, float t2, float min_level, float max_level);
 
 /* The scalar reference path (for tests and teaching): with on, draws shade vertex by vertex through the
  * shader's `main` and the rasterizer walks its simplest per-sample loops; off (the default) takes the fast

@@ -40,6 +40,14 @@ static void set_default_states(is_device *dev)
     s[IS_RS_PATCHEDGESTYLE] = IS_PATCHEDGE_DISCRETE;
     s[IS_RS_DEPTHBIAS] = float_bits(0.0f);
     s[IS_RS_SLOPESCALEDEPTHBIAS] = float_bits(0.0f);
+    /* adaptive tessellation: the documented defaults (core.h) */
+    s[IS_RS_ENABLEADAPTIVETESSELLATION] = 0;
+    s[IS_RS_MINTESSELLATIONLEVEL] = float_bits(1.0f);
+    s[IS_RS_MAXTESSELLATIONLEVEL] = float_bits(1.0f);
+    s[IS_RS_ADAPTIVETESS_X] = float_bits(0.0f);
+    s[IS_RS_ADAPTIVETESS_Y] = float_bits(0.0f);
+    s[IS_RS_ADAPTIVETESS_Z] = float_bits(1.0f);
+    s[IS_RS_ADAPTIVETESS_W] = float_bits(0.0f);
 }
 
 /* Create a device with a w x h target of `samples` samples, cleared to black and depth 1. */
@@ -87,6 +95,7 @@ void dev_destroy(is_device *dev)
     free(dev->fcache.p);
     free(dev->in.p);
     free(dev->in_ready.p);
+    free(dev->npatch_lv.p);
     free(dev);
 }
 
@@ -207,12 +216,20 @@ static int state_check(is_rs state, uint32_t v)
     case IS_RS_NORMALDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC; break;
     case IS_RS_PATCHEDGESTYLE: ok = v <= 1; break;
     case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: ok = isfinite(bits_float(v)); break;
+    case IS_RS_ENABLEADAPTIVETESSELLATION: ok = v <= 1; break;
+    case IS_RS_MINTESSELLATIONLEVEL: case IS_RS_MAXTESSELLATIONLEVEL: /* finite, >= 1 */
+        ok = isfinite(bits_float(v)) && bits_float(v) >= 1.0f;
+        break;
+    case IS_RS_ADAPTIVETESS_X: case IS_RS_ADAPTIVETESS_Y: case IS_RS_ADAPTIVETESS_Z: case IS_RS_ADAPTIVETESS_W:
+        ok = isfinite(bits_float(v));
+        break;
     default: return STATE_UNKNOWN;
     }
     return ok ? STATE_OK : STATE_BAD_VALUE;
 }
 
-/* SetRenderState: D3D9 values; float states (DEPTHBIAS, SLOPESCALEDEPTHBIAS) as their bits. */
+/* SetRenderState: D3D9 values; float states (DEPTHBIAS, SLOPESCALEDEPTHBIAS, the tessellation levels and
+ * ADAPTIVETESS_X..W) as their bits. */
 is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
 {
     int r = (unsigned)state < IS_RS_COUNT ? state_check(state, value) : STATE_UNKNOWN;

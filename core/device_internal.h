@@ -84,6 +84,7 @@ struct is_device {
     scratch_buf fcache;     /* float4: fetch_cache */
     scratch_buf in;         /* is_vs_input: draw_fused's input registers, count per slot */
     scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
+    scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
 };
 
 /* Wall-clock milliseconds now when dev times its draws (dev_set_timing), else 0. */

@@ -471,13 +471,143 @@ static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const ui
     }
 }
 
+/* ------------------------------ adaptive N-patch mode (core.h) ------------------------------ */
+
+/* The adaptive mode's inputs, read from the device's states once per draw. */
+typedef struct adaptive_params {
+    float segments, min_level, max_level;
+    float4 mdm;         /* (ADAPTIVETESS_X, _Y, _Z, _W) */
+    bool factor;        /* the declaration has a TESSFACTOR element (else every factor is 1) */
+    bool continuous;    /* PATCHEDGESTYLE CONTINUOUS */
+} adaptive_params;
+
+/* A float render state's value. */
+static float state_float(const is_device *dev, is_rs state)
+{
+    float f;
+    memcpy(&f, &dev->rs_state[state], sizeof f);
+    return f;
+}
+
+/* The device's states in, the draw's adaptive parameters out. */
+static adaptive_params adaptive_params_of(const is_device *dev)
+{
+    adaptive_params a = {dev->npatch_segments, state_float(dev, IS_RS_MINTESSELLATIONLEVEL),
+                         state_float(dev, IS_RS_MAXTESSELLATIONLEVEL),
+                         f4(state_float(dev, IS_RS_ADAPTIVETESS_X), state_float(dev, IS_RS_ADAPTIVETESS_Y),
+                            state_float(dev, IS_RS_ADAPTIVETESS_Z), state_float(dev, IS_RS_ADAPTIVETESS_W)),
+                         false, dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS};
+    for (unsigned k = 0; k < dev->decl->n; k++) a.factor |= dev->decl->el[k].e.usage == IS_DECLUSAGE_TESSFACTOR;
+    return a;
+}
+
+/* Triangle tri (absolute vertex numbers) in; its edge levels lv[k] (edge k from tri[k] to tri[k+1 mod 3]) as its
+ * pattern takes them out: D3D9's rule, at most CORE_PG_MAX_LEVEL, truncated to an integer for DISCRETE. */
+static void adaptive_edge_levels(const adaptive_params *a, const fetch_plan *fp, const uint32_t tri[3], float lv[3])
+{
+    float t[3];
+    for (int c = 0; c < 3; c++) {
+        is_vs_input in;
+        fetch_vertex(fp, tri[c], 0, &in);
+        t[c] = core_adaptive_vertex_level(a->segments, a->factor ? in.tessfactor[0].x : 1.0f, in.position[0],
+                                          a->mdm);
+    }
+    for (int k = 0; k < 3; k++) {
+        float e = fminf(core_adaptive_edge_level(t[k], t[(k + 1) % 3], a->min_level, a->max_level), CORE_PG_MAX_LEVEL);
+        lv[k] = a->continuous ? e : floorf(e);
+    }
+}
+
+/* Edge levels in; the triangle's pattern out (allocated; 0 or -1): the non-adaptive grid when all three are equal,
+ * else the primitive generator's with inner = the largest outer (core.h says why). */
+static int adaptive_grid(bool continuous, const float lv[3], core_grid *g)
+{
+    if (lv[0] == lv[1] && lv[1] == lv[2])
+        return core_grid_make(continuous ? CORE_GRID_PG_FRACTIONAL_EVEN : CORE_GRID_REGULAR, lv[0], g);
+    const float inner = fmaxf(lv[0], fmaxf(lv[1], lv[2]));
+    return core_grid_pg(continuous ? CORE_GRID_PG_FRACTIONAL_EVEN : CORE_GRID_PG_EQUAL, inner, lv, g);
+}
+
+/* Edge levels in; at least the points adaptive_grid makes of them out: with n >= the segments of any of its
+ * edges and rings, a pattern has at most 3n + 3(n^2/4 - n/2) + 1 <= (n + 2)^2 points. */
+static size_t adaptive_points_bound(const float lv[3])
+{
+    const float m = fmaxf(lv[0], fmaxf(lv[1], lv[2]));
+    const size_t n = (size_t)fminf(ceilf(m) + 1.0f, CORE_PG_MAX_LEVEL);
+    return (n + 2) * (n + 2);
+}
+
+/* Triangles stream_idx[0..3 nt) with their edge levels lv in: each tessellated with its pattern, shaded and
+ * rasterized in order (one rasterizer call). */
+static is_result adaptive_chunk(is_device *dev, const fetch_plan *fp, bool continuous, const uint32_t *stream_idx,
+                                uint32_t first, const float (*lv)[3], size_t nt)
+{
+    core_grid *g = calloc(nt, sizeof *g);
+    size_t *pts = malloc((nt + 1) * sizeof *pts), *tris = malloc((nt + 1) * sizeof *tris);
+    int bad = !g || !pts || !tris;
+    const double c0 = dev_clock(dev);
+    if (!bad) {
+#pragma omp parallel for schedule(dynamic, 16) reduction(| : bad) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+        for (long t = 0; t < (long)nt; t++) bad |= adaptive_grid(continuous, lv[t], &g[t]) != 0;
+    }
+    is_result r = bad ? dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for the adaptive patterns")
+                      : IS_OK;
+    if (r == IS_OK) {
+        pts[0] = tris[0] = 0;
+        for (size_t t = 0; t < nt; t++) pts[t + 1] = pts[t] + g[t].n_points, tris[t + 1] = tris[t] + g[t].n_triangles;
+        r = reserve_scratch(dev, pts[nt], 3 * tris[nt]);
+    }
+    if (r == IS_OK) {
+#pragma omp parallel for schedule(dynamic, 16) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+        for (long t = 0; t < (long)nt; t++) {
+            uint32_t tri[3];
+            for (int c = 0; c < 3; c++) tri[c] = first + stream_idx[3 * (size_t)t + (size_t)c];
+            npatch_triangle(dev, fp, tri, g[t].bary, g[t].n_points, &dev->out_v[pts[t]]);
+            for (size_t k = 0; k < 3 * g[t].n_triangles; k++)
+                dev->out_i[3 * tris[t] + k] = (uint32_t)pts[t] + g[t].idx[k];
+        }
+        dev->stats.setup_ms += dev_clock(dev) - c0;
+        dev->shaded += pts[nt];
+        r = rasterize(dev, RS_PRIM_TRIANGLES, pts[nt], tris[nt]);
+    }
+    for (size_t t = 0; g && t < nt; t++) core_grid_free(&g[t]);
+    free(g), free(pts), free(tris);
+    return r;
+}
+
+/* Adaptive N-patch mode: every triangle's edge levels by D3D9's rule (core.h), then the triangles in chunks of
+ * about DRAW_CHUNK_VERTICES tessellated vertices, each with its own pattern. */
+static is_result draw_npatch_adaptive(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
+                                      uint32_t first)
+{
+    const adaptive_params a = adaptive_params_of(dev);
+    float (*lv)[3] = scratch_get(&dev->npatch_lv, n_tris, sizeof *lv);
+    if (!lv) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for %zu edge levels", 3 * n_tris);
+#pragma omp parallel for schedule(static) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+    for (long t = 0; t < (long)n_tris; t++) {
+        uint32_t tri[3];
+        for (int c = 0; c < 3; c++) tri[c] = first + stream_idx[3 * (size_t)t + (size_t)c];
+        adaptive_edge_levels(&a, fp, tri, lv[t]);
+    }
+    is_result r = IS_OK;
+    for (size_t t0 = 0, t1; r == IS_OK && t0 < n_tris; t0 = t1) {
+        size_t budget = adaptive_points_bound(lv[t0]);
+        for (t1 = t0 + 1; t1 < n_tris && budget + adaptive_points_bound(lv[t1]) <= DRAW_CHUNK_VERTICES; t1++)
+            budget += adaptive_points_bound(lv[t1]);
+        r = adaptive_chunk(dev, fp, a.continuous, stream_idx + 3 * t0, first, (const float (*)[3])(lv + t0), t1 - t0);
+    }
+    return r;
+}
+
 /* N-patch mode: every triangle becomes a grid shaded point by point.  PATCHEDGESTYLE DISCRETE truncates the
  * segments to an integer and uses the regular grid (D3D9: "float tessellation ... truncated to integers");
  * CONTINUOUS uses the segments as they are, with the primitive generator's fractional_even pattern -- the
- * D3D11 spacing that descends from D3D9's continuous tessellation, which varies smoothly with the level. */
+ * D3D11 spacing that descends from D3D9's continuous tessellation, which varies smoothly with the level.
+ * With ENABLEADAPTIVETESSELLATION each triangle gets its own pattern instead (draw_npatch_adaptive). */
 static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
                              uint32_t first)
 {
+    if (dev->rs_state[IS_RS_ENABLEADAPTIVETESSELLATION]) return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
     core_grid grid;
     bool continuous = dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS;
     float level = continuous ? dev->npatch_segments : (float)(int)dev->npatch_segments;

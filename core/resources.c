@@ -95,6 +95,7 @@ static long usage_register(uint8_t usage, uint8_t index)
     case IS_DECLUSAGE_TANGENT: base = offsetof(is_vs_input, tangent), count = 1; break;
     case IS_DECLUSAGE_BINORMAL: base = offsetof(is_vs_input, binormal), count = 1; break;
     case IS_DECLUSAGE_COLOR: base = offsetof(is_vs_input, color), count = 2; break;
+    case IS_DECLUSAGE_TESSFACTOR: base = offsetof(is_vs_input, tessfactor), count = 1; break;
     default: return -1;
     }
     return index < count ? (long)(base + index * sizeof(float4)) : -1;
@@ -119,6 +120,9 @@ static is_result check_element(is_device *dev, const is_vertex_declaration *d, u
     if (usage_register(e->usage, e->usage_index) < 0)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: usage %u index %u unsupported",
                         k, e->usage, e->usage_index);
+    if (e->usage == IS_DECLUSAGE_TESSFACTOR && e->type != IS_DECLTYPE_FLOAT1) /* D3D9's rule for the factor */
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u: TESSFACTOR must be FLOAT1 "
+                        "(type %u)", k, e->type);
     for (unsigned j = 0; j < d->n; j++) {
         const is_vertex_element *o = &d->el[j].e;
         if (o->usage == e->usage && o->usage_index == e->usage_index)
