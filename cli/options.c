@@ -4,6 +4,7 @@
 #include "scene.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,6 +127,21 @@ static const char *opt_aov(scene_opts *o, const char *a)
 {
     return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
 }
+/* --d3d9-adaptive: "depth" or four finite numbers "X,Y,Z,W" (scene.h). */
+static const char *opt_d3d9_adaptive(scene_opts *o, const char *a)
+{
+    static const char msg[] = "--d3d9-adaptive takes depth or X,Y,Z,W (four finite numbers)";
+    if (strcmp(a, "depth") == 0) return o->d3d9_adaptive = SCENE_D3D9_DEPTH, NULL;
+    char *end;
+    const char *p = a;
+    for (int i = 0; i < 4; i++) {
+        o->d3d9_mdm[i] = strtof(p, &end);
+        if (end == p || !isfinite(o->d3d9_mdm[i]) || *end != (i < 3 ? ',' : '\0')) return msg;
+        p = end + 1;
+    }
+    o->d3d9_adaptive = SCENE_D3D9_MDM;
+    return NULL;
+}
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
 static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
@@ -156,6 +172,9 @@ const scene_option scene_options[] = {
      opt_max_file_size, NULL},
     {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL},
     {"aov", 0, "LIST", "EXR only: extra channels, comma-separated: normal,bary,instance,gregory", NULL, opt_aov, NULL},
+    {"d3d9-adaptive", 0, "MDM", "npatch-mode: D3D9's adaptive tessellation, per vertex level * ref / depth, per edge "
+     "the mean, clamped to 1..--level; MDM is depth (the view depth over the nearest point's) or X,Y,Z,W (D3DRS_"
+     "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL},
     {"export-obj", 0, "FILE", "also write the tessellated surface as OBJ", NULL, opt_export_obj, NULL},
     {"output", 'o', "FILE", "the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)", NULL, opt_output,
      NULL},

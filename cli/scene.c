@@ -174,6 +174,10 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->path == SCENE_PATH_NPATCH_MODE && o->grid != CORE_GRID_REGULAR && o->grid != CORE_GRID_PG_FRACTIONAL_EVEN)
         return "--path npatch-mode tessellates with the regular grid (PATCHEDGESTYLE DISCRETE) or "
                "pg-fractional-even (CONTINUOUS)";
+    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->path != SCENE_PATH_NPATCH_MODE)
+        return "--d3d9-adaptive is D3D9's adaptive N-patch mode: it needs --path npatch-mode";
+    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->export_obj)
+        return "--export-obj writes the uniform tessellation: it cannot be combined with --d3d9-adaptive";
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level))
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
     return NULL;
@@ -210,7 +214,7 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
  * listing's unnormalized mul(normal, (float3x3)g_mWorld) keeps unit length); positions are first centred and
  * scaled to a unit bounding radius. */
-typedef struct scene_camera { float4x4 world, wvp; } scene_camera;
+typedef struct scene_camera { float4x4 world, wvp, world_view; } scene_camera; /* world_view: object -> view */
 
 static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
 {
@@ -227,6 +231,7 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
+    cam.world_view = t;
     cam.wvp = mat_mul(&t, &proj);
     return cam;
 }
@@ -445,6 +450,20 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
     }
 }
 
+/* --d3d9-adaptive's states on dev (scene.h); nothing when it is off. */
+static void set_d3d9_adaptive(is_device *dev, const scene_opts *o, const scene_camera *cam)
+{
+    if (o->d3d9_adaptive == SCENE_D3D9_OFF) return;
+    float mdm[4], ref = o->distance - 1.0f, lo = 1.0f; /* ref: the depth of the bounding sphere's nearest point */
+    for (int i = 0; i < 4; i++)
+        mdm[i] = o->d3d9_adaptive == SCENE_D3D9_DEPTH ? cam->world_view.m[i][2] / ref : o->d3d9_mdm[i];
+    uint32_t u;
+    for (int i = 0; i < 4; i++) memcpy(&u, &mdm[i], 4), dev_set_render_state(dev, (is_rs)(IS_RS_ADAPTIVETESS_X + i), u);
+    memcpy(&u, &lo, 4), dev_set_render_state(dev, IS_RS_MINTESSELLATIONLEVEL, u);
+    memcpy(&u, &o->level, 4), dev_set_render_state(dev, IS_RS_MAXTESSELLATIONLEVEL, u);
+    dev_set_render_state(dev, IS_RS_ENABLEADAPTIVETESSELLATION, 1);
+}
+
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader)
 {
@@ -452,6 +471,7 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     scene_resources r = {0};
     dev_set_vertex_shader(dev, shader ? shader : path_shader(o));
     is_result e = build_path(dev, o, m, g, &r);
+    if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
     scene_resources_free(&r);
     return e == IS_OK ? 0 : -1;
@@ -735,6 +755,11 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
              vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
              o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
              o->msaa, names);
+    size_t n = strlen(buf);
+    if (o->d3d9_adaptive == SCENE_D3D9_DEPTH && n < len) snprintf(buf + n, len - n, ", d3d9-adaptive depth");
+    if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
+        snprintf(buf + n, len - n, ", d3d9-adaptive %g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1],
+                 (double)o->d3d9_mdm[2], (double)o->d3d9_mdm[3]);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */

@@ -35,6 +35,12 @@
 typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_FILL_POINT } scene_fill;
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
 enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8 };
+/* --d3d9-adaptive: D3D9's adaptive N-patch mode (core.h) on the npatch-mode path.  "depth": Mdm = the view-depth
+ * column of World * View divided by the depth of the object's nearest point (distance - 1 bounding radii), so
+ * T = level * ref_depth / depth per vertex: --level at the nearest point, less farther away; "X,Y,Z,W": Mdm as
+ * given (T = level * 1 / dot(V, Mdm), V the mesh's own vertex).  MINTESSELLATIONLEVEL 1, MAXTESSELLATIONLEVEL
+ * --level. */
+typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_adaptive;
 
 typedef struct scene_opts {
     const char *mesh;           /* built-in name or file */
@@ -58,6 +64,8 @@ typedef struct scene_opts {
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
     unsigned max_file_mib;      /* a mesh file with its side files (0: meshes.h's default, 256 MiB) */
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
+    scene_d3d9_adaptive d3d9_adaptive; /* --d3d9-adaptive (npatch-mode only): off, depth, or d3d9_mdm */
+    float d3d9_mdm[4];          /* SCENE_D3D9_MDM: (ADAPTIVETESS_X, _Y, _Z, _W) as given */
 } scene_opts;
 
 /* Bytes a render of mesh_triangles triangles with grid_points points per triangle takes at most, by the

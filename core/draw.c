@@ -547,7 +547,8 @@ static is_result adaptive_chunk(is_device *dev, const fetch_plan *fp, bool conti
     int bad = !g || !pts || !tris;
     const double c0 = dev_clock(dev);
     if (!bad) {
-#pragma omp parallel for schedule(dynamic, 16) reduction(| : bad) num_threads(dev->threads > 0 ? dev->threads : omp_threads())
+#pragma omp parallel for schedule(dynamic, 16) reduction(| : bad) \
+    num_threads(dev->threads > 0 ? dev->threads : omp_threads())
         for (long t = 0; t < (long)nt; t++) bad |= adaptive_grid(continuous, lv[t], &g[t]) != 0;
     }
     is_result r = bad ? dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for the adaptive patterns")
@@ -607,7 +608,8 @@ static is_result draw_npatch_adaptive(is_device *dev, const fetch_plan *fp, size
 static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
                              uint32_t first)
 {
-    if (dev->rs_state[IS_RS_ENABLEADAPTIVETESSELLATION]) return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
+    if (dev->rs_state[IS_RS_ENABLEADAPTIVETESSELLATION])
+        return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
     core_grid grid;
     bool continuous = dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS;
     float level = continuous ? dev->npatch_segments : (float)(int)dev->npatch_segments;

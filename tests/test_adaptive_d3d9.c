@@ -17,6 +17,7 @@
 
 #include "../cli/scene.h"
 #include "../core/device_internal.h" /* the draw's edge levels (dev->npatch_lv) */
+#include "util/prog.h"
 
 /* Bits of a float, as float render states take them. */
 static uint32_t fbits(float f)
@@ -511,7 +512,8 @@ static void test_no_cracks_adaptive(void **state)
                         long covered;
                         int distinct;
                         bool mixed;
-                        long odd = adaptive_odd_pixels(&m, &cc, views[vw][0], views[vw][1], &covered, &distinct, &mixed);
+                        long odd =
+                            adaptive_odd_pixels(&m, &cc, views[vw][0], views[vw][1], &covered, &distinct, &mixed);
                         if (odd)
                             fprintf(stderr, "cracks: %s degree %u style %u factors %d view %d: %ld odd pixels\n", *name,
                                     cc.pdeg, cc.style, f, vw, odd);
@@ -544,6 +546,36 @@ static void test_detector_finds_a_level_mismatch(void **state)
     mesh_free(&m);
 }
 
+/* ---------------- the command line ---------------- */
+
+/* --d3d9-adaptive: usage errors (exit 2, nothing written), Mdm = (0, 0, 0, 1) renders the plain mode's pixels
+ * (every depth 1: every level --level), depth renders something else, the same at 1 and 2 threads. */
+static void test_cli(void **state)
+{
+    char dir[256], a[512], b[512];
+    const char *err;
+    assert_int_equal(prog_mkdtemp(dir, "adaptive"), 0);
+    const char *base = "sphere --patch npatch --path npatch-mode --level 12 --size 96x96 --fill solid+wire -q";
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive depth --path instanced -o %s/x.png", base, dir), 2);
+    assert_non_null(strstr(err, "--d3d9-adaptive is D3D9's adaptive N-patch mode: it needs --path npatch-mode"));
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 1,2,3 -o %s/x.png", base, dir), 2);
+    assert_non_null(strstr(err, "--d3d9-adaptive takes depth or X,Y,Z,W (four finite numbers): 1,2,3"));
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 0,0,1,inf -o %s/x.png", base, dir), 2);
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 0,0,1,0,5 -o %s/x.png", base, dir), 2);
+    assert_int_equal(
+        prog_run(dir, &err, "", "%s --d3d9-adaptive depth --export-obj %s/x.obj -o %s/x.png", base, dir, dir), 2);
+    assert_non_null(strstr(err, "cannot be combined with --d3d9-adaptive"));
+    assert_int_equal(prog_entries_with(dir, NULL), 0);
+    assert_int_equal(prog_run(dir, &err, "", "%s -o %s/plain.png", base, dir), 0);
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 0,0,0,1 -o %s/one.png", base, dir), 0);
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive depth --threads 1 -o %s/depth1.png", base, dir), 0);
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive depth --threads 2 -o %s/depth2.png", base, dir), 0);
+    assert_true(prog_same_pixels(prog_path(dir, "plain.png", a, sizeof a), prog_path(dir, "one.png", b, sizeof b)));
+    assert_false(prog_same_pixels(a, prog_path(dir, "depth1.png", b, sizeof b)));
+    assert_true(prog_same_bytes(b, prog_path(dir, "depth2.png", a, sizeof a)));
+    prog_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -556,6 +588,7 @@ int main(void)
         cmocka_unit_test(test_off_and_uniform_are_plain),
         cmocka_unit_test(test_detector_finds_a_level_mismatch),
         cmocka_unit_test(test_no_cracks_adaptive),
+        cmocka_unit_test(test_cli),
     };
     return cmocka_run_group_tests_name("adaptive_d3d9", tests, NULL, NULL);
 }
