@@ -17,6 +17,7 @@
 
 #include "../cli/scene.h"
 #include "../core/device_internal.h" /* the draw's edge levels (dev->npatch_lv) */
+#include "util/golden.h"
 #include "util/prog.h"
 
 /* Bits of a float, as float render states take them. */
@@ -348,6 +349,29 @@ static void test_off_and_uniform_are_plain(void **state)
     }
 }
 
+/* The committed goldens of the N-Patch cube and tetrahedron (made before these states existed, on the instanced
+ * path, which the N-patch mode matches byte for byte: tests/test_paths.c), drawn in N-patch mode with adaptivity
+ * off, and on with Mdm = (0, 0, 0, 1) (every depth 1: every level 8); test_paths' golden thresholds. */
+static void test_goldens_from_before(void **state)
+{
+    const char *names[2][2] = {{"npatch-cube", "cube"}, {"npatch-tetrahedron", "tetrahedron"}};
+    for (int k = 0; k < 2; k++)
+        for (int on = 0; on < 2; on++) {
+            scene_opts o;
+            scene_opts_default(&o);
+            o.width = o.height = 160, o.level = 8, o.patch = VS_PATCH_NPATCH, o.path = SCENE_PATH_NPATCH_MODE;
+            if (on) o.d3d9_adaptive = SCENE_D3D9_MDM, o.d3d9_mdm[3] = 1.0f;
+            is_mesh m = {0};
+            char err[256];
+            assert_int_equal(mesh_builtin(names[k][1], &m, err, sizeof err), 0);
+            is_image img = {0};
+            assert_int_equal(scene_render_mesh(&o, &m, &img, NULL, err, sizeof err), 0);
+            assert_int_equal(golden_check(&img, names[k][0], 1.0f / 255.0f, 0.1f), 0);
+            image_free(&img);
+            mesh_free(&m);
+        }
+}
+
 /* ---------------- cracks ---------------- */
 
 enum { SIZE = 96 };
@@ -586,6 +610,7 @@ int main(void)
         cmocka_unit_test(test_edge_levels),
         cmocka_unit_test(test_draw_edge_levels),
         cmocka_unit_test(test_off_and_uniform_are_plain),
+        cmocka_unit_test(test_goldens_from_before),
         cmocka_unit_test(test_detector_finds_a_level_mismatch),
         cmocka_unit_test(test_no_cracks_adaptive),
         cmocka_unit_test(test_cli),
