@@ -176,6 +176,9 @@ const char *scene_check_opts(const scene_opts *o)
                "pg-fractional-even (CONTINUOUS)";
     if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->path != SCENE_PATH_NPATCH_MODE)
         return "--d3d9-adaptive is D3D9's adaptive N-patch mode: it needs --path npatch-mode";
+    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->level > CORE_PG_MAX_LEVEL)
+        return "--d3d9-adaptive tessellates an edge into at most 64 segments (the primitive generator's bound): "
+               "--level must be 1..64";
     if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->export_obj)
         return "--export-obj writes the uniform tessellation: it cannot be combined with --d3d9-adaptive";
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level))

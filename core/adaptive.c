@@ -2,11 +2,14 @@
  * per-vertex levels from the eye depth and TESSFACTOR, per-edge levels as their mean, out-of-range and clamping. */
 #include "core.h"
 
-/* S, F, V and Mdm in; T = S * F / dot(V, Mdm) out (float arithmetic, left to right, so a test can redo it). */
+/* S, F, V and Mdm in; T = S * F / dot(V, Mdm) out (float arithmetic, left to right, so a test can redo it).  A
+ * depth of (+-)0 gives IEEE's quotient without dividing (the sanitizer build traps float division by zero): +-inf
+ * by the signs, NaN for 0 / 0. */
 float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm)
 {
-    const float z = v.x * mdm.x + v.y * mdm.y + v.z * mdm.z + v.w * mdm.w;
-    return segments * factor / z;
+    const float z = v.x * mdm.x + v.y * mdm.y + v.z * mdm.z + v.w * mdm.w, num = segments * factor;
+    if (z == 0.0f) return num == 0.0f || isnan(num) ? NAN : copysignf(INFINITY, num) * copysignf(1.0f, z);
+    return num / z;
 }
 
 /* T_1, T_2, MIN and MAX in; the edge's level out: the mean, MAX when above MAX, negative or NaN, then at least MIN. */

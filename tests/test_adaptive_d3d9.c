@@ -134,7 +134,9 @@ static void test_vertex_levels(void **state)
     assert_true(core_adaptive_vertex_level(12.0f, 1.0f, f4(1, 2, 3, 1), f4(0.5f, 0.25f, 1, 2)) == 2.0f);
     /* behind the eye: negative; at depth 0: infinite (sign of the numerator) */
     assert_true(core_adaptive_vertex_level(8.0f, 1.0f, f4(0, 0, -2, 1), z_axis) == -4.0f);
-    assert_true(isinf(core_adaptive_vertex_level(8.0f, 1.0f, f4(1, 1, 0, 1), z_axis)));
+    assert_true(core_adaptive_vertex_level(8.0f, 1.0f, f4(1, 1, 0, 1), z_axis) == INFINITY);
+    assert_true(core_adaptive_vertex_level(8.0f, 1.0f, f4(-1, -1, -0.0f, -1), z_axis) == -INFINITY);
+    assert_true(core_adaptive_vertex_level(-8.0f, 1.0f, f4(1, 1, 0, 1), z_axis) == -INFINITY);
     assert_true(isnan(core_adaptive_vertex_level(8.0f, 0.0f, f4(1, 1, 0, 1), z_axis)));
 }
 
@@ -585,6 +587,8 @@ static void test_cli(void **state)
     assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 1,2,3 -o %s/x.png", base, dir), 2);
     assert_non_null(strstr(err, "--d3d9-adaptive takes depth or X,Y,Z,W (four finite numbers): 1,2,3"));
     assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 0,0,1,inf -o %s/x.png", base, dir), 2);
+    assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive depth --level 65 -o %s/x.png", base, dir), 2);
+    assert_non_null(strstr(err, "--level must be 1..64"));
     assert_int_equal(prog_run(dir, &err, "", "%s --d3d9-adaptive 0,0,1,0,5 -o %s/x.png", base, dir), 2);
     assert_int_equal(
         prog_run(dir, &err, "", "%s --d3d9-adaptive depth --export-obj %s/x.obj -o %s/x.png", base, dir, dir), 2);
