@@ -217,7 +217,7 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
  * listing's unnormalized mul(normal, (float3x3)g_mWorld) keeps unit length); positions are first centred and
  * scaled to a unit bounding radius. */
-typedef struct scene_camera { float4x4 world, wvp, world_view; } scene_camera; /* world_view: object -> view */
+typedef struct scene_camera { float4x4 world, wvp, world_view; float ref_depth; } scene_camera;
 
 static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
 {
@@ -234,8 +234,9 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
-    cam.world_view = t;
     cam.wvp = mat_mul(&t, &proj);
+    cam.world_view = t;
+    cam.ref_depth = o->distance - 1.0f; /* the nearest depth of the unit bounding sphere */
     return cam;
 }
 
@@ -457,9 +458,9 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
 static void set_d3d9_adaptive(is_device *dev, const scene_opts *o, const scene_camera *cam)
 {
     if (o->d3d9_adaptive == SCENE_D3D9_OFF) return;
-    float mdm[4], ref = o->distance - 1.0f, lo = 1.0f; /* ref: the depth of the bounding sphere's nearest point */
-    for (int i = 0; i < 4; i++)
-        mdm[i] = o->d3d9_adaptive == SCENE_D3D9_DEPTH ? cam->world_view.m[i][2] / ref : o->d3d9_mdm[i];
+    float mdm[4], lo = 1.0f;
+    for (int i = 0; i < 4; i++) /* depth: the view-depth column of World * View over the nearest point's depth */
+        mdm[i] = o->d3d9_adaptive == SCENE_D3D9_DEPTH ? cam->world_view.m[i][2] / cam->ref_depth : o->d3d9_mdm[i];
     uint32_t u;
     for (int i = 0; i < 4; i++) memcpy(&u, &mdm[i], 4), dev_set_render_state(dev, (is_rs)(IS_RS_ADAPTIVETESS_X + i), u);
     memcpy(&u, &lo, 4), dev_set_render_state(dev, IS_RS_MINTESSELLATIONLEVEL, u);
