@@ -91,16 +91,18 @@ typedef struct bench_args {
     const char *gl_path;  /* build/bench-gl; NULL: beside argv[0] */
     const char *keep;     /* directory for the images and scene files, or NULL */
     int no_gl;
+    int cull;             /* --cull: instess with its pre-tessellation cull (dev_set_patch_cull) */
 } bench_args;
 
 /* Print the usage to f. */
 static void usage(FILE *f)
 {
     fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABC|A,B,C] [--patch npatch|smooth|both]\n"
-               "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl]\n"
+               "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
-               "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n");
+               "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
+               "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n");
 }
 
 /* A comma-separated list of up to max integers in [lo, hi]; the count or -1. */
@@ -122,6 +124,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
 {
     *used = 1;
     if (strcmp(opt, "--no-gl") == 0) return *used = 0, a->no_gl = 1, 0;
+    if (strcmp(opt, "--cull") == 0) return *used = 0, a->cull = 1, 0;
     if (!v) return -1;
     if (strcmp(opt, "--frames") == 0) return parse_int_list(v, &a->frames, 1, 1, 10000) == 1 ? 0 : -1;
     if (strcmp(opt, "--warmup") == 0) return parse_int_list(v, &a->warmup, 1, 0, 10000) == 1 ? 0 : -1;
@@ -318,7 +321,7 @@ typedef struct inst_result {
     double median_ms, min_ms;
     double setup_ms, tile_ms, other_ms; /* medians of the frame's phases (rs_stats.setup_ms, tile_ms, the rest) */
     double faults_per_frame;            /* minor page faults per timed frame (mean) */
-    uint64_t vertices, tris_in, tris_drawn, samples_tested, samples_written;
+    uint64_t vertices, tris_in, tris_drawn, samples_tested, samples_written, culled;
     long rss_after_warmup_kb, rss_after_frames_kb;
     uint32_t *image;    /* resolved RGBA8 of the last frame, top row first */
 } inst_result;
@@ -340,7 +343,7 @@ static void inst_release(inst_gpu *g)
 /* Create the device (1 sample, D3D9's default states), bind the scene layer's instanced draw of the scene, the
  * patch's shader and the constants; 0 or -1 with a message. */
 static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads,
-                      char *err, size_t errlen)
+                      bool cull, char *err, size_t errlen)
 {
     memset(g, 0, sizeof *g);
     g->dev = dev_create(d->width, d->height, 1, err, errlen);
@@ -355,6 +358,7 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     if (e == IS_OK) e = dev_set_vertex_shader_constant_f(g->dev, 0, &c.c[0].x, VS_C_COUNT);
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
     dev_set_timing(g->dev, true);
+    dev_set_patch_cull(g->dev, cull);
     return 0;
 }
 
@@ -376,6 +380,7 @@ static is_result inst_capture(inst_gpu *g, const bench_data *bd, int threads, in
     if (e != IS_OK) return e;
     const rs_stats *st = dev_stats(g->dev);
     r->vertices = dev_vertices_shaded(g->dev);
+    r->culled = dev_instances_culled(g->dev);
     r->tris_in = st->prims_in, r->tris_drawn = st->prims_drawn;
     r->samples_tested = st->samples_tested, r->samples_written = st->samples_written;
     rs_target *rt = dev_render_target(g->dev);
@@ -460,7 +465,7 @@ static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch pat
 {
     memset(r, 0, (size_t)a->n_threads * sizeof *r);
     inst_gpu g;
-    int rc = inst_setup(&g, d, bd, patch, a->threads[0], err, errlen);
+    int rc = inst_setup(&g, d, bd, patch, a->threads[0], a->cull != 0, err, errlen);
     if (rc == 0) rc = inst_measure(&g, bd, a, r, err, errlen);
     inst_release(&g);
     return rc;
@@ -746,9 +751,9 @@ static void print_notes(const bench_args *a, const bench_scene_def *d, const cas
 {
     const inst_result *r = &c->inst[a->n_threads - 1];
     long growth = r->rss_after_frames_kb - r->rss_after_warmup_kb;
-    printf("      instess: %llu vertices shaded, %llu triangles in, %llu drawn, %llu pixels rasterized, %llu written;"
-           " RSS %+ld kB over %d frames%s\n",
-           (unsigned long long)r->vertices, (unsigned long long)r->tris_in, (unsigned long long)r->tris_drawn,
+    printf("      instess: %llu instances culled before shading, %llu vertices shaded, %llu triangles in, %llu drawn, "
+           "%llu pixels rasterized, %llu written; RSS %+ld kB over %d frames%s\n",
+           (unsigned long long)r->culled, (unsigned long long)r->vertices, (unsigned long long)r->tris_in, (unsigned long long)r->tris_drawn,
            (unsigned long long)r->samples_tested, (unsigned long long)r->samples_written, growth, a->frames,
            growth > RSS_GROWTH_MAX_KB ? " (GROWS)" : "");
     for (int k = 0; k < c->n_gl; k++)
