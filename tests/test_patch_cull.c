@@ -3,7 +3,8 @@
  * random views (close cameras that clip and leave patches off-screen, far ones), levels, patches (the ones with a
  * hull stage and one without), cull modes, sample counts and thread counts, each rendered with the cull on and
  * off and compared plane by plane; and the cull does skip instances in these scenes and, by its winding test
- * alone (every cube in view), in the benchmark's scene B layout. */
+ * alone (every cube in view), in the benchmark's scene B layout, whose image is also the reference path's (which
+ * never culls). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -43,8 +44,9 @@ static void jittered_mesh(const char *name, float jp, float jn, uint64_t *s, is_
     mesh_free(&b);
 }
 
-/* Render o (mesh m) with cull mode `cull` and the patch cull on or off; returns the device. */
-static is_device *render(const scene_opts *o, const is_mesh *m, uint32_t cull, bool patch_cull)
+/* Render o (mesh m) with cull mode `cull`, the patch cull on or off, on the fast or the reference path; returns
+ * the device. */
+static is_device *render_path(const scene_opts *o, const is_mesh *m, uint32_t cull, bool patch_cull, bool reference)
 {
     char err[256];
     core_grid g;
@@ -52,6 +54,7 @@ static is_device *render(const scene_opts *o, const is_mesh *m, uint32_t cull, b
     is_device *dev = dev_create(o->width, o->height, o->msaa, err, sizeof err);
     assert_non_null(dev);
     dev_set_threads(dev, o->threads);
+    dev_set_reference_path(dev, reference);
     dev_set_patch_cull(dev, patch_cull);
     assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, cull), IS_OK);
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
@@ -60,6 +63,12 @@ static is_device *render(const scene_opts *o, const is_mesh *m, uint32_t cull, b
     assert_int_equal(rc, 0);
     core_grid_free(&g);
     return dev;
+}
+
+/* render_path on the fast path. */
+static is_device *render(const scene_opts *o, const is_mesh *m, uint32_t cull, bool patch_cull)
+{
+    return render_path(o, m, cull, patch_cull, false);
 }
 
 /* Totals over the comparisons. */
@@ -148,6 +157,15 @@ static void test_cubes(void **state)
     cull_counts c = {0};
     check_same(&o, &m, IS_CULL_CCW, &c);
     assert_true(c.culled > c.instances / 12);
+    /* the reference path is the definition: it never culls, and the fast path with the cull gives its bytes */
+    is_device *ref = render_path(&o, &m, IS_CULL_CCW, true, true), *fast = render(&o, &m, IS_CULL_CCW, true);
+    assert_int_equal(dev_instances_culled(ref), 0);
+    assert_true(dev_instances_culled(fast) > 0);
+    const rs_target *a = dev_render_target(ref), *b = dev_render_target(fast);
+    size_t np = (size_t)a->width * (size_t)a->height * (size_t)a->samples;
+    assert_memory_equal(a->color, b->color, np * sizeof *a->color);
+    assert_memory_equal(a->depth, b->depth, np * sizeof *a->depth);
+    dev_destroy(ref), dev_destroy(fast);
     mesh_free(&m);
 }
 
