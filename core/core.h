@@ -254,11 +254,32 @@ static inline const is_vs_input *is_vs_input_at(const is_vs_input *in, size_t v,
 typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                                uint32_t shared, is_vs_output *out);
 
+/* The hull stage (an extension of the D3D9 shader object, in the spirit of D3D11's hull shader and of
+ * Hasselgren, Munkberg and Akenine-Moller's pre-tessellation culling): a conservative bound of what `main` writes
+ * to oPos for one instance, over the barycentric domain b = POSITION0.xyz (b >= 0, b0 + b1 + b2 = 1, widened by
+ * IS_HULL_DOMAIN_SLACK: b_k >= -slack, |b0 + b1 + b2 - 1| <= slack, as float grids give).  oPos(b) lies within
+ * `err` (per coordinate, absolute) of the convex hull of pos[0..n_pos) (clip space x, y, z, w).  When degree
+ * d > 0, oPos is moreover within err of the polynomial Q(b) = sum of B_ijk(b) pos[k-major index of (i, j, k)]
+ * (Bernstein polynomials of degree d, i + j + k = d the exponents of b0, b1, b2; index = sum over q < k of
+ * (d + 1 - q), plus j), so n_pos = (d + 1)(d + 2) / 2.  The device uses it to skip whole instances that the
+ * rasterizer would draw nothing of (dev_set_patch_cull). */
+#define IS_HULL_MAX_POS 10 /* degree 3 at most */
+#define IS_HULL_DOMAIN_SLACK 0x1p-23
+typedef struct is_patch_hull {
+    int n_pos, degree;
+    double pos[IS_HULL_MAX_POS][4];
+    double err;
+} is_patch_hull;
+/* Fill *h for the instance whose per-instance registers are in `in` (POSITION0 is not read); false when the
+ * instance has no bound (non-finite data, say): it is then drawn. */
+typedef bool (*is_vs_hull_fn)(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
+
 typedef struct is_vertex_shader {
     const char *name;
     is_vs_fn main;
     uint32_t outputs;   /* IS_OUT_* mask of written outputs (what the rasterizer interpolates) */
     is_vs_batch_fn batch; /* NULL: the device calls main per vertex */
+    is_vs_hull_fn hull;   /* NULL: no bound, every instance is shaded */
 } is_vertex_shader;
 
 /* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */
@@ -290,6 +311,12 @@ void dev_set_threads(is_device *dev, int threads);
  * (vertex shading included) and tile passes; off, both stay 0 so that the statistics of two renders compare
  * equal. */
 void dev_set_timing(is_device *dev, bool on);
+/* Pre-tessellation culling on or off (default off; the reference path never culls): an instanced triangle draw
+ * whose shader has a hull stage skips, before shading any of its vertices, every instance that the hull proves
+ * invisible -- outside one plane of the view, or (on a regular barycentric grid in stream 0's POSITION0, cull mode
+ * CW or CCW, solid fill) with every grid triangle culled by its snapped winding.  The image bytes are those of the
+ * draw without it; the statistics count fewer triangles and vertices (dev_instances_culled counts the skips). */
+void dev_set_patch_cull(is_device *dev, bool on);
 
 /* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
 is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
@@ -341,6 +368,8 @@ rs_target *dev_render_target(is_device *dev);
 const rs_stats *dev_stats(const is_device *dev);
 /* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */
 uint64_t dev_vertices_shaded(const is_device *dev);
+/* Instances skipped by the pre-tessellation cull since the last dev_clear (dev_set_patch_cull). */
+uint64_t dev_instances_culled(const is_device *dev);
 
 /* N-patch mode (SetNPatchMode, POSITIONDEGREE, NORMALDEGREE, PATCHEDGESTYLE).  With segments >= 1, indexed
  * triangle-list draws are tessellated by the device before the vertex shader, as D3D9's tessellator did: each

@@ -96,6 +96,7 @@ void dev_destroy(is_device *dev)
     free(dev->in.p);
     free(dev->in_ready.p);
     free(dev->npatch_lv.p);
+    free(dev->culled.p);
     free(dev);
 }
 
@@ -123,6 +124,9 @@ void dev_set_timing(is_device *dev, bool on)
     dev->timing = on;
     rs_set_timing(dev->rs, on);
 }
+
+/* Pre-tessellation culling on or off (draw_cull.c). */
+void dev_set_patch_cull(is_device *dev, bool on) { dev->patch_cull = on; }
 
 is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
 {
@@ -296,6 +300,7 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
     rs_target_clear_deferred(dev->rs, &dev->rt, flags, r | g << 8 | b << 16 | a << 24, z); /* per tile, on first use */
     memset(&dev->stats, 0, sizeof dev->stats);
     dev->shaded = 0;
+    dev->instances_culled = 0;
     return IS_OK;
 }
 
@@ -307,6 +312,7 @@ rs_target *dev_render_target(is_device *dev)
 }
 const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
 uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
+uint64_t dev_instances_culled(const is_device *dev) { return dev->instances_culled; }
 
 /* The render-state values dev_rs_state and dev_clear pass to the rasterizer unchanged: D3D9's values on both
  * sides (core.h's IS_*, raster.h's RS_*), tied here so that a change to one side that breaks the other does not

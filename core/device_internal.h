@@ -61,6 +61,7 @@ struct is_device {
     int threads;
     bool reference;         /* dev_set_reference_path */
     bool timing;            /* dev_set_timing: phase times into stats (setup_ms, tile_ms) */
+    bool patch_cull;        /* dev_set_patch_cull */
     uint32_t rs_state[IS_RS_COUNT];
     is_viewport viewport;
     stream_source streams[IS_MAX_STREAMS];
@@ -72,6 +73,7 @@ struct is_device {
     is_npatch_eval_fn npatch_eval;
     rs_stats stats;
     uint64_t shaded;
+    uint64_t instances_culled; /* dev_instances_culled */
     char err[512];
     /* scratch of draw calls, kept between draws and grown only, so that a frame like the last one allocates
      * nothing and touches no fresh pages (out_v, out_i: bounded by DRAW_CHUNK_VERTICES) */
@@ -85,6 +87,7 @@ struct is_device {
     scratch_buf in;         /* is_vs_input: draw_fused's input registers, count per slot */
     scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
+    scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
 };
 
 /* Wall-clock milliseconds now when dev times its draws (dev_set_timing), else 0. */
@@ -188,5 +191,25 @@ size_t draw_fused_list_room(const fetch_plan *fp, uint32_t count, size_t n_prims
  * overwritten). */
 is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
                      uint32_t *list);
+
+/* ---- the pre-tessellation cull of instanced draws (draw_cull.c) ---- */
+typedef struct cull_view {
+    bool on;                  /* the shader has a hull stage and the draw allows a cull */
+    bool backface;            /* the grid is regular and the cull mode CW / CCW: the winding test applies */
+    int winding;              /* +1 / -1: the grid triangles' winding in the domain */
+    unsigned pairs;           /* bit p: some grid triangle has its edges along pair p (draw_cull.c) */
+    double h;                 /* the grid's spacing (in b) */
+    double grid_slack;        /* largest deviation of a grid triangle from its ideal one (ell-1, in b) */
+    double sign;              /* +1: a triangle is culled when det3 > 0 of its (x, y, w) rows, -1 when < 0 */
+    double sx, sy;            /* screen units (1/256 px) per unit of x/w, y/w */
+    double gx, gy;            /* the guard band, as the rasterizer clips */
+    double mux, muy;          /* a pixel beyond the viewport, in x/w, y/w */
+} cull_view;
+/* Prepare the cull of an instanced triangle draw whose instance triangles are list[0..3 n_prims) (into the fetch
+ * cache of its vertices): cv->on is false when no instance can be culled. */
+void cull_prepare(const is_device *dev, const fetch_plan *fp, const float4 *cache, const uint32_t *list,
+                  size_t n_prims, cull_view *cv);
+/* True when hull h proves that the rasterizer draws nothing of the instance. */
+bool cull_instance(const cull_view *cv, const is_patch_hull *h);
 
 #endif

@@ -35,17 +35,20 @@ typedef struct fused_ctx {
     is_vs_input *in;           /* count input registers per slot (see shade_instance) */
     bool *in_ready;            /* per slot: its inputs hold the defaults and the per-vertex registers */
     uint32_t live;             /* live_outputs(dev) */
+    cull_view cull;            /* the pre-tessellation cull (draw_cull.c) */
+    uint64_t *culled;          /* per slot: instances culled */
 } fused_ctx;
 
-/* Shade all `count` vertices of `instance` into out[0..count) with one batch call (so the shader's 8-lane groups
- * are full but for the instance's last ones).  in[0..count) is the slot's input scratch, made ready once per draw
+/* Make the inputs of `instance` ready for shade_instance, which shades all `count` vertices into out[0..count)
+ * with one batch call (so the shader's 8-lane groups are full but for the instance's last ones).  in[0..count)
+ * is the slot's input scratch, made ready once per draw
  * (*ready): D3D9's defaults, then the per-vertex registers from the draw's fetch_cache (the same for every
  * instance; no element shares a register with another).  Per instance only the per-instance registers are
  * fetched: into in[0] alone for a batch shader, into every entry for a shader called per vertex.  A batch shader
  * is told that every register but the per-vertex ones (fp->shared: the per-instance registers and the defaults)
  * is the same for all vertices and stored in in[0] only.  The outputs are not zeroed first: the rasterizer reads
  * oPos and the live outputs the shader writes (its `outputs` mask), nothing else of this scratch. */
-static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, rs_vertex *out)
+static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
@@ -62,12 +65,21 @@ static void shade_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
         float4 r = decl_fetch(e->type, fetch_at(e, instance));
         for (uint32_t v = 0; v < copies; v++) *(float4 *)((unsigned char *)&in[v] + e->reg_offset) = r;
     }
+}
+
+/* Shade the instance whose inputs fetch_instance made ready: its `count` vertices into out[0..count). */
+static void shade_instance(const fused_ctx *f, const is_vs_input *in, rs_vertex *out)
+{
+    const fetch_plan *fp = f->fp;
+    const uint32_t n = f->count;
+    const is_vertex_shader *vs = f->dev->vs;
     if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
     else
         for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
 }
 
-/* rs_produce_fn: shade the piece's instances into the slot's scratch and build its index list. */
+/* rs_produce_fn: shade the piece's instances that the cull keeps into the slot's scratch, one after the other,
+ * and hand over the prefix of the index list that covers them. */
 static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
                             const uint32_t **idx)
 {
@@ -75,9 +87,18 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
     rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
     is_vs_input *in = f->in + (size_t)slot * f->count;
-    for (uint32_t i = 0; i < n; i++) shade_instance(f, f->i0 + a + i, in, &f->in_ready[slot], out + (size_t)i * f->count);
-    *verts = out, *n_verts = (size_t)n * f->count, *idx = f->list; /* a short piece uses a prefix */
-    return (size_t)n * (f->n_idx / 3);
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        fetch_instance(f, f->i0 + a + i, in, &f->in_ready[slot]);
+        is_patch_hull h;
+        if (f->cull.on && f->dev->vs->hull(&f->dev->consts, in, &h) && cull_instance(&f->cull, &h)) {
+            f->culled[slot]++;
+            continue;
+        }
+        shade_instance(f, in, out + (size_t)kept++ * f->count);
+    }
+    *verts = out, *n_verts = (size_t)kept * f->count, *idx = f->list; /* a short piece uses a prefix */
+    return (size_t)kept * (f->n_idx / 3);
 }
 
 /* Instances per piece: about 1/FUSED_PIECES of the draw, at most FUSED_PIECE_VERTICES vertices and
@@ -120,11 +141,15 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
     const float4 *cache = fetch_cache(dev, fp, first, count);
     is_vs_input *in = scratch_get(&dev->in, (size_t)slots * count, sizeof *in);
     bool *in_ready = scratch_get(&dev->in_ready, (size_t)slots, sizeof *in_ready);
+    uint64_t *culled = scratch_get(&dev->culled, (size_t)slots, sizeof *culled);
     if (in_ready) memset(in_ready, 0, (size_t)slots * sizeof *in_ready);
+    if (culled) memset(culled, 0, (size_t)slots * sizeof *culled);
     fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache,
-                   in, in_ready, live_outputs(dev)};
-    is_result r = cache && in && in_ready ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)
-                                          : dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for the inputs");
+                   in, in_ready, live_outputs(dev), {0}, culled};
+    cull_prepare(dev, fp, cache, list, n_prims, &f.cull);
+    is_result r = cache && in && in_ready && culled
+                      ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)
+                      : dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for the inputs");
     f.out_v = dev->out_v;
     for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass) {
         f.i0 = i0;
@@ -134,6 +159,9 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
         rs_stats s = {0};
         r = draw_result(dev, rs_draw_source(dev->rs, &st, &dev->rt, &src, &s), &s);
     }
-    dev->shaded += total;
+    uint64_t skipped = 0;
+    for (int k = 0; culled && k < slots; k++) skipped += culled[k];
+    dev->instances_culled += skipped;
+    dev->shaded += total - skipped * count;
     return r;
 }

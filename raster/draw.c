@@ -411,7 +411,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
         if (rs->chunks[c].oom) return RS_ENOMEM;
         n_prims += rs->chunks[c].count;
     }
-    if (n_prims != src->n_prims) return RS_EINVAL;
+    if (n_prims > src->n_prims) return RS_EINVAL;
     if (!add_work(rs, &j, src->n_pieces)) return RS_EWORK;
     raster_tiles(&j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
     return RS_OK;

@@ -210,15 +210,15 @@ typedef size_t (*rs_produce_fn)(void *ctx, size_t piece, int slot, rs_vertex **v
                                 const uint32_t **idx);
 typedef struct rs_source {
     size_t n_pieces;      /* at most rs_max_pieces */
-    size_t n_prims;       /* triangles of all pieces */
+    size_t n_prims;       /* triangles of all pieces at most (a producer may drop instances it culls) */
     size_t max_verts;     /* vertices of the largest piece */
     rs_produce_fn produce;
     void *ctx;            /* passed to produce */
 } rs_source;
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 size_t rs_max_pieces(const rs_target *rt);
-/* Draw the triangles of src: RS_OK, or RS_EINVAL (bad state, target or source: too many pieces, or pieces whose
- * triangles do not add up to n_prims), RS_ENOMEM or RS_EWORK with nothing drawn. */
+/* Draw the triangles of src (rs_stats.prims_in counts those the pieces gave): RS_OK, or RS_EINVAL (bad state,
+ * target or source: too many pieces, or pieces whose triangles add up to more than n_prims), RS_ENOMEM or RS_EWORK with nothing drawn. */
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
 
 #ifdef __cplusplus

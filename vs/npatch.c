@@ -64,4 +64,5 @@ static void VSInstancedNPatch(const is_vs_constants *c, const is_vs_input *in, i
     vs_write_outputs(c, posN, normal, oTex, b, in->texcoord[VS_IN_ID].x, f3(0, 0, 0), out);
 }
 
-const is_vertex_shader vs_shader_npatch = {"npatch", VSInstancedNPatch, VS_OUTPUTS, vs_npatch_batch};
+const is_vertex_shader vs_shader_npatch = {"npatch", VSInstancedNPatch, VS_OUTPUTS, vs_npatch_batch,
+                                           vs_npatch_hull};

@@ -172,5 +172,5 @@ static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_i
 }
 
 const is_vertex_shader vs_shader_smooth_initial = {"smooth-initial", VSInstancedPatchInitial, VS_OUTPUTS,
-                                                   VSInstancedPatchInitialBatch};
-const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch};
+                                                   VSInstancedPatchInitialBatch, NULL};
+const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch, NULL};

@@ -53,6 +53,10 @@ void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, 
 void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
                      is_vs_output *out);
 
+/* The hull stages (vs/hull.c; is_vs_hull_fn of core/core.h) of the npatch and flat shaders. */
+bool vs_npatch_hull(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
+bool vs_flat_hull(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
+
 /* HLSL lerp(a, b, t) = a + (b - a) t, except that t == 1 gives b exactly (Eq. 1.1.11 with bf = 1 is the N-Patch
  * term itself; a + (b - a) need not round to b). */
 static inline float3 vs_lerp3(float3 a, float3 b, float t) { return t == 1.0f ? b : lerp3(a, b, t); }
