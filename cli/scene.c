@@ -334,26 +334,41 @@ static int adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
     return 0;
 }
 
+/* One triangle's neighbour normals in, those of its renumbering by p (scene_permute_instance) out. */
+static void permute_nadj(const float3 in[3][2], const uint8_t p[3], float3 out[3][2])
+{
+    for (int k = 0; k < 3; k++) {
+        const int x = p[k], y = p[(k + 1) % 3], old = y == (x + 1) % 3 ? x : y; /* the edge joining x, y */
+        for (int j = 0; j < 2; j++) /* the corner p[k + j] of the old edge is (old + c) % 3 */
+            out[k][j] = in[old][(p[(k + j) % 3] - old + 3) % 3];
+    }
+}
+
 /* adjacent_normals for the instances of an adaptive draw (a's order and renumbering); 0 or -1. */
 static int permuted_adjacent_normals(const is_mesh *m, const scene_adaptive *a, float3 (*out)[3][2])
 {
     float3 (*nadj)[3][2] = malloc(m->n_triangles * sizeof *nadj);
     if (!nadj || adjacent_normals(m, nadj) != 0) return free(nadj), -1;
-    for (size_t i = 0; i < m->n_triangles; i++) {
-        const uint8_t *p = a->perm[i];
-        for (int k = 0; k < 3; k++) {
-            const int x = p[k], y = p[(k + 1) % 3], old = y == (x + 1) % 3 ? x : y; /* the edge joining x, y */
-            for (int j = 0; j < 2; j++) /* the corner p[k + j] of the old edge is (old + c) % 3 */
-                out[i][k][j] = nadj[a->tri[i]][old][(p[(k + j) % 3] - old + 3) % 3];
-        }
-    }
+    for (size_t i = 0; i < m->n_triangles; i++) permute_nadj((const float3(*)[2])nadj[a->tri[i]], a->perm[i], out[i]);
     free(nadj);
     return 0;
 }
 
+/* PN-AEN's neighbour normals into the registers of vs_nadj_regs (for evaluating outside a draw). */
+static void set_nadj_regs(is_vs_input *in, const float3 nadj[3][2])
+{
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 2; j++) {
+            const vs_reg r = vs_nadj_regs[k][j];
+            float4 *reg = r.usage == IS_DECLUSAGE_TEXCOORD ? &in->texcoord[r.usage_index]
+                          : r.usage == IS_DECLUSAGE_NORMAL ? &in->normal[r.usage_index] : &in->tangent[r.usage_index];
+            *reg = f4_of(nadj[k][j], 1.0f);
+        }
+}
+
 /* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals (a: in an adaptive draw's order) and a declaration that adds vs_nadj_regs to
  * Listing 1.1.2's; replaces the declaration of scene_bind_instanced. */
-static is_result bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a)
+is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a)
 {
     is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
     if (e != IS_OK) return e;
@@ -525,7 +540,7 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
     case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
     default: {
         is_result e = scene_bind_instanced(dev, m, g, r);
-        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? bind_adjacent_normals(dev, m, r, NULL) : e;
+        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? scene_bind_adjacent_normals(dev, m, r, NULL) : e;
     }
     }
 }
@@ -546,7 +561,7 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
     scene_lod_levels(&p, m, &e, hist);
     dev_set_vertex_shader(dev, shader ? shader : vs_patch_shader(o->patch));
     is_result r = scene_bind_adaptive(dev, m, &e, cache, &a);
-    if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = bind_adjacent_normals(dev, m, &a.r, &a);
+    if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = scene_bind_adjacent_normals(dev, m, &a.r, &a);
     if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
     if (st) {
         memcpy(st->level_hist, hist, sizeof hist);
@@ -766,13 +781,16 @@ typedef struct obj_writer {
     size_t next;   /* the OBJ index of the next vertex */
 } obj_writer;
 
-/* Write grid g's points evaluated on instance inst, then its faces (indices 1 and 2 swapped when flip). */
-static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const core_grid *g, bool flip)
+/* Write grid g's points evaluated on instance inst (with PN-AEN's neighbour normals nadj, or NULL), then its
+ * faces (indices 1 and 2 swapped when flip). */
+static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const float3 (*nadj)[2], const core_grid *g,
+                         bool flip)
 {
     for (size_t p = 0; p < g->n_points; p++) {
         is_vs_input in;
         is_vs_output out;
         scene_input_from_instance(inst, g->bary[p], &in);
+        if (nadj) set_nadj_regs(&in, nadj);
         memset(&out, 0, sizeof out);
         w->vs->main(&w->c, &in, &out);
         float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
@@ -788,7 +806,7 @@ static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const cor
 
 /* The adaptive tessellation of the render (levels from its camera) into w; 0 or -1 with a message. */
 static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, const is_patch_instance *inst,
-                        char *err, size_t errlen)
+                        const float3 (*nadj)[3][2], char *err, size_t errlen)
 {
     scene_lod_params p = scene_lod_params_of(o, m);
     scene_lod_edges e;
@@ -809,7 +827,9 @@ static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, co
         is_patch_instance pi;
         const uint8_t p8[3] = {(uint8_t)perm[0], (uint8_t)perm[1], (uint8_t)perm[2]};
         scene_permute_instance(&inst[t], p8, &pi);
-        if (g) obj_triangle(w, &pi, g, odd);
+        float3 pn[3][2];
+        if (nadj) permute_nadj(nadj[t], p8, pn);
+        if (g) obj_triangle(w, &pi, nadj ? (const float3(*)[2])pn : NULL, g, odd);
     }
     scene_lod_edges_free(&e);
     core_pattern_cache_destroy(cache);
@@ -835,17 +855,23 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
     memset(&w.c, 0, sizeof w.c);
     fill_constants(&w.c, o, &id, &id, o->diffuse);
     mesh_build_instances(m, inst);
+    float3 (*nadj)[3][2] = o->patch == VS_PATCH_PN_AEN ? malloc(m->n_triangles * sizeof *nadj) : NULL;
     int rc = 0;
-    if (o->lod == SCENE_LOD_UNIFORM) {
+    if (nadj && adjacent_normals(m, nadj) != 0) free(nadj), nadj = NULL;
+    if (o->patch == VS_PATCH_PN_AEN && !nadj) rc = -1, snprintf(err, errlen, "%s: out of memory", o->export_obj);
+    if (rc != 0) {
+    } else if (o->lod == SCENE_LOD_UNIFORM) {
         fprintf(w.f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION,
                 m->name, w.vs->name, (double)o->level, m->n_triangles, g.n_points);
-        for (size_t t = 0; t < m->n_triangles && !ferror(w.f); t++) obj_triangle(&w, &inst[t], &g, false);
+        for (size_t t = 0; t < m->n_triangles && !ferror(w.f); t++)
+            obj_triangle(&w, &inst[t], nadj ? (const float3(*)[2])nadj[t] : NULL, &g, false);
     } else {
         fprintf(w.f, "# instess %s: %s, patch %s, --lod %s, levels %d..%d, %zu triangles\n", INSTESS_VERSION,
                 m->name, w.vs->name, scene_lod_names[o->lod], o->min_level, scene_lod_max_level(o), m->n_triangles);
-        rc = obj_adaptive(&w, o, m, inst, err, errlen);
+        rc = obj_adaptive(&w, o, m, inst, (const float3(*)[3][2])nadj, err, errlen);
     }
     free(inst);
+    free(nadj);
     core_grid_free(&g);
     if (rc != 0) {
         char scratch[16];

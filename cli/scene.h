@@ -237,6 +237,9 @@ void scene_adaptive_free(scene_adaptive *a);
  * buffer, Listing 1.1.2's declaration) in a; patterns from cache.  IS_OK or an error. */
 is_result scene_bind_adaptive(is_device *dev, const is_mesh *m, const scene_lod_edges *e, core_pattern_cache *cache,
                               scene_adaptive *a);
+/* PN-AEN's third stream: the neighbours' normals at each edge's ends (INSTANCEDATA | 1) and the declaration with
+ * them, replacing r's; with a (an adaptive draw) in a's order and renumbering.  IS_OK or an error. */
+is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a);
 /* Set stream 1 (and 2, if bound) to bucket k's instances with INDEXEDDATA | count on stream 0, and draw it. */
 is_result scene_draw_bucket(is_device *dev, const scene_adaptive *a, size_t k);
 /* The renumbered instance: perm[i] of in becomes vertex i (positions, normals, texcoords, opposite vertices). */
