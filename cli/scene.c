@@ -179,6 +179,9 @@ const char *scene_check_opts(const scene_opts *o)
                "pg-fractional-even (CONTINUOUS)";
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == SCENE_LOD_UNIFORM)
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
+    if (o->lod == SCENE_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette))
+        return "--min-level, --max-level and --silhouette need --lod distance or screen";
+    if (o->lod != SCENE_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
     return o->lod == SCENE_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
 
@@ -187,6 +190,8 @@ static const char *check_lod_opts(const scene_opts *o)
 {
     if (o->path != SCENE_PATH_INSTANCED) return "--lod distance and screen draw through instancing (--path instanced)";
     if (o->grid != CORE_GRID_REGULAR) return "--lod distance and screen use their own patterns: --grid must be regular";
+    if (o->max_level == 0 && o->level != floorf(o->level))
+        return "--lod distance and screen take whole levels: give --max-level (or an integer --level)";
     if (o->max_level == 0 && o->level > (float)CORE_LOD_MAX_LEVEL)
         return "--lod distance and screen need levels up to 64: give --max-level 1..64 (or a --level up to 64)";
     if (o->min_level < 1 || o->min_level > scene_lod_max_level(o)) return "--min-level must be 1..--max-level";

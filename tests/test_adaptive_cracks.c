@@ -335,8 +335,9 @@ static void test_export_obj_closed(void **state)
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const char *err;
-        int rc = prog_run(dir, &err, "", "--mesh %s --patch %s --lod %s --max-level 12 --lod-target 4 --distance 2 "
-                          "--size 128x128 -o %s --export-obj %s", cases[k].mesh, cases[k].patch, cases[k].lod, png, obj);
+        int rc = prog_run(dir, &err, "", "--mesh %s --patch %s --lod %s --max-level 12 %s --distance 2 "
+                          "--size 128x128 -o %s --export-obj %s", cases[k].mesh, cases[k].patch, cases[k].lod,
+                          strcmp(cases[k].lod, "screen") == 0 ? "--lod-target 4" : "", png, obj);
         if (rc != 0) fprintf(stderr, "%s\n", err);
         assert_int_equal(rc, 0);
         assert_non_null(strstr(err, "edge levels (--lod "));
@@ -416,6 +417,10 @@ static void test_lod_usage_errors(void **state)
         {"--lod distance --grid pg-equal", "--grid must be regular"},
         {"--lod distance --path cpu --patch npatch", "--path instanced"},
         {"--lod screen --lod-target 0", "--lod-target"},
+        {"--max-level 8", "need --lod distance or screen"},
+        {"--silhouette", "need --lod distance or screen"},
+        {"--lod distance --lod-target 4", "--lod-target needs --lod screen"},
+        {"--lod screen --level 7.5", "whole levels"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const char *err;
