@@ -30,6 +30,7 @@
 #include <unistd.h>
 
 #include "../cli/scene.h"   /* the scene layer: core, meshes, vs and the instanced draw */
+#include "bench_lod.h"
 #include "bench_scene_file.h"
 
 extern char **environ;
@@ -97,7 +98,7 @@ typedef struct bench_args {
 /* Print the usage to f. */
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABC|A,B,C] [--patch npatch|smooth|both]\n"
+    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCD|A,B,C,D] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
@@ -132,8 +133,8 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     if (strcmp(opt, "--gl") == 0) return a->gl_path = v, 0;
     if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
     if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
-    if (strcmp(opt, "--scenes") == 0) /* "ABC" or "A,B,C" */
-        return a->scenes = v, strspn(v, "ABC,") == strlen(v) && strpbrk(v, "ABC") ? 0 : -1;
+    if (strcmp(opt, "--scenes") == 0) /* "ABCD" or "A,B,C,D" (D: bench/bench_lod.c) */
+        return a->scenes = v, strspn(v, "ABCD,") == strlen(v) && strpbrk(v, "ABCD") ? 0 : -1;
     if (strcmp(opt, "--patch") == 0) {
         a->patches = strcmp(v, "npatch") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 2u : strcmp(v, "both") == 0 ? 3u : 0u;
         return a->patches ? 0 : -1;
@@ -956,7 +957,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench: cannot create a working directory: %s\n", strerror(errno));
         return 1;
     }
-    int bad = run_all(&a, gl_path, dir);
+    int bad = strpbrk(a.scenes, "ABC") ? run_all(&a, gl_path, dir) : 0;
+    if (strchr(a.scenes, 'D'))
+        bad += bench_scene_d(&(bench_lod_args){a.frames < 11 ? a.frames : 11, a.warmup, a.threads[a.n_threads - 1], a.patches});
     if (!a.keep) rmdir(dir);
     if (bad) fprintf(stderr, "bench: %d scene(s) failed or disagree with llvmpipe\n", bad);
     return bad ? 1 : 0;

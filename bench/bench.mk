@@ -17,14 +17,18 @@ $(BENCH_OBJ)/gl_ref.o: bench/gl_ref.c bench/gl_shaders.h bench/bench_scene_file.
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(BENCH_GL_CFLAGS) -MMD -MP -c $< -o $@
 
-$(BENCH_OBJ)/bench.o: bench/bench.c bench/bench_scene_file.h $(SETUP)
+$(BENCH_OBJ)/bench.o: bench/bench.c bench/bench_lod.h bench/bench_scene_file.h $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BENCH_OBJ)/bench_lod.o: bench/bench_lod.c bench/bench_lod.h $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(B)/bench-gl: $(BENCH_OBJ)/gl_ref.o
 	$(CC) $(LDFLAGS) $^ $(BENCH_GL_LIBS) -o $@
 
-$(B)/bench: $(BENCH_OBJ)/bench.o $(B)/libinstess_app.a $(B)/libinstess.a
+$(B)/bench: $(BENCH_OBJ)/bench.o $(BENCH_OBJ)/bench_lod.o $(B)/libinstess_app.a $(B)/libinstess.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 .PHONY: bench-setup bench-build

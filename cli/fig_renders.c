@@ -10,6 +10,8 @@
  *                     the headlight (0, 0, -1) (ridges show in the shading);
  *   --light normals   colour = 0.5 + 0.5 (n.x, n.y, -n.z) of the world-space unit normal ("coloured by its
  *                     normals"; facing the camera is blue).
+ *   --wire-levels on  (with --lod distance|screen and a wireframe) each bucket's wire in the colour of its finest
+ *                     level (scene_opts.wire_by_level).
  * A rendering is "R,G,B,A,Z,N.X,N.Y,N.Z": colour with 4x MSAA, then Z (nearest sample) and the unit normal of a
  * 1-sample pass of the same view (zero on the background). */
 #include <math.h>
@@ -66,6 +68,7 @@ static const char *view_option(fig_view *v, const char *key, const char *val, ch
 {
     scene_opts *o = &v->o;
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
+    if (!strcmp(key, "--wire-levels")) return o->wire_by_level = !strcmp(val, "on"), NULL;
     if (!strcmp(key, "--light")) {
         v->light = !strcmp(val, "grazing") ? LIGHT_GRAZING : !strcmp(val, "normals") ? LIGHT_NORMALS : -1;
         return v->light < 0 ? "bad --light" : NULL;
@@ -376,6 +379,69 @@ static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errle
                        s.tall, out, err, errlen);
 }
 
+/* ---------------------------------------- adaptive level of detail ---------------------------------------- */
+
+/* The same sphere near and far, uniform level 16 and --lod screen (levels 1..16, 8 pixels per segment at the full
+ * size), solid with the wireframe coloured by level (figure-only --wire-levels on: each bucket's finest level,
+ * blue 1 .. green 8 .. red 64).  The uniform panels go through the same adaptive path with every edge at 16 (the
+ * pattern 16/16/16 is the regular grid). */
+#define V_LOD "--mesh sphere --patch smooth --normals real --yaw 30 --pitch 20 --fill solid+wire --wire-levels on"
+#define V_LOD_UNIFORM " --lod distance --min-level 16 --max-level 16"
+#define V_LOD_SCREEN " --lod screen --max-level 16 --lod-target 8"
+#define V_LOD_NEAR " --distance 3"
+#define V_LOD_FAR " --distance 8"
+
+/* Triangles the adaptive draw of view v on m tessellates (the levels as scene_draw computes them); 0 on failure. */
+static size_t lod_triangles(const fig_view *v, const is_mesh *m)
+{
+    scene_lod_params p = scene_lod_params_of(&v->o, m);
+    scene_lod_edges e;
+    char err[64];
+    uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
+    core_pattern_cache *cache = core_pattern_cache_create(0);
+    size_t n = 0;
+    if (cache && scene_lod_edges_build(m, &e, err, sizeof err) == 0) {
+        scene_lod_levels(&p, m, &e, hist);
+        for (size_t t = 0; t < m->n_triangles; t++) {
+            int lv[3], s[3], q[3];
+            for (int k = 0; k < 3; k++) lv[k] = e.level[e.tri_edge[3 * t + k]];
+            core_lod_order(lv, s, q);
+            const core_grid *g = core_pattern_get(cache, s[0], s[1], s[2]);
+            n += g ? g->n_triangles : 0;
+        }
+        scene_lod_edges_free(&e);
+    }
+    core_pattern_cache_destroy(cache);
+    return n;
+}
+
+/* Uniform vs adaptive at two distances, each panel labelled with its triangle count. */
+static int fig_lod(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const struct { const char *view, *what; } p[] = {
+        {V_LOD V_LOD_NEAR V_LOD_UNIFORM, "near, uniform 16"}, {V_LOD V_LOD_NEAR V_LOD_SCREEN, "near, --lod screen"},
+        {V_LOD V_LOD_FAR V_LOD_UNIFORM, "far, uniform 16"}, {V_LOD V_LOD_FAR V_LOD_SCREEN, "far, --lod screen"}};
+    fig_sizes s = sizes_of(ctx);
+    fig_layout L = layout_of(ctx, 2, 2, s.panel, s.panel);
+    int rc = layout_begin(&L, "Uniform 16 vs --lod screen; wire colour = level", out, err,
+                          errlen);
+    for (int k = 0; rc == 0 && k < 4; k++) {
+        fig_view v;
+        is_mesh m = {0};
+        is_image img = {0};
+        char text[96];
+        rc = view_parse(&v, p[k].view, err, errlen);
+        if (rc == 0) rc = load_mesh(v.mesh, v.recompute, &m, err, errlen);
+        if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.panel, &img, err, errlen);
+        if (rc == 0) snprintf(text, sizeof text, "%s: %zu triangles", p[k].what, lod_triangles(&v, &m));
+        if (rc == 0) rc = layout_place(&L, out, k, &img, text, err, errlen);
+        image_free(&img);
+        mesh_free(&m);
+        if (rc != 0) image_free(out);
+    }
+    return rc;
+}
+
 /* ---------------------------------------- fake vs real normals ---------------------------------------- */
 
 #define HEAT_MAX_DEG 45.0f
@@ -648,4 +714,16 @@ const figure fig_renders[] = {
      "MSAA, seen from the front (yaw 90, pitch 0, distance 2.7); top row shaded by the listing's headlight, "
      "bottom row wireframe (--fill wire).",
      CMD_FIG("fig-003-3"), true, fig_003_3, 2},
+    {"fig-lod", NULL, "instess: adaptive level of detail through instancing (after Dyken, Reimers and Seland, "
+     "Semi-uniform adaptive patch tessellation, 2009, and NVIDIA's screen-space rule, GDC 2011)",
+     "The same mesh near and far: one tessellation level for every triangle, and a level per mesh edge from its "
+     "projected length, drawn as D3D9 would -- one instanced DrawIndexedPrimitive per refinement pattern.",
+     "The built-in sphere (80 triangles) with Gruen's final smoothed patch and real normals, yaw 30, pitch 20, at "
+     "distance 3 (top) and 8 (bottom), 2x2 panels of 320x320 with 4x MSAA, solid with the wireframe coloured by "
+     "level (blue 1, green 8, red 64; per bucket, its finest level). Left: uniform level 16 (every edge at 16: "
+     "--lod distance --min-level 16 --max-level 16, the regular grid). Right: --lod screen --max-level 16 "
+     "--lod-target 8 (8 pixels per segment of each edge's projected control polygon; patterns of the sorted "
+     "edge levels, semi-uniform). Each label gives the triangles tessellated. Options: " V_LOD " with the "
+     "distance and lod options above (--wire-levels is a figure-only option).",
+     CMD_FIG("fig-lod"), true, fig_lod, 3},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0}};

@@ -34,7 +34,8 @@ static const char figures_usage[] =
 static const char *const section_titles[FIG_SECTIONS] = {
     "Seed 000: H. Gruen, Smoothed N-Patches",
     "Seed 001: R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles",
-    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)"};
+    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)",
+    "Beyond the documents: adaptive level of detail through instancing"};
 
 #define MAX_FIGURES 128
 

@@ -32,9 +32,10 @@ typedef struct figure {
                               `instess figures --only ID` for composites and diagrams) */
     bool rendering;        /* a rendering of a surface: also written as .exr with Z and N.X, N.Y, N.Z */
     fig_fn render;
-    int section;           /* the gallery section: the document it reproduces (0: seed 000, 1: 001, 2: 003) */
+    int section;           /* the gallery section: the document it reproduces (0: seed 000, 1: 001, 2: 003), or 3:
+                              beyond the documents (adaptive level of detail) */
 } figure;
-#define FIG_SECTIONS 3
+#define FIG_SECTIONS 4
 
 /* The two tables, each ended by an entry with id == NULL.  A figure is one row: adding one is a row here and its
  * render function (README, "Extending instess"); the gallery orders them by section, then by id. */

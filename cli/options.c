@@ -142,6 +142,27 @@ static const char *opt_d3d9_adaptive(scene_opts *o, const char *a)
     o->d3d9_adaptive = SCENE_D3D9_MDM;
     return NULL;
 }
+static const char *lod_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_lod_names, sep, buf, len);
+}
+static const char *opt_lod(scene_opts *o, const char *a)
+{
+    return scene_parse_lod(a, &o->lod) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_lod_target(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 0.25f, 4096.0f, &o->lod_target) ? NULL : "--lod-target takes pixels, 0.25..4096";
+}
+static const char *opt_min_level(scene_opts *o, const char *a)
+{
+    return scene_parse_int(a, 1, CORE_LOD_MAX_LEVEL, &o->min_level) ? NULL : "--min-level must be 1..64";
+}
+static const char *opt_max_level(scene_opts *o, const char *a)
+{
+    return scene_parse_int(a, 1, CORE_LOD_MAX_LEVEL, &o->max_level) ? NULL : "--max-level must be 1..64";
+}
+static const char *opt_silhouette(scene_opts *o, const char *a) { return o->silhouette = true, NULL; }
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
 static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
@@ -165,6 +186,15 @@ const scene_option scene_options[] = {
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
     {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
     {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
+    {"lod", 0, "MODE", "level of detail: one --level for all (uniform), or a level per mesh edge from its "
+     "midpoint's view depth (distance) or its projected length (screen), drawn with one instanced call per "
+     "pattern", "uniform", opt_lod, lod_choices},
+    {"lod-target", 0, "PIXELS", "--lod screen: pixels per segment of an edge's projected control polygon", "8",
+     opt_lod_target, NULL},
+    {"min-level", 0, "N", "--lod distance|screen: the coarsest edge level, 1..64", "1", opt_min_level, NULL},
+    {"max-level", 0, "N", "--lod distance|screen: the finest edge level, 1..64", "--level", opt_max_level, NULL},
+    {"silhouette", 0, NULL, "--lod distance|screen: edges between a front and a back face get --max-level", NULL,
+     opt_silhouette, NULL},
     {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
      opt_recompute, NULL},
     {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},

@@ -23,6 +23,7 @@ void scene_opts_default(scene_opts *o)
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
+        .lod = SCENE_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
     };
 }
 
@@ -162,6 +163,8 @@ static bool has_ext(const char *path, const char *ext)
     return true;
 }
 
+static const char *check_lod_opts(const scene_opts *o);
+
 const char *scene_check_opts(const scene_opts *o)
 {
     if (o->output && !has_ext(o->output, ".png") && !has_ext(o->output, ".exr"))
@@ -181,8 +184,27 @@ const char *scene_check_opts(const scene_opts *o)
                "--level must be 1..64";
     if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->export_obj)
         return "--export-obj writes the uniform tessellation: it cannot be combined with --d3d9-adaptive";
-    if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level))
+    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->lod != SCENE_LOD_UNIFORM)
+        return "--d3d9-adaptive (the device's N-patch mode) and --lod (instanced patterns) are two ways: choose one";
+    if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == SCENE_LOD_UNIFORM)
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
+    if (o->lod == SCENE_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette))
+        return "--min-level, --max-level and --silhouette need --lod distance or screen";
+    if (o->lod != SCENE_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
+    return o->lod == SCENE_LOD_UNIFORM ? NULL : check_lod_opts(o);
+}
+
+/* The adaptive options' consistency (scene_check_opts for --lod distance and screen). */
+static const char *check_lod_opts(const scene_opts *o)
+{
+    if (o->path != SCENE_PATH_INSTANCED) return "--lod distance and screen draw through instancing (--path instanced)";
+    if (o->grid != CORE_GRID_REGULAR) return "--lod distance and screen use their own patterns: --grid must be regular";
+    if (o->max_level == 0 && o->level != floorf(o->level))
+        return "--lod distance and screen take whole levels: give --max-level (or an integer --level)";
+    if (o->max_level == 0 && o->level > (float)CORE_LOD_MAX_LEVEL)
+        return "--lod distance and screen need levels up to 64: give --max-level 1..64 (or a --level up to 64)";
+    if (o->min_level < 1 || o->min_level > scene_lod_max_level(o)) return "--min-level must be 1..--max-level";
+    if (!(o->lod_target > 0.0f)) return "--lod-target must be a positive number of pixels";
     return NULL;
 }
 
@@ -238,6 +260,17 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     cam.world_view = t;
     cam.ref_depth = o->distance - 1.0f; /* the nearest depth of the unit bounding sphere */
     return cam;
+}
+
+scene_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
+{
+    scene_camera cam = make_camera(o, m);
+    int hi = scene_lod_max_level(o);
+    if (hi > CORE_LOD_MAX_LEVEL) hi = CORE_LOD_MAX_LEVEL;
+    return (scene_lod_params){.mode = o->lod, .target_px = o->lod_target, .ref_depth = cam.ref_depth,
+                              .min_level = o->min_level < hi ? o->min_level : hi, .max_level = hi,
+                              .width = o->width, .height = o->height, .silhouette = o->silhouette,
+                              .world_view = cam.world_view, .wvp = cam.wvp};
 }
 
 /* The AOV outputs of the patch shaders (vs/vs.h): TEXCOORD1 normal, 2 barycentrics, 3 instance, 4 Gregory. */
@@ -315,13 +348,45 @@ static int adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
     return 0;
 }
 
-/* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals and a declaration that adds vs_nadj_regs to
+/* One triangle's neighbour normals in, those of its renumbering by p (scene_permute_instance) out. */
+static void permute_nadj(const float3 in[3][2], const uint8_t p[3], float3 out[3][2])
+{
+    for (int k = 0; k < 3; k++) {
+        const int x = p[k], y = p[(k + 1) % 3], old = y == (x + 1) % 3 ? x : y; /* the edge joining x, y */
+        for (int j = 0; j < 2; j++) /* the corner p[k + j] of the old edge is (old + c) % 3 */
+            out[k][j] = in[old][(p[(k + j) % 3] - old + 3) % 3];
+    }
+}
+
+/* adjacent_normals for the instances of an adaptive draw (a's order and renumbering); 0 or -1. */
+static int permuted_adjacent_normals(const is_mesh *m, const scene_adaptive *a, float3 (*out)[3][2])
+{
+    float3 (*nadj)[3][2] = malloc(m->n_triangles * sizeof *nadj);
+    if (!nadj || adjacent_normals(m, nadj) != 0) return free(nadj), -1;
+    for (size_t i = 0; i < m->n_triangles; i++) permute_nadj((const float3(*)[2])nadj[a->tri[i]], a->perm[i], out[i]);
+    free(nadj);
+    return 0;
+}
+
+/* PN-AEN's neighbour normals into the registers of vs_nadj_regs (for evaluating outside a draw). */
+static void set_nadj_regs(is_vs_input *in, const float3 nadj[3][2])
+{
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 2; j++) {
+            const vs_reg r = vs_nadj_regs[k][j];
+            float4 *reg = r.usage == IS_DECLUSAGE_TEXCOORD ? &in->texcoord[r.usage_index]
+                          : r.usage == IS_DECLUSAGE_NORMAL ? &in->normal[r.usage_index] : &in->tangent[r.usage_index];
+            *reg = f4_of(nadj[k][j], 1.0f);
+        }
+}
+
+/* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals (a: in an adaptive draw's order) and a declaration that adds vs_nadj_regs to
  * Listing 1.1.2's; replaces the declaration of scene_bind_instanced. */
-static is_result bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r)
+is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a)
 {
     is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
     if (e != IS_OK) return e;
-    if (adjacent_normals(m, vb_lock(r->vb2)) != 0) return IS_ERR_OUTOFMEMORY;
+    if (a ? permuted_adjacent_normals(m, a, vb_lock(r->vb2)) : adjacent_normals(m, vb_lock(r->vb2))) return IS_ERR_OUTOFMEMORY;
     is_vertex_element el[MESH_PATCH_DECLARATION_COUNT + 6];
     size_t n = 0;
     while (mesh_patch_declaration[n].stream != 0xFF) el[n] = mesh_patch_declaration[n], n++;
@@ -421,6 +486,18 @@ static const is_vertex_shader *path_shader(const scene_opts *o)
     return o->path == SCENE_PATH_INSTANCED ? vs_patch_shader(o->patch) : &vs_shader_fixed;
 }
 
+/* The wireframe overlay's states: the same triangles' edges, pulled slightly towards the eye so they win the
+ * depth test. */
+static void set_overlay_states(is_device *dev)
+{
+    float bias = -2e-5f, slope = -1.0f;
+    uint32_t bb, sb;
+    memcpy(&bb, &bias, 4), memcpy(&sb, &slope, 4);
+    dev_set_render_state(dev, IS_RS_FILLMODE, IS_FILL_WIREFRAME);
+    dev_set_render_state(dev, IS_RS_DEPTHBIAS, bb);
+    dev_set_render_state(dev, IS_RS_SLOPESCALEDEPTHBIAS, sb);
+}
+
 /* Issue the draw(s) of the fill mode on a device whose buffers are bound. */
 static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_resources *r)
 {
@@ -429,15 +506,43 @@ static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_came
     set_constants(dev, o, cam, o->diffuse);
     is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
-    /* the overlay: the same triangles' edges, pulled slightly towards the eye so they win the depth test */
-    float bias = -2e-5f, slope = -1.0f;
-    uint32_t bb, sb;
-    memcpy(&bb, &bias, 4), memcpy(&sb, &slope, 4);
-    dev_set_render_state(dev, IS_RS_FILLMODE, IS_FILL_WIREFRAME);
-    dev_set_render_state(dev, IS_RS_DEPTHBIAS, bb);
-    dev_set_render_state(dev, IS_RS_SLOPESCALEDEPTHBIAS, sb);
+    set_overlay_states(dev);
     set_constants(dev, o, cam, o->wire_color);
     return dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
+}
+
+/* The colour of a level for wireframes coloured by level: blue (1) through green (8) to red (64), by log2. */
+static void level_color(int level, float rgba[4])
+{
+    float x = log2f((float)level) / 6.0f; /* 0 at level 1, 1 at 64 */
+    rgba[0] = saturate(2.0f * x - 0.6f), rgba[1] = saturate(1.2f - fabsf(2.4f * x - 1.2f)), rgba[2] = saturate(1.0f - 2.0f * x);
+    rgba[3] = 1.0f;
+}
+
+/* One pass over every bucket of a; with by_level each bucket's colour is its finest level's, else `color`. */
+static is_result draw_buckets(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_adaptive *a,
+                              bool by_level, const float color[4])
+{
+    is_result e = IS_OK;
+    if (!by_level) set_constants(dev, o, cam, color);
+    for (size_t k = 0; k < a->n_buckets && e == IS_OK; k++) {
+        float c[4];
+        if (by_level) level_color(a->buckets[k].level[2], c), set_constants(dev, o, cam, c);
+        e = scene_draw_bucket(dev, a, k);
+    }
+    return e;
+}
+
+/* draw_fill for an adaptive draw: every bucket per pass, the wireframe coloured by level if o asks. */
+static is_result draw_fill_adaptive(is_device *dev, const scene_opts *o, const scene_camera *cam,
+                                    const scene_adaptive *a)
+{
+    const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
+    dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
+    is_result e = draw_buckets(dev, o, cam, a, o->fill == SCENE_FILL_WIRE && o->wire_by_level, o->diffuse);
+    if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
+    set_overlay_states(dev);
+    return draw_buckets(dev, o, cam, a, o->wire_by_level, o->wire_color);
 }
 
 /* Bind the buffers of o->path on dev. */
@@ -449,7 +554,7 @@ static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *
     case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
     default: {
         is_result e = scene_bind_instanced(dev, m, g, r);
-        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? bind_adjacent_normals(dev, m, r) : e;
+        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? scene_bind_adjacent_normals(dev, m, r, NULL) : e;
     }
     }
 }
@@ -468,9 +573,46 @@ static void set_d3d9_adaptive(is_device *dev, const scene_opts *o, const scene_c
     dev_set_render_state(dev, IS_RS_ENABLEADAPTIVETESSELLATION, 1);
 }
 
+/* The adaptive draw of scene_draw (o->lod distance or screen): per-edge levels, buckets of patterns, one instanced
+ * draw per bucket and pass; the levels' histogram and counts into st if not NULL.  0 or -1. */
+static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, const is_vertex_shader *shader,
+                         scene_stats *st)
+{
+    scene_camera cam = make_camera(o, m);
+    scene_lod_params p = scene_lod_params_of(o, m);
+    scene_lod_edges e;
+    scene_adaptive a = {0};
+    uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
+    char err[256];
+    core_pattern_cache *cache = core_pattern_cache_create(0);
+    if (!cache || scene_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
+    scene_lod_levels(&p, m, &e, hist);
+    dev_set_vertex_shader(dev, shader ? shader : vs_patch_shader(o->patch));
+    is_result r = scene_bind_adaptive(dev, m, &e, cache, &a);
+    if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = scene_bind_adjacent_normals(dev, m, &a.r, &a);
+    if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
+    if (st) {
+        memcpy(st->level_hist, hist, sizeof hist);
+        st->n_buckets = a.n_buckets, st->n_patterns = a.n_patterns, st->tessellated_triangles = a.n_triangles;
+    }
+    scene_adaptive_free(&a);
+    scene_lod_edges_free(&e);
+    core_pattern_cache_destroy(cache);
+    return r == IS_OK ? 0 : -1;
+}
+
+/* scene_draw with the adaptive draw's statistics into st (may be NULL). */
+static int draw_scene(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+                      const is_vertex_shader *shader, scene_stats *st)
+{
+    if (o->lod != SCENE_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, st);
+    return scene_draw(dev, o, m, g, shader);
+}
+
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader)
 {
+    if (o->lod != SCENE_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
     scene_camera cam = make_camera(o, m);
     scene_resources r = {0};
     dev_set_vertex_shader(dev, shader ? shader : path_shader(o));
@@ -495,7 +637,7 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
         if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
                                                        aov_slots[k].comps);
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    if (scene_draw(dev, o, m, g, NULL) != 0) {
+    if (draw_scene(dev, o, m, g, NULL, st) != 0) {
         snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
         dev_destroy(dev);
         return NULL;
@@ -600,7 +742,10 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
                        size_t errlen)
 {
     core_grid g;
-    if (core_grid_make(o->grid, o->level, &g) != 0) {
+    /* an adaptive render is checked against its finest level everywhere (its grid is not drawn) */
+    const bool adaptive = o->lod != SCENE_LOD_UNIFORM;
+    if (core_grid_make(adaptive ? CORE_GRID_REGULAR : o->grid, adaptive ? (float)scene_lod_max_level(o) : o->level,
+                       &g) != 0) {
         snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level);
         return -1;
     }
@@ -619,7 +764,8 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
         core_grid_free(&g);
         return -1;
     }
-    if (st) *st = (scene_stats){m->n_triangles, g.n_points, g.n_triangles, 0, 0, {0}};
+    if (st) memset(st, 0, sizeof *st), st->mesh_triangles = m->n_triangles, st->grid_points = g.n_points,
+            st->grid_triangles = g.n_triangles;
     char names[256];
     channel_list(o->aovs, names, sizeof names);
     int rc = -1;
@@ -656,52 +802,118 @@ void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_in
     in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
 }
 
-/* Evaluate the patch shader at every grid point of every triangle with identity matrices, as the renderer
- * does, and write positions, normals and faces as OBJ into output k of outs; 0 or -1. */
+/* What the OBJ export evaluates with: the patch shader with identity matrices, as the renderer does. */
+typedef struct obj_writer {
+    FILE *f;
+    is_vs_constants c;
+    const is_vertex_shader *vs;
+    size_t next;   /* the OBJ index of the next vertex */
+} obj_writer;
+
+/* Write grid g's points evaluated on instance inst (with PN-AEN's neighbour normals nadj, or NULL), then its
+ * faces (indices 1 and 2 swapped when flip). */
+static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const float3 (*nadj)[2], const core_grid *g,
+                         bool flip)
+{
+    for (size_t p = 0; p < g->n_points; p++) {
+        is_vs_input in;
+        is_vs_output out;
+        scene_input_from_instance(inst, g->bary[p], &in);
+        if (nadj) set_nadj_regs(&in, nadj);
+        memset(&out, 0, sizeof out);
+        w->vs->main(&w->c, &in, &out);
+        float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
+        fprintf(w->f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
+    }
+    for (size_t q = 0; q < g->n_triangles; q++) {
+        size_t a = w->next + g->idx[3 * q], b = w->next + g->idx[3 * q + (flip ? 2 : 1)],
+               c = w->next + g->idx[3 * q + (flip ? 1 : 2)];
+        fprintf(w->f, "f %zu//%zu %zu//%zu %zu//%zu\n", a, a, b, b, c, c);
+    }
+    w->next += g->n_points;
+}
+
+/* The adaptive tessellation of the render (levels from its camera) into w; 0 or -1 with a message. */
+static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, const is_patch_instance *inst,
+                        const float3 (*nadj)[3][2], char *err, size_t errlen)
+{
+    scene_lod_params p = scene_lod_params_of(o, m);
+    scene_lod_edges e;
+    uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
+    core_pattern_cache *cache = core_pattern_cache_create(0);
+    if (!cache || scene_lod_edges_build(m, &e, err, errlen) != 0) {
+        core_pattern_cache_destroy(cache);
+        return snprintf(err, errlen, "%s: out of memory", o->export_obj), -1;
+    }
+    scene_lod_levels(&p, m, &e, hist);
+    int rc = 0;
+    for (size_t t = 0; t < m->n_triangles && !ferror(w->f) && rc == 0; t++) {
+        int lv[3], sorted[3], perm[3];
+        for (int k = 0; k < 3; k++) lv[k] = e.level[e.tri_edge[3 * t + k]];
+        bool odd = core_lod_order(lv, sorted, perm);
+        const core_grid *g = core_pattern_get(cache, sorted[0], sorted[1], sorted[2]);
+        if (!g) snprintf(err, errlen, "%s: out of memory for a pattern", o->export_obj), rc = -1;
+        is_patch_instance pi;
+        const uint8_t p8[3] = {(uint8_t)perm[0], (uint8_t)perm[1], (uint8_t)perm[2]};
+        scene_permute_instance(&inst[t], p8, &pi);
+        float3 pn[3][2];
+        if (nadj) permute_nadj(nadj[t], p8, pn);
+        if (g) obj_triangle(w, &pi, nadj ? (const float3(*)[2])pn : NULL, g, odd);
+    }
+    scene_lod_edges_free(&e);
+    core_pattern_cache_destroy(cache);
+    return rc;
+}
+
+/* Evaluate the patch shader at every grid (or pattern) point of every triangle with identity matrices, as the
+ * renderer does, and write positions, normals and faces as OBJ into output k of outs; 0 or -1. */
 static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, int k, char *err, size_t errlen)
 {
     core_grid g;
-    if (core_grid_make(o->grid, o->level, &g) != 0) return snprintf(err, errlen, "cannot build the grid"), -1;
+    if (core_grid_make(o->grid, o->lod == SCENE_LOD_UNIFORM ? o->level : 1.0f, &g) != 0)
+        return snprintf(err, errlen, "cannot build the grid"), -1;
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
-    FILE *f = inst ? outputs_stream(outs, k, err, errlen) : NULL;
-    if (!f) {
+    obj_writer w = {.f = inst ? outputs_stream(outs, k, err, errlen) : NULL, .vs = vs_patch_shader(o->patch), .next = 1};
+    if (!w.f) {
         if (!inst) snprintf(err, errlen, "%s: out of memory for %zu triangles", o->export_obj, m->n_triangles);
         free(inst);
         core_grid_free(&g);
         return -1;
     }
-    is_vs_constants c;
     float4x4 id = mat_identity();
-    memset(&c, 0, sizeof c);
-    fill_constants(&c, o, &id, &id, o->diffuse);
-    const is_vertex_shader *vs = vs_patch_shader(o->patch);
+    memset(&w.c, 0, sizeof w.c);
+    fill_constants(&w.c, o, &id, &id, o->diffuse);
     mesh_build_instances(m, inst);
-    fprintf(f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION, m->name,
-            vs->name, (double)o->level, m->n_triangles, g.n_points);
-    for (size_t t = 0; t < m->n_triangles && !ferror(f); t++) {
-        for (size_t p = 0; p < g.n_points; p++) {
-            is_vs_input in;
-            is_vs_output out;
-            scene_input_from_instance(&inst[t], g.bary[p], &in);
-            memset(&out, 0, sizeof out);
-            vs->main(&c, &in, &out);
-            float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
-            fprintf(f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
-        }
-        size_t base = t * g.n_points + 1;
-        for (size_t q = 0; q < g.n_triangles; q++)
-            fprintf(f, "f %zu//%zu %zu//%zu %zu//%zu\n", base + g.idx[3 * q], base + g.idx[3 * q],
-                    base + g.idx[3 * q + 1], base + g.idx[3 * q + 1], base + g.idx[3 * q + 2], base + g.idx[3 * q + 2]);
+    float3 (*nadj)[3][2] = o->patch == VS_PATCH_PN_AEN ? malloc(m->n_triangles * sizeof *nadj) : NULL;
+    int rc = 0;
+    if (nadj && adjacent_normals(m, nadj) != 0) free(nadj), nadj = NULL;
+    if (o->patch == VS_PATCH_PN_AEN && !nadj) rc = -1, snprintf(err, errlen, "%s: out of memory", o->export_obj);
+    if (rc != 0) {
+    } else if (o->lod == SCENE_LOD_UNIFORM) {
+        fprintf(w.f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION,
+                m->name, w.vs->name, (double)o->level, m->n_triangles, g.n_points);
+        for (size_t t = 0; t < m->n_triangles && !ferror(w.f); t++)
+            obj_triangle(&w, &inst[t], nadj ? (const float3(*)[2])nadj[t] : NULL, &g, false);
+    } else {
+        fprintf(w.f, "# instess %s: %s, patch %s, --lod %s, levels %d..%d, %zu triangles\n", INSTESS_VERSION,
+                m->name, w.vs->name, scene_lod_names[o->lod], o->min_level, scene_lod_max_level(o), m->n_triangles);
+        rc = obj_adaptive(&w, o, m, inst, (const float3(*)[3][2])nadj, err, errlen);
     }
     free(inst);
+    free(nadj);
     core_grid_free(&g);
-    return outputs_close_stream(outs, k, f, err, errlen);
+    if (rc != 0) {
+        char scratch[16];
+        outputs_close_stream(outs, k, w.f, scratch, sizeof scratch);
+        return -1;
+    }
+    return outputs_close_stream(outs, k, w.f, err, errlen);
 }
 
 /* The article's per-edge shortcut on the smoothed patch: print how many P_k evaluations it saved. */
 static void report_shortcut(const scene_opts *o, const is_mesh *m)
 {
-    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->quiet) return;
+    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->lod != SCENE_LOD_UNIFORM || o->quiet) return;
     vs_triangle *t = malloc(m->n_triangles * sizeof *t);
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
     if (t && inst) {
@@ -716,6 +928,17 @@ static void report_shortcut(const scene_opts *o, const is_mesh *m)
     }
     free(t);
     free(inst);
+}
+
+/* The level histogram of an adaptive render: mesh edges per level, patterns, buckets, triangles. */
+static void report_levels(const scene_opts *o, const scene_stats *st)
+{
+    fprintf(stderr, "instess: edge levels (--lod %s):", scene_lod_names[o->lod]);
+    for (int l = 1; l <= CORE_LOD_MAX_LEVEL; l++)
+        if (st->level_hist[l]) fprintf(stderr, " %d:%llu", l, (unsigned long long)st->level_hist[l]);
+    fprintf(stderr, "\ninstess: %zu patterns, %zu buckets (one instanced draw each), %zu triangles tessellated "
+                    "(uniform level %d: %zu)\n", st->n_patterns, st->n_buckets, st->tessellated_triangles,
+            scene_lod_max_level(o), st->mesh_triangles * st->grid_triangles);
 }
 
 /* Warnings of the mesh loader go to stderr (the program's choice; the library never prints). */
@@ -764,6 +987,11 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
         snprintf(buf + n, len - n, ", d3d9-adaptive %g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1],
                  (double)o->d3d9_mdm[2], (double)o->d3d9_mdm[3]);
+    if (o->lod != SCENE_LOD_UNIFORM && (n = strlen(buf)) < len) {
+        snprintf(buf + n, len - n, ", lod %s, lod-target %g, min-level %d, max-level %d, silhouette %s",
+                 scene_lod_names[o->lod], (double)o->lod_target, o->min_level, scene_lod_max_level(o),
+                 o->silhouette ? "on" : "off");
+    }
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
@@ -793,6 +1021,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
     if (rc == 0) rc = outputs_commit(outs, err, errlen);
     if (rc == 0) report_shortcut(o, m);
+    if (rc == 0 && !o->quiet && o->lod != SCENE_LOD_UNIFORM) report_levels(o, &st);
     if (rc == 0 && !o->quiet)
         fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
                         "%.1f ms -> %s\n",

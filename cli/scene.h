@@ -41,6 +41,9 @@ enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_A
  * given (T = level * 1 / dot(V, Mdm), V the mesh's own vertex).  MINTESSELLATIONLEVEL 1, MAXTESSELLATIONLEVEL
  * --level. */
 typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_adaptive;
+/* Level of detail (--lod): one --level for all (uniform), or a level per mesh edge (cli/lod.c). */
+typedef enum { SCENE_LOD_UNIFORM, SCENE_LOD_DISTANCE, SCENE_LOD_SCREEN } scene_lod;
+#define SCENE_LOD_DEFAULT_TARGET 8.0f   /* --lod-target: pixels per segment of an edge's control polygon */
 
 typedef struct scene_opts {
     const char *mesh;           /* built-in name or file */
@@ -66,6 +69,11 @@ typedef struct scene_opts {
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
     scene_d3d9_adaptive d3d9_adaptive; /* --d3d9-adaptive (npatch-mode only): off, depth, or d3d9_mdm */
     float d3d9_mdm[4];          /* SCENE_D3D9_MDM: (ADAPTIVETESS_X, _Y, _Z, _W) as given */
+    scene_lod lod;              /* SCENE_LOD_UNIFORM: o->level everywhere; else per-edge levels (cli/lod.c) */
+    float lod_target;           /* screen: pixels per segment (SCENE_LOD_DEFAULT_TARGET) */
+    int min_level, max_level;   /* per-edge levels are clamped to these (1..CORE_LOD_MAX_LEVEL); max 0: --level */
+    bool silhouette;            /* edges whose two faces face opposite ways get max_level */
+    bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */
 } scene_opts;
 
 /* Bytes a render of mesh_triangles triangles with grid_points points per triangle takes at most, by the
@@ -92,11 +100,14 @@ is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid
  * so that two runs of one render write the same bytes. */
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len);
 
-/* What a render did (for statistics and the benchmark). */
+/* What a render did (for statistics and the benchmark).  Adaptive renders also count their edges per level
+ * (level_hist[l]: mesh edges at level l), buckets (draw calls per pass) and patterns. */
 typedef struct scene_stats {
     size_t mesh_triangles, grid_points, grid_triangles;
     uint64_t vertices_shaded, triangles_drawn;
     rs_stats raster;
+    uint64_t level_hist[CORE_LOD_MAX_LEVEL + 1];
+    size_t n_buckets, n_patterns, tessellated_triangles;
 } scene_stats;
 
 /* Defaults: the welded cube, smoothed patch, level 8, 512x512, 4x MSAA, solid. */
@@ -171,6 +182,79 @@ typedef enum { SCENE_ARGS_RUN, SCENE_ARGS_HELP, SCENE_ARGS_VERSION } scene_args_
  * argument, the mesh.  0 with *res saying whether to render or that --help / --version was asked; -1 with the
  * usage error in err. */
 int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *res, char *err, size_t errlen);
+
+/* ---------------------------------------- adaptive level of detail (cli/lod.c, cli/instancing.c) ----------------
+ *
+ * Per-edge levels: each mesh edge (a pair of welded vertices a < b) gets one level, computed once per edge from
+ * its two end points in that canonical order (and, for --lod screen, the normals at its ends of the first
+ * triangle holding it), so both triangles of an edge use the same level whatever their vertex order.
+ *  - distance: L = max_level * ref_depth / z, z the view depth of the edge's midpoint (ref_depth: the depth at
+ *    which max_level is reached; the scene uses the nearest depth of the object's bounding sphere);
+ *  - screen: L = length in pixels of the projected N-Patch control polygon of the edge (b300 b210 b120 b030, the
+ *    border curve's hull: a bound of the curve's projected length) / target (NVIDIA's GDC 2011 rule);
+ *  - then rounded up and clamped to [min_level, max_level]; an edge with a corner behind the eye gets max_level;
+ *    with silhouette, an edge whose two faces face opposite ways (view space) gets max_level. */
+typedef struct scene_lod_params {
+    scene_lod mode;
+    float target_px, ref_depth;
+    int min_level, max_level, width, height;
+    bool silhouette;
+    float4x4 world_view, wvp;   /* object -> view, object -> clip */
+} scene_lod_params;
+
+/* A mesh's edges (topology only, built once) and their current levels. */
+typedef struct scene_lod_edges {
+    size_t n_edges;
+    uint32_t (*ends)[2];        /* welded vertices a < b */
+    float3 (*nrm)[2];           /* the normals at a and b of the first triangle holding the edge */
+    uint32_t (*faces)[2];       /* its first two triangles (UINT32_MAX: none) */
+    uint32_t *n_faces;
+    uint32_t *tri_edge;         /* 3 per triangle: the edge index of its edge k */
+    uint8_t *level;             /* per edge, after scene_lod_levels */
+} scene_lod_edges;
+int scene_lod_edges_build(const is_mesh *m, scene_lod_edges *e, char *err, size_t errlen);
+void scene_lod_edges_free(scene_lod_edges *e);
+/* Compute every edge's level as p says into e->level; hist[l] (CORE_LOD_MAX_LEVEL + 1 entries, zeroed here)
+ * counts edges per level. */
+void scene_lod_levels(const scene_lod_params *p, const is_mesh *m, scene_lod_edges *e, uint64_t *hist);
+/* The parameters of o's scene for mesh m (camera as scene_draw's; ref_depth the bounding sphere's nearest). */
+scene_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m);
+/* The largest level a render of o may use (max_level, or --level rounded). */
+int scene_lod_max_level(const scene_opts *o);
+
+/* One bucket: the triangles drawn with one pattern and one winding, in one instanced draw. */
+typedef struct scene_bucket {
+    int level[3];               /* the pattern's sorted edge levels */
+    bool odd;                   /* instances renumbered by an odd permutation: the flipped index range */
+    unsigned first, count;      /* its instances in stream 1 (and 2) */
+    int base_vertex;            /* the pattern's points in stream 0 (BaseVertexIndex) */
+    unsigned n_points, start_index, n_prims;
+} scene_bucket;
+/* The buffers of an adaptive draw: every pattern in use in stream 0 (16-bit indices local to the pattern, each
+ * pattern's triangles then the same with two indices swapped), the instances renumbered (core_lod_order) and
+ * sorted by bucket in stream 1. */
+typedef struct scene_adaptive {
+    scene_resources r;
+    scene_bucket *buckets;
+    size_t n_buckets, n_patterns, n_triangles;  /* n_triangles: tessellated, over all buckets */
+    uint32_t *tri;              /* per instance: the mesh triangle */
+    uint8_t (*perm)[3];         /* per instance: the renumbering */
+} scene_adaptive;
+void scene_adaptive_free(scene_adaptive *a);
+/* Bucket m's triangles by the patterns of the levels in e, fill and bind the buffers (stream 0, 1, the index
+ * buffer, Listing 1.1.2's declaration) in a; patterns from cache.  IS_OK or an error. */
+is_result scene_bind_adaptive(is_device *dev, const is_mesh *m, const scene_lod_edges *e, core_pattern_cache *cache,
+                              scene_adaptive *a);
+/* PN-AEN's third stream: the neighbours' normals at each edge's ends (INSTANCEDATA | 1) and the declaration with
+ * them, replacing r's; with a (an adaptive draw) in a's order and renumbering.  IS_OK or an error. */
+is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a);
+/* Set stream 1 (and 2, if bound) to bucket k's instances with INDEXEDDATA | count on stream 0, and draw it. */
+is_result scene_draw_bucket(is_device *dev, const scene_adaptive *a, size_t k);
+/* The renumbered instance: perm[i] of in becomes vertex i (positions, normals, texcoords, opposite vertices). */
+void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out);
+/* The names --lod takes, in scene_lod's order; parse one. */
+extern const char *const scene_lod_names[];
+bool scene_parse_lod(const char *s, scene_lod *out);
 
 /* Subcommands: `instess figures` (cli/figures.c) and `instess smoothness` (cli/smoothness.c). */
 int scene_cmd_figures(int argc, char **argv);

@@ -463,6 +463,48 @@ int core_grid_pg(core_grid_kind spacing, float inner, const float outer[3], core
 int core_grid_make(core_grid_kind kind, float level, core_grid *out);
 void core_grid_free(core_grid *g);
 
+/* ================================ adaptive tessellation patterns (core/grid_adaptive.c) ================================ */
+
+/* Refinement patterns for per-edge levels (semi-uniform tessellation: Dyken, Reimers, Seland, "Semi-uniform
+ * adaptive patch tessellation", Computer Graphics Forum 28(8), 2009).  The pattern of edge levels (l0, l1, l2)
+ * (edge k: v_k - v_(k+1), as core_grid_regular; each level 1..CORE_LOD_MAX_LEVEL) is the regular grid of level
+ * M = max(l0, l1, l2) whose points on edge k are snapped to the nearest of that edge's l_k + 1 points (round
+ * half up in integer arithmetic, a monotone map, so no triangle folds over), merged, and whose triangles that
+ * lost an index to the merge (zero area) are dropped.  An edge point k segments of l from v_e holds the weight
+ * (float)k / (float)l for the far corner and (float)(l - k) / (float)l for v_e, the same floats (swapped) for
+ * the neighbour whatever its other levels: neighbours agree bit for bit on every edge point.  With
+ * l0 = l1 = l2 = L the pattern is core_grid_regular(L), point for point and triangle for triangle.
+ * Triangles wind like (v0, v1, v2); points are in the regular grid's order with the merged ones left out. */
+#define CORE_LOD_MAX_LEVEL 64
+/* The pattern of edge levels l[0..2] (any order); 0, or -1 for a level outside 1..CORE_LOD_MAX_LEVEL or no memory.
+ * Free with core_grid_free. */
+int core_grid_adaptive(const int levels[3], core_grid *out);
+
+/* Patterns are kept for sorted triples a <= b <= c only: a triangle with edge levels e[0..2] is drawn with the
+ * pattern of sort(e) after renumbering its vertices.  core_lod_order gives that renumbering: perm[i] is the
+ * triangle's vertex that becomes the pattern's vertex i, so that the triangle's edge (perm[k], perm[k+1]) has
+ * level sorted[k]; returns true when perm is odd (a reflection: the pattern's triangles must then be drawn with
+ * two indices swapped to keep the mesh's winding).  Ties keep the lower edge first (deterministic). */
+bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3]);
+
+/* A lazily filled cache of the patterns of sorted triples, bounded in memory: the patterns held take at most
+ * max_bytes (counted as 12 bytes per point, 12 per triangle and 64 per entry; CORE_PATTERN_CACHE_DEFAULT_BYTES by
+ * default), plus a fixed index of CORE_LOD_MAX_LEVEL^3 int32 (1 MiB).  When a new pattern does not fit, the
+ * least recently used ones are evicted (the largest pattern, 64/64/64, takes about 75 KB, so a bound under that
+ * still keeps the one pattern asked for).  Single-threaded: one cache per user. */
+#define CORE_PATTERN_CACHE_DEFAULT_BYTES (16u << 20)
+typedef struct core_pattern_cache core_pattern_cache;
+/* A new empty cache (max_bytes 0: the default); NULL when out of memory. */
+core_pattern_cache *core_pattern_cache_create(size_t max_bytes);
+void core_pattern_cache_destroy(core_pattern_cache *c);
+/* The pattern of sorted levels a <= b <= c (built on first use), valid until the next call on this cache; NULL
+ * for unsorted or out-of-range levels or when out of memory. */
+const core_grid *core_pattern_get(core_pattern_cache *c, int a, int b, int cl);
+/* Bytes held now (by the bound's count), patterns built so far, patterns evicted so far. */
+size_t core_pattern_cache_bytes(const core_pattern_cache *c);
+size_t core_pattern_cache_built(const core_pattern_cache *c);
+size_t core_pattern_cache_evicted(const core_pattern_cache *c);
+
 /* ================================ outputs: the files of one run (core/output.c) ================================ */
 
 /* The files one run writes succeed together or none is left.  outputs_add claims each target before any work:
