@@ -2,14 +2,10 @@
  * cli/figures.h): Gruen's Figs. 1.1.1, 1.1.7, 1.1.8, 1.1.10; van Veen and Baakman's Figs. 1, 5, 12 and the
  * 'fake' vs 'real' normals of their section 5.1; Real-Time Rendering's Fig. 3; and the MD2 texture-seam cracks.
  *
- * Every view is written once, as the options of the `instess` command (VIEW_* macros below): the render parses
- * that string with the scene layer's option parsers, and the table's `command` field is built from the same
- * string, so a single rendering is reproduced exactly by its command.  Two figure-only options exist for views
- * the command line cannot express (their command is then `instess figures --only ID`):
- *   --light grazing   the listing's diffuse term with a light grazing the surface from the upper left instead of
- *                     the headlight (0, 0, -1) (ridges show in the shading);
- *   --light normals   colour = 0.5 + 0.5 (n.x, n.y, -n.z) of the world-space unit normal ("coloured by its
- *                     normals"; facing the camera is blue).
+ * Every view is written once, as the options of the `instess` command (V_* macros below): the render parses
+ * that string with the option table of cli/options.c and draws it through scene_draw, exactly as the command
+ * does, and the table's `command` field is built from the same string, so a single rendering is reproduced
+ * pixel for pixel by its command (tests/test_figures.c runs each one).  Composites list their panels' commands.
  * A rendering is "R,G,B,A,Z,N.X,N.Y,N.Z": colour with 4x MSAA, then Z (nearest sample) and the unit normal of a
  * 1-sample pass of the same view (zero on the background). */
 #include <math.h>
@@ -25,51 +21,21 @@
 #define SYDNEY MD2_DIR "sydney.md2"
 #define FAERIE MD2_DIR "faerie.md2"
 
-enum { LIGHT_LISTING = 0, LIGHT_GRAZING = 1, LIGHT_NORMALS = 2 };
-enum { C_FIG = 10, C_LIGHT = 11 }; /* constant registers of the wrapper shader (after the patch's c0..c9) */
-
-/* One parsed view: the scene options, the mesh spec they point to, the figure-only light. */
+/* One parsed view: the scene options and the mesh spec they point to. */
 typedef struct fig_view {
     scene_opts o;
     char mesh[512];
-    int light;
     bool recompute;  /* --recompute-normals: angle-weighted normals per welded position */
 } fig_view;
 
-/* ---------------------------------------- the wrapper shader ---------------------------------------- */
-
-/* The patch shader selected by c10.x, relit as c10.y says (LIGHT_*): the listing's colour unchanged, a grazing
- * light from direction c11 (towards the light) or the normal as a colour; both scaled by g_vDiffuse (c8), so a
- * wireframe overlay (diffuse = the wire colour) keeps its colour. */
-static void vs_fig(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
-{
-    vs_patch_shader((vs_patch)(int)c->c[C_FIG].x)->main(c, in, out);
-    int light = (int)c->c[C_FIG].y;
-    if (light == LIGHT_LISTING) return;
-    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + 1]);
-    float4 d = c->c[VS_C_DIFFUSE];
-    float3 k;
-    if (light == LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
-    else {
-        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c->c[C_LIGHT])));
-        k = f3(l, l, l);
-    }
-    out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
-}
-static const is_vertex_shader fig_shader = {.name = "figure", .main = vs_fig, .outputs = VS_OUTPUTS};
-
 /* ---------------------------------------- views ---------------------------------------- */
 
-/* Apply one option of a view string (--mesh and --light here, the rest by the option table); NULL or the
- * problem (in buf when it is built). */
+/* Apply one option of a view string (--mesh here: the view keeps its own copy of the name; the rest by the
+ * option table); NULL or the problem (in buf when it is built). */
 static const char *view_option(fig_view *v, const char *key, const char *val, char *buf, size_t len)
 {
     scene_opts *o = &v->o;
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
-    if (!strcmp(key, "--light")) {
-        v->light = !strcmp(val, "grazing") ? LIGHT_GRAZING : !strcmp(val, "normals") ? LIGHT_NORMALS : -1;
-        return v->light < 0 ? "bad --light" : NULL;
-    }
     const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
     return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
 }
@@ -92,7 +58,6 @@ static int view_parse(fig_view *v, const char *spec, char *err, size_t errlen)
         const char *msg = val ? view_option(v, k, val, why, sizeof why) : "missing value";
         if (msg) return snprintf(err, errlen, "view \"%s\": %s: %s", spec, k, msg), -1;
     }
-    if (v->light == LIGHT_NORMALS) memcpy(v->o.diffuse, (float[4]){1, 1, 1, 1}, sizeof v->o.diffuse);
     return 0;
 }
 
@@ -105,8 +70,8 @@ static int load_mesh(const char *spec, bool recompute, is_mesh *m, char *err, si
 
 /* ---------------------------------------- rendering ---------------------------------------- */
 
-/* A device with o's view of m drawn through the wrapper shader: `samples` samples, plus the normal AOV plane
- * when aov (1 sample).  NULL and err on failure. */
+/* A device with o's view of m drawn as the instess command draws it: `samples` samples, plus the normal AOV
+ * plane when aov (1 sample).  NULL and err on failure. */
 static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid *g, int samples, bool aov,
                             char *err, size_t errlen)
 {
@@ -120,10 +85,7 @@ static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid
         return NULL;
     }
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    float3 l = normalize3(f3(0.62f, 0.62f, -0.48f)); /* towards the light: upper right, grazing a face-on face */
-    float c[8] = {(float)o->patch, (float)v->light, 0, 0, l.x, l.y, l.z, 0};
-    dev_set_vertex_shader_constant_f(dev, C_FIG, c, 2);
-    if (scene_draw(dev, o, m, g, &fig_shader) != 0) {
+    if (scene_draw(dev, o, m, g, NULL) != 0) {
         snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
         dev_destroy(dev);
         return NULL;

@@ -23,7 +23,10 @@ void scene_opts_default(scene_opts *o)
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
+        .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
     };
+    vs_options vo = vs_default_options();
+    o->phong_alpha = vo.phong_alpha, o->n110_factor = vo.quad_factor;
 }
 
 /* Index of s in a NULL-terminated name table, or -1. */
@@ -224,7 +227,8 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     cam.world = mat_mul(&ry, &rx);
     float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
     float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
-    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
+    float4x4 proj = mat_perspective_fov_lh(o->fov / 180.0f * PI_F, (float)o->width / (float)o->height, zn,
+                                           o->distance + 2.0f);   /* 45 / 180 * pi: the same bits as pi / 4 */
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
@@ -240,6 +244,7 @@ static void fill_constants(is_vs_constants *c, const scene_opts *o, const float4
 {
     vs_options vo = vs_default_options();
     vo.normals = o->normals;
+    vo.phong_alpha = o->phong_alpha, vo.quad_factor = o->n110_factor;
     vs_set_constants(c, wvp, world, f4(diffuse[0], diffuse[1], diffuse[2], diffuse[3]), &vo);
 }
 
@@ -416,8 +421,9 @@ static const is_vertex_shader *path_shader(const scene_opts *o)
 static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_resources *r)
 {
     const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
+    static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
-    set_constants(dev, o, cam, o->diffuse);
+    set_constants(dev, o, cam, o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
     is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
     /* the overlay: the same triangles' edges, pulled slightly towards the eye so they win the depth test */
@@ -450,7 +456,8 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
 {
     scene_camera cam = make_camera(o, m);
     scene_resources r = {0};
-    dev_set_vertex_shader(dev, shader ? shader : path_shader(o));
+    dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, path_shader(o)));
+    if (!shader) scene_light_constants(dev, o, path_shader(o));
     is_result e = build_path(dev, o, m, g, &r);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
     scene_resources_free(&r);
@@ -727,7 +734,7 @@ static uint64_t mesh_hash(const is_mesh *m)
 
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
 {
-    char names[64] = "none";
+    char names[64] = "none", light[96];
     channel_list(o->aovs, names, sizeof names);
     snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
              "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, msaa %d, channels %s",
@@ -735,6 +742,12 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
              vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
              o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
              o->msaa, names);
+    size_t n = strlen(buf);
+    if (n + 1 < len)
+        snprintf(buf + n, len - n, ", light %s, fov %g, color %g,%g,%g, background #%06x, phong-alpha %g, "
+                 "n110-factor %g", scene_light_name(o, light, sizeof light), (double)o->fov, (double)o->diffuse[0],
+                 (double)o->diffuse[1], (double)o->diffuse[2], (unsigned)(o->background & 0xffffffu),
+                 (double)o->phong_alpha, (double)o->n110_factor);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
