@@ -1024,93 +1024,102 @@ static int fig_003_6(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
 
 /* ------------------------------------------------------------------ the table */
 
-#define SRC000 "Gruen, Smoothed N-Patches (seed 000), "
-#define SRC001 "van Veen and Baakman, A Discussion of Curved Point-Normal Triangles (seed 001), "
-#define SRC003 "Akenine-Moller and Haines, Bezier Triangles and N-Patches (seed 003), "
+#define SRC000 "H. Gruen, Smoothed N-Patches, "
+#define SRC001 "R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles, "
+#define SRC003 "T. Akenine-Moller and E. Haines, Real-Time Rendering, section Bezier Triangles and N-Patches, "
+/* Said in both normal comparisons (fig-001-7, fig-003-5): which quadratic form is whose. */
+#define QUAD_FORMS "Direct3D 9 documents D3DDEGREE_QUADRATIC normals (D3DRS_NORMALDEGREE, D3DXTessellateNPatches) " \
+    "without a formula; Vlachos et al., the draft (Eq. 5) and Real-Time Rendering all print the literal form " \
+    "n110 b0 b1 without the factor 2 of a Bernstein quadratic, and instess's --normals quadratic evaluates it."
 
 const figure fig_diagrams[] = {
     {"fig-1.1.2", NULL, SRC000 "Figure 1.1.2", "The control points of a bicubic triangular Bezier patch.",
      "A perspective view of one curved triangle (vertices (-1,0,-0.6), (1,0,-0.6), (0,0,1.1), normals pointing "
      "away from (0.1,-1.5,0.05)): its N-Patch shaded (vs_patch_eval, npatch, level 16), the three border curves, "
      "the vertex normals and the control net of the 10 control points b300 ... b111 of Eq. 1.1.1, each labelled.",
-     "instess figures --only fig-1.1.2", false, fig_1_1_2, 0},
+     "instess figures --only fig-1.1.2 --out DIR", false, fig_1_1_2, 0},
     {"fig-1.1.3", NULL, SRC000 "Figure 1.1.3",
      "If A is the area of a triangle, barycentric coordinates of a point p are defined by the ratios of A0/A, "
      "A1/A, and A2/A.",
      "A triangle v0 v1 v2 split at p = 0.5 v0 + 0.3 v1 + 0.2 v2 into the sub-triangles A0 (opposite v0), A1, A2 "
      "in three colours, with the areas measured and b_i = A_i / A printed (0.500, 0.300, 0.200).",
-     "instess figures --only fig-1.1.3", false, fig_1_1_3, 0},
+     "instess figures --only fig-1.1.3 --out DIR", false, fig_1_1_3, 0},
     {"fig-1.1.4", NULL, SRC000 "Figure 1.1.4",
      "The start and end derivatives of a cubic Bezier curve point toward the inner control points.",
      "A border curve evaluated with vs_evaluate_curve from b30, b03 and the normals n0, n1; its control polygon "
      "b30 b21 b12 b03 (Eq. 1.1.5), the end derivatives d0, d1 as arrows with right-angle marks to n0, n1, and "
      "the measured dot(d0, n0), dot(d1, n1).",
-     "instess figures --only fig-1.1.4", false, fig_1_1_4, 0},
+     "instess figures --only fig-1.1.4 --out DIR", false, fig_1_1_4, 0},
     {"fig-1.1.5", NULL, SRC000 "Figure 1.1.5", "One creates one patch for every edge e0, e1, and e2.",
      "Three panels, one per edge of the curved triangle of fig-1.1.2: the edge's border curve (thick) and seven "
      "curves of Listing 1.1.1 from points on it (s = 1/8 ... 7/8) to the opposite vertex, with the blended start "
      "normals normalize(lerp(n_i, n_j, s)); P0 (edge v0-v1) blue, P1 (v1-v2) orange, P2 (v2-v0) green.",
-     "instess figures --only fig-1.1.5", false, fig_1_1_5, 0},
+     "instess figures --only fig-1.1.5 --out DIR", false, fig_1_1_5, 0},
     {"fig-1.1.6", NULL, SRC000 "Figure 1.1.6", "A regular barycentric tessellation of a triangle.",
      "The grid of core_grid_regular at level 8 (45 points, 64 triangles) in wireframe, with the barycentrics "
      "(b0, b1, b2) of six points and the counts (L+1)(L+2)/2 and L*L.",
-     "instess figures --only fig-1.1.6", false, fig_1_1_6, 0},
+     "instess figures --only fig-1.1.6 --out DIR", false, fig_1_1_6, 0},
     {"fig-1.1.9", NULL, SRC000 "Figure 1.1.9",
      "Parameter space lines take off into different directions from the shared position on a shared triangle "
      "edge.",
      "Two coplanar triangles T0, T1 (a cube face split along its diagonal) with the dashed parameter lines of the "
      "patch of the shared edge in each (from points on the edge to the opposite vertex); at one point q the "
      "two directions and the wedge between them are marked.",
-     "instess figures --only fig-1.1.9", false, fig_1_1_9, 0},
+     "instess figures --only fig-1.1.9 --out DIR", false, fig_1_1_9, 0},
     {"fig-001-4", NULL, SRC001 "Figure 4",
      "Projection of a tangent coefficient b210 to the tangent plane of the closest corner P1.",
      "Side view of an edge P1-P2 with normals N1, N2: the tangent planes (as lines), the 1/3 points "
      "(2 P1 + P2)/3 and (2 P2 + P1)/3, their projections b210 and b120 along the normals (Eq. 3), and the "
      "resulting cubic edge curve (vs_evaluate_curve).",
-     "instess figures --only fig-001-4", false, fig_001_4, 1},
+     "instess figures --only fig-001-4 --out DIR", false, fig_001_4, 1},
     {"fig-001-6", NULL, SRC001 "Figure 6", "The normal field of the point-normal triangle.",
      "The curved triangle of fig-1.1.2 with the dashed boundary curves of its cubic patch, the vertex normals "
      "n200, n020, n002, the reflected mid-edge normals n110, n011, n101 at the middle of each edge curve, and "
      "the quadratic normals (vs_npatch_evaluate, quadratic) at the points of a level-6 grid.",
-     "instess figures --only fig-001-6", false, fig_001_6, 1},
+     "instess figures --only fig-001-6 --out DIR", false, fig_001_6, 1},
     {"fig-001-7", NULL, SRC001 "Figure 7",
      "The upper row shows a parabolic curve with linearly varying normals, on the left, and quadratically varying "
      "normals on the right. The lower row compares the normals of a cubic curve using linearly varying normals on "
      "the left and quadratically varying normals on the right. The illustration was taken from Overveld and "
      "Wyvill [OW97].",
-     "2 x 2 panels: a parabolic edge curve (end normals tilted apart) and a cubic S-curve (equal end normals) "
-     "from vs_evaluate_curve; at 9 points each the true normal (grey) and the linear (blue) or quadratic (red, "
-     "with the reflected mid-edge normal) interpolated normal, with the largest angle error printed.",
-     "instess figures --only fig-001-7", false, fig_001_7, 1},
+     "A parabolic edge curve (end normals tilted apart) and a cubic S-curve (equal end normals), both from "
+     "vs_evaluate_curve, each with its true normals (grey) against three interpolations: linear (blue), the "
+     "quadratic normal as the articles print it (red) and the same with the Bernstein weight 2 on the mixed term "
+     "(purple); under each panel the largest angle to the true normal over 65 points. On the S-curve the true "
+     "normal swings past the vertical; the literal form stays on one side (22.3 degrees off at worst) and the "
+     "Bernstein form comes twice as close (11.6). " QUAD_FORMS,
+     "instess figures --only fig-001-7 --out DIR", false, fig_001_7, 1},
     {"fig-001-11", NULL, SRC001 "Figure 11",
      "A single triangle tessellated with both outer and inner tessellation level set to 4.0, and edge "
      "tessellation spacing set to fractional_odd_spacing.",
      "The primitive-generator grid core_grid_pg(CORE_GRID_PG_FRACTIONAL_ODD, inner 4.0, outer 4.0, 4.0, 4.0) "
      "in wireframe: 5 segments per edge (three of length 1, two short ones of 0.5, highlighted), the levels, "
      "the segment lengths and the point and triangle counts.",
-     "instess figures --only fig-001-11", false, fig_001_11, 1},
+     "instess figures --only fig-001-11 --out DIR", false, fig_001_11, 1},
     {"fig-003-4", NULL, SRC003 "Figure 4",
      "How the Bezier point p210 is computed using the normal n200 at p300, and the two corner points p300 and "
      "p030.",
      "Side view of the edge p300-p030 with n200: the tangent plane at p300 (as a line), the point "
      "2/3 p300 + 1/3 p030, its projection along n200 onto the plane (p210), the formula, and the cubic edge "
      "curve it produces.",
-     "instess figures --only fig-003-4", false, fig_003_4, 2},
+     "instess figures --only fig-003-4 --out DIR", false, fig_003_4, 2},
     {"fig-003-5", NULL, SRC003 "Figure 5",
      "This figure illustrates why quadratic interpolation of normals is needed, and why linear interpolation is "
      "not sufficient. The left column shows what happens when linear interpolation of normals are used. This "
      "works fine when the normals describe a convex surface (top), but breaks down when the surface has an "
      "inflection (bottom). The right column illustrates quadratic interpolation. (Illustration after van "
      "Overveld and Wyvill.)",
-     "2 x 2 panels: a convex edge curve and one with an inflection (vs_evaluate_curve); linear (left, blue) and "
-     "quadratic (right, red) interpolated normals against the true normals (grey), largest angle error printed.",
-     "instess figures --only fig-003-5", false, fig_003_5, 2},
+     "The book's two cases, a convex edge curve and one with an inflection, with the three interpolations of "
+     "fig-001-7. The book says the quadratic normal captures the inflection; with its own (literal) weights the "
+     "normal turns back only part of the way and stays on one side (22.9 degrees off at worst), while the "
+     "Bernstein form crosses over as the true normal does (12.9).",
+     "instess figures --only fig-003-5 --out DIR", false, fig_003_5, 2},
     {"fig-003-6", NULL, SRC003 "Figure 6",
      "Construction of n110 for N-patches. The dashed normal is the average of n200 and n020, and n110 is this "
      "normal reflected in the plane pi. The plane pi has a normal that is parallel to p030 - p300.",
      "Side view of an edge p300-p030 whose normals n200, n020 lean the same way (an inflection): the average "
      "(dashed), the plane pi through the edge's middle, perpendicular to p030 - p300, and n110 = the reflected "
      "average (the formula of vs/patch.c), next to the true normal of the cubic edge curve at its middle.",
-     "instess figures --only fig-003-6", false, fig_003_6, 2},
+     "instess figures --only fig-003-6 --out DIR", false, fig_003_6, 2},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0},
 };

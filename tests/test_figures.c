@@ -22,6 +22,7 @@
 
 #include "../cli/figures.h"
 #include "util/golden.h"
+#include "util/prog.h"
 
 #define FAIL_THRESH (1.0f / 255.0f)  /* per channel: one 8-bit step */
 #define FAIL_PERCENT 0.25f           /* of the pixels: text glyph edges, libm last bits */
@@ -96,6 +97,130 @@ static void test_tables_complete(void **state)
         }
 }
 
+/* Whether figure f is a single rendering: its Reproduce line is one `instess` render (not `instess figures`). */
+static bool single_rendering(const figure *f)
+{
+    return f->rendering && strncmp(f->command, "instess --", 10) == 0 && !strchr(f->command, '\n');
+}
+
+/* Every single rendering's Reproduce line, run through the program as printed (only the output moved into a
+ * temporary folder), gives the figure's pixels exactly: the gallery's commands are the figures. */
+static void test_reproduce_lines(void **state)
+{
+    (void)state;
+    char dir[256];
+    assert_int_equal(prog_mkdtemp(dir, "reproduce"), 0);
+    fig_ctx ctx = {.small = false, .threads = 0};
+    int checked = 0, failed = 0;
+    for (const figure *f = fig_renders; f->id; f++) {
+        if (!single_rendering(f) || !selected(f->id)) continue;
+        const char *o = strstr(f->command, " -o ");
+        assert_non_null(o);
+        char fig_png[512], cli_png[512], name[128], err[1024];
+        snprintf(name, sizeof name, "%s-cli.png", f->id);
+        prog_path(dir, name, cli_png, sizeof cli_png);
+        snprintf(name, sizeof name, "%s-figure.png", f->id);
+        prog_path(dir, name, fig_png, sizeof fig_png);
+        const char *perr;
+        int rc = prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - f->command - 8), f->command + 8, cli_png);
+        if (rc != 0) fprintf(stderr, "figures: %s: the Reproduce line failed (%d): %s\n", f->id, rc, perr);
+        is_image img = {0};
+        if (rc == 0 && (rc = f->render(&ctx, &img, err, sizeof err)) == 0)
+            rc = image_write(&img, fig_png, NULL, err, sizeof err);
+        image_free(&img);
+        if (rc == 0 && !prog_same_pixels(fig_png, cli_png)) {
+            fprintf(stderr, "figures: %s: the Reproduce line gives other pixels than the figure\n", f->id);
+            rc = -1;
+        }
+        failed += rc != 0;
+        checked++;
+    }
+    prog_rmdir(dir);
+    fprintf(stderr, "figures: %d Reproduce lines run, %d differ\n", checked, failed);
+    if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 10);   /* every single rendering of the table */
+    assert_int_equal(failed, 0);
+}
+
+/* Sentence k of text (split after ". "), copied into buf; false when there is none. */
+static bool sentence(const char *text, int k, char *buf, size_t len)
+{
+    const char *p = text;
+    for (int i = 0; i < k && p; i++) {
+        p = strstr(p, ". ");
+        if (p) p += 2;
+    }
+    if (!p || !*p) return false;
+    const char *e = strstr(p, ". ");
+    size_t n = e ? (size_t)(e - p) : strlen(p);
+    snprintf(buf, len, "%.*s", (int)n, p);
+    return true;
+}
+
+/* No sentence of 30 characters or more is said in the captions ("shows") of two figures: what holds for many
+ * is said once, in the gallery's section introductions. */
+static void test_no_repeated_sentences(void **state)
+{
+    (void)state;
+    const figure *const tables[2] = {fig_renders, fig_diagrams};
+    int repeats = 0;
+    for (int a = 0; a < 2; a++)
+        for (const figure *f = tables[a]; f->id; f++) {
+            char sent[1024];
+            for (int k = 0; sentence(f->shows, k, sent, sizeof sent); k++) {
+                if (strlen(sent) < 30) continue;
+                for (int b = 0; b < 2; b++)
+                    for (const figure *g = tables[b]; g->id; g++)
+                        if (g != f && strstr(g->shows, sent) && f < g) {
+                            fprintf(stderr, "figures: %s and %s both say \"%s\"\n", f->id, g->id, sent);
+                            repeats++;
+                        }
+            }
+        }
+    assert_int_equal(repeats, 0);
+}
+
+/* Occurrences of needle in the file at path (-1 when unreadable). */
+static int count_in_file(const char *path, const char *needle)
+{
+    size_t n;
+    unsigned char *data = prog_slurp(path, &n);
+    if (!data) return -1;
+    char *text = realloc(data, n + 1);
+    if (!text) return free(data), -1;
+    text[n] = 0;
+    int c = 0;
+    for (const char *p = text; (p = strstr(p, needle)); p += strlen(needle)) c++;
+    free(text);
+    return c;
+}
+
+/* `instess figures --only ID --out NEWDIR` writes an index of what is in NEWDIR: that figure alone (no image
+ * links, ids or contents entries of figures not rendered there); a second run into the same folder adds its
+ * figure to the first. */
+static void test_only_index(void **state)
+{
+    (void)state;
+    char dir[256], sub[512], index[600];
+    assert_int_equal(prog_mkdtemp(dir, "only"), 0);
+    snprintf(sub, sizeof sub, "%s/new/gallery", dir);
+    snprintf(index, sizeof index, "%s/index.html", sub);
+    const char *err;
+    int rc = prog_run(dir, &err, "", "figures --only fig-1.1.3 --out '%s'", sub);
+    if (rc != 0) fprintf(stderr, "figures --only: exit %d: %s\n", rc, err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(count_in_file(index, "<figure id=\"fig-1.1.3\""), 1);
+    assert_int_equal(count_in_file(index, "<figure id="), 1);
+    assert_int_equal(count_in_file(index, "<img src="), 1);
+    assert_int_equal(count_in_file(index, "href=\"#fig-"), 1);
+    assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 1);
+    rc = prog_run(dir, &err, "", "figures --only fig-003-4 --out '%s'", sub);
+    assert_int_equal(rc, 0);
+    assert_int_equal(count_in_file(index, "<figure id="), 2);
+    assert_int_equal(count_in_file(index, "<figure id=\"fig-003-4\""), 1);
+    assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 2);
+    prog_rmdir(dir);
+}
+
 /* A figure's bytes do not depend on the thread count (fig_ctx.threads 1 vs 3). */
 static void test_deterministic(void **state)
 {
@@ -118,6 +243,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tables_complete),
         cmocka_unit_test(test_deterministic),
+        cmocka_unit_test(test_no_repeated_sentences),
+        cmocka_unit_test(test_only_index),
+        cmocka_unit_test(test_reproduce_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),
     };
