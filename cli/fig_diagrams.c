@@ -255,7 +255,7 @@ static void net_label(dg *d, float2 p, float2 centre, int i, int j)
     snprintf(s, sizeof s, "b%d%d%d%s", i, j, 3 - i - j, corner);
     float2 u = sub2(p, centre);
     u = len2(u) > 1e-3f ? norm2(u) : f2(0.0f, 1.0f);
-    if (i == 1 && j == 1) u = f2(0.0f, 1.0f);
+    if (i == 1 && j == 1) u = f2(1.0f, -0.55f); /* b111: in the gap between the lines to b021 and b120 */
     if (i == 3 || j == 3) u = f2(0.0f, -1.0f); /* v0, v1: below; v2: left of its normal */
     if (i + j == 0) u = f2(1.0f, 1.2f);
     if (i + j == 3 && i != 3 && j != 3) u = f2(0.0f, -1.0f); /* b210, b120: below the edge, clear of the curve */

@@ -1,5 +1,6 @@
 /* cli/figures.c -- `instess figures`: every figure of the three source documents (docs/design.md, section 5) into
- * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html.
+ * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html (a table of contents and
+ * the figures whose images are in DIR: those of this run and of earlier runs into the same folder).
  *
  * One process renders all figures (OpenImageIO's start-up is paid once), in parallel over figures with OpenMP
  * (each figure's own renders then run on one thread; a lone figure gets all of them -- the bytes are the same
@@ -21,7 +22,7 @@
 static const char figures_usage[] =
     "usage: instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N]\n"
     "Render every figure of the source documents into DIR (default out): ID.png, ID.exr (renderings: RGBA, Z,\n"
-    "N.X, N.Y, N.Z) and the gallery DIR/index.html.\n"
+    "N.X, N.Y, N.Z) and the gallery DIR/index.html, which lists the figures whose images are in DIR.\n"
     "\n"
     "  --out DIR      output directory (created if missing)                       [out]\n"
     "  --only IDS     only these figures (comma-separated ids, e.g. fig-1.1.1a,fig-003-3)\n"
