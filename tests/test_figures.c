@@ -141,6 +141,84 @@ static void test_reproduce_lines(void **state)
     assert_int_equal(failed, 0);
 }
 
+/* Whether the pixels of p appear unchanged somewhere in big (same channels): the first pixel of p that is not its
+ * top-left pixel picks the candidates, then the whole panel is compared. */
+static bool contains_panel(const is_image *big, const is_image *p)
+{
+    const int c = p->channels;
+    if (big->channels != c || p->width > big->width || p->height > big->height) return false;
+    size_t key = 0, np = (size_t)p->width * p->height;
+    while (key < np && !memcmp(&p->data[key * c], &p->data[0], c * sizeof(float))) key++;
+    if (key == np) key = 0;
+    int kx = (int)(key % p->width), ky = (int)(key / p->width);
+    for (int y = 0; y + p->height <= big->height; y++)
+        for (int x = 0; x + p->width <= big->width; x++) {
+            const float *b = &big->data[((size_t)(y + ky) * big->width + x + kx) * c];
+            if (memcmp(b, &p->data[key * c], c * sizeof(float))) continue;
+            bool same = true;
+            for (int r = 0; same && r < p->height; r++)
+                same = !memcmp(&big->data[((size_t)(y + r) * big->width + x) * c], &p->data[(size_t)r * p->width * c],
+                               (size_t)p->width * c * sizeof(float));
+            if (same) return true;
+        }
+    return false;
+}
+
+/* Run every "panel K: instess ARGS -o panelK.png" line of composite f and look for its pixels in the composite
+ * (written to png and read back: the same 8-bit rounding as the command's PNG); returns the failures. */
+static int check_panels(const figure *f, const char *dir, int *checked)
+{
+    fig_ctx ctx = {.small = false, .threads = 0};
+    char err[1024], path[512], name[160];
+    is_image img = {0}, big = {0};
+    snprintf(name, sizeof name, "%s-figure.png", f->id);
+    prog_path(dir, name, path, sizeof path);
+    if (f->render(&ctx, &img, err, sizeof err) != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
+        image_read(&big, path, err, sizeof err) != 0) {
+        fprintf(stderr, "figures: %s: %s\n", f->id, err);
+        image_free(&img);
+        return 1;
+    }
+    image_free(&img);
+    int failed = 0;
+    for (const char *line = strstr(f->command, "\npanel "); line; line = strstr(line + 1, "\npanel ")) {
+        const char *args = strstr(line, ": instess "), *o = args ? strstr(args, " -o ") : NULL;
+        const char *eol = strchr(line + 1, '\n');
+        if (!args || !o || (eol && o > eol)) continue;   /* a panel without a command line (said so in the text) */
+        args += 10;
+        snprintf(name, sizeof name, "%s-panel.png", f->id);
+        prog_path(dir, name, path, sizeof path);
+        const char *perr;
+        is_image p = {0};
+        int rc = prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - args), args, path);
+        if (rc != 0) fprintf(stderr, "figures: %s: a panel's line failed (%d): %s\n", f->id, rc, perr);
+        else if (image_read(&p, path, err, sizeof err) != 0 || !contains_panel(&big, &p)) {
+            fprintf(stderr, "figures: %s: the pixels of '%.*s' are not in the figure\n", f->id, (int)(o - args), args);
+            rc = -1;
+        }
+        image_free(&p);
+        failed += rc != 0;
+        ++*checked;
+    }
+    image_free(&big);
+    return failed;
+}
+
+/* Every panel command listed under a composite gives pixels that are in the composite as they are. */
+static void test_panel_lines(void **state)
+{
+    (void)state;
+    char dir[256];
+    assert_int_equal(prog_mkdtemp(dir, "panels"), 0);
+    int checked = 0, failed = 0;
+    for (const figure *f = fig_renders; f->id; f++)
+        if (f->rendering && strstr(f->command, "\npanel ") && selected(f->id)) failed += check_panels(f, dir, &checked);
+    prog_rmdir(dir);
+    fprintf(stderr, "figures: %d panel lines run, %d not found in their figure\n", checked, failed);
+    if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 20);
+    assert_int_equal(failed, 0);
+}
+
 /* Sentence k of text (split after ". "), copied into buf; false when there is none. */
 static bool sentence(const char *text, int k, char *buf, size_t len)
 {
@@ -246,6 +324,7 @@ int main(void)
         cmocka_unit_test(test_no_repeated_sentences),
         cmocka_unit_test(test_only_index),
         cmocka_unit_test(test_reproduce_lines),
+        cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),
     };
