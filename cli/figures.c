@@ -46,8 +46,7 @@ static const char *const section_intros[FIG_SECTIONS] = {
     "between the surface normals on the two sides of a shared edge, as instess smoothness measures them.",
     "The draft discusses PN triangles, their normals and the OpenGL 4 tessellator. Renderings use the listing's "
     "headlight on the normals the caption names. The MD2 characters are the Irrlicht models of Debian's "
-    "assimp-testmodels package (installed under /usr/share/assimp/models), standing in for the models of the "
-    "draft, which are not available.",
+    "assimp-testmodels package, standing in for the models of the draft, which are not available.",
     "The book's section explains the N-Patch's control points and its quadratic normals."};
 
 #define MAX_FIGURES 128
