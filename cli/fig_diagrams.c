@@ -255,9 +255,10 @@ static void net_label(dg *d, float2 p, float2 centre, int i, int j)
     snprintf(s, sizeof s, "b%d%d%d%s", i, j, 3 - i - j, corner);
     float2 u = sub2(p, centre);
     u = len2(u) > 1e-3f ? norm2(u) : f2(0.0f, 1.0f);
-    if (i == 1 && j == 1) u = f2(0.0f, 1.0f);
+    if (i == 1 && j == 1) u = f2(1.0f, -0.55f); /* b111: in the gap between the lines to b021 and b120 */
     if (i == 3 || j == 3) u = f2(0.0f, -1.0f); /* v0, v1: below; v2: left of its normal */
     if (i + j == 0) u = f2(1.0f, 1.2f);
+    if (i + j == 3 && i != 3 && j != 3) u = f2(0.0f, -1.0f); /* b210, b120: below the edge, clear of the curve */
     float ha = u.x > 0.35f ? 0.0f : (u.x < -0.35f ? 1.0f : 0.5f);
     text(d, p, u.x * 14.0f, -u.y * 16.0f, ha, s, 17.0f, RED);
 }
@@ -281,7 +282,7 @@ static int fig_1_1_2(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
     float3 v[3], n[3], c[4][4];
     demo_triangle(v, n);
     pn_control_points(v, n, c);
-    dg_view(&d, f2(0.4f, 0.1f), f2(5.45f, 5.5f), f3(0.0f, 5.6f, -3.9f), f3(0.0f, 0.15f, 0.1f), 19.0f);
+    dg_view(&d, f2(0.75f, 0.25f), f2(5.6f, 5.45f), f3(0.0f, 5.6f, -3.9f), f3(0.0f, 0.15f, 0.1f), 20.5f);
     draw_patch_surface(&d, v, n, 1.0f);
     for (int k = 0; k < 3; k++) dash(&d, pj(&d, v[k]), pj(&d, v[(k + 1) % 3]), 1.5f, GREY);
     float2 q[4][4], centre = f2(0, 0);
@@ -292,7 +293,7 @@ static int fig_1_1_2(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
         border_curve(&d, v[e], v[(e + 1) % 3], n[e], n[(e + 1) % 3], cv[e], 40);
         polyline(&d, cv[e], 41, 2.0f, BLUE);
     }
-    for (int k = 0; k < 3; k++) arrow(&d, pj(&d, v[k]), pj(&d, add3(v[k], scale3(n[k], 0.45f))), 2.5f, GREEN);
+    for (int k = 0; k < 3; k++) arrow(&d, pj(&d, v[k]), pj(&d, add3(v[k], scale3(n[k], 0.35f))), 2.5f, GREEN);
     net_edges(&d, (const float2(*)[4])q);
     for (int i = 0; i <= 3; i++)
         for (int j = 0; i + j <= 3; j++) dot_at(&d, q[i][j], 5.5f, RED), net_label(&d, q[i][j], centre, i, j);
@@ -450,7 +451,9 @@ static void patch_family(dg *d, const float3 v[3], const float3 n[3], int e, con
     }
     arrow(d, pj(d, v[o]), pj(d, add3(v[o], scale3(n[o], 0.35f))), 1.5f, GREEN);
     const char *vn[3] = {"v0", "v1", "v2"};
-    const float dx[3] = {0.0f, 0.0f, -10.0f}, dy[3] = {22.0f, 22.0f, -8.0f}, ha[3] = {0.5f, 0.5f, 1.0f};
+    /* v2 left of its normal, except in P2's panel, where the arrows of edge v2-v0 rise on the left */
+    const float dx[3] = {0.0f, 0.0f, e == 2 ? 10.0f : -10.0f}, dy[3] = {22.0f, 22.0f, -8.0f},
+                ha[3] = {0.5f, 0.5f, e == 2 ? 0.0f : 1.0f};
     for (int k = 0; k < 3; k++) dot_at(d, pj(d, v[k]), 4.0f, INK), text(d, pj(d, v[k]), dx[k], dy[k], ha[k], vn[k], 15.0f, INK);
 }
 
@@ -513,12 +516,14 @@ static void grid_corners(dg *d, const float2 t[3])
     text(d, t[2], 0.0f, -18.0f, 0.5f, "v2", 20.0f, INK);
 }
 
-/* A labelled grid point: a red dot and its (b0, b1, b2) at label position l with a leader line. */
+/* A labelled grid point: a red dot and its (b0, b1, b2) at label position l with a leader line that ends at the
+ * label's side (ha 0: left end, 1: right end) or, for a centred label, just above or below it. */
 static void grid_label(dg *d, float2 p, float2 l, float ha, const char *s)
 {
     if (len2(sub2(l, p)) > 0.3f) ln(d, p, l, 1.2f, RED);
     dot_at(d, p, 6.0f, RED);
-    text(d, l, ha == 0.0f ? 6.0f : (ha == 1.0f ? -6.0f : 0.0f), 0.0f, ha, s, 15.0f, RED);
+    float dy = ha == 0.5f ? (l.y < p.y ? 12.0f : -12.0f) : 0.0f;
+    text(d, l, ha == 0.0f ? 6.0f : (ha == 1.0f ? -6.0f : 0.0f), dy, ha, s, 15.0f, RED);
 }
 
 /* fig-1.1.6: the regular barycentric grid of level 8 with a few points' barycentrics and the counts. */
@@ -537,7 +542,7 @@ static int fig_1_1_6(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
     grid_label(&d, t[0], f2(t[0].x + 0.2f, 0.25f), 0.0f, "(1, 0, 0)");
     grid_label(&d, t[1], f2(t[1].x - 0.2f, 0.25f), 1.0f, "(0, 1, 0)");
     grid_label(&d, t[2], f2(t[2].x + 0.35f, t[2].y), 0.0f, "(0, 0, 1)");
-    grid_label(&d, bary_point(t, bary[core_grid_index(L, 4, 0)]), f2(3.0f, 0.25f), 0.5f, "(4/8, 4/8, 0)");
+    grid_label(&d, bary_point(t, bary[core_grid_index(L, 4, 0)]), f2(3.0f, 0.33f), 0.5f, "(4/8, 4/8, 0)");
     grid_label(&d, bary_point(t, bary[core_grid_index(L, 2, 3)]), f2(1.95f, 4.5f), 1.0f, "(3/8, 2/8, 3/8)");
     grid_label(&d, bary_point(t, bary[core_grid_index(L, 5, 1)]), f2(5.9f, 2.0f), 0.0f, "(2/8, 5/8, 1/8)");
     heading(&d, "Tessellation through instancing: one flat barycentric grid, level L = 8");
@@ -693,7 +698,7 @@ static float2 project_end(dg *d, float2 a, float2 b, float3 na, const char *qn, 
     float2 n = xy(na), t = f2(n.y, -n.x);
     if (dot2(t, sub2(b, a)) < 0.0f) t = scale2(t, -1.0f);
     ln(d, sub2(a, scale2(t, 1.0f)), add2(a, scale2(t, 3.3f)), 2.5f, PURPLE);
-    text(d, add2(a, scale2(t, 3.3f)), 4.0f, 18.0f, 0.5f, pn, 14.0f, PURPLE);
+    text(d, add2(a, scale2(t, 3.3f)), t.x > 0.0f ? 8.0f : -8.0f, 0.0f, t.x > 0.0f ? 0.0f : 1.0f, pn, 14.0f, PURPLE);
     float2 q = lerp2(a, b, 1.0f / 3.0f);
     float w = dot2(sub2(q, a), n);
     float2 p = sub2(q, scale2(n, w));
@@ -849,57 +854,71 @@ static float2 true_normal(float2 a, float2 b, float3 na, float3 nb, float t)
     return n.y < 0.0f ? scale2(n, -1.0f) : n;
 }
 
-/* Interpolated normal at t: linear normalize(lerp(na, nb, t)) or quadratic (edge of seed 001 Eq. 5). */
-static float2 interp_normal(float2 a, float2 b, float3 na, float3 nb, float t, bool quadratic)
+/* The three interpolations compared: linear, the articles' literal quadratic form (n110 w t) and the Bernstein
+ * form of a quadratic (2 n110 w t). */
+enum { INTERP_LINEAR, INTERP_LITERAL, INTERP_BERNSTEIN, INTERP_COUNT };
+static const float *const interp_colour[INTERP_COUNT] = {BLUE, RED, PURPLE};
+
+/* Interpolated normal at t: linear normalize(lerp(na, nb, t)), or quadratic normalize(na w^2 + k n110 w t +
+ * nb t^2), w = 1 - t, k = 1 (literal, seed 001 Eq. 5, seed 003, vs/patch.c) or 2 (Bernstein). */
+static float2 interp_normal(float2 a, float2 b, float3 na, float3 nb, float t, int mode)
 {
-    if (!quadratic) return xy(normalize3(lerp3(na, nb, t)));
+    if (mode == INTERP_LINEAR) return xy(normalize3(lerp3(na, nb, t)));
     float3 m = mid_edge_normal(xy0(a), xy0(b), na, nb);
-    float w = 1.0f - t;
-    return xy(normalize3(add3(add3(scale3(na, w * w), scale3(nb, t * t)), scale3(m, w * t))));
+    float w = 1.0f - t, k = mode == INTERP_BERNSTEIN ? 2.0f : 1.0f;
+    return xy(normalize3(add3(add3(scale3(na, w * w), scale3(nb, t * t)), scale3(m, k * w * t))));
 }
 
 /* Signed tilt in degrees of a unit 2D normal from the vertical (positive: leaning right). */
 static float tilt_deg(float2 n) { return atan2f(n.x, n.y) * 180.0f / PI_F; }
 
-/* One panel: the curve (chord 2.4) with end normals na, nb, the true normals (grey) and the interpolated ones,
- * and the largest angle between them. */
-static void normal_panel(dg *d, float2 o, float3 na, float3 nb, bool quadratic)
+/* The largest angle in degrees between the true and the interpolated normal over 65 points of the curve. */
+static float largest_error(float2 a, float2 b, float3 na, float3 nb, int mode)
 {
-    const float2 a = o, b = f2(o.x + 2.4f, o.y);
+    float worst = 0.0f;
+    for (int i = 0; i <= 64; i++) {
+        float t = (float)i / 64.0f;
+        float ang = acosf(saturate(dot2(true_normal(a, b, na, nb, t), interp_normal(a, b, na, nb, t, mode))));
+        if (ang * 180.0f / PI_F > worst) worst = ang * 180.0f / PI_F;
+    }
+    return worst;
+}
+
+/* One panel: the curve (chord `chord` from o) with end normals na, nb, the true normals (grey) and the
+ * interpolated ones of `mode`, and the largest angle between them, measured. */
+static void normal_panel(dg *d, float2 o, float chord, float3 na, float3 nb, int mode)
+{
+    const float2 a = o, b = f2(o.x + chord, o.y);
+    const float len = 0.3f * chord;
     float2 cv[61];
     curve2(a, b, na, nb, cv, 60);
     polyline(d, cv, 61, 3.5f, INK);
-    float worst = 0.0f;
     for (int i = 0; i <= 6; i++) {
         float t = (float)i / 6.0f;
-        float2 p = cv[i * 10], tn = true_normal(a, b, na, nb, t), in = interp_normal(a, b, na, nb, t, quadratic);
-        ln(d, p, add2(p, scale2(tn, 0.8f)), 4.5f, LIGHT);
-        arrow(d, p, add2(p, scale2(in, 0.7f)), 2.2f, quadratic ? RED : BLUE);
-    }
-    for (int i = 0; i <= 64; i++) {
-        float t = (float)i / 64.0f;
-        float ang = acosf(saturate(dot2(true_normal(a, b, na, nb, t), interp_normal(a, b, na, nb, t, quadratic))));
-        if (ang * 180.0f / PI_F > worst) worst = ang * 180.0f / PI_F;
+        float2 p = cv[i * 10], tn = true_normal(a, b, na, nb, t), in = interp_normal(a, b, na, nb, t, mode);
+        ln(d, p, add2(p, scale2(tn, len * 1.15f)), 4.5f, LIGHT);
+        arrow(d, p, add2(p, scale2(in, len)), 2.2f, interp_colour[mode]);
     }
     char s[48];
-    snprintf(s, sizeof s, "largest error %.1f deg", (double)worst);
-    text(d, f2(o.x + 1.2f, o.y), 0.0f, 24.0f, 0.5f, s, 14.0f, INK);
+    snprintf(s, sizeof s, "largest error %.1f deg", (double)largest_error(a, b, na, nb, mode));
+    text(d, f2(o.x + 0.5f * chord, o.y), 0.0f, 24.0f, 0.5f, s, 14.0f, INK);
 }
 
-/* The tilt of the normals along t in [0, 1] (box at o, size w x h, +-50 degrees): true, linear, quadratic. */
+/* The tilt of the normals along t in [0, 1] (box at o, size w x h, +-50 degrees): true and each interpolation. */
 static void angle_plot(dg *d, float2 o, float w, float h, float3 na, float3 nb)
 {
     const float2 a = f2(0, 0), b = f2(2.4f, 0);
     ln(d, o, f2(o.x + w, o.y), 1.2f, GREY), ln(d, o, f2(o.x, o.y + h), 1.2f, GREY);
     dash(d, f2(o.x, o.y + 0.5f * h), f2(o.x + w, o.y + 0.5f * h), 1.0f, LIGHT);
-    float2 pt[3][65];
+    float2 pt[INTERP_COUNT + 1][65];
     for (int i = 0; i <= 64; i++) {
         float t = (float)i / 64.0f, x = o.x + t * w;
-        float g[3] = {tilt_deg(true_normal(a, b, na, nb, t)), tilt_deg(interp_normal(a, b, na, nb, t, false)),
-                      tilt_deg(interp_normal(a, b, na, nb, t, true))};
-        for (int k = 0; k < 3; k++) pt[k][i] = f2(x, o.y + h * (0.5f + g[k] / 100.0f));
+        pt[0][i] = f2(x, o.y + h * (0.5f + tilt_deg(true_normal(a, b, na, nb, t)) / 100.0f));
+        for (int k = 0; k < INTERP_COUNT; k++)
+            pt[k + 1][i] = f2(x, o.y + h * (0.5f + tilt_deg(interp_normal(a, b, na, nb, t, k)) / 100.0f));
     }
-    polyline(d, pt[0], 65, 5.0f, LIGHT), polyline(d, pt[1], 65, 2.0f, BLUE), polyline(d, pt[2], 65, 2.0f, RED);
+    polyline(d, pt[0], 65, 5.0f, LIGHT);
+    for (int k = 0; k < INTERP_COUNT; k++) polyline(d, pt[k + 1], 65, 2.0f, interp_colour[k]);
     text(d, f2(o.x + w, o.y), 0.0f, 14.0f, 1.0f, "t", 13.0f, GREY);
     text(d, f2(o.x, o.y + h), 4.0f, -4.0f, 0.0f, "tilt (deg)", 13.0f, GREY);
     text(d, f2(o.x, o.y + 0.5f * h), -4.0f, 0.0f, 1.0f, "0", 12.0f, GREY);
@@ -907,33 +926,36 @@ static void angle_plot(dg *d, float2 o, float w, float h, float3 na, float3 nb)
     text(d, o, -4.0f, 0.0f, 1.0f, "-50", 12.0f, GREY);
 }
 
-/* Labels of the comparison: heading, row names, end-normal tilts of each row, one note line. */
-typedef struct cmp_names { const char *head, *row0, *row1; float top[2], bottom[2]; const char *note; } cmp_names;
+/* Labels of the comparison: heading, row names, end-normal tilts of each row. */
+typedef struct cmp_names { const char *head, *row0, *row1; float top[2], bottom[2]; } cmp_names;
 
-/* Linear (left column) vs quadratic (middle) normals on two curves (rows), and their tilt along t (right). */
+/* Linear, literal quadratic and Bernstein quadratic normals (columns) on two curves (rows), and their tilt
+ * along t (right). */
 static int draw_normal_comparison(const fig_ctx *ctx, const cmp_names *nm, is_image *out, char *err, size_t errlen)
 {
     dg d;
     if (dg_begin(&d, ctx, err, errlen)) return -1;
     const float tilts[2][2] = {{nm->top[0], nm->top[1]}, {nm->bottom[0], nm->bottom[1]}};
-    const float ys[2] = {3.45f, 1.2f}, xs[2] = {1.05f, 3.95f};
+    const float ys[2] = {3.6f, 1.3f}, xs[INTERP_COUNT] = {0.3f, 2.55f, 4.8f}, chord = 1.8f;
+    static const char *const heads[INTERP_COUNT] = {"linear", "quadratic, literal", "quadratic, Bernstein"};
     for (int r = 0; r < 2; r++) {
         float3 na = tilt(tilts[r][0]), nb = tilt(tilts[r][1]);
-        for (int q = 0; q < 2; q++) normal_panel(&d, f2(xs[q], ys[r]), na, nb, q == 1);
-        angle_plot(&d, f2(7.0f, ys[r] - 0.3f), 1.8f, 1.6f, na, nb);
+        for (int q = 0; q < INTERP_COUNT; q++) normal_panel(&d, f2(xs[q], ys[r]), chord, na, nb, q);
+        angle_plot(&d, f2(7.25f, ys[r] - 0.3f), 1.6f, 1.5f, na, nb);
     }
-    text(&d, f2(xs[0] + 1.2f, 5.3f), 0.0f, 0.0f, 0.5f, "linear", 17.0f, BLUE);
-    text(&d, f2(xs[1] + 1.2f, 5.3f), 0.0f, 0.0f, 0.5f, "quadratic", 17.0f, RED);
-    text(&d, f2(7.9f, 5.3f), 0.0f, 0.0f, 0.5f, "tilt of the normal along t", 15.0f, INK);
-    text(&d, f2(0.05f, ys[0] + 1.0f), 0.0f, 0.0f, 0.0f, nm->row0, 16.0f, INK);
-    text(&d, f2(0.05f, ys[1] + 1.0f), 0.0f, 0.0f, 0.0f, nm->row1, 16.0f, INK);
-    ln(&d, f2(0.0f, 2.65f), f2(FW, 2.65f), 1.0f, LIGHT);
+    for (int q = 0; q < INTERP_COUNT; q++)
+        text(&d, f2(xs[q] + 0.5f * chord, 5.3f), 0.0f, 0.0f, 0.5f, heads[q], 17.0f, interp_colour[q]);
+    text(&d, f2(8.05f, 5.3f), 0.0f, 0.0f, 0.5f, "tilt along t", 15.0f, INK);
+    text(&d, f2(0.05f, ys[0] + 1.15f), 0.0f, 0.0f, 0.0f, nm->row0, 16.0f, INK);
+    text(&d, f2(0.05f, ys[1] + 1.15f), 0.0f, 0.0f, 0.0f, nm->row1, 16.0f, INK);
+    ln(&d, f2(0.0f, 2.75f), f2(FW, 2.75f), 1.0f, LIGHT);
     heading(&d, nm->head);
-    legend(&d, f2(0.1f, 0.3f), LIGHT, false, false, "true normal");
-    text(&d, f2(1.9f, 0.3f), 0.0f, -2.0f, 0.0f,
-         "linear: normalize(lerp(n0, n1, t));   quadratic: normalize(n0 w^2 + n110 w t + n1 t^2), w = 1 - t", 13.0f,
-         INK);
-    text(&d, f2(1.9f, 0.3f), 0.0f, 17.0f, 0.0f, nm->note, 13.0f, INK);
+    legend(&d, f2(0.1f, 0.55f), LIGHT, false, false, "true normal");
+    static const char *const eq[] = {
+        "linear: normalize(lerp(n0, n1, t));  literal: normalize(n0 w^2 + n110 w t + n1 t^2), w = 1 - t",
+        "Bernstein: normalize(n0 w^2 + 2 n110 w t + n1 t^2);  n110: n0 + n1 reflected (fig-003-6)",
+        "The articles print the literal form, as instess's --normals quadratic evaluates it."};
+    text_lines(&d, f2(1.75f, 0.55f), eq, 3, 13.0f, INK);
     return dg_end(&d, out, err, errlen);
 }
 
@@ -941,9 +963,7 @@ static int draw_normal_comparison(const fig_ctx *ctx, const cmp_names *nm, is_im
 static int fig_001_7(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     static const cmp_names nm = {"Linear vs quadratic normal variation along a curve (van Overveld and Wyvill)",
-                                 "parabolic", "cubic", {-0.5f, 0.5f}, {0.6f, 0.6f},
-                                 "n110: n0 + n1 reflected across the chord's bisector. Linear normals cannot turn "
-                                 "back."};
+                                 "parabolic", "cubic", {-0.5f, 0.5f}, {0.6f, 0.6f}};
     return draw_normal_comparison(ctx, &nm, out, err, errlen);
 }
 
@@ -951,9 +971,7 @@ static int fig_001_7(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
 static int fig_003_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     static const cmp_names nm = {"Why normals are interpolated quadratically: convex surface vs inflection",
-                                 "convex", "inflection", {-0.4f, 0.7f}, {0.3f, 0.8f},
-                                 "n110: n0 + n1 reflected across the chord's bisector. Linear normals cannot turn "
-                                 "back."};
+                                 "convex", "inflection", {-0.4f, 0.7f}, {0.3f, 0.8f}};
     return draw_normal_comparison(ctx, &nm, out, err, errlen);
 }
 
@@ -984,7 +1002,7 @@ static int fig_003_6(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
     arrow(&d, p1, add2(p1, scale2(xy(n1), L)), 3.0f, GREEN);
     float2 tn = true_normal(p0, p1, n0, n1, 0.5f);
     arrow(&d, cv[30], add2(cv[30], scale2(tn, 1.0f)), 1.5f, BLUE);
-    text(&d, add2(cv[30], scale2(tn, 1.0f)), 6.0f, -8.0f, 0.0f, "true normal at t = 1/2", 13.0f, BLUE);
+    text(&d, cv[30], 4.0f, 40.0f, 0.0f, "blue: true normal at t = 1/2", 13.0f, BLUE);
     text(&d, add2(M, scale2(avg, L)), 8.0f, 0.0f, 0.0f, "(n200 + n020) / 2", 16.0f, INK);
     text(&d, add2(M, scale2(n110, L)), -8.0f, -6.0f, 1.0f, "n110", 19.0f, RED);
     text(&d, add2(p0, scale2(xy(n0), L)), 0.0f, -14.0f, 0.5f, "n200", 18.0f, GREEN);
@@ -1006,93 +1024,102 @@ static int fig_003_6(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
 
 /* ------------------------------------------------------------------ the table */
 
-#define SRC000 "Gruen, Smoothed N-Patches (seed 000), "
-#define SRC001 "van Veen and Baakman, A Discussion of Curved Point-Normal Triangles (seed 001), "
-#define SRC003 "Akenine-Moller and Haines, Bezier Triangles and N-Patches (seed 003), "
+#define SRC000 "H. Gruen, Smoothed N-Patches, "
+#define SRC001 "R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles, "
+#define SRC003 "T. Akenine-Moller and E. Haines, Real-Time Rendering, section Bezier Triangles and N-Patches, "
+/* Said in both normal comparisons (fig-001-7, fig-003-5): which quadratic form is whose. */
+#define QUAD_FORMS "Direct3D 9 documents D3DDEGREE_QUADRATIC normals (D3DRS_NORMALDEGREE, D3DXTessellateNPatches) " \
+    "without a formula; Vlachos et al., the draft (Eq. 5) and Real-Time Rendering all print the literal form " \
+    "n110 b0 b1 without the factor 2 of a Bernstein quadratic, and instess's --normals quadratic evaluates it."
 
 const figure fig_diagrams[] = {
     {"fig-1.1.2", NULL, SRC000 "Figure 1.1.2", "The control points of a bicubic triangular Bezier patch.",
      "A perspective view of one curved triangle (vertices (-1,0,-0.6), (1,0,-0.6), (0,0,1.1), normals pointing "
      "away from (0.1,-1.5,0.05)): its N-Patch shaded (vs_patch_eval, npatch, level 16), the three border curves, "
      "the vertex normals and the control net of the 10 control points b300 ... b111 of Eq. 1.1.1, each labelled.",
-     "instess figures --only fig-1.1.2", false, fig_1_1_2, 0},
+     "instess figures --only fig-1.1.2 --out DIR", false, fig_1_1_2, 0},
     {"fig-1.1.3", NULL, SRC000 "Figure 1.1.3",
      "If A is the area of a triangle, barycentric coordinates of a point p are defined by the ratios of A0/A, "
      "A1/A, and A2/A.",
      "A triangle v0 v1 v2 split at p = 0.5 v0 + 0.3 v1 + 0.2 v2 into the sub-triangles A0 (opposite v0), A1, A2 "
      "in three colours, with the areas measured and b_i = A_i / A printed (0.500, 0.300, 0.200).",
-     "instess figures --only fig-1.1.3", false, fig_1_1_3, 0},
+     "instess figures --only fig-1.1.3 --out DIR", false, fig_1_1_3, 0},
     {"fig-1.1.4", NULL, SRC000 "Figure 1.1.4",
      "The start and end derivatives of a cubic Bezier curve point toward the inner control points.",
      "A border curve evaluated with vs_evaluate_curve from b30, b03 and the normals n0, n1; its control polygon "
      "b30 b21 b12 b03 (Eq. 1.1.5), the end derivatives d0, d1 as arrows with right-angle marks to n0, n1, and "
      "the measured dot(d0, n0), dot(d1, n1).",
-     "instess figures --only fig-1.1.4", false, fig_1_1_4, 0},
+     "instess figures --only fig-1.1.4 --out DIR", false, fig_1_1_4, 0},
     {"fig-1.1.5", NULL, SRC000 "Figure 1.1.5", "One creates one patch for every edge e0, e1, and e2.",
      "Three panels, one per edge of the curved triangle of fig-1.1.2: the edge's border curve (thick) and seven "
      "curves of Listing 1.1.1 from points on it (s = 1/8 ... 7/8) to the opposite vertex, with the blended start "
      "normals normalize(lerp(n_i, n_j, s)); P0 (edge v0-v1) blue, P1 (v1-v2) orange, P2 (v2-v0) green.",
-     "instess figures --only fig-1.1.5", false, fig_1_1_5, 0},
+     "instess figures --only fig-1.1.5 --out DIR", false, fig_1_1_5, 0},
     {"fig-1.1.6", NULL, SRC000 "Figure 1.1.6", "A regular barycentric tessellation of a triangle.",
      "The grid of core_grid_regular at level 8 (45 points, 64 triangles) in wireframe, with the barycentrics "
      "(b0, b1, b2) of six points and the counts (L+1)(L+2)/2 and L*L.",
-     "instess figures --only fig-1.1.6", false, fig_1_1_6, 0},
+     "instess figures --only fig-1.1.6 --out DIR", false, fig_1_1_6, 0},
     {"fig-1.1.9", NULL, SRC000 "Figure 1.1.9",
      "Parameter space lines take off into different directions from the shared position on a shared triangle "
      "edge.",
      "Two coplanar triangles T0, T1 (a cube face split along its diagonal) with the dashed parameter lines of the "
      "patch of the shared edge in each (from points on the edge to the opposite vertex); at one point q the "
      "two directions and the wedge between them are marked.",
-     "instess figures --only fig-1.1.9", false, fig_1_1_9, 0},
+     "instess figures --only fig-1.1.9 --out DIR", false, fig_1_1_9, 0},
     {"fig-001-4", NULL, SRC001 "Figure 4",
      "Projection of a tangent coefficient b210 to the tangent plane of the closest corner P1.",
      "Side view of an edge P1-P2 with normals N1, N2: the tangent planes (as lines), the 1/3 points "
      "(2 P1 + P2)/3 and (2 P2 + P1)/3, their projections b210 and b120 along the normals (Eq. 3), and the "
      "resulting cubic edge curve (vs_evaluate_curve).",
-     "instess figures --only fig-001-4", false, fig_001_4, 1},
+     "instess figures --only fig-001-4 --out DIR", false, fig_001_4, 1},
     {"fig-001-6", NULL, SRC001 "Figure 6", "The normal field of the point-normal triangle.",
      "The curved triangle of fig-1.1.2 with the dashed boundary curves of its cubic patch, the vertex normals "
      "n200, n020, n002, the reflected mid-edge normals n110, n011, n101 at the middle of each edge curve, and "
      "the quadratic normals (vs_npatch_evaluate, quadratic) at the points of a level-6 grid.",
-     "instess figures --only fig-001-6", false, fig_001_6, 1},
+     "instess figures --only fig-001-6 --out DIR", false, fig_001_6, 1},
     {"fig-001-7", NULL, SRC001 "Figure 7",
      "The upper row shows a parabolic curve with linearly varying normals, on the left, and quadratically varying "
      "normals on the right. The lower row compares the normals of a cubic curve using linearly varying normals on "
      "the left and quadratically varying normals on the right. The illustration was taken from Overveld and "
      "Wyvill [OW97].",
-     "2 x 2 panels: a parabolic edge curve (end normals tilted apart) and a cubic S-curve (equal end normals) "
-     "from vs_evaluate_curve; at 9 points each the true normal (grey) and the linear (blue) or quadratic (red, "
-     "with the reflected mid-edge normal) interpolated normal, with the largest angle error printed.",
-     "instess figures --only fig-001-7", false, fig_001_7, 1},
+     "A parabolic edge curve (end normals tilted apart) and a cubic S-curve (equal end normals), both from "
+     "vs_evaluate_curve, each with its true normals (grey) against three interpolations: linear (blue), the "
+     "quadratic normal as the articles print it (red) and the same with the Bernstein weight 2 on the mixed term "
+     "(purple); under each panel the largest angle to the true normal over 65 points. On the S-curve the true "
+     "normal swings past the vertical; the literal form stays on one side (22.3 degrees off at worst) and the "
+     "Bernstein form comes twice as close (11.6). " QUAD_FORMS,
+     "instess figures --only fig-001-7 --out DIR", false, fig_001_7, 1},
     {"fig-001-11", NULL, SRC001 "Figure 11",
      "A single triangle tessellated with both outer and inner tessellation level set to 4.0, and edge "
      "tessellation spacing set to fractional_odd_spacing.",
      "The primitive-generator grid core_grid_pg(CORE_GRID_PG_FRACTIONAL_ODD, inner 4.0, outer 4.0, 4.0, 4.0) "
      "in wireframe: 5 segments per edge (three of length 1, two short ones of 0.5, highlighted), the levels, "
      "the segment lengths and the point and triangle counts.",
-     "instess figures --only fig-001-11", false, fig_001_11, 1},
+     "instess figures --only fig-001-11 --out DIR", false, fig_001_11, 1},
     {"fig-003-4", NULL, SRC003 "Figure 4",
      "How the Bezier point p210 is computed using the normal n200 at p300, and the two corner points p300 and "
      "p030.",
      "Side view of the edge p300-p030 with n200: the tangent plane at p300 (as a line), the point "
      "2/3 p300 + 1/3 p030, its projection along n200 onto the plane (p210), the formula, and the cubic edge "
      "curve it produces.",
-     "instess figures --only fig-003-4", false, fig_003_4, 2},
+     "instess figures --only fig-003-4 --out DIR", false, fig_003_4, 2},
     {"fig-003-5", NULL, SRC003 "Figure 5",
      "This figure illustrates why quadratic interpolation of normals is needed, and why linear interpolation is "
      "not sufficient. The left column shows what happens when linear interpolation of normals are used. This "
      "works fine when the normals describe a convex surface (top), but breaks down when the surface has an "
      "inflection (bottom). The right column illustrates quadratic interpolation. (Illustration after van "
      "Overveld and Wyvill.)",
-     "2 x 2 panels: a convex edge curve and one with an inflection (vs_evaluate_curve); linear (left, blue) and "
-     "quadratic (right, red) interpolated normals against the true normals (grey), largest angle error printed.",
-     "instess figures --only fig-003-5", false, fig_003_5, 2},
+     "The book's two cases, a convex edge curve and one with an inflection, with the three interpolations of "
+     "fig-001-7. The book says the quadratic normal captures the inflection; with its own (literal) weights the "
+     "normal turns back only part of the way and stays on one side (22.9 degrees off at worst), while the "
+     "Bernstein form crosses over as the true normal does (12.9).",
+     "instess figures --only fig-003-5 --out DIR", false, fig_003_5, 2},
     {"fig-003-6", NULL, SRC003 "Figure 6",
      "Construction of n110 for N-patches. The dashed normal is the average of n200 and n020, and n110 is this "
      "normal reflected in the plane pi. The plane pi has a normal that is parallel to p030 - p300.",
      "Side view of an edge p300-p030 whose normals n200, n020 lean the same way (an inflection): the average "
      "(dashed), the plane pi through the edge's middle, perpendicular to p030 - p300, and n110 = the reflected "
      "average (the formula of vs/patch.c), next to the true normal of the cubic edge curve at its middle.",
-     "instess figures --only fig-003-6", false, fig_003_6, 2},
+     "instess figures --only fig-003-6 --out DIR", false, fig_003_6, 2},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0},
 };

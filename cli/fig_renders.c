@@ -2,16 +2,10 @@
  * cli/figures.h): Gruen's Figs. 1.1.1, 1.1.7, 1.1.8, 1.1.10; van Veen and Baakman's Figs. 1, 5, 12 and the
  * 'fake' vs 'real' normals of their section 5.1; Real-Time Rendering's Fig. 3; and the MD2 texture-seam cracks.
  *
- * Every view is written once, as the options of the `instess` command (VIEW_* macros below): the render parses
- * that string with the scene layer's option parsers, and the table's `command` field is built from the same
- * string, so a single rendering is reproduced exactly by its command.  Two figure-only options exist for views
- * the command line cannot express (their command is then `instess figures --only ID`):
- *   --light grazing   the listing's diffuse term with a light grazing the surface from the upper left instead of
- *                     the headlight (0, 0, -1) (ridges show in the shading);
- *   --light normals   colour = 0.5 + 0.5 (n.x, n.y, -n.z) of the world-space unit normal ("coloured by its
- *                     normals"; facing the camera is blue).
- *   --wire-levels on  (with --lod distance|screen and a wireframe) each bucket's wire in the colour of its finest
- *                     level (scene_opts.wire_by_level).
+ * Every view is written once, as the options of the `instess` command (V_* macros below): the render parses
+ * that string with the option table of cli/options.c and draws it through scene_draw, exactly as the command
+ * does, and the table's `command` field is built from the same string, so a single rendering is reproduced
+ * pixel for pixel by its command (tests/test_figures.c runs each one).  Composites list their panels' commands.
  * A rendering is "R,G,B,A,Z,N.X,N.Y,N.Z": colour with 4x MSAA, then Z (nearest sample) and the unit normal of a
  * 1-sample pass of the same view (zero on the background). */
 #include <math.h>
@@ -27,52 +21,21 @@
 #define SYDNEY MD2_DIR "sydney.md2"
 #define FAERIE MD2_DIR "faerie.md2"
 
-enum { LIGHT_LISTING = 0, LIGHT_GRAZING = 1, LIGHT_NORMALS = 2 };
-enum { C_FIG = 10, C_LIGHT = 11 }; /* constant registers of the wrapper shader (after the patch's c0..c9) */
-
-/* One parsed view: the scene options, the mesh spec they point to, the figure-only light. */
+/* One parsed view: the scene options and the mesh spec they point to. */
 typedef struct fig_view {
     scene_opts o;
     char mesh[512];
-    int light;
     bool recompute;  /* --recompute-normals: angle-weighted normals per welded position */
 } fig_view;
 
-/* ---------------------------------------- the wrapper shader ---------------------------------------- */
-
-/* The patch shader selected by c10.x, relit as c10.y says (LIGHT_*): the listing's colour unchanged, a grazing
- * light from direction c11 (towards the light) or the normal as a colour; both scaled by g_vDiffuse (c8), so a
- * wireframe overlay (diffuse = the wire colour) keeps its colour. */
-static void vs_fig(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
-{
-    vs_patch_shader((vs_patch)(int)c->c[C_FIG].x)->main(c, in, out);
-    int light = (int)c->c[C_FIG].y;
-    if (light == LIGHT_LISTING) return;
-    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + 1]);
-    float4 d = c->c[VS_C_DIFFUSE];
-    float3 k;
-    if (light == LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
-    else {
-        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c->c[C_LIGHT])));
-        k = f3(l, l, l);
-    }
-    out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
-}
-static const is_vertex_shader fig_shader = {.name = "figure", .main = vs_fig, .outputs = VS_OUTPUTS};
-
 /* ---------------------------------------- views ---------------------------------------- */
 
-/* Apply one option of a view string (--mesh and --light here, the rest by the option table); NULL or the
- * problem (in buf when it is built). */
+/* Apply one option of a view string (--mesh here: the view keeps its own copy of the name; the rest by the
+ * option table); NULL or the problem (in buf when it is built). */
 static const char *view_option(fig_view *v, const char *key, const char *val, char *buf, size_t len)
 {
     scene_opts *o = &v->o;
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
-    if (!strcmp(key, "--wire-levels")) return o->wire_by_level = !strcmp(val, "on"), NULL;
-    if (!strcmp(key, "--light")) {
-        v->light = !strcmp(val, "grazing") ? LIGHT_GRAZING : !strcmp(val, "normals") ? LIGHT_NORMALS : -1;
-        return v->light < 0 ? "bad --light" : NULL;
-    }
     const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
     return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
 }
@@ -95,7 +58,6 @@ static int view_parse(fig_view *v, const char *spec, char *err, size_t errlen)
         const char *msg = val ? view_option(v, k, val, why, sizeof why) : "missing value";
         if (msg) return snprintf(err, errlen, "view \"%s\": %s: %s", spec, k, msg), -1;
     }
-    if (v->light == LIGHT_NORMALS) memcpy(v->o.diffuse, (float[4]){1, 1, 1, 1}, sizeof v->o.diffuse);
     return 0;
 }
 
@@ -108,8 +70,8 @@ static int load_mesh(const char *spec, bool recompute, is_mesh *m, char *err, si
 
 /* ---------------------------------------- rendering ---------------------------------------- */
 
-/* A device with o's view of m drawn through the wrapper shader: `samples` samples, plus the normal AOV plane
- * when aov (1 sample).  NULL and err on failure. */
+/* A device with o's view of m drawn as the instess command draws it: `samples` samples, plus the normal AOV
+ * plane when aov (1 sample).  NULL and err on failure. */
 static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid *g, int samples, bool aov,
                             char *err, size_t errlen)
 {
@@ -123,10 +85,7 @@ static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid
         return NULL;
     }
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    float3 l = normalize3(f3(0.62f, 0.62f, -0.48f)); /* towards the light: upper right, grazing a face-on face */
-    float c[8] = {(float)o->patch, (float)v->light, 0, 0, l.x, l.y, l.z, 0};
-    dev_set_vertex_shader_constant_f(dev, C_FIG, c, 2);
-    if (scene_draw(dev, o, m, g, &fig_shader) != 0) {
+    if (scene_draw(dev, o, m, g, NULL) != 0) {
         snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
         dev_destroy(dev);
         return NULL;
@@ -311,14 +270,13 @@ static int render_single(const fig_ctx *ctx, const char *spec, is_image *out, ch
 #define V_1_1_1B V_TETRA " --patch smooth"
 #define V_1_1_1C V_CUBE " --patch npatch"
 #define V_1_1_1D V_CUBE " --patch smooth"
-#define V_1_1_7A V_TETRA_EDGE " --patch npatch"
-#define V_1_1_7B V_TETRA_EDGE " --patch smooth-initial"
+#define V_1_1_7A V_TETRA_EDGE " --patch npatch --light 0.3,0.3,-1"
+#define V_1_1_7B V_TETRA_EDGE " --patch smooth-initial --light 0.3,0.3,-1"
 #define V_1_1_8A "--mesh cube --patch smooth-initial --normals real --level 12 --yaw 45 --pitch 0 --fill solid+wire"
 #define V_1_1_8B "--mesh cube --patch smooth-initial --normals real --level 32 --yaw 0 --pitch 0 --light grazing"
 #define V_1_1_10A V_CUBE_10 " --patch npatch"
 #define V_1_1_10B V_CUBE_10 " --patch smooth"
 #define CMD_SINGLE(view, id) "instess " view " --size 512x512 -o " id ".png"
-#define CMD_FIG(id) "instess figures --only " id
 
 /* A render function per single figure (fig_fn has no argument naming the figure). */
 #define SINGLE_FN(name, view) \
@@ -334,6 +292,53 @@ SINGLE_FN(fig_1_1_8a, V_1_1_8A)
 SINGLE_FN(fig_1_1_8b, V_1_1_8B)
 SINGLE_FN(fig_1_1_10a, V_1_1_10A)
 SINGLE_FN(fig_1_1_10b, V_1_1_10B)
+
+/* The patches side by side on the cube of fig-1.1.1c/d, each labelled with its largest crease across an edge
+ * as vs_smoothness measures it (16 samples per edge, as instess smoothness). */
+#define V_PATCHES V_CUBE
+static const char *const patch_panel_views[6] = {
+    V_PATCHES " --patch flat", V_PATCHES " --patch npatch", V_PATCHES " --patch smooth-initial",
+    V_PATCHES " --patch smooth", V_PATCHES " --patch phong", V_PATCHES " --patch pn-aen"};
+static int fig_patches(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    fig_sizes s = sizes_of(ctx);
+    fig_layout L = layout_of(ctx, 2, 3, s.panel, s.panel);
+    int rc = layout_begin(&L, "The patches on one mesh: the welded cube, real normals, level 16", out, err, errlen);
+    for (int k = 0; rc == 0 && k < 6; k++) {
+        fig_view v;
+        is_mesh m = {0};
+        is_image p = {0};
+        vs_smoothness_result r = {0};
+        rc = view_parse(&v, patch_panel_views[k], err, errlen);
+        if (rc == 0) rc = load_mesh(v.mesh, false, &m, err, errlen);
+        vs_options vo = vs_default_options();
+        if (rc == 0 && vs_smoothness(v.o.patch, &vo, m.positions, m.normals, m.n_vertices, m.indices, m.n_triangles,
+                                     NULL, 16, &r) != 0)
+            rc = -1, snprintf(err, errlen, "vs_smoothness failed");
+        if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.panel, &p, err, errlen);
+        char text[96];
+        snprintf(text, sizeof text, "%s: crease %.1f deg", vs_patch_name(v.o.patch), r.max_angle_deg);
+        if (rc == 0) rc = layout_place(&L, out, k, &p, text, err, errlen);
+        image_free(&p);
+        mesh_free(&m);
+        if (rc != 0) image_free(out);
+    }
+    return rc;
+}
+
+/* The renderings of seed 000 with the listing's own shading: its linear (interpolated) normals. */
+#define LINEAR " --normals linear"
+static int fig_000_listing(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_1_1_1A LINEAR, "1.1.1a npatch"}, {V_1_1_1B LINEAR, "1.1.1b smooth"}, {V_1_1_1C LINEAR, "1.1.1c npatch"},
+        {V_1_1_1D LINEAR, "1.1.1d smooth"}, {V_1_1_7A LINEAR, "1.1.7a npatch"}, {V_1_1_7B LINEAR, "1.1.7b initial"},
+        {V_1_1_8A LINEAR, "1.1.8a initial"}, {V_1_1_8B LINEAR, "1.1.8b initial"}, {V_1_1_10A LINEAR, "1.1.10a npatch"},
+        {V_1_1_10B LINEAR, "1.1.10b smooth"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Gruen's views shaded as his listing shades them: linear normals", p, 2, 5,
+                       s.panel * 5 / 8, s.panel * 5 / 8, out, err, errlen);
+}
 
 /* ---------------------------------------- seed 001 ---------------------------------------- */
 
@@ -382,7 +387,7 @@ static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errle
 /* ---------------------------------------- adaptive level of detail ---------------------------------------- */
 
 /* The same sphere near and far, uniform level 16 and --lod screen (levels 1..16, 8 pixels per segment at the full
- * size), solid with the wireframe coloured by level (figure-only --wire-levels on: each bucket's finest level,
+ * size), solid with the wireframe coloured by level (--wire-levels on: each bucket's finest level,
  * blue 1 .. green 8 .. red 64).  The uniform panels go through the same adaptive path with every edge at 16 (the
  * pattern 16/16/16 is the regular grid). */
 #define V_LOD "--mesh sphere --patch smooth --normals real --yaw 30 --pitch 20 --fill solid+wire --wire-levels on"
@@ -577,12 +582,12 @@ static int load_split_normals(const char *spec, is_mesh *out, char *err, size_t 
     return rc;
 }
 
-#define V_SEAMS "--mesh " SYDNEY " --patch npatch --level 4 --yaw 180 --pitch 0 --distance 1.5"
+#define V_SEAMS "--mesh " SYDNEY " --patch npatch --level 4 --yaw 180 --pitch 0 --distance 2.9"
 /* Split normals at the texture seams of an MD2 character crack the PN triangles; welded normals do not. */
 static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     fig_sizes s = sizes_of(ctx);
-    fig_layout L = layout_of(ctx, 1, 2, s.panel, s.tall);
+    fig_layout L = layout_of(ctx, 1, 2, s.panel, s.lod_h);
     static const char *const labels[2] = {"normals per seam vertex: cracks", "welded normals: closed"};
     int rc = layout_begin(&L, "Normals split at texture seams vs welded", out, err, errlen);
     for (int k = 0; rc == 0 && k < 2; k++) {
@@ -591,7 +596,7 @@ static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t er
         is_image p = {0};
         rc = view_parse(&v, V_SEAMS, err, errlen);
         if (rc == 0) rc = k == 0 ? load_split_normals(v.mesh, &m, err, errlen) : load_mesh(v.mesh, true, &m, err, errlen);
-        if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.tall, &p, err, errlen);
+        if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.lod_h, &p, err, errlen);
         if (rc == 0) rc = layout_place(&L, out, k, &p, labels[k], err, errlen);
         image_free(&p);
         mesh_free(&m);
@@ -602,107 +607,145 @@ static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t er
 
 /* ---------------------------------------- the table ---------------------------------------- */
 
-#define GRUEN "Gruen, Smoothed N-Patches (seed 000), Figure "
-#define VVB "van Veen and Baakman, A Discussion of Curved Point-Normal Triangles (seed 001), "
-#define RTR "Akenine-Moller and Haines, Bezier Triangles and N-Patches (seed 003), "
-#define SINGLE_SHOWS(what, view) what " Rendered at 512x512 with 4x MSAA; options: " view "."
-#define REAL_NOTE " Shaded with the listing's diffuse term saturate(dot(N, (0,0,-1))) (a headlight) but with the " \
-    "real (derivative) normals of the surface: the listing's linear normal would shade every patch alike."
+#define GRUEN "H. Gruen, Smoothed N-Patches, Figure "
+#define VVB "R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles, "
+#define RTR "T. Akenine-Moller and E. Haines, Real-Time Rendering, section Bezier Triangles and N-Patches, "
+/* A composite's reproduction: the figure itself, then each panel's own command (its pixels, before labels). */
+#define CMD_COMPOSITE(id, panels) "instess figures --only " id " --out DIR\n" panels
+#define PANEL(k, view, size) "panel " #k ": instess " view " --size " size " -o panel" #k ".png\n"
 
 const figure fig_renders[] = {
     {"fig-1.1.1a", "fig-1.1.1", GRUEN "1.1.1a", "A tetrahedron refined using the original N-Patch.",
-     SINGLE_SHOWS("The built-in tetrahedron (4 triangles, one normal per corner) as N-Patches at level 16 (256 "
-                  "triangles per face), seen towards a corner; the N-Patch creases across the edges." REAL_NOTE,
-                  V_1_1_1A),
+     "The built-in tetrahedron (4 triangles, one averaged normal per corner) as N-Patches at level 16 (256 "
+     "triangles per face), seen towards a corner. Every edge is a crease: instess smoothness measures 93.3 "
+     "degrees between the normals on its two sides at worst, 78.0 on average.",
      CMD_SINGLE(V_1_1_1A, "fig-1.1.1a"), true, fig_1_1_1a, 0},
     {"fig-1.1.1b", "fig-1.1.1", GRUEN "1.1.1b", "A tetrahedron refined using the new patch.",
-     SINGLE_SHOWS("The same tetrahedron and view with the final smoothed patch (Listing 1.1.2) at level 16: "
-                  "smooth across the edges." REAL_NOTE, V_1_1_1B),
+     "The same view with the final smoothed patch (Listing 1.1.2). The crease softens but stays: 50.2 degrees at "
+     "worst, 42.9 on average. Each edge's patch P_k is blended towards the N-Patch by fn_k = |dot| of the two "
+     "faces' normals, and a tetrahedron's faces meet at |dot| = 1/3, so a third of the N-Patch's fold is kept. "
+     "That is why the final patch is rougher here than the intermediate one, which ignores fn (22.3 degrees, "
+     "fig-1.1.7b), and likewise on the octahedron (|dot| = 1/3: 18.6 against 0.04 degrees) and the icosahedron "
+     "(|dot| = 0.75: 12.2 against 2.4). The blend is made for meshes like the cube, whose neighbours meet at "
+     "|dot| = 0 (fully smoothed) or 1 (coplanar: the N-Patch, no ridge).",
      CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b, 0},
     {"fig-1.1.1c", "fig-1.1.1", GRUEN "1.1.1c", "A cube refined using the original N-Patch.",
-     SINGLE_SHOWS("The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16; "
-                  "creases along the cube's edges." REAL_NOTE, V_1_1_1C),
+     "The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16: creases along "
+     "the cube's edges, 50.2 degrees at worst.",
      CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c, 0},
     {"fig-1.1.1d", "fig-1.1.1", GRUEN "1.1.1d", "A cube refined using the new N-Patch.",
-     SINGLE_SHOWS("The same cube and view with the final smoothed patch at level 16." REAL_NOTE, V_1_1_1D),
+     "The cube of fig-1.1.1c with the final smoothed patch: 9.2 degrees at worst (1.4 on average) across the "
+     "cube's edges, 0.3 across the face diagonals.",
      CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d, 0},
     {"fig-1.1.7a", "fig-1.1.7", GRUEN "1.1.7a", "A tetrahedron refined using the original N-Patch.",
-     SINGLE_SHOWS("The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0): the "
-                  "crease runs across the middle." REAL_NOTE, V_1_1_7A),
+     "The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0) and lit from the "
+     "upper right (--light 0.3,0.3,-1), so the two faces differ in brightness: the crease is the sharp diagonal "
+     "step between them. (Under the headlight both sides turn away from the camera alike and the step vanishes.)",
      CMD_SINGLE(V_1_1_7A, "fig-1.1.7a"), true, fig_1_1_7a, 0},
     {"fig-1.1.7b", "fig-1.1.7", GRUEN "1.1.7b", "A tetrahedron refined using the new intermediate patch.",
-     SINGLE_SHOWS("The same view with the intermediate patch of Listing 1.1.1 (smooth-initial: Gregory blend of "
-                  "P0, P1, P2) at level 16." REAL_NOTE, V_1_1_7B),
+     "Same edge, same light, with the intermediate patch of Listing 1.1.1 (smooth-initial: the Gregory blend of "
+     "P0, P1, P2): the step becomes a gradient, 22.3 degrees at worst where the N-Patch had 93.3.",
      CMD_SINGLE(V_1_1_7B, "fig-1.1.7b"), true, fig_1_1_7b, 0},
     {"fig-1.1.8a", "fig-1.1.8", GRUEN "1.1.8a", "Refined cube showing smooth edges where cube faces meet.",
-     SINGLE_SHOWS("The welded cube with the intermediate patch (Listing 1.1.1) at level 12 with a wireframe "
-                  "overlay, looking at the vertical edge between two faces (yaw 45, pitch 0): smooth where the "
-                  "faces meet; the valleys along the face diagonals are visible too." REAL_NOTE, V_1_1_8A),
+     "The welded cube with the intermediate patch at level 12 and its wireframe, looking at the vertical edge "
+     "between two faces (yaw 45, pitch 0): smooth where the faces meet, while the wireframe already bends along "
+     "the face diagonals.",
      CMD_SINGLE(V_1_1_8A, "fig-1.1.8a"), true, fig_1_1_8a, 0},
     {"fig-1.1.8b", "fig-1.1.8", GRUEN "1.1.8b",
      "Refined cube showing ridges along the coplanar triangles that form the faces of the cube.",
-     SINGLE_SHOWS("The same cube and patch at level 32, straight at a face (yaw 0, pitch 0), lit by a light grazing "
-                  "the face from the upper right (towards-light direction (0.62, 0.62, -0.48) normalized, ambient "
-                  "0.08) instead of the headlight, with real normals: the valley along the diagonal shared by the face's two coplanar "
-                  "triangles shows in the shading (figure-only option --light grazing).", V_1_1_8B),
-     CMD_FIG("fig-1.1.8b"), true, fig_1_1_8b, 0},
+     "The intermediate patch at level 32, straight at a face, under a light grazing it from the upper right "
+     "(--light grazing: towards (0.62, 0.62, -0.48), ambient 0.08): the valley along the diagonal shared by the "
+     "face's two coplanar triangles, where the normals of the two sides differ by 22.3 degrees.",
+     CMD_SINGLE(V_1_1_8B, "fig-1.1.8b"), true, fig_1_1_8b, 0},
     {"fig-1.1.10a", "fig-1.1.10", GRUEN "1.1.10a", "A cube refined using the original N-Patch.",
-     SINGLE_SHOWS("The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30)." REAL_NOTE,
-                  V_1_1_10A),
+     "The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30): no valleys on the faces "
+     "(coplanar neighbours share their border curve), creases along the edges.",
      CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a, 0},
     {"fig-1.1.10b", "fig-1.1.10", GRUEN "1.1.10b", "A cube refined using the final new patch.",
-     SINGLE_SHOWS("The same view with the final patch of Listing 1.1.2 at level 16." REAL_NOTE, V_1_1_10B),
+     "The final patch in that view: coplanar neighbours (fn = 1) keep the N-Patch, so the faces stay free of "
+     "valleys, and the cube's edges are smooth.",
      CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b, 0},
+    {"fig-patches", NULL, "Comparison added by instess (no figure of the documents): every patch on one mesh",
+     "Flat, N-Patch, intermediate and final smoothed patch, Phong tessellation and PN-AEN on the same cube.",
+     "Six panels of 320x320 on the view of fig-1.1.1c, each labelled with its largest crease across an edge as "
+     "vs_smoothness measures it. Phong tessellation (Boubekeur and Alexa 2008, alpha 0.75) bulges most and "
+     "creases like the N-Patch across the cube's edges, and it is the only patch besides the intermediate one "
+     "that also folds across the face diagonals (19.6 degrees). PN-AEN equals the N-Patch here: the welded "
+     "cube's neighbours already agree on their normals.",
+     CMD_COMPOSITE("fig-patches", PANEL(1, V_PATCHES " --patch flat", "320x320")
+                   PANEL(2, V_PATCHES " --patch npatch", "320x320") PANEL(3, V_PATCHES " --patch smooth-initial",
+                   "320x320") PANEL(4, V_PATCHES " --patch smooth", "320x320")
+                   PANEL(5, V_PATCHES " --patch phong", "320x320") PANEL(6, V_PATCHES " --patch pn-aen", "320x320")),
+     true, fig_patches, 0},
+    {"fig-listing-shading", NULL, "Companion of Gruen's Figures 1.1.1, 1.1.7, 1.1.8 and 1.1.10 (added by instess)",
+     "The renderings above as Gruen's listing shades them.",
+     "Each panel is the view of its figure at 200x200, shaded by the listing's own normal: normalize(b0 n0 + b1 "
+     "n1 + b2 n2) interpolated from the corners (--normals linear, D3D9's default). The shape changes the "
+     "silhouette only: the creases of the N-Patch and the valleys of the intermediate patch do not show in the "
+     "shading, which is why the figures above light the derivative normals.",
+     "instess figures --only fig-listing-shading --out DIR\n"
+     "each panel: its figure's Reproduce line with --normals linear --size 200x200", true, fig_000_listing, 0},
     {"fig-001-1", NULL, VVB "Figure 1",
      "From left to right, the input triangulation, the model, and the curved point-normal model, colored according "
      "to its normals. The model was taken from Vlachos et al. [Vla+01].",
-     "The built-in icosahedron (20 triangles; a stand-in for Vlachos' model), three panels of 320x320 with 4x MSAA, "
-     "yaw 20, pitch 15: the input triangles (flat patch, level 1, wireframe overlay); the PN triangles (npatch, "
-     "quadratic normals, level 12) under the listing's headlight; the same PN model coloured by its world-space "
-     "unit normal, RGB = 0.5 + 0.5 (x, y, -z) (figure-only option --light normals).",
-     CMD_FIG("fig-001-1"), true, fig_001_1, 1},
+     "The built-in icosahedron (20 triangles; a stand-in for Vlachos' model), yaw 20, pitch 15: the input "
+     "triangles (flat patch, level 1, wireframe overlay); PN triangles (npatch, quadratic normals, level 12) "
+     "under the listing's headlight; the same PN model coloured by its world-space unit normal, RGB = 0.5 + 0.5 "
+     "(x, y, -z) (--light normals).",
+     CMD_COMPOSITE("fig-001-1", PANEL(1, V_001_1 " --patch flat --level 1 --fill solid+wire", "320x320")
+                   PANEL(2, V_001_1 " --patch npatch --normals quadratic --level 12", "320x320")
+                   PANEL(3, V_001_1 " --patch npatch --normals quadratic --level 12 --light normals", "320x320")),
+     true, fig_001_1, 1},
     {"fig-001-5", NULL, VVB "Figure 5",
      "Illustration of what would happen if one renders a model using point-normal triangles where vertices have "
      "different normals, depending on the associated faces. Image taken from [MK10].",
-     "The built-in cylinder (12 sides; the rim vertices are split: radial normals for the side, axial ones for "
-     "the caps), level 8, linear normals, headlight, seen from above (yaw 20, pitch -35, distance 2.8), three "
-     "panels of 320x320 with 4x MSAA. Left: the N-Patch; the side's rim curve bulges along the arc while the "
-     "cap's stays the chord, so the surface opens along the top rim and the background shows through (back faces "
-     "are culled). Middle: PN-AEN (McDonald and Kilgard, the fix [MK10] proposes) on the same mesh: closed. "
-     "Right: the N-Patch with one angle-weighted normal per welded position (--recompute-normals): closed but "
+     "The built-in cylinder (12 sides; its rim vertices are split: radial normals for the side, axial ones for "
+     "the caps), level 8, linear normals, seen from above. Left: the N-Patch; the side's rim curve bulges along "
+     "the arc while the cap's stays the chord, so the surface opens along the top rim and the background shows "
+     "through (back faces are culled). Middle: PN-AEN (McDonald and Kilgard, the fix [MK10] proposes) on the same "
+     "mesh: closed. Right: one angle-weighted normal per welded position (--recompute-normals): closed but "
      "rounded into a blob. (cube-split is no example: its per-face normals are the face normals, so every "
-     "N-Patch stays flat and nothing opens.) Options: " V_001_5 " with --patch npatch / pn-aen.",
-     CMD_FIG("fig-001-5"), true, fig_001_5, 1},
-    {"fig-md2-seams", NULL, RTR "text under Figure 6 (no figure): 'cracks will appear if two adjacent triangles "
-                                "do not share the same normals'",
+     "N-Patch stays flat and nothing opens.)",
+     CMD_COMPOSITE("fig-001-5", PANEL(1, V_001_5 " --patch npatch", "320x320")
+                   PANEL(2, V_001_5 " --patch pn-aen", "320x320")
+                   PANEL(3, V_001_5 " --patch npatch --recompute-normals", "320x320")),
+     true, fig_001_5, 1},
+    {"fig-md2-seams", NULL, RTR "the text under Figure 6 (it has no figure)",
      "Also worth knowing is that cracks will appear if two adjacent triangles do not share the same normals.",
-     "sydney.md2 (Debian's assimp-testmodels, Irrlicht media; 679 triangles, 482 vertices at 342 positions), N-Patches at level 4, linear normals, "
-     "headlight, two panels of 320x400 with 4x MSAA, from her left side (yaw 180, pitch 0) and close (distance "
-     "1.5: hip and legs). Left: normals computed per unwelded vertex (angle-"
-     "weighted over the triangles using that exact vertex index), so the copies of a vertex on the two sides of a "
-     "texture seam get different normals and the PN surface cracks along the seams. Right: the same angle-weighted "
-     "normals per welded position (--recompute-normals): closed.",
-     CMD_FIG("fig-md2-seams"), true, fig_md2_seams, 1},
+     "sydney.md2 (679 triangles, 482 vertices at 342 positions), N-Patches at level 4, linear normals, seen from "
+     "her left side (yaw 180). Left: normals computed per unwelded vertex (angle-weighted over the triangles "
+     "using that exact vertex index), so the copies of a vertex on the two sides of a texture seam get different "
+     "normals and the surface cracks along the seams (the dark lines). Right: the same normals per welded "
+     "position: closed.",
+     CMD_COMPOSITE("fig-md2-seams", "panel 1: no command line equivalent (normals per unwelded vertex)\n"
+                   PANEL(2, V_SEAMS " --recompute-normals", "320x520")),
+     true, fig_md2_seams, 1},
     {"fig-001-12", NULL, VVB "Figure 12",
      "A family of game characters from the game Quake 1. (a), (b) and (c) are rendered on a CPU by Vlachos et al. "
      "(d), (e), (f) are rendered by our implementation.",
-     "Stand-ins: the MD2 characters faerie.md2 (654 triangles) and sydney.md2 (679) of Debian's assimp-testmodels "
-     "(Irrlicht media, zlib-style licence), with the files' normals; 3x2 panels of 240x400 with 4x MSAA, seen "
-     "from the front (yaw 90, pitch 0, distance 2.7). Top: the input triangles (flat patch, Gouraud-shaded by the "
-     "listing's headlight). Middle: PN triangles (npatch, quadratic normals, level 4 = 16 triangles each). "
-     "Bottom: Gruen's final smoothed patch at the same level (its boundary and non-manifold edges fall back to "
-     "the N-Patch).",
-     CMD_FIG("fig-001-12"), true, fig_001_12, 1},
+     "Stand-ins: the MD2 characters faerie.md2 (654 triangles) and sydney.md2 (679), with the files' normals, "
+     "seen from the front (yaw 90, pitch 0). Top: the input triangles (flat patch, Gouraud-shaded). Middle: PN "
+     "triangles (npatch, quadratic normals, level 4 = 16 triangles each). Bottom: Gruen's final smoothed patch "
+     "at the same level (its boundary and non-manifold edges fall back to the N-Patch).",
+     CMD_COMPOSITE("fig-001-12", PANEL(1, "--mesh " FAERIE " --patch flat --level 1 " V_MD2, "240x400")
+                   PANEL(2, "--mesh " SYDNEY " --patch flat --level 1 " V_MD2, "240x400")
+                   PANEL(3, "--mesh " FAERIE " --patch npatch --normals quadratic --level 4 " V_MD2, "240x400")
+                   PANEL(4, "--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "240x400")
+                   PANEL(5, "--mesh " FAERIE " --patch smooth --normals quadratic --level 4 " V_MD2, "240x400")
+                   PANEL(6, "--mesh " SYDNEY " --patch smooth --normals quadratic --level 4 " V_MD2, "240x400")),
+     true, fig_001_12, 1},
     {"fig-001-fake-vs-real", NULL, VVB "sections 3.2 and 5.1 (the draft has no figure: 'Show results of PN "
                                        "triangles with fake and real normals, and discuss differences')",
      "'Fake' normals (quadratic normal patch) versus 'real' normals (cross product of the partial derivatives of "
      "the geometric component).",
-     "The welded cube as N-Patches at level 16, yaw 30, pitch 20, three panels of 320x320 with 4x MSAA: shaded "
-     "with Vlachos' quadratic ('fake') normals, with the derivative ('real') normals, and the angle between the "
-     "two normals per pixel (from the 1-sample normal AOV of both renders) as a heat map from 0 (black) to 45 "
-     "degrees (pale yellow). The real normals crease along the cube's edges, where the N-Patch is only "
-     "C0; the fake ones stay smooth. Options: " V_FAKE_REAL " with --normals quadratic / real.",
-     CMD_FIG("fig-001-fake-vs-real"), true, fig_001_fake_vs_real, 1},
+     "The welded cube as N-Patches at level 16: shaded with Vlachos' quadratic ('fake') normals, with the "
+     "derivative ('real') normals, and the angle between the two per pixel as a heat map from 0 (black) to 45 "
+     "degrees (pale yellow). The real normals crease along the cube's edges, where the N-Patch is only C0; the "
+     "fake ones stay smooth.",
+     CMD_COMPOSITE("fig-001-fake-vs-real", PANEL(1, V_FAKE_REAL " --normals quadratic", "320x320")
+                   PANEL(2, V_FAKE_REAL " --normals real", "320x320")
+                   "panel 3: computed from the normal AOVs of panels 1 and 2 (instess --aov normal, EXR)\n"),
+     true, fig_001_fake_vs_real, 1},
     {"fig-003-3", NULL, RTR "Figure 3",
      "The columns show different levels of detail of the same model. The original triangle data, consisting of "
      "414 triangles, is shown on the left. The middle model has 3,726 triangles, while the right has 20,286 "
@@ -710,10 +753,13 @@ const figure fig_renders[] = {
      "The bottom rows show the models in wireframe, which reveals that each original triangle generates the same "
      "amount of subtriangles. (Model courtesy of id Software. Image from ATI Technologies Inc. demo.)",
      "sydney.md2 (679 triangles; stand-in for the id Software model) as N-Patches with quadratic normals at "
-     "LOD 0, 2, 6 = levels 1, 3, 7 = x1, x9, x49 triangles (679, 6111, 33271), 3x2 panels of 300x520 with 4x "
-     "MSAA, seen from the front (yaw 90, pitch 0, distance 2.7); top row shaded by the listing's headlight, "
-     "bottom row wireframe (--fill wire).",
-     CMD_FIG("fig-003-3"), true, fig_003_3, 2},
+     "LOD 0, 2, 6 = levels 1, 3, 7 = x1, x9, x49 triangles (679, 6111, 33271); top row shaded, bottom row "
+     "wireframe (--fill wire).",
+     CMD_COMPOSITE("fig-003-3", PANEL(1, V_003_3 " --level 1", "300x520") PANEL(2, V_003_3 " --level 3", "300x520")
+                   PANEL(3, V_003_3 " --level 7", "300x520") PANEL(4, V_003_3 " --level 1 --fill wire", "300x520")
+                   PANEL(5, V_003_3 " --level 3 --fill wire", "300x520")
+                   PANEL(6, V_003_3 " --level 7 --fill wire", "300x520")),
+     true, fig_003_3, 2},
     {"fig-lod", NULL, "instess: adaptive level of detail through instancing (after Dyken, Reimers and Seland, "
      "Semi-uniform adaptive patch tessellation, 2009, and NVIDIA's screen-space rule, GDC 2011)",
      "The same mesh near and far: one tessellation level for every triangle, and a level per mesh edge from its "
@@ -723,7 +769,9 @@ const figure fig_renders[] = {
      "level (blue 1, green 8, red 64; per bucket, its finest level). Left: uniform level 16 (every edge at 16: "
      "--lod distance --min-level 16 --max-level 16, the regular grid). Right: --lod screen --max-level 16 "
      "--lod-target 8 (8 pixels per segment of each edge's projected control polygon; patterns of the sorted "
-     "edge levels, semi-uniform). Each label gives the triangles tessellated. Options: " V_LOD " with the "
-     "distance and lod options above (--wire-levels is a figure-only option).",
-     CMD_FIG("fig-lod"), true, fig_lod, 3},
+     "edge levels, semi-uniform). Each label gives the triangles tessellated. Options: " V_LOD ".",
+     CMD_COMPOSITE("fig-lod", PANEL(1, V_LOD V_LOD_NEAR V_LOD_UNIFORM, "320x320")
+                   PANEL(2, V_LOD V_LOD_NEAR V_LOD_SCREEN, "320x320") PANEL(3, V_LOD V_LOD_FAR V_LOD_UNIFORM, "320x320")
+                   PANEL(4, V_LOD V_LOD_FAR V_LOD_SCREEN, "320x320")),
+     true, fig_lod, 3},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0}};

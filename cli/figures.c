@@ -1,5 +1,6 @@
 /* cli/figures.c -- `instess figures`: every figure of the three source documents (docs/design.md, section 5) into
- * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html.
+ * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html (a table of contents and
+ * the figures whose images are in DIR: those of this run and of earlier runs into the same folder).
  *
  * One process renders all figures (OpenImageIO's start-up is paid once), in parallel over figures with OpenMP
  * (each figure's own renders then run on one thread; a lone figure gets all of them -- the bytes are the same
@@ -21,7 +22,7 @@
 static const char figures_usage[] =
     "usage: instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N]\n"
     "Render every figure of the source documents into DIR (default out): ID.png, ID.exr (renderings: RGBA, Z,\n"
-    "N.X, N.Y, N.Z) and the gallery DIR/index.html.\n"
+    "N.X, N.Y, N.Z) and the gallery DIR/index.html, which lists the figures whose images are in DIR.\n"
     "\n"
     "  --out DIR      output directory (created if missing)                       [out]\n"
     "  --only IDS     only these figures (comma-separated ids, e.g. fig-1.1.1a,fig-003-3)\n"
@@ -30,12 +31,26 @@ static const char figures_usage[] =
     "  --list         print the figure ids and exit\n"
     "  -h, --help     this text\n";
 
-/* The gallery's sections, indexed by figure.section. */
+/* The gallery's sections, indexed by figure.section: the document, and what holds for all its figures (said
+ * once here, not in every caption). */
 static const char *const section_titles[FIG_SECTIONS] = {
-    "Seed 000: H. Gruen, Smoothed N-Patches",
-    "Seed 001: R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles",
-    "Seed 003: T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)",
+    "H. Gruen, Smoothed N-Patches",
+    "R. van Veen and L. Baakman, A Discussion of Curved Point-Normal Triangles",
+    "T. Akenine-Moller and E. Haines, Bezier Triangles and N-Patches (Real-Time Rendering)",
     "Beyond the documents: adaptive level of detail through instancing"};
+static const char *const section_intros[FIG_SECTIONS] = {
+    "Gruen compares the N-Patch with his smoothed patches on a tetrahedron and a cube. The renderings are 512x512 "
+    "with 4x MSAA and light the derivative ('real') normals of each patch with the listing's diffuse term "
+    "saturate(dot(N, L)), L = (0, 0, -1), a headlight, unless a caption names another light. With the listing's "
+    "own interpolated normals every curved patch shades alike and the creases and valleys the article discusses "
+    "do not show (fig-listing-shading puts those images side by side). The angles quoted are the largest angles "
+    "between the surface normals on the two sides of a shared edge, as instess smoothness measures them.",
+    "The draft discusses PN triangles, their normals and the OpenGL 4 tessellator. Renderings use the listing's "
+    "headlight on the normals the caption names. The MD2 characters are the Irrlicht models of Debian's "
+    "assimp-testmodels package, standing in for the models of the draft, which are not available.",
+    "The book's section explains the N-Patch's control points and its quadratic normals.",
+    "What none of the documents shows: a level per mesh edge, drawn the instancing way with one instanced draw "
+    "per refinement pattern, crack-free by construction."};
 
 #define MAX_FIGURES 128
 
@@ -246,7 +261,12 @@ static const char gallery_css[] =
     "border-radius:6px;padding:10px;box-sizing:border-box}\n"
     "figure.wide{flex:1 1 100%}\n"
     "figure.wide img{max-width:min(100%,1000px)}\n"
-    "figure img{display:block;max-width:100%;height:auto;margin:0 auto 8px;border-radius:3px;background:#2e3440}\n"
+    "figure img{display:block;max-width:100%;height:auto;margin:0 auto 8px}\n"
+    "nav.toc{background:#fff;border:1px solid #d6d6d0;border-radius:6px;padding:8px 16px;max-width:72em}\n"
+    "nav.toc ol{margin:4px 0;padding-left:1.4em}nav.toc li{margin:3px 0}\n"
+    "nav.toc a.fig{font-family:ui-monospace,monospace;font-size:13px;margin-right:8px;white-space:nowrap}\n"
+    ".kind{color:#666;font-size:12px;border:1px solid #ccc;border-radius:3px;padding:0 4px;margin-left:4px}\n"
+    "p.intro{max-width:72em;color:#333}\n"
     "figcaption .id{font-weight:700;font-family:ui-monospace,monospace}\n"
     "figcaption .src{color:#666;font-size:13px}\n"
     "figcaption blockquote{margin:6px 0;padding:2px 0 2px 10px;border-left:3px solid #b9b9ae;font-style:italic}\n"
@@ -284,21 +304,48 @@ static const fig_result *result_of(const figure *f, const figure *const *sel, si
     return NULL;
 }
 
-/* One <figure> of the gallery. */
-static void html_figure(FILE *f, const figure *fg, const fig_result *r)
+/* Whether DIR/<id><ext> exists. */
+static bool file_there(const char *dir, const char *id, const char *ext)
 {
-    fprintf(f, "<figure id=\"%s\"%s>\n<a href=\"%s.png\"><img src=\"%s.png\" alt=\"", fg->id,
-            fg->group ? "" : " class=\"wide\"", fg->id, fg->id);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s%s", dir, id, ext);
+    return access(path, F_OK) == 0;
+}
+
+/* Whether the gallery shows figure f: its image is in the directory, or it failed in this run (then the page
+ * says so).  A figure neither rendered now nor left by an earlier run is not mentioned. */
+static bool shown(const char *dir, const figure *f, const fig_result *r)
+{
+    return file_there(dir, f->id, ".png") || (r && r->rc != 0);
+}
+
+/* What kind of entry f is, for its badge: a single rendering, a composite of renderings, or a diagram. */
+static const char *kind_of(const figure *f)
+{
+    if (!f->rendering) return "diagram";
+    return strncmp(f->command, "instess figures", 15) == 0 ? "composite" : "rendering";
+}
+
+/* One <figure> of the gallery (the image only when its file is there). */
+static void html_figure(FILE *f, const char *dir, const figure *fg, const fig_result *r)
+{
+    fprintf(f, "<figure id=\"%s\"%s>\n", fg->id, fg->group ? "" : " class=\"wide\"");
+    if (file_there(dir, fg->id, ".png")) {
+        fprintf(f, "<a href=\"%s.png\"><img src=\"%s.png\" alt=\"", fg->id, fg->id);
+        html_text(f, fg->id);
+        fputs("\" loading=\"lazy\"></a>\n", f);
+    }
+    fputs("<figcaption>\n<span class=\"id\">", f);
     html_text(f, fg->id);
-    fputs("\" loading=\"lazy\"></a>\n<figcaption>\n<span class=\"id\">", f);
-    html_text(f, fg->id);
-    fputs("</span> <span class=\"src\">", f);
+    fprintf(f, "</span><span class=\"kind\">%s</span>", kind_of(fg));
+    if (fg->rendering && file_there(dir, fg->id, ".exr"))
+        fprintf(f, "<span class=\"kind\"><a href=\"%s.exr\">EXR</a></span>", fg->id);
+    fputs("<br><span class=\"src\">", f);
     html_text(f, fg->source);
     fputs("</span>\n<blockquote>", f);
     html_text(f, fg->caption);
-    fputs("</blockquote>\n<p><b>Shows:</b> ", f);
+    fputs("</blockquote>\n<p>", f);
     html_text(f, fg->shows);
-    if (fg->rendering) fprintf(f, " Depth and normals: <a href=\"%s.exr\">%s.exr</a>.", fg->id, fg->id);
     fputs("</p>\n<p><b>Reproduce:</b></p><code>", f);
     html_text(f, fg->command);
     fputs("</code>\n", f);
@@ -325,30 +372,58 @@ static void gallery_sort(const figure **all, size_t n)
     }
 }
 
-/* The body of the gallery: sections, figures of one group side by side. */
-static void html_body(FILE *f, const figure **all, size_t n, const figure *const *sel, size_t n_sel,
-                      const fig_result *res)
+/* The table of contents: each section with links to its figures (all[0..n-1], the shown ones, in order). */
+static void html_toc(FILE *f, const figure **all, size_t n)
+{
+    fputs("<nav class=\"toc\"><b>Contents</b>\n<ol>\n", f);
+    for (size_t k = 0; k < n; k++) {
+        int s = all[k]->section;
+        if (k == 0 || all[k - 1]->section != s) fprintf(f, "<li><a href=\"#section-%d\">%s</a><br>\n", s,
+                                                        section_titles[s]);
+        fprintf(f, "<a class=\"fig\" href=\"#%s\">%s</a>\n", all[k]->id, all[k]->id);
+        if (k + 1 == n || all[k + 1]->section != s) fputs("</li>\n", f);
+    }
+    fputs("</ol>\n</nav>\n", f);
+}
+
+/* The body of the gallery: sections with their introductions, figures of one group side by side. */
+static void html_body(FILE *f, const char *dir, const figure **all, size_t n, const figure *const *sel,
+                      size_t n_sel, const fig_result *res)
 {
     int section = -1;
     for (size_t k = 0; k < n;) {
         int s = all[k]->section;
         if (s != section) {
-            fprintf(f, "<h2>%s</h2>\n", section_titles[s]);
+            fprintf(f, "<h2 id=\"section-%d\">%s</h2>\n<p class=\"intro\">", s, section_titles[s]);
+            html_text(f, section_intros[s]);
+            fputs("</p>\n", f);
             section = s;
         }
         size_t end = k + 1;
         while (all[k]->group && end < n && all[end]->group && !strcmp(all[end]->group, all[k]->group)) end++;
         fputs("<div class=\"group\">\n", f);
-        for (; k < end; k++) html_figure(f, all[k], result_of(all[k], sel, n_sel, res));
+        for (; k < end; k++) html_figure(f, dir, all[k], result_of(all[k], sel, n_sel, res));
         fputs("</div>\n", f);
     }
 }
+
+static const char gallery_lead[] =
+    "The figures of three documents on curved triangle patches, rendered on the CPU by instess %s: tessellation "
+    "through instancing on a device modelled on Direct3D 9. Each entry names its document and figure number, "
+    "quotes the document's caption, says what the image shows and gives the command that reproduces it: a "
+    "rendering's command gives the same pixels; a composite lists the command of each panel (the labels are "
+    "added by instess figures); a diagram is drawn by instess figures from the project's own formulas and has no "
+    "render command of its own. Renderings also come as OpenEXR files with depth (Z) and normal (N.X, N.Y, N.Z) "
+    "channels. This page lists the figures whose images are in its folder; instess figures --out DIR writes "
+    "them all (make figures in the repository).";
 
 /* Write DIR/index.html atomically (temporary file, then rename); 0 or -1 with a message on stderr. */
 static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel, const fig_result *res)
 {
     const figure *all[MAX_FIGURES];
-    size_t n = all_figures(all, MAX_FIGURES);
+    size_t n_all = all_figures(all, MAX_FIGURES), n = 0;
+    for (size_t k = 0; k < n_all; k++)
+        if (shown(dir, all[k], result_of(all[k], sel, n_sel, res))) all[n++] = all[k];
     gallery_sort(all, n);
     char path[4096], tmp[4200];
     snprintf(path, sizeof path, "%s/index.html", dir);
@@ -358,16 +433,11 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
                "<title>instess: the figures of the source documents</title>\n<style>\n%s</style>\n</head>\n<body>\n"
-               "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">The figures of H. Gruen's "
-               "<i>Smoothed N-Patches</i>, R. van Veen and L. Baakman's <i>A Discussion of Curved Point-Normal "
-               "Triangles</i> and the <i>Bezier Triangles and N-Patches</i> section of Akenine-Moller and Haines' "
-               "<i>Real-Time Rendering</i>, rendered on the CPU by instess %s (tessellation through instancing on a Direct3D 9-style "
-               "device). Each entry cites its document and figure, quotes the caption, says what the image shows "
-               "and gives the command that reproduces it. Renderings also come as OpenEXR with depth (Z) and "
-               "normal (N.X, N.Y, N.Z) channels. Regenerate everything with <code style=\"display:inline\">make "
-               "figures</code> (= <code style=\"display:inline\">instess figures --out out</code>).</p>\n",
-            gallery_css, INSTESS_VERSION);
-    html_body(f, all, n, sel, n_sel, res);
+               "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">", gallery_css);
+    fprintf(f, gallery_lead, INSTESS_VERSION);
+    fputs("</p>\n", f);
+    html_toc(f, all, n);
+    html_body(f, dir, all, n, sel, n_sel, res);
     fputs("</body>\n</html>\n", f);
     bool ok = fflush(f) == 0 && !ferror(f);
     ok = fclose(f) == 0 && ok;

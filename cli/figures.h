@@ -28,8 +28,11 @@ typedef struct figure {
     const char *source;    /* "Gruen, Smoothed N-Patches (seed 000), Figure 1.1.1a" */
     const char *caption;   /* the document's caption, as printed (OCR fixed) */
     const char *shows;     /* what the image shows and how it was made (mesh, patch, level, view, samples) */
-    const char *command;   /* the exact command that reproduces it (an `instess ...` render, or
-                              `instess figures --only ID` for composites and diagrams) */
+    const char *command;   /* how to reproduce it: a single rendering's `instess ...` command (the same pixels,
+                              tests/test_figures.c runs it); for a composite `instess figures --only ID --out DIR`
+                              and one line "panel K: instess ... -o panelK.png" per panel that has a command (its
+                              pixels are in the figure unchanged); for a diagram `instess figures --only ID
+                              --out DIR` alone */
     bool rendering;        /* a rendering of a surface: also written as .exr with Z and N.X, N.Y, N.Z */
     fig_fn render;
     int section;           /* the gallery section: the document it reproduces (0: seed 000, 1: 001, 2: 003), or 3:

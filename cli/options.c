@@ -101,6 +101,37 @@ static const char *opt_threads(scene_opts *o, const char *a)
 {
     return scene_parse_int(a, 0, 256, &o->threads) ? NULL : "--threads must be 0..256";
 }
+static const char *opt_fov(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 1.0f, 170.0f, &o->fov) ? NULL : "--fov must be 1..170 degrees";
+}
+static const char *opt_light(scene_opts *o, const char *a)
+{
+    static const char msg[] = "--light takes headlight, grazing, normals or a direction X,Y,Z (not 0,0,0)";
+    return scene_parse_light(a, o) ? NULL : msg;
+}
+static const char *opt_color(scene_opts *o, const char *a)
+{
+    return scene_parse_color(a, o->diffuse) ? NULL : "--color takes R,G,B (each 0..1) or #rrggbb";
+}
+static const char *opt_background(scene_opts *o, const char *a)
+{
+    float c[3];
+    if (!scene_parse_color(a, c)) return "--background takes R,G,B (each 0..1) or #rrggbb";
+    unsigned ch[3];
+    for (int k = 0; k < 3; k++) ch[k] = (unsigned)lroundf(c[k] * 255.0f);
+    o->background = IS_COLOR_ARGB(255, ch[0], ch[1], ch[2]);
+    return NULL;
+}
+static const char *opt_phong_alpha(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 0.0f, 1.0f, &o->phong_alpha) ? NULL : "--phong-alpha must be 0..1";
+}
+static const char *opt_n110_factor(scene_opts *o, const char *a)
+{
+    static const char msg[] = "--n110-factor must be 1..2 (2: reflection, 1.5: van Overveld)";
+    return scene_parse_float(a, 1.0f, 2.0f, &o->n110_factor) ? NULL : msg;
+}
 static const char *opt_recompute(scene_opts *o, const char *a) { return o->recompute_normals = true, NULL; }
 
 /* A size in MiB in [lo, 2^20] into *out; NULL or msg. */
@@ -163,6 +194,11 @@ static const char *opt_max_level(scene_opts *o, const char *a)
     return scene_parse_int(a, 1, CORE_LOD_MAX_LEVEL, &o->max_level) ? NULL : "--max-level must be 1..64";
 }
 static const char *opt_silhouette(scene_opts *o, const char *a) { return o->silhouette = true, NULL; }
+static const char *opt_wire_levels(scene_opts *o, const char *a)
+{
+    if (strcmp(a, "on") != 0 && strcmp(a, "off") != 0) return "--wire-levels takes on or off";
+    return o->wire_by_level = strcmp(a, "on") == 0, NULL;
+}
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
 static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
@@ -175,6 +211,11 @@ const scene_option scene_options[] = {
      opt_mesh, NULL},
     {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices},
     {"normals", 0, "N", "the normals the patch shades with", "linear", opt_normals, normals_choices},
+    {"phong-alpha", 0, "A", "Phong tessellation's shape factor: 0 flat, 1 the full projection (Boubekeur and Alexa "
+     "2008)", "0.75", opt_phong_alpha, NULL},
+    {"n110-factor", 0, "F", "the quadratic normals' mid-edge normal n110 = normalize(n0 + n1 - v (p1 - p0)), v = F "
+     "dot(p1 - p0, n0 + n1) / |p1 - p0|^2: 2 reflects the average normal (Vlachos et al.), 1.5 is van Overveld and "
+     "Wyvill's factor (Real-Time Rendering)", "2", opt_n110_factor, NULL},
     {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL},
     {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices},
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
@@ -183,7 +224,13 @@ const scene_option scene_options[] = {
     {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL},
     {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
     {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
+    {"fov", 0, "DEG", "vertical field of view", "45", opt_fov, NULL},
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
+    {"light", 0, "L", "headlight: the listing's saturate(dot(N, (0,0,-1))); X,Y,Z: a light from that world-space "
+     "direction (x right, y up, -z towards the camera) with 0.08 ambient; grazing: 0.62,0.62,-0.48 (ridges show); "
+     "normals: colour by the unit normal", "headlight", opt_light, NULL},
+    {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL},
+    {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL},
     {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
     {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
     {"lod", 0, "MODE", "level of detail: one --level for all (uniform), or a level per mesh edge from its "
@@ -195,6 +242,8 @@ const scene_option scene_options[] = {
     {"max-level", 0, "N", "--lod distance|screen: the finest edge level, 1..64", "--level", opt_max_level, NULL},
     {"silhouette", 0, NULL, "--lod distance|screen: edges between a front and a back face get --max-level", NULL,
      opt_silhouette, NULL},
+    {"wire-levels", 0, "on|off", "--lod with a wireframe: each pattern's wire in the colour of its finest level "
+     "(blue 1, green 8, red 64)", "off", opt_wire_levels, NULL},
     {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
      opt_recompute, NULL},
     {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},

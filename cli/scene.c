@@ -24,7 +24,10 @@ void scene_opts_default(scene_opts *o)
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
         .lod = SCENE_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
+        .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
     };
+    vs_options vo = vs_default_options();
+    o->phong_alpha = vo.phong_alpha, o->n110_factor = vo.quad_factor;
 }
 
 /* Index of s in a NULL-terminated name table, or -1. */
@@ -188,8 +191,8 @@ const char *scene_check_opts(const scene_opts *o)
         return "--d3d9-adaptive (the device's N-patch mode) and --lod (instanced patterns) are two ways: choose one";
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == SCENE_LOD_UNIFORM)
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
-    if (o->lod == SCENE_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette))
-        return "--min-level, --max-level and --silhouette need --lod distance or screen";
+    if (o->lod == SCENE_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette || o->wire_by_level))
+        return "--min-level, --max-level, --silhouette and --wire-levels need --lod distance or screen";
     if (o->lod != SCENE_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
     return o->lod == SCENE_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
@@ -253,7 +256,8 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     cam.world = mat_mul(&ry, &rx);
     float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
     float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
-    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
+    float4x4 proj = mat_perspective_fov_lh(o->fov / 180.0f * PI_F, (float)o->width / (float)o->height, zn,
+                                           o->distance + 2.0f);   /* 45 / 180 * pi: the same bits as pi / 4 */
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
@@ -282,6 +286,7 @@ static void fill_constants(is_vs_constants *c, const scene_opts *o, const float4
 {
     vs_options vo = vs_default_options();
     vo.normals = o->normals;
+    vo.phong_alpha = o->phong_alpha, vo.quad_factor = o->n110_factor;
     vs_set_constants(c, wvp, world, f4(diffuse[0], diffuse[1], diffuse[2], diffuse[3]), &vo);
 }
 
@@ -502,8 +507,9 @@ static void set_overlay_states(is_device *dev)
 static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_resources *r)
 {
     const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
+    static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
-    set_constants(dev, o, cam, o->diffuse);
+    set_constants(dev, o, cam, o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
     is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
     set_overlay_states(dev);
@@ -539,7 +545,9 @@ static is_result draw_fill_adaptive(is_device *dev, const scene_opts *o, const s
 {
     const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
-    is_result e = draw_buckets(dev, o, cam, a, o->fill == SCENE_FILL_WIRE && o->wire_by_level, o->diffuse);
+    static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
+    is_result e = draw_buckets(dev, o, cam, a, o->fill == SCENE_FILL_WIRE && o->wire_by_level,
+                               o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
     set_overlay_states(dev);
     return draw_buckets(dev, o, cam, a, o->wire_by_level, o->wire_color);
@@ -587,7 +595,8 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
     core_pattern_cache *cache = core_pattern_cache_create(0);
     if (!cache || scene_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
     scene_lod_levels(&p, m, &e, hist);
-    dev_set_vertex_shader(dev, shader ? shader : vs_patch_shader(o->patch));
+    dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, vs_patch_shader(o->patch)));
+    if (!shader) scene_light_constants(dev, o, vs_patch_shader(o->patch));
     is_result r = scene_bind_adaptive(dev, m, &e, cache, &a);
     if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = scene_bind_adjacent_normals(dev, m, &a.r, &a);
     if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
@@ -615,7 +624,8 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     if (o->lod != SCENE_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
     scene_camera cam = make_camera(o, m);
     scene_resources r = {0};
-    dev_set_vertex_shader(dev, shader ? shader : path_shader(o));
+    dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, path_shader(o)));
+    if (!shader) scene_light_constants(dev, o, path_shader(o));
     is_result e = build_path(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
@@ -974,7 +984,7 @@ static uint64_t mesh_hash(const is_mesh *m)
 
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
 {
-    char names[64] = "none";
+    char names[64] = "none", light[96];
     channel_list(o->aovs, names, sizeof names);
     snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
              "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, msaa %d, channels %s",
@@ -992,6 +1002,12 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
                  scene_lod_names[o->lod], (double)o->lod_target, o->min_level, scene_lod_max_level(o),
                  o->silhouette ? "on" : "off");
     }
+    n = strlen(buf);
+    if (n + 1 < len)
+        snprintf(buf + n, len - n, ", light %s, fov %g, color %g,%g,%g, background #%06x, phong-alpha %g, "
+                 "n110-factor %g", scene_light_name(o, light, sizeof light), (double)o->fov, (double)o->diffuse[0],
+                 (double)o->diffuse[1], (double)o->diffuse[2], (unsigned)(o->background & 0xffffffu),
+                 (double)o->phong_alpha, (double)o->n110_factor);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */

@@ -3,9 +3,9 @@
  *
  * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then rotated by
  * yaw (about y) and pitch (about x) -- the world matrix -- and seen by a left-handed camera at (0, 0, -distance)
- * looking at the origin with a 45 degree vertical field of view.  The listing's light direction (0, 0, -1) is in
- * world space, so the lit side faces the camera (a headlight).  Errors: functions return 0 or -1 with a message
- * in err naming the input and what is wrong. */
+ * looking at the origin with a vertical field of view of 45 degrees (--fov).  The listing's light direction
+ * (0, 0, -1) is in world space, so the lit side faces the camera (a headlight; --light changes it).  Errors:
+ * functions return 0 or -1 with a message in err naming the input and what is wrong. */
 #ifndef INSTESS_SCENE_H
 #define INSTESS_SCENE_H
 
@@ -34,6 +34,8 @@
 
 typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_FILL_POINT } scene_fill;
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
+/* The light (--light): the listing's headlight, a direction (with a little ambient), or colour by normal. */
+typedef enum { SCENE_LIGHT_HEADLIGHT = 0, SCENE_LIGHT_DIRECTION = 1, SCENE_LIGHT_NORMALS = 2 } scene_light;
 enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8 };
 /* --d3d9-adaptive: D3D9's adaptive N-patch mode (core.h) on the npatch-mode path.  "depth": Mdm = the view-depth
  * column of World * View divided by the depth of the object's nearest point (distance - 1 bounding radii), so
@@ -59,9 +61,14 @@ typedef struct scene_opts {
     int threads;
     bool recompute_normals;
     unsigned aovs;              /* SCENE_AOV_* */
-    float diffuse[4];           /* g_vDiffuse */
+    float diffuse[4];           /* g_vDiffuse (--color) */
     float wire_color[4];        /* g_vDiffuse of the wireframe overlay */
-    uint32_t background;        /* D3DCOLOR (ARGB) */
+    uint32_t background;        /* D3DCOLOR (ARGB) (--background) */
+    scene_light light;          /* SCENE_LIGHT_HEADLIGHT: the listing's (0, 0, -1) (cli/lighting.c) */
+    float light_dir[3];         /* towards the light, world space (SCENE_LIGHT_DIRECTION; normalised when used) */
+    float fov;                  /* vertical field of view, degrees */
+    float phong_alpha;          /* Phong tessellation's shape factor (vs_options.phong_alpha) */
+    float n110_factor;          /* factor of v_ij in the quadratic normal's n110 (vs_options.quad_factor) */
     const char *output, *export_obj;
     bool quiet;
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
@@ -133,6 +140,19 @@ bool scene_parse_msaa(const char *s, int *out);
 bool scene_parse_int(const char *s, int lo, int hi, int *out);
 bool scene_parse_float(const char *s, float lo, float hi, float *out);
 bool scene_parse_aovs(const char *s, unsigned *out);
+
+/* ------------- light and colours (cli/lighting.c) ------------- */
+/* "headlight" | "grazing" | "normals" | "X,Y,Z" (towards the light, world space, not zero) into o; true on success. */
+bool scene_parse_light(const char *s, scene_opts *o);
+/* The --light value of o (a name, or the direction written into buf). */
+const char *scene_light_name(const scene_opts *o, char *buf, size_t len);
+/* "R,G,B" (each 0..1) or "#rrggbb" into rgb; true on success. */
+bool scene_parse_color(const char *s, float rgb[3]);
+/* The shader that draws with o's light: path_shader itself for the headlight, else a wrapper that relights
+ * its output (a shader of vs_shaders only; others are returned as they are).  Its constants c10, c11 are set by
+ * scene_light_constants (nothing for the headlight). */
+const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader);
+void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_shader *path_shader);
 
 /* Draw mesh m with grid g on dev as o says (path, fill, camera, constants c0..c9), with o's shader or, if
  * shader is not NULL, that one (tests wrap the patch shaders).  The device's other states are left as the

@@ -22,6 +22,7 @@
 
 #include "../cli/figures.h"
 #include "util/golden.h"
+#include "util/prog.h"
 
 #define FAIL_THRESH (1.0f / 255.0f)  /* per channel: one 8-bit step */
 #define FAIL_PERCENT 0.25f           /* of the pixels: text glyph edges, libm last bits */
@@ -96,6 +97,208 @@ static void test_tables_complete(void **state)
         }
 }
 
+/* Whether figure f is a single rendering: its Reproduce line is one `instess` render (not `instess figures`). */
+static bool single_rendering(const figure *f)
+{
+    return f->rendering && strncmp(f->command, "instess --", 10) == 0 && !strchr(f->command, '\n');
+}
+
+/* Every single rendering's Reproduce line, run through the program as printed (only the output moved into a
+ * temporary folder), gives the figure's pixels exactly: the gallery's commands are the figures. */
+static void test_reproduce_lines(void **state)
+{
+    (void)state;
+    char dir[256];
+    assert_int_equal(prog_mkdtemp(dir, "reproduce"), 0);
+    fig_ctx ctx = {.small = false, .threads = 0};
+    int checked = 0, failed = 0;
+    for (const figure *f = fig_renders; f->id; f++) {
+        if (!single_rendering(f) || !selected(f->id)) continue;
+        const char *o = strstr(f->command, " -o ");
+        assert_non_null(o);
+        char fig_png[512], cli_png[512], name[128], err[1024];
+        snprintf(name, sizeof name, "%s-cli.png", f->id);
+        prog_path(dir, name, cli_png, sizeof cli_png);
+        snprintf(name, sizeof name, "%s-figure.png", f->id);
+        prog_path(dir, name, fig_png, sizeof fig_png);
+        const char *perr;
+        int rc = prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - f->command - 8), f->command + 8, cli_png);
+        if (rc != 0) fprintf(stderr, "figures: %s: the Reproduce line failed (%d): %s\n", f->id, rc, perr);
+        is_image img = {0};
+        if (rc == 0 && (rc = f->render(&ctx, &img, err, sizeof err)) == 0)
+            rc = image_write(&img, fig_png, NULL, err, sizeof err);
+        image_free(&img);
+        if (rc == 0 && !prog_same_pixels(fig_png, cli_png)) {
+            fprintf(stderr, "figures: %s: the Reproduce line gives other pixels than the figure\n", f->id);
+            rc = -1;
+        }
+        failed += rc != 0;
+        checked++;
+    }
+    prog_rmdir(dir);
+    fprintf(stderr, "figures: %d Reproduce lines run, %d differ\n", checked, failed);
+    if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 10);   /* every single rendering of the table */
+    assert_int_equal(failed, 0);
+}
+
+/* Whether the pixels of p appear unchanged somewhere in big (same channels): the first pixel of p that is not its
+ * top-left pixel picks the candidates, then the whole panel is compared. */
+static bool contains_panel(const is_image *big, const is_image *p)
+{
+    const int c = p->channels;
+    if (big->channels != c || p->width > big->width || p->height > big->height) return false;
+    size_t key = 0, np = (size_t)p->width * p->height;
+    while (key < np && !memcmp(&p->data[key * c], &p->data[0], c * sizeof(float))) key++;
+    if (key == np) key = 0;
+    int kx = (int)(key % p->width), ky = (int)(key / p->width);
+    for (int y = 0; y + p->height <= big->height; y++)
+        for (int x = 0; x + p->width <= big->width; x++) {
+            const float *b = &big->data[((size_t)(y + ky) * big->width + x + kx) * c];
+            if (memcmp(b, &p->data[key * c], c * sizeof(float))) continue;
+            bool same = true;
+            for (int r = 0; same && r < p->height; r++)
+                same = !memcmp(&big->data[((size_t)(y + r) * big->width + x) * c], &p->data[(size_t)r * p->width * c],
+                               (size_t)p->width * c * sizeof(float));
+            if (same) return true;
+        }
+    return false;
+}
+
+/* Run every "panel K: instess ARGS -o panelK.png" line of composite f and look for its pixels in the composite
+ * (written to png and read back: the same 8-bit rounding as the command's PNG); returns the failures. */
+static int check_panels(const figure *f, const char *dir, int *checked)
+{
+    fig_ctx ctx = {.small = false, .threads = 0};
+    char err[1024], path[512], name[160];
+    is_image img = {0}, big = {0};
+    snprintf(name, sizeof name, "%s-figure.png", f->id);
+    prog_path(dir, name, path, sizeof path);
+    if (f->render(&ctx, &img, err, sizeof err) != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
+        image_read(&big, path, err, sizeof err) != 0) {
+        fprintf(stderr, "figures: %s: %s\n", f->id, err);
+        image_free(&img);
+        return 1;
+    }
+    image_free(&img);
+    int failed = 0;
+    for (const char *line = strstr(f->command, "\npanel "); line; line = strstr(line + 1, "\npanel ")) {
+        const char *args = strstr(line, ": instess "), *o = args ? strstr(args, " -o ") : NULL;
+        const char *eol = strchr(line + 1, '\n');
+        if (!args || !o || (eol && o > eol)) continue;   /* a panel without a command line (said so in the text) */
+        args += 10;
+        snprintf(name, sizeof name, "%s-panel.png", f->id);
+        prog_path(dir, name, path, sizeof path);
+        const char *perr;
+        is_image p = {0};
+        int rc = prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - args), args, path);
+        if (rc != 0) fprintf(stderr, "figures: %s: a panel's line failed (%d): %s\n", f->id, rc, perr);
+        else if (image_read(&p, path, err, sizeof err) != 0 || !contains_panel(&big, &p)) {
+            fprintf(stderr, "figures: %s: the pixels of '%.*s' are not in the figure\n", f->id, (int)(o - args), args);
+            rc = -1;
+        }
+        image_free(&p);
+        failed += rc != 0;
+        ++*checked;
+    }
+    image_free(&big);
+    return failed;
+}
+
+/* Every panel command listed under a composite gives pixels that are in the composite as they are. */
+static void test_panel_lines(void **state)
+{
+    (void)state;
+    char dir[256];
+    assert_int_equal(prog_mkdtemp(dir, "panels"), 0);
+    int checked = 0, failed = 0;
+    for (const figure *f = fig_renders; f->id; f++)
+        if (f->rendering && strstr(f->command, "\npanel ") && selected(f->id)) failed += check_panels(f, dir, &checked);
+    prog_rmdir(dir);
+    fprintf(stderr, "figures: %d panel lines run, %d not found in their figure\n", checked, failed);
+    if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 20);
+    assert_int_equal(failed, 0);
+}
+
+/* Sentence k of text (split after ". "), copied into buf; false when there is none. */
+static bool sentence(const char *text, int k, char *buf, size_t len)
+{
+    const char *p = text;
+    for (int i = 0; i < k && p; i++) {
+        p = strstr(p, ". ");
+        if (p) p += 2;
+    }
+    if (!p || !*p) return false;
+    const char *e = strstr(p, ". ");
+    size_t n = e ? (size_t)(e - p) : strlen(p);
+    snprintf(buf, len, "%.*s", (int)n, p);
+    return true;
+}
+
+/* No sentence of 30 characters or more is said in the captions ("shows") of two figures: what holds for many
+ * is said once, in the gallery's section introductions. */
+static void test_no_repeated_sentences(void **state)
+{
+    (void)state;
+    const figure *const tables[2] = {fig_renders, fig_diagrams};
+    int repeats = 0;
+    for (int a = 0; a < 2; a++)
+        for (const figure *f = tables[a]; f->id; f++) {
+            char sent[1024];
+            for (int k = 0; sentence(f->shows, k, sent, sizeof sent); k++) {
+                if (strlen(sent) < 30) continue;
+                for (int b = 0; b < 2; b++)
+                    for (const figure *g = tables[b]; g->id; g++)
+                        if (g != f && strstr(g->shows, sent) && f < g) {
+                            fprintf(stderr, "figures: %s and %s both say \"%s\"\n", f->id, g->id, sent);
+                            repeats++;
+                        }
+            }
+        }
+    assert_int_equal(repeats, 0);
+}
+
+/* Occurrences of needle in the file at path (-1 when unreadable). */
+static int count_in_file(const char *path, const char *needle)
+{
+    size_t n;
+    unsigned char *data = prog_slurp(path, &n);
+    if (!data) return -1;
+    char *text = realloc(data, n + 1);
+    if (!text) return free(data), -1;
+    text[n] = 0;
+    int c = 0;
+    for (const char *p = text; (p = strstr(p, needle)); p += strlen(needle)) c++;
+    free(text);
+    return c;
+}
+
+/* `instess figures --only ID --out NEWDIR` writes an index of what is in NEWDIR: that figure alone (no image
+ * links, ids or contents entries of figures not rendered there); a second run into the same folder adds its
+ * figure to the first. */
+static void test_only_index(void **state)
+{
+    (void)state;
+    char dir[256], sub[512], index[600];
+    assert_int_equal(prog_mkdtemp(dir, "only"), 0);
+    snprintf(sub, sizeof sub, "%s/new/gallery", dir);
+    snprintf(index, sizeof index, "%s/index.html", sub);
+    const char *err;
+    int rc = prog_run(dir, &err, "", "figures --only fig-1.1.3 --out '%s'", sub);
+    if (rc != 0) fprintf(stderr, "figures --only: exit %d: %s\n", rc, err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(count_in_file(index, "<figure id=\"fig-1.1.3\""), 1);
+    assert_int_equal(count_in_file(index, "<figure id="), 1);
+    assert_int_equal(count_in_file(index, "<img src="), 1);
+    assert_int_equal(count_in_file(index, "href=\"#fig-"), 1);
+    assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 1);
+    rc = prog_run(dir, &err, "", "figures --only fig-003-4 --out '%s'", sub);
+    assert_int_equal(rc, 0);
+    assert_int_equal(count_in_file(index, "<figure id="), 2);
+    assert_int_equal(count_in_file(index, "<figure id=\"fig-003-4\""), 1);
+    assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 2);
+    prog_rmdir(dir);
+}
+
 /* A figure's bytes do not depend on the thread count (fig_ctx.threads 1 vs 3). */
 static void test_deterministic(void **state)
 {
@@ -118,6 +321,10 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tables_complete),
         cmocka_unit_test(test_deterministic),
+        cmocka_unit_test(test_no_repeated_sentences),
+        cmocka_unit_test(test_only_index),
+        cmocka_unit_test(test_reproduce_lines),
+        cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),
     };

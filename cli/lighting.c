@@ -1,0 +1,130 @@
+/* cli/lighting.c -- the light and the colours of a scene (--light, --color, --background): parsing, and the
+ * wrapper shader that relights a patch when the light is not the listing's headlight.
+ *
+ * The listing's shaders light with saturate(dot(Normal, (0, 0, -1))) * g_vDiffuse (a headlight: the camera looks
+ * along +z).  Any other light is applied by a wrapper around the path's own shader, so the patch shaders stay
+ * exactly as listed and the default image keeps its bytes:
+ *   --light X,Y,Z   (0.08 + 0.92 saturate(dot(n, normalize(X, Y, Z)))) * g_vDiffuse, n the world-space unit
+ *                   normal the shader wrote to TEXCOORD1 (a little ambient so faces turned away stay visible);
+ *   --light grazing the direction (0.62, 0.62, -0.48): from the upper right, grazing a face turned to the camera,
+ *                   so ridges and valleys show in the shading (fig-1.1.8b);
+ *   --light normals colour = 0.5 + 0.5 (n.x, n.y, -n.z) (facing the camera is blue; fig-001-1), times
+ *                   g_vDiffuse, which the scene sets to white for the surface (the wireframe keeps its colour).
+ * Constant registers of the wrapper, after the listing's c0..c9: c10.x = index of the wrapped shader in
+ * vs_shaders, c10.y = SCENE_LIGHT_*, c11 = the unit direction towards the light. */
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { C_LIGHT_MODE = VS_C_COUNT, C_LIGHT_DIR = VS_C_COUNT + 1 };
+
+/* The wrapped shader (c10.x), then the light of c10.y applied to COLOR0. */
+static void vs_relit(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    vs_shaders[(int)c->c[C_LIGHT_MODE].x]->main(c, in, out);
+    int light = (int)c->c[C_LIGHT_MODE].y;
+    if (light == SCENE_LIGHT_HEADLIGHT) return;
+    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + 1]);
+    float4 d = c->c[VS_C_DIFFUSE];
+    float3 k;
+    if (light == SCENE_LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
+    else {
+        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c->c[C_LIGHT_DIR])));
+        k = f3(l, l, l);
+    }
+    out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
+}
+static const is_vertex_shader relit_shader = {.name = "relit", .main = vs_relit, .outputs = VS_OUTPUTS};
+
+/* Index of s in vs_shaders, or -1. */
+static int shader_index(const is_vertex_shader *s)
+{
+    for (int k = 0; vs_shaders[k]; k++)
+        if (vs_shaders[k] == s) return k;
+    return -1;
+}
+
+const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader)
+{
+    return o->light == SCENE_LIGHT_HEADLIGHT || shader_index(path_shader) < 0 ? path_shader : &relit_shader;
+}
+
+void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_shader *path_shader)
+{
+    if (o->light == SCENE_LIGHT_HEADLIGHT) return;
+    float3 l = normalize3(f3(o->light_dir[0], o->light_dir[1], o->light_dir[2]));
+    float c[8] = {(float)shader_index(path_shader), (float)o->light, 0, 0, l.x, l.y, l.z, 0};
+    dev_set_vertex_shader_constant_f(dev, C_LIGHT_MODE, c, 2);
+}
+
+/* Three comma-separated finite numbers into v; true on success. */
+static bool parse_triple(const char *s, float v[3])
+{
+    char *end;
+    for (int k = 0; k < 3; k++) {
+        double x = strtod(s, &end);
+        if (end == s || !isfinite(x)) return false;
+        v[k] = (float)x;
+        if (k < 2 && *end != ',') return false;
+        s = end + 1;
+    }
+    return *end == 0;
+}
+
+bool scene_parse_light(const char *s, scene_opts *o)
+{
+    static const float grazing[3] = {0.62f, 0.62f, -0.48f};
+    float v[3];
+    if (!s) return false;
+    if (!strcmp(s, "headlight")) return o->light = SCENE_LIGHT_HEADLIGHT, true;
+    if (!strcmp(s, "normals")) return o->light = SCENE_LIGHT_NORMALS, true;
+    if (!strcmp(s, "grazing")) memcpy(v, grazing, sizeof v);
+    else if (!parse_triple(s, v) || v[0] * v[0] + v[1] * v[1] + v[2] * v[2] < 1e-12f) return false;
+    o->light = SCENE_LIGHT_DIRECTION;
+    memcpy(o->light_dir, v, sizeof v);
+    return true;
+}
+
+const char *scene_light_name(const scene_opts *o, char *buf, size_t len)
+{
+    if (o->light == SCENE_LIGHT_HEADLIGHT) return "headlight";
+    if (o->light == SCENE_LIGHT_NORMALS) return "normals";
+    snprintf(buf, len, "%g,%g,%g", (double)o->light_dir[0], (double)o->light_dir[1], (double)o->light_dir[2]);
+    return buf;
+}
+
+/* Two hexadecimal digits at s into *out; true on success. */
+static bool hex_byte(const char *s, float *out)
+{
+    unsigned v = 0;
+    for (int k = 0; k < 2; k++) {
+        char c = s[k];
+        unsigned d = c >= '0' && c <= '9' ? (unsigned)(c - '0')
+                     : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
+                     : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10) : 16u;
+        if (d > 15) return false;
+        v = v * 16 + d;
+    }
+    *out = (float)v / 255.0f;
+    return true;
+}
+
+bool scene_parse_color(const char *s, float rgb[3])
+{
+    float v[3];
+    if (!s) return false;
+    if (s[0] == '#') {
+        if (strlen(s) != 7) return false;
+        for (int k = 0; k < 3; k++)
+            if (!hex_byte(s + 1 + 2 * k, &v[k])) return false;
+    } else if (!parse_triple(s, v)) {
+        return false;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!(v[k] >= 0.0f && v[k] <= 1.0f)) return false;
+    memcpy(rgb, v, sizeof v);
+    return true;
+}
