@@ -457,13 +457,15 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     return e == IS_OK ? 0 : -1;
 }
 
-/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
+/* Render into a new device of `samples` samples with `aov` planes (samples 1 only), phase times measured when
+ * timing is set; the device is returned. */
 static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+                                unsigned aovs, bool timing, scene_stats *st, char *err, size_t errlen)
 {
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
+    dev_set_timing(dev, timing);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
@@ -550,11 +552,17 @@ static int rescaled_copy(const is_mesh *m, is_mesh *out)
     return rc == 0 ? 0 : -1;
 }
 
+const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy)
+{
+    *copy = (is_mesh){0};
+    return rescaled_copy(mesh, copy) == 0 ? copy : mesh;
+}
+
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen)
 {
-    is_mesh copy = {0};
-    const is_mesh *m = rescaled_copy(mesh, &copy) == 0 ? &copy : mesh;
+    is_mesh copy;
+    const is_mesh *m = scene_fit_mesh(mesh, &copy);
     int rc = render_mesh(o, m, img, st, err, errlen);
     mesh_free(&copy);
     return rc;
@@ -571,6 +579,27 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
     return bytes;
 }
 
+int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen)
+{
+    if ((unsigned long long)g->n_points * m->n_triangles > SCENE_MAX_VERTICES)
+        return snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu",
+                        m->name, m->n_triangles, (double)o->level, (unsigned long long)g->n_points * m->n_triangles,
+                        (unsigned long long)SCENE_MAX_VERTICES), -1;
+    unsigned long long need = scene_memory_estimate(o, m->n_triangles, g->n_points);
+    if (need > (unsigned long long)o->max_memory_mib << 20)
+        return snprintf(err, errlen, "%s: %zu triangles at level %g on this path need about %llu MiB, more than the "
+                        "memory budget of %u MiB (--max-memory MIB raises it)", m->name, m->n_triangles,
+                        (double)o->level, (need + (1u << 20) - 1) >> 20, o->max_memory_mib), -1;
+    return 0;
+}
+
+is_device *scene_render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
+                               unsigned aovs, bool timing, scene_stats *st, char *err, size_t errlen)
+{
+    if (st) *st = (scene_stats){m->n_triangles, g->n_points, g->n_triangles, 0, 0, {0}};
+    return render_device(o, m, g, samples, aovs, timing, st, err, errlen);
+}
+
 /* scene_render_mesh on a mesh of ordinary coordinates. */
 static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
                        size_t errlen)
@@ -580,18 +609,7 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
         snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level);
         return -1;
     }
-    if ((unsigned long long)g.n_points * m->n_triangles > SCENE_MAX_VERTICES) {
-        snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu", m->name,
-                 m->n_triangles, (double)o->level, (unsigned long long)g.n_points * m->n_triangles,
-                 (unsigned long long)SCENE_MAX_VERTICES);
-        core_grid_free(&g);
-        return -1;
-    }
-    unsigned long long need = scene_memory_estimate(o, m->n_triangles, g.n_points);
-    if (need > (unsigned long long)o->max_memory_mib << 20) {
-        snprintf(err, errlen, "%s: %zu triangles at level %g on this path need about %llu MiB, more than the memory "
-                 "budget of %u MiB (--max-memory MIB raises it)", m->name, m->n_triangles, (double)o->level,
-                 (need + (1u << 20) - 1) >> 20, o->max_memory_mib);
+    if (scene_check_limits(o, m, &g, err, errlen) != 0) {
         core_grid_free(&g);
         return -1;
     }
@@ -599,12 +617,12 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
     char names[256];
     channel_list(o->aovs, names, sizeof names);
     int rc = -1;
-    is_device *dev = render_device(o, m, &g, o->msaa, 0, st, err, errlen);
+    is_device *dev = render_device(o, m, &g, o->msaa, 0, false, st, err, errlen);
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
         if (rc == 0 && o->aovs) {
-            is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
+            is_device *adev = render_device(o, m, &g, 1, o->aovs, false, NULL, err, errlen);
             if (adev) copy_aovs(dev_render_target(adev), img, 5);
             else rc = -1, image_free(img);
             dev_destroy(adev);
