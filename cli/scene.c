@@ -457,31 +457,42 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     return e == IS_OK ? 0 : -1;
 }
 
-/* Render into a new device of `samples` samples with `aov` planes (samples 1 only), phase times measured when
- * timing is set; the device is returned. */
-static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                                unsigned aovs, bool timing, scene_stats *st, char *err, size_t errlen)
+is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen)
 {
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
-    dev_set_timing(dev, timing);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
     for (size_t k = 0; k < 4; k++)
         if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
                                                        aov_slots[k].comps);
+    return dev;
+}
+
+int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, scene_stats *st,
+                    char *err, size_t errlen)
+{
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    if (scene_draw(dev, o, m, g, NULL) != 0) {
-        snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
-        dev_destroy(dev);
-        return NULL;
-    }
+    if (scene_draw(dev, o, m, g, NULL) != 0)
+        return snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev)), -1;
     if (st) {
         st->vertices_shaded += dev_vertices_shaded(dev);
         st->triangles_drawn += dev_stats(dev)->prims_drawn;
         st->raster = *dev_stats(dev);
+    }
+    return 0;
+}
+
+/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
+static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
+                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+{
+    is_device *dev = scene_create_device(o, samples, aovs, err, errlen);
+    if (dev && scene_render_on(dev, o, m, g, st, err, errlen) != 0) {
+        dev_destroy(dev);
+        return NULL;
     }
     return dev;
 }
@@ -593,13 +604,6 @@ int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g
     return 0;
 }
 
-is_device *scene_render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                               unsigned aovs, bool timing, scene_stats *st, char *err, size_t errlen)
-{
-    if (st) *st = (scene_stats){m->n_triangles, g->n_points, g->n_triangles, 0, 0, {0}};
-    return render_device(o, m, g, samples, aovs, timing, st, err, errlen);
-}
-
 /* scene_render_mesh on a mesh of ordinary coordinates. */
 static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
                        size_t errlen)
@@ -617,12 +621,12 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
     char names[256];
     channel_list(o->aovs, names, sizeof names);
     int rc = -1;
-    is_device *dev = render_device(o, m, &g, o->msaa, 0, false, st, err, errlen);
+    is_device *dev = render_device(o, m, &g, o->msaa, 0, st, err, errlen);
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
         if (rc == 0 && o->aovs) {
-            is_device *adev = render_device(o, m, &g, 1, o->aovs, false, NULL, err, errlen);
+            is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
             if (adev) copy_aovs(dev_render_target(adev), img, 5);
             else rc = -1, image_free(img);
             dev_destroy(adev);

@@ -124,16 +124,19 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
 /* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
-/* The hooks of scene_render_mesh for programs that render frame after frame (instess view, cli/view_state.c):
- * the mesh to draw for mesh -- mesh itself, or a copy moved to the origin and scaled to unit radius in *copy
- * when its coordinates are extreme (mesh_free(copy) afterwards in both cases); the limits a render of m with g
- * must respect (the vertex limit and the memory budget: 0, or -1 with the CLI's message); and one render into a
- * new device of `samples` samples with the AOV planes `aovs` (SCENE_AOV_*, samples 1 only), phase times
- * measured when timing is set (the device is returned, or NULL with a message; st gets the counters). */
+/* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view_state.c).
+ * scene_fit_mesh: the mesh to draw for mesh -- mesh itself, or a copy moved to the origin and scaled to unit
+ * radius in *copy when its coordinates are extreme (mesh_free(copy) afterwards in both cases).
+ * scene_check_limits: the limits a render of m with g must respect (the vertex limit and the memory budget): 0,
+ * or -1 with the CLI's message.  scene_create_device: a device of o's size and threads with `samples` samples
+ * and the AOV planes `aovs` (SCENE_AOV_*, samples 1 only), or NULL with a message.  scene_render_on: clear dev
+ * and draw (dev's states as a new device's: dev_reset a device that drew before); 0, or -1 with a message; st
+ * gets the counters added. */
 const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy);
 int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen);
-is_device *scene_render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                               unsigned aovs, bool timing, scene_stats *st, char *err, size_t errlen);
+is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen);
+int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, scene_stats *st,
+                    char *err, size_t errlen);
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
  * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);

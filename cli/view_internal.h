@@ -38,8 +38,12 @@ typedef struct view_state {
     is_mesh fit_copy;       /* scene_fit_mesh's copy, when it made one */
     const is_mesh *draw;    /* the mesh drawn: &mesh or &fit_copy */
     uint32_t *frame;        /* o.width x o.height: the render, without overlay */
+    is_device *dev[2];      /* the devices of the frame's parts (left / whole, right), kept between frames */
+    int dev_key[2][4];      /* what each was made for: width, height, samples, view */
     uint64_t triangles;     /* drawn in the last frame */
     double ms_render, ms_setup, ms_tile; /* the last frame: all of it, the set-up regions, the tile passes */
+    float times[512][3];    /* per frame (the first 512): render, set-up, tile pass, ms */
+    int n_times;
     char status[320];       /* the last refusal or notice ("" if none) */
     int shots;              /* screenshots written */
     bool dirty, quit;
@@ -68,6 +72,8 @@ int view_resize(view_state *v, int width, int height, char *err, size_t errlen);
 
 /* Render v's state into v->frame (timing it); 0 or -1 with a message. */
 int view_render(view_state *v, char *err, size_t errlen);
+/* Free v's devices, frame and meshes. */
+void view_free(view_state *v);
 /* The overlay's lines for v's state (the HUD, and with VIEW_HUD_KEYS the key table) into lines; their count. */
 int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int max);
 /* Write pixels (v's size, RGBA8) to path as PNG, described as the CLI describes its render when cli_equal (the

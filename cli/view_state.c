@@ -288,13 +288,10 @@ static void vs_count(const is_vs_constants *c, const is_vs_input *in, is_vs_outp
 }
 static const is_vertex_shader count_shader = {.name = "count", .main = vs_count, .outputs = IS_OUT_COLOR0};
 
-/* The crack view of o into a new device (cull none, no depth, ONE + ONE, one sample); the device or NULL. */
-static is_device *render_cracks(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen)
+/* The crack view of o on dev (cull none, no depth, ONE + ONE, one sample); 0 or -1 with a message. */
+static int render_cracks(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, char *err,
+                         size_t errlen)
 {
-    is_device *dev = dev_create(o->width, o->height, 1, err, errlen);
-    if (!dev) return NULL;
-    dev_set_threads(dev, o->threads);
-    dev_set_timing(dev, true);
     dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
     dev_set_render_state(dev, IS_RS_ZENABLE, 0);
     dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 1);
@@ -303,12 +300,8 @@ static is_device *render_cracks(const scene_opts *o, const is_mesh *m, const cor
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
     float sel[4] = {o->path == SCENE_PATH_INSTANCED ? (float)o->patch : -1.0f, 0, 0, 0};
     dev_set_vertex_shader_constant_f(dev, 10, sel, 1);
-    if (scene_draw(dev, o, m, g, &count_shader) != 0) {
-        snprintf(err, errlen, "%s: rendering the crack view failed: %s", m->name, dev_last_error(dev));
-        dev_destroy(dev);
-        return NULL;
-    }
-    return dev;
+    if (scene_draw(dev, o, m, g, &count_shader) == 0) return 0;
+    return snprintf(err, errlen, "%s: rendering the crack view failed: %s", m->name, dev_last_error(dev)), -1;
 }
 
 /* A channel value in [0, 1] as a byte. */
@@ -340,50 +333,74 @@ static uint32_t shown_pixel(view_show show, const rs_target *rt, size_t p)
     }
 }
 
-/* Render o into a device as v->show says; the device (its target holds the view) or NULL. */
-static is_device *render_view(const view_state *v, const scene_opts *o, const core_grid *g, scene_stats *st,
-                              char *err, size_t errlen)
+/* rs_target_resolve of rt into out (rt's size) in bands of rows on threads threads (0: all cores): each band is
+ * the same target seen from its first row, so the bytes are rs_target_resolve's. */
+static void resolve_parallel(const rs_target *rt, uint32_t *out, int threads)
+{
+    enum { BAND = 32 };
+    const int n_bands = (rt->height + BAND - 1) / BAND;
+#pragma omp parallel for schedule(dynamic) num_threads(threads > 0 ? threads : omp_get_num_procs())
+    for (int b = 0; b < n_bands; b++) {
+        rs_target band = *rt;
+        band.height = rt->height - b * BAND < BAND ? rt->height - b * BAND : BAND;
+        band.color = rt->color + (size_t)b * BAND * rt->width * rt->samples;
+        band.depth = rt->depth + (size_t)b * BAND * rt->width * rt->samples;
+        band.n_aov = 0;
+        rs_target_resolve(&band, out + (size_t)b * BAND * rt->width);
+    }
+}
+
+/* The device of part `part` for o and v->show: the one kept if it was made for the same, else a new one
+ * (timing on); its state reset as a new device's; NULL with a message. */
+static is_device *part_device(view_state *v, int part, const scene_opts *o, char *err, size_t errlen)
 {
     static const unsigned aov_of[VIEW_SHOW_COUNT] = {[VIEW_SHOW_NORMAL] = SCENE_AOV_NORMAL,
                                                      [VIEW_SHOW_BARY] = SCENE_AOV_BARY,
                                                      [VIEW_SHOW_INSTANCE] = SCENE_AOV_INSTANCE,
                                                      [VIEW_SHOW_GREGORY] = SCENE_AOV_GREGORY};
-    if (v->show == VIEW_SHOW_COLOR) return scene_render_device(o, v->draw, g, o->msaa, 0, true, st, err, errlen);
-    if (v->show != VIEW_SHOW_CRACKS) return scene_render_device(o, v->draw, g, 1, aov_of[v->show], true, st, err, errlen);
-    *st = (scene_stats){v->draw->n_triangles, g->n_points, g->n_triangles, 0, 0, {0}};
-    is_device *dev = render_cracks(o, v->draw, g, err, errlen);
-    if (dev) st->raster = *dev_stats(dev), st->triangles_drawn = dev_stats(dev)->prims_drawn;
-    return dev;
+    int samples = v->show == VIEW_SHOW_COLOR ? o->msaa : 1;
+    int key[4] = {o->width, o->height, samples, (int)v->show};
+    if (v->dev[part] && memcmp(key, v->dev_key[part], sizeof key) == 0) {
+        dev_reset(v->dev[part]);
+        return v->dev[part];
+    }
+    dev_destroy(v->dev[part]);
+    v->dev[part] = scene_create_device(o, samples, aov_of[v->show], err, errlen);
+    if (v->dev[part]) dev_set_timing(v->dev[part], true), memcpy(v->dev_key[part], key, sizeof key);
+    return v->dev[part];
 }
 
-/* Render o (o->width wide) into columns x0.. of v->frame; its counters added to v's; 0 or -1. */
-static int render_part(view_state *v, const scene_opts *o, int x0, char *err, size_t errlen)
+/* Render o (o->width wide) into columns x0.. of v->frame with part's device; its counters added to v's. */
+static int render_part(view_state *v, int part, const scene_opts *o, int x0, char *err, size_t errlen)
 {
     core_grid g;
     if (core_grid_make(o->grid, o->level, &g) != 0)
         return snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level), -1;
-    scene_stats st;
-    is_device *dev = scene_check_limits(o, v->draw, &g, err, errlen) == 0 ? render_view(v, o, &g, &st, err, errlen)
+    is_device *dev = scene_check_limits(o, v->draw, &g, err, errlen) == 0 ? part_device(v, part, o, err, errlen)
                                                                           : NULL;
+    int rc = !dev ? -1
+             : v->show == VIEW_SHOW_CRACKS ? render_cracks(dev, o, v->draw, &g, err, errlen)
+                                           : scene_render_on(dev, o, v->draw, &g, NULL, err, errlen);
     core_grid_free(&g);
-    if (!dev) return -1;
+    if (rc != 0) return -1;
     const rs_target *rt = dev_render_target(dev);
-    size_t n = (size_t)o->width * o->height;
-    uint32_t *px = v->show == VIEW_SHOW_COLOR ? malloc(n * sizeof *px) : NULL;
-    if (v->show == VIEW_SHOW_COLOR && !px) {
-        dev_destroy(dev);
-        return snprintf(err, errlen, "out of memory for a %dx%d frame", o->width, o->height), -1;
+    if (v->show == VIEW_SHOW_COLOR && !v->split) {
+        resolve_parallel(rt, v->frame, o->threads);
+    } else if (v->show == VIEW_SHOW_COLOR) {
+        uint32_t *px = malloc((size_t)o->width * o->height * sizeof *px);
+        if (!px) return snprintf(err, errlen, "out of memory for a %dx%d frame", o->width, o->height), -1;
+        resolve_parallel(rt, px, o->threads);
+        for (int y = 0; y < o->height; y++)
+            memcpy(&v->frame[(size_t)y * v->o.width + x0], &px[(size_t)y * o->width], (size_t)o->width * sizeof *px);
+        free(px);
+    } else {
+        for (int y = 0; y < o->height; y++)
+            for (int x = 0; x < o->width; x++)
+                v->frame[(size_t)y * v->o.width + x0 + x] = shown_pixel(v->show, rt, (size_t)y * o->width + x);
     }
-    if (px) rs_target_resolve(rt, px);
-    for (int y = 0; y < o->height; y++)
-        for (int x = 0; x < o->width; x++) {
-            size_t p = (size_t)y * o->width + x;
-            v->frame[(size_t)y * v->o.width + x0 + x] = px ? px[p] : shown_pixel(v->show, rt, p);
-        }
-    free(px);
-    v->triangles += dev_stats(dev)->prims_drawn;
-    v->ms_setup += st.raster.setup_ms, v->ms_tile += st.raster.tile_ms;
-    dev_destroy(dev);
+    const rs_stats *st = dev_stats(dev);
+    v->triangles += st->prims_drawn;
+    v->ms_setup += st->setup_ms, v->ms_tile += st->tile_ms;
     return 0;
 }
 
@@ -393,17 +410,47 @@ int view_render(view_state *v, char *err, size_t errlen)
     v->triangles = 0, v->ms_setup = v->ms_tile = 0;
     int rc;
     if (!v->split) {
-        rc = render_part(v, &v->o, 0, err, errlen);
+        rc = render_part(v, 0, &v->o, 0, err, errlen);
     } else {
         scene_opts l = v->o, r = v->o;
         l.width = v->o.width / 2 > 0 ? v->o.width / 2 : 1;
         r.width = v->o.width - l.width > 0 ? v->o.width - l.width : 1;
         r.patch = v->other;
-        rc = render_part(v, &l, 0, err, errlen);
-        if (rc == 0 && v->o.width > 1) rc = render_part(v, &r, l.width, err, errlen);
+        rc = render_part(v, 0, &l, 0, err, errlen);
+        if (rc == 0 && v->o.width > 1) rc = render_part(v, 1, &r, l.width, err, errlen);
     }
     v->ms_render = (omp_get_wtime() - t0) * 1e3;
+    if (rc == 0 && v->n_times < (int)(sizeof v->times / sizeof v->times[0])) {
+        float *t = v->times[v->n_times++];
+        t[0] = (float)v->ms_render, t[1] = (float)v->ms_setup, t[2] = (float)v->ms_tile;
+    }
     return rc;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of column c of the frame times after the first frame (the warm-up). */
+static double median_time(const view_state *v, int c)
+{
+    float col[512];
+    int n = 0;
+    for (int k = 1; k < v->n_times; k++) col[n++] = v->times[k][c];
+    if (!n) return 0;
+    qsort(col, (size_t)n, sizeof col[0], cmp_float);
+    return n % 2 ? col[n / 2] : 0.5 * (col[n / 2 - 1] + col[n / 2]);
+}
+
+/* The frame times on stderr (unless quiet): the count, the medians after the first frame. */
+static void report_times(const view_state *v)
+{
+    if (v->o.quiet || v->n_times < 2) return;
+    fprintf(stderr, "instess view: %d frames; after the first, median render %.2f ms (set-up regions %.2f, tile "
+            "passes %.2f), %d thread(s)\n", v->n_times, median_time(v, 0), median_time(v, 1), median_time(v, 2),
+            v->o.threads > 0 ? v->o.threads : omp_get_num_procs());
 }
 
 /* ------------------------------------ the HUD ------------------------------------ */
@@ -479,7 +526,7 @@ void view_screenshot(view_state *v)
     v->shots = k;
     snprintf(v->status, sizeof v->status, "wrote %s", path);
     if (!v->o.quiet) fprintf(stderr, "instess view: wrote %s\n", path);
-    v->dirty = true;   /* the HUD shows the notice */
+    v->dirty |= v->hud != VIEW_HUD_OFF;   /* the HUD shows the notice */
 }
 
 /* ------------------------------------ the command line ------------------------------------ */
@@ -668,6 +715,15 @@ static view_module_fn load_module(char *err, size_t errlen)
     return NULL;
 }
 
+void view_free(view_state *v)
+{
+    for (int k = 0; k < 2; k++) dev_destroy(v->dev[k]), v->dev[k] = NULL;
+    free(v->frame);
+    mesh_free(&v->fit_copy);
+    mesh_free(&v->mesh);
+    v->frame = NULL;
+}
+
 int scene_cmd_view(int argc, char **argv)
 {
     view_state *v = calloc(1, sizeof *v);
@@ -685,10 +741,9 @@ int scene_cmd_view(int argc, char **argv)
         view_module_fn run = load_module(err, sizeof err);
         if (!run) fprintf(stderr, "instess: %s\n", err), rc = 1;
         else v->dirty = true, rc = run(v);
+        report_times(v);
     }
-    free(v->frame);
-    mesh_free(&v->fit_copy);
-    mesh_free(&v->mesh);
+    view_free(v);
     free(v);
     return rc < 0 ? 0 : rc;
 }
