@@ -142,21 +142,26 @@ static void present(view_window *w)
 
 /* ------------------------------------ events ------------------------------------ */
 
-/* Feed the scripted key `name` as the window system would: a key press (or, for `close`, the window closed). */
+/* Feed the scripted key `name` as the window system would: a key press (or, for `close`, the window closed);
+ * names joined by '+' are all pushed before the next frame. */
 static void push_key(view_window *w, const char *name)
 {
-    SDL_Event e;
-    memset(&e, 0, sizeof e);
-    if (SDL_strcasecmp(name, "close") == 0) {
-        e.type = SDL_QUIT;
-    } else {
-        e.type = SDL_KEYDOWN;
-        e.key.state = SDL_PRESSED;
-        e.key.windowID = SDL_GetWindowID(w->win);
-        e.key.keysym.sym = SDL_GetKeyFromName(name);
-        e.key.keysym.scancode = SDL_GetScancodeFromKey(e.key.keysym.sym);
+    char buf[64];
+    SDL_strlcpy(buf, name, sizeof buf);
+    for (char *save = NULL, *t = SDL_strtokr(buf, "+", &save); t; t = SDL_strtokr(NULL, "+", &save)) {
+        SDL_Event e;
+        memset(&e, 0, sizeof e);
+        if (SDL_strcasecmp(t, "close") == 0) {
+            e.type = SDL_QUIT;
+        } else {
+            e.type = SDL_KEYDOWN;
+            e.key.state = SDL_PRESSED;
+            e.key.windowID = SDL_GetWindowID(w->win);
+            e.key.keysym.sym = SDL_GetKeyFromName(t);
+            e.key.keysym.scancode = SDL_GetScancodeFromKey(e.key.keysym.sym);
+        }
+        SDL_PushEvent(&e);
     }
-    SDL_PushEvent(&e);
 }
 
 /* Apply one event to v. */
@@ -242,6 +247,9 @@ int view_module_run(view_state *v)
         return 1;
     }
     int rc = loop(v, &w);
+    double ms = 0;
+    if (rc == 0 && v->script.capture && v->dirty && show_frame(v, &w, &ms, err, sizeof err) != 0) /* keys since */
+        fprintf(stderr, "instess: %s\n", err), rc = 1;   /* the last frame: capture their state */
     if (rc == 0 && v->script.capture) {
         bool cli = v->hud == VIEW_HUD_OFF && view_frame_is_cli(v);
         if (view_write_png(v, w.shown, cli, v->script.capture, err, sizeof err) != 0)

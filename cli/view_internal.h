@@ -22,7 +22,7 @@ typedef enum { VIEW_HUD_OFF, VIEW_HUD_ON, VIEW_HUD_KEYS, VIEW_HUD_COUNT } view_h
 
 /* The scripted run (--keys, --frames, --capture, --no-hud). */
 typedef struct view_script {
-    char keys[64][16];      /* key names, in order */
+    char keys[64][32];      /* key names (or names joined by '+', pressed together), in order */
     int n_keys;
     int frames;             /* stop after this many frames (0: no limit) */
     const char *capture;    /* write the last frame shown here (PNG) */

@@ -515,6 +515,11 @@ void view_screenshot(view_state *v)
 {
     char path[64], err[1024], msg[1200];
     struct stat s;
+    if (v->dirty && view_render(v, err, sizeof err) != 0) {   /* keys pressed since the last frame shown */
+        snprintf(msg, sizeof msg, "screenshot failed: %s", err);
+        notice(v, msg);
+        return;
+    }
     int k = v->shots;
     do snprintf(path, sizeof path, "instess-view-%04d.png", ++k);
     while (lstat(path, &s) == 0 && k < 9999);
@@ -537,7 +542,8 @@ typedef struct view_option {
 } view_option;
 static const view_option view_options[] = {
     {"keys", "LIST", "comma-separated key names (those of the key table: ], p, Tab, s, Left, ...)\n"
-     "pressed one per frame after the first frame; `close` closes the window"},
+     "pressed one per frame after the first frame; `close` closes the window; a+b presses\n"
+     "a and b before the next frame"},
     {"frames", "N", "stop after N frames (a frame is drawn only when something changed)"},
     {"capture", "FILE.png", "at the end, write the last frame shown (with the HUD unless --no-hud);\n"
      "with --no-hud and the colour view, the bytes of `instess -o FILE.png`"},
@@ -576,6 +582,17 @@ static int view_usage_error(const char *msg, const char *arg)
     return 2;
 }
 
+/* Whether name (one key, or keys joined by '+', pressed together) names keys of the table or `close`. */
+static bool known_keys(const char *name)
+{
+    char buf[64];
+    snprintf(buf, sizeof buf, "%s", name);
+    int n = 0;
+    for (char *save = NULL, *t = strtok_r(buf, "+", &save); t; t = strtok_r(NULL, "+", &save), n++)
+        if (!view_find_key(t) && strcasecmp(t, "close") != 0) return false;
+    return n > 0;
+}
+
 /* The LIST of --keys into s (each name must have a key row, or be `close`); NULL or the usage error. */
 static const char *parse_keys(const char *list, view_script *s, char *err, size_t errlen)
 {
@@ -584,7 +601,7 @@ static const char *parse_keys(const char *list, view_script *s, char *err, size_
     strcpy(buf, list);
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
         if (s->n_keys == (int)(sizeof s->keys / sizeof s->keys[0])) return "--keys: at most 64 keys";
-        if (strlen(t) >= sizeof s->keys[0] || (!view_find_key(t) && strcasecmp(t, "close") != 0))
+        if (strlen(t) >= sizeof s->keys[0] || !known_keys(t))
             return snprintf(err, errlen, "--keys: unknown key %.40s (see the keys of 'instess view --help')", t), err;
         strcpy(s->keys[s->n_keys++], t);
     }

@@ -282,17 +282,23 @@ static void test_errors(void **state)
 }
 
 /* Closing the window in the middle of a script: what was asked before is complete (the screenshot, the
- * capture of the state at the close), the keys after it are not applied, and no temporary file stays. */
+ * capture of the state at the close), the keys after it are not applied, and no temporary file stays.  Keys
+ * pressed together (a+b: before the next frame) are in the screenshot and the capture: s and the end of the run
+ * draw the state of the keys before them, not the frame shown last. */
 static void test_close(void **state)
 {
     const char *err;
     clean();
-    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys ],s,close,],] --capture cap.png"), 0);
     assert_int_equal(run_in_dir(&err, "-q --size 120x90 --level 9 -o cli.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys ],s,close,],] --capture cap.png"), 0);
     assert_true(same_file("cap.png", "cli.png"));
     assert_true(same_file("instess-view-0001.png", "cli.png"));
     assert_int_equal(prog_entries_with(dir, ".tmp"), 0);
     assert_int_equal(prog_entries_with(dir, NULL), 3);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys Tab,Tab+]+s,c --capture cap2.png"), 0);
+    assert_true(same_file("instess-view-0002.png", "cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys Tab,Tab+]+close --capture cap3.png"), 0);
+    assert_true(same_file("cap3.png", "cli.png"));
 }
 
 /* SIGTERM while screenshots are written one after the other: every screenshot left is complete (the CLI's
