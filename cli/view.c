@@ -42,7 +42,7 @@ static int size_buffers(view_window *w, const view_state *v, char *err, size_t e
     if (w->tex && w->tex_w == v->o.width && w->tex_h == v->o.height) return 0;
     if (w->tex) SDL_DestroyTexture(w->tex);
     free(w->shown);
-    w->shown = malloc((size_t)v->o.width * v->o.height * sizeof *w->shown);
+    w->shown = calloc((size_t)v->o.width * v->o.height, sizeof *w->shown);
     w->tex = SDL_CreateTexture(w->ren, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, v->o.width, v->o.height);
     if (!w->shown || !w->tex)
         return snprintf(err, errlen, "%s", w->tex ? "out of memory for the frame" : SDL_GetError()), -1;

@@ -19,7 +19,7 @@
 #include <unistd.h>
 
 #include "util/prog.h"
-#include "../core/core.h"
+#include "../cli/scene.h"
 
 static char dir[256], bin[PATH_MAX];
 
@@ -337,9 +337,45 @@ static void test_sigterm(void **state)
     }
 }
 
+/* dev_reset: a device that drew with other states (wireframe with depth bias, the N-patch mode, no culling,
+ * blending, stream frequencies, constants) draws the next frame as a new device does, in place. */
+static void test_dev_reset(void **state)
+{
+    is_mesh m = {0};
+    char err[256];
+    assert_int_equal(mesh_builtin("icosahedron", &m, err, sizeof err), 0);
+    scene_opts o;
+    scene_opts_default(&o);
+    o.width = 96, o.height = 80, o.patch = VS_PATCH_NPATCH, o.fill = SCENE_FILL_SOLID_WIRE;
+    core_grid g;
+    assert_int_equal(core_grid_make(o.grid, o.level, &g), 0);
+    is_device *used = scene_create_device(&o, o.msaa, 0, err, sizeof err), *fresh = scene_create_device(&o, o.msaa, 0, err, sizeof err);
+    assert_non_null(used), assert_non_null(fresh);
+    scene_opts other = o;
+    other.path = SCENE_PATH_NPATCH_MODE, other.fill = SCENE_FILL_SOLID_WIRE;
+    assert_int_equal(scene_render_on(used, &other, &m, &g, NULL, err, sizeof err), 0);
+    dev_set_render_state(used, IS_RS_CULLMODE, IS_CULL_NONE);
+    dev_set_render_state(used, IS_RS_ALPHABLENDENABLE, 1);
+    dev_set_stream_source_freq(used, 2, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+    float junk[4] = {1, 2, 3, 4};
+    dev_set_vertex_shader_constant_f(used, 10, junk, 1);
+    o.fill = SCENE_FILL_SOLID;
+    dev_reset(used);
+    assert_int_equal(scene_render_on(used, &o, &m, &g, NULL, err, sizeof err), 0);
+    assert_int_equal(scene_render_on(fresh, &o, &m, &g, NULL, err, sizeof err), 0);
+    const rs_target *a = dev_render_target(used), *b = dev_render_target(fresh);
+    size_t n = (size_t)a->width * a->height * a->samples;
+    assert_memory_equal(a->color, b->color, n * sizeof *a->color);
+    assert_memory_equal(a->depth, b->depth, n * sizeof *a->depth);
+    dev_destroy(used), dev_destroy(fresh);
+    core_grid_free(&g);
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dev_reset),
         cmocka_unit_test(test_capture_is_cli),
         cmocka_unit_test(test_hud),
         cmocka_unit_test(test_split),
