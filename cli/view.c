@@ -53,7 +53,14 @@ static int size_buffers(view_window *w, const view_state *v, char *err, size_t e
 /* Open SDL, the window (v's size, resizable), a renderer and the HUD's font; 0 or -1 with the reason. */
 static int open_window(view_window *w, view_state *v, char *err, size_t errlen)
 {
-    if (SDL_Init(SDL_INIT_VIDEO) != 0) return snprintf(err, errlen, "%s", SDL_GetError()), -1;
+    if (SDL_Init(SDL_INIT_VIDEO) != 0)
+        return snprintf(err, errlen, "%s (no display? SDL_VIDEODRIVER=dummy with --keys, --frames or --capture runs "
+                        "without one)", SDL_GetError()), -1;
+    const char *driver = SDL_GetCurrentVideoDriver();
+    bool scripted = v->script.n_keys || v->script.frames || v->script.capture;
+    if (!scripted && driver && (!strcmp(driver, "dummy") || !strcmp(driver, "offscreen")))
+        return snprintf(err, errlen, "SDL's video driver %s shows nothing and takes no input: without --keys, "
+                        "--frames or --capture the window could not be closed", driver), -1;
     char title[300];
     snprintf(title, sizeof title, "instess view: %s", v->mesh.name);
     w->win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, v->o.width, v->o.height,
@@ -241,8 +248,7 @@ int view_module_run(view_state *v)
     char err[1024];
     memset(&w, 0, sizeof w);
     if (open_window(&w, v, err, sizeof err) != 0) {
-        fprintf(stderr, "instess: cannot open the window: %s (no display? SDL_VIDEODRIVER=dummy runs without one)\n",
-                err);
+        fprintf(stderr, "instess: cannot open the window: %s\n", err);
         close_window(&w);
         return 1;
     }

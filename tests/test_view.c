@@ -279,6 +279,13 @@ static void test_errors(void **state)
     int st = system(cmd);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 1);
     assert_false(prog_exists(dir, "cap.png"));
+    /* nothing scripted on a driver that shows nothing: the run could never end, so it does not start */
+    assert_int_equal(run_in_dir(&err, "view -q"), 1);
+    assert_non_null(strstr(err, "dummy"));
+    snprintf(cmd, sizeof cmd, "cd '%s' && env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER timeout 60 '%s' view -q "
+             "2>stderr.txt >/dev/null", dir, bin);
+    st = system(cmd);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 1);
 }
 
 /* Closing the window in the middle of a script: what was asked before is complete (the screenshot, the
