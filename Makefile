@@ -52,8 +52,14 @@ TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
 TEST_UTIL_SRC = $(wildcard tests/util/*.c)
 TEST_UTIL_OBJ = $(TEST_UTIL_SRC:%.c=$(B)/%.o)
 # cli/: the program's main (cli/main.c) and the scene layer every program and golden test shares.
-APP_SRC  = $(filter-out cli/main.c,$(wildcard cli/*.c))
+APP_SRC  = $(filter-out cli/main.c cli/view.c,$(wildcard cli/*.c))
 APP_OBJ  = $(APP_SRC:%.c=$(B)/%.o)
+# The window of `instess view` (cli/view.c, SDL2 and SDL2_ttf) is the module libinstess_view.so, opened by
+# cli/view_state.c only when `instess view` runs: SDL2 links about fifty libraries, which every start of the
+# program would load otherwise.
+VIEW_SO  = $(B)/libinstess_view.so
+CFLAGS_SDL = $(shell pkg-config --cflags sdl2 SDL2_ttf 2>/dev/null)
+LDLIBS_SDL = $(shell pkg-config --libs sdl2 SDL2_ttf 2>/dev/null)
 SETUP    = $(B)/.setup-done
 
 .PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean
@@ -78,6 +84,13 @@ $(B)/core/image_oiio.o: core/image_oiio.cpp $(SETUP)
 $(CODEC_SO): $(IMG_OBJ)
 	$(CXX) -shared $(LDFLAGS) $^ $(LDLIBS_IMG) -o $@
 
+$(B)/cli/view.pic.o: cli/view.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -fPIC $(CFLAGS_SDL) -MMD -MP -c $< -o $@
+
+$(VIEW_SO): $(B)/cli/view.pic.o
+	$(CC) -shared $(LDFLAGS) $^ $(LDLIBS_SDL) -o $@
+
 $(B)/libinstess.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
@@ -86,7 +99,7 @@ $(B)/libinstess_app.a: $(APP_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(B)/instess: $(B)/cli/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO)
+$(B)/instess: $(B)/cli/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO)

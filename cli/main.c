@@ -18,6 +18,7 @@ typedef struct subcommand {
 static const subcommand subcommands[] = {
     {"figures", scene_cmd_figures, "[--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]"},
     {"smoothness", scene_cmd_smoothness, "[--samples N]"},
+    {"view", scene_cmd_view, "[OPTION]... [MESH] [--keys LIST] [--frames N] [--capture FILE.png] [--no-hud]"},
 };
 enum { N_SUBCOMMANDS = sizeof subcommands / sizeof subcommands[0] };
 

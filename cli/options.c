@@ -321,7 +321,16 @@ static void print_option(FILE *f, const scene_option *opt)
 
 void scene_print_options(FILE *f)
 {
-    for (size_t k = 0; k < scene_option_count; k++) print_option(f, &scene_options[k]);
+    scene_print_options_except(f, NULL);
+}
+
+void scene_print_options_except(FILE *f, const char *const *skip)
+{
+    for (size_t k = 0; k < scene_option_count; k++) {
+        bool skipped = false;
+        for (size_t s = 0; skip && skip[s]; s++) skipped |= strcmp(skip[s], scene_options[k].name) == 0;
+        if (!skipped) print_option(f, &scene_options[k]);
+    }
     fprintf(f, "%-*s%s\n%-*s%s\n", HELP_INDENT, "  -h, --help", "this text", HELP_INDENT, "  -V, --version",
             "the version");
 }

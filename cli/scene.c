@@ -633,9 +633,7 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     return e == IS_OK ? 0 : -1;
 }
 
-/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
-static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen)
 {
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
@@ -646,16 +644,31 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
     for (size_t k = 0; k < 4; k++)
         if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
                                                        aov_slots[k].comps);
+    return dev;
+}
+
+int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, scene_stats *st,
+                    char *err, size_t errlen)
+{
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    if (draw_scene(dev, o, m, g, NULL, st) != 0) {
-        snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
-        dev_destroy(dev);
-        return NULL;
-    }
+    if (draw_scene(dev, o, m, g, NULL, st) != 0)
+        return snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev)), -1;
     if (st) {
         st->vertices_shaded += dev_vertices_shaded(dev);
         st->triangles_drawn += dev_stats(dev)->prims_drawn;
         st->raster = *dev_stats(dev);
+    }
+    return 0;
+}
+
+/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
+static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
+                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+{
+    is_device *dev = scene_create_device(o, samples, aovs, err, errlen);
+    if (dev && scene_render_on(dev, o, m, g, st, err, errlen) != 0) {
+        dev_destroy(dev);
+        return NULL;
     }
     return dev;
 }
@@ -726,11 +739,17 @@ static int rescaled_copy(const is_mesh *m, is_mesh *out)
     return rc == 0 ? 0 : -1;
 }
 
+const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy)
+{
+    *copy = (is_mesh){0};
+    return rescaled_copy(mesh, copy) == 0 ? copy : mesh;
+}
+
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen)
 {
-    is_mesh copy = {0};
-    const is_mesh *m = rescaled_copy(mesh, &copy) == 0 ? &copy : mesh;
+    is_mesh copy;
+    const is_mesh *m = scene_fit_mesh(mesh, &copy);
     int rc = render_mesh(o, m, img, st, err, errlen);
     mesh_free(&copy);
     return rc;
@@ -747,6 +766,20 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
     return bytes;
 }
 
+int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen)
+{
+    if ((unsigned long long)g->n_points * m->n_triangles > SCENE_MAX_VERTICES)
+        return snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu",
+                        m->name, m->n_triangles, (double)o->level, (unsigned long long)g->n_points * m->n_triangles,
+                        (unsigned long long)SCENE_MAX_VERTICES), -1;
+    unsigned long long need = scene_memory_estimate(o, m->n_triangles, g->n_points);
+    if (need > (unsigned long long)o->max_memory_mib << 20)
+        return snprintf(err, errlen, "%s: %zu triangles at level %g on this path need about %llu MiB, more than the "
+                        "memory budget of %u MiB (--max-memory MIB raises it)", m->name, m->n_triangles,
+                        (double)o->level, (need + (1u << 20) - 1) >> 20, o->max_memory_mib), -1;
+    return 0;
+}
+
 /* scene_render_mesh on a mesh of ordinary coordinates. */
 static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
                        size_t errlen)
@@ -759,18 +792,7 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
         snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level);
         return -1;
     }
-    if ((unsigned long long)g.n_points * m->n_triangles > SCENE_MAX_VERTICES) {
-        snprintf(err, errlen, "%s: %zu triangles at level %g need %llu vertices, more than the limit %llu", m->name,
-                 m->n_triangles, (double)o->level, (unsigned long long)g.n_points * m->n_triangles,
-                 (unsigned long long)SCENE_MAX_VERTICES);
-        core_grid_free(&g);
-        return -1;
-    }
-    unsigned long long need = scene_memory_estimate(o, m->n_triangles, g.n_points);
-    if (need > (unsigned long long)o->max_memory_mib << 20) {
-        snprintf(err, errlen, "%s: %zu triangles at level %g on this path need about %llu MiB, more than the memory "
-                 "budget of %u MiB (--max-memory MIB raises it)", m->name, m->n_triangles, (double)o->level,
-                 (need + (1u << 20) - 1) >> 20, o->max_memory_mib);
+    if (scene_check_limits(o, m, &g, err, errlen) != 0) {
         core_grid_free(&g);
         return -1;
     }

@@ -163,6 +163,19 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
 /* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
+/* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view_state.c).
+ * scene_fit_mesh: the mesh to draw for mesh -- mesh itself, or a copy moved to the origin and scaled to unit
+ * radius in *copy when its coordinates are extreme (mesh_free(copy) afterwards in both cases).
+ * scene_check_limits: the limits a render of m with g must respect (the vertex limit and the memory budget): 0,
+ * or -1 with the CLI's message.  scene_create_device: a device of o's size and threads with `samples` samples
+ * and the AOV planes `aovs` (SCENE_AOV_*, samples 1 only), or NULL with a message.  scene_render_on: clear dev
+ * and draw (dev's states as a new device's: dev_reset a device that drew before); 0, or -1 with a message; st
+ * gets the counters added. */
+const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy);
+int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen);
+is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen);
+int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, scene_stats *st,
+                    char *err, size_t errlen);
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
  * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
@@ -196,6 +209,8 @@ const scene_option *scene_find_option(const char *name);
 const char *scene_apply_option(scene_opts *o, const scene_option *opt, const char *arg, char *buf, size_t len);
 /* Every option's help lines into f (the table's order, then --help and --version). */
 void scene_print_options(FILE *f);
+/* The same without the options named in skip (NULL-terminated names without "--"; `instess view` has no -o). */
+void scene_print_options_except(FILE *f, const char *const *skip);
 
 typedef enum { SCENE_ARGS_RUN, SCENE_ARGS_HELP, SCENE_ARGS_VERSION } scene_args_result;
 /* The render options of argv[1..argc-1] applied to o (which holds the defaults), with at most one positional
@@ -276,8 +291,10 @@ void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], 
 extern const char *const scene_lod_names[];
 bool scene_parse_lod(const char *s, scene_lod *out);
 
-/* Subcommands: `instess figures` (cli/figures.c) and `instess smoothness` (cli/smoothness.c). */
+/* Subcommands: `instess figures` (cli/figures.c), `instess smoothness` (cli/smoothness.c) and `instess view`
+ * (cli/view_state.c, which loads the SDL2 window of cli/view.c as the module libinstess_view.so). */
 int scene_cmd_figures(int argc, char **argv);
 int scene_cmd_smoothness(int argc, char **argv);
+int scene_cmd_view(int argc, char **argv);
 
 #endif

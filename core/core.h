@@ -303,6 +303,11 @@ typedef struct is_vertex_declaration is_vertex_declaration;
  * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
 is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
 void dev_destroy(is_device *dev);
+/* The device's state back to a new device's (render states, stream sources and frequencies, indices,
+ * declaration, shader, constants, viewport, N-patch mode and evaluator); the target, its contents, the thread
+ * count, timing, reference path and scratch memory are kept.  For programs that draw frame after frame on one
+ * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
+void dev_reset(is_device *dev);
 /* The message of the last failed call ("" if none). */
 const char *dev_last_error(const is_device *dev);
 /* Threads used by draws (0: all cores).  Output bytes do not depend on it. */

@@ -82,6 +82,18 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     return dev;
 }
 
+void dev_reset(is_device *dev)
+{
+    memset(dev->rs_state, 0, sizeof dev->rs_state);
+    set_default_states(dev);
+    memset(dev->streams, 0, sizeof dev->streams);
+    for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
+    dev->ib = NULL, dev->decl = NULL, dev->vs = NULL;
+    memset(&dev->consts, 0, sizeof dev->consts);
+    dev->npatch_segments = 0, dev->npatch_eval = NULL;
+    dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
+}
+
 /* Destroy the device (buffers and declarations are the caller's to release). */
 void dev_destroy(is_device *dev)
 {

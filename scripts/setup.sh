@@ -13,9 +13,12 @@ have_pc OpenImageIO || need+=(libopenimageio-dev)
 command -v oiiotool >/dev/null 2>&1 || need+=(openimageio-tools)
 have_pc cmocka || need+=(libcmocka-dev)
 have_pc assimp || need+=(libassimp-dev)
+have_pc sdl2 || need+=(libsdl2-dev)
+have_pc SDL2_ttf || need+=(libsdl2-ttf-dev)
 [ -f /usr/include/meshoptimizer.h ] || need+=(libmeshoptimizer-dev)
 [ -f /usr/share/assimp/models/MD2/faerie.md2 ] || need+=(assimp-testmodels)
-[ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] || need+=(fonts-dejavu-core)
+[ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] && [ -f /usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf ] ||
+  need+=(fonts-dejavu-core)
 if [ "${1:-}" = "--bench" ]; then
   have_pc egl || need+=(libegl-dev)
   have_pc gl || need+=(libgl-dev)

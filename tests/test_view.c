@@ -1,0 +1,396 @@
+/* tests/test_view.c -- `instess view` without a display (SDL_VIDEODRIVER=dummy): scripted keys (--keys), frame
+ * limits and --capture against the CLI's own files, byte for byte; the HUD; the split screen; the crack view;
+ * the CLI's errors and exit codes; closing the window (and SIGTERM) in the middle of a run.  Runs the program
+ * ($INSTESS_BIN or build/instess) in a temporary folder, the current folder of its screenshots. */
+#define _DEFAULT_SOURCE  /* realpath */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <limits.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "util/prog.h"
+#include "../cli/scene.h"
+
+static char dir[256], bin[PATH_MAX];
+
+static int setup(void **state)
+{
+    if (!realpath(prog_bin(), bin)) return -1;
+    return prog_mkdtemp(dir, "view");
+}
+
+static int teardown(void **state)
+{
+    prog_rmdir(dir);
+    return 0;
+}
+
+/* Run `instess ARGS` in dir (stdout discarded, stderr into *err); the exit code (128 + N for signal N). */
+static int run_in_dir(const char **err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int run_in_dir(const char **err, const char *fmt, ...)
+{
+    static char errbuf[16384];
+    char args[4000], cmd[4000 + 2 * PATH_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    snprintf(cmd, sizeof cmd, "cd '%s' && SDL_VIDEODRIVER=dummy SDL_AUDIODRIVER=dummy '%s' %s 2>stderr.txt >/dev/null",
+             dir, bin, args);
+    int st = system(cmd);
+    char p[600];
+    size_t n = 0;
+    FILE *f = fopen(prog_path(dir, "stderr.txt", p, sizeof p), "r");
+    if (f) n = fread(errbuf, 1, sizeof errbuf - 1, f), fclose(f);
+    errbuf[n] = 0;
+    if (err) *err = errbuf;
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+}
+
+/* Whether dir/a and dir/b hold the same bytes. */
+static bool same_file(const char *a, const char *b)
+{
+    char pa[600], pb[600];
+    return prog_same_bytes(prog_path(dir, a, pa, sizeof pa), prog_path(dir, b, pb, sizeof pb));
+}
+
+/* Remove every file of dir. */
+static void clean(void)
+{
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -f '%s'/*", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* A key sequence of the viewer and the CLI options of the state it ends in (the camera moves are exact in
+ * float: 30 - 0.25 * 60 = 15 degrees, 3.2 / 1.1 in float is the float nearest to 2.909091). */
+typedef struct key_case {
+    const char *start, *keys, *cli;
+} key_case;
+static const key_case key_cases[] = {
+    {"", NULL, ""},
+    {"--size 160x120", "],p,w,m", "--size 160x120 --level 9 --patch phong --fill solid+wire --msaa 1"},
+    {"--size 150x110 --patch npatch", "t,w,t,n,m,Right,Down,],]",
+     "--size 150x110 --patch npatch --path cpu --fill solid+wire --normals quadratic --msaa 1 --yaw 15 --pitch 5 "
+     "--level 10"},
+    {"--size 128x128 --patch npatch", "t,[,[,w,w,p,p", "--size 128x128 --patch npatch --path npatch-mode --level 6 "
+     "--fill wire"},
+    {"--size 140x100 --patch pn-aen", "g,],PageUp,n,n,Left", "--size 140x100 --patch pn-aen --grid pg-equal --level 9 "
+     "--distance 2.909091 --normals real --yaw 45"},
+    {"--size 96x96 --mesh icosahedron --fill point", "m,w,t,Up", "--size 96x96 --mesh icosahedron --msaa 1 --pitch 35"},
+};
+
+/* For several states and key sequences: the --no-hud capture is the CLI's file for the same state, byte for
+ * byte, and so is the s key's screenshot; the key sequences went through states that leave render states set
+ * (solid+wire's depth bias, the N-patch mode), so a device reused without its reset would show. */
+static void test_capture_is_cli(void **state)
+{
+    const char *err;
+    for (size_t k = 0; k < sizeof key_cases / sizeof key_cases[0]; k++) {
+        const key_case *c = &key_cases[k];
+        clean();
+        if (c->keys)
+            assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys %s,s --capture cap.png", c->start, c->keys), 0);
+        else
+            assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --capture cap.png", c->start), 0);
+        assert_int_equal(run_in_dir(&err, "-q %s -o cli.png", c->cli), 0);
+        if (!same_file("cap.png", "cli.png")) fprintf(stderr, "case %zu: keys %s: capture differs\n", k, c->keys);
+        assert_true(same_file("cap.png", "cli.png"));
+        if (c->keys) assert_true(same_file("instess-view-0001.png", "cli.png"));
+    }
+}
+
+/* Read dir/name into img. */
+static void read_image(const char *name, is_image *img)
+{
+    char p[600], err[512];
+    *img = (is_image){0};
+    assert_int_equal(image_read(img, prog_path(dir, name, p, sizeof p), err, sizeof err), 0);
+}
+
+/* Pixels of a that differ from b (same size) inside the box (x0, y0)-(x1, y1), exclusive. */
+static long differing(const is_image *a, const is_image *b, int x0, int y0, int x1, int y1)
+{
+    long n = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++)
+            n += memcmp(&a->data[((size_t)y * a->width + x) * a->channels],
+                        &b->data[((size_t)y * b->width + x) * b->channels], 4 * sizeof(float)) != 0;
+    return n;
+}
+
+/* The HUD changes pixels, in its box at the top left only; `h` cycles it (HUD, keys, nothing). */
+static void test_hud(void **state)
+{
+    const char *err;
+    clean();
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --capture hud.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --no-hud --capture plain.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --keys h --capture keys.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --keys h,h --capture off.png"), 0);
+    is_image hud, plain, keys;
+    read_image("hud.png", &hud), read_image("plain.png", &plain), read_image("keys.png", &keys);
+    assert_true(differing(&hud, &plain, 0, 0, 400, 300) > 500);
+    assert_int_equal(differing(&hud, &plain, 0, 200, 400, 300), 0);   /* the box holds ~7 lines of 17 px */
+    assert_true(differing(&keys, &hud, 0, 0, 400, 300) > 500);         /* the key table is longer */
+    assert_true(same_file("off.png", "plain.png"));   /* the HUD off again: the CLI's frame */
+    image_free(&hud), image_free(&plain), image_free(&keys);
+}
+
+/* Tab: the left half is the CLI's image of the state at half the width, the right half the same with the other
+ * patch (npatch by default, then o's next one). */
+static void test_split(void **state)
+{
+    const char *err;
+    clean();
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 201x120 --keys Tab,o --capture split.png"), 0);
+    assert_int_equal(run_in_dir(&err, "-q --size 100x120 -o left.png"), 0);
+    assert_int_equal(run_in_dir(&err, "-q --size 101x120 --patch smooth-initial -o right.png"), 0);
+    is_image s, l, r;
+    read_image("split.png", &s), read_image("left.png", &l), read_image("right.png", &r);
+    long diff = 0;
+    for (int y = 0; y < 120; y++)
+        for (int x = 0; x < 201; x++) {
+            const is_image *h = x < 100 ? &l : &r;
+            int hx = x < 100 ? x : x - 100;
+            diff += memcmp(&s.data[((size_t)y * 201 + x) * s.channels], &h->data[((size_t)y * h->width + hx) * h->channels],
+                           4 * sizeof(float)) != 0;
+        }
+    assert_int_equal(diff, 0);
+    image_free(&s), image_free(&l), image_free(&r);
+}
+
+/* Red pixels (odd coverage counts) of the capture. */
+static long red_pixels(const char *name, long *covered)
+{
+    is_image img;
+    read_image(name, &img);
+    long red = 0;
+    *covered = 0;
+    for (size_t p = 0; p < (size_t)img.width * img.height; p++) {
+        const float *c = &img.data[p * img.channels];
+        red += c[0] == 1.0f && c[1] == 0.0f && c[2] == 0.0f;
+        *covered += c[0] != 0.0f || c[1] != 0.0f;
+    }
+    image_free(&img);
+    return red;
+}
+
+/* The crack view (c five times): the N-Patch opens cracks (red) at the cylinder's rims, where the side's and the
+ * cap's normals split, and PN-AEN closes them; the four AOV views and the crack view differ from each other. */
+static void test_views(void **state)
+{
+    const char *err;
+    clean();
+    long covered;
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 200x200 --mesh cylinder --patch npatch "
+                                      "--keys c,c,c,c,c,s,p,p,p,p --capture pnaen.png"), 0);
+    assert_true(red_pixels("instess-view-0001.png", &covered) > 20);
+    assert_true(covered > 10000);
+    assert_int_equal(red_pixels("pnaen.png", &covered), 0);   /* p four times: npatch -> pn-aen */
+    assert_true(covered > 10000);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x120 --keys c,s,c,s,c,s,c,s"), 0);
+    is_image img[4];
+    for (int k = 0; k < 4; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "instess-view-%04d.png", k + 2);   /* 0001 is the crack view's */
+        read_image(name, &img[k]);
+    }
+    for (int a = 0; a < 4; a++)
+        for (int b = a + 1; b < 4; b++) assert_true(differing(&img[a], &img[b], 0, 0, 120, 120) > 100);
+    for (int k = 0; k < 4; k++) image_free(&img[k]);
+}
+
+/* Every key of the table acts: after each key the s screenshot differs from the one before (in its pixels, or
+ * for t -- the three paths draw the same pixels -- in the description it stores; h is test_hud's); q and Escape
+ * end the run before the keys after them. */
+static void test_every_key_acts(void **state)
+{
+    const char *err;
+    clean();
+    static const char *const keys[] = {"]", "[", "t", "p", "Tab", "o", "Tab", "n", "g", "w", "m", "c",
+                                       "Left", "Right", "Up", "Down", "PageUp", "PageDown"};
+    const int n = (int)(sizeof keys / sizeof keys[0]);
+    char list[400] = "s";
+    for (int k = 0; k < n; k++) strcat(list, ","), strcat(list, keys[k]), strcat(list, ",s");
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys %s --capture base.png",
+                                list), 0);
+    for (int k = 0; k < n; k++) {
+        char a[64], b[64];
+        snprintf(a, sizeof a, "instess-view-%04d.png", k + 1);
+        snprintf(b, sizeof b, "instess-view-%04d.png", k + 2);
+        bool same = same_file(a, b);
+        if (same) fprintf(stderr, "key %s changed nothing\n", keys[k]);
+        assert_false(same);
+    }
+    assert_true(same_file("base.png", "instess-view-0019.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys q,] --capture q.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys Escape,],s --capture e.png"),
+                     0);
+    assert_int_equal(run_in_dir(&err, "-q --size 96x96 --patch npatch -o cli.png"), 0);
+    assert_true(same_file("q.png", "cli.png"));
+    assert_true(same_file("e.png", "cli.png"));
+    assert_int_equal(prog_entries_with(dir, NULL), 19 + 4);
+}
+
+/* Bad options: the CLI's message and exit code (2 usage, 1 input), and no capture written. */
+static void test_errors(void **state)
+{
+    const char *err;
+    static const char *const same_as_cli[] = {"--level 0", "--patch curvy", "--path cpu --patch smooth", "--size 0x10",
+                                              "--msaa 3", "--level 2.5", "--bogus", "cube extra"};
+    clean();
+    for (size_t k = 0; k < sizeof same_as_cli / sizeof same_as_cli[0]; k++) {
+        char cli_err[2000];
+        assert_int_equal(run_in_dir(&err, "%s -o x.png", same_as_cli[k]), 2);
+        snprintf(cli_err, sizeof cli_err, "%s", err);
+        *strchr(cli_err, '\n') = 0;   /* the message; the hint names the command */
+        assert_int_equal(run_in_dir(&err, "view %s --capture cap.png", same_as_cli[k]), 2);
+        if (!strstr(err, cli_err)) fprintf(stderr, "view %s said: %s (the CLI: %s)\n", same_as_cli[k], err, cli_err);
+        assert_non_null(strstr(err, cli_err));
+        assert_non_null(strstr(err, "Try 'instess view --help'"));
+    }
+    static const char *const view_usage[] = {"-o x.png", "--export-obj x.obj", "--keys bogus", "--keys ,",
+                                             "--frames 0", "--capture x.tiff", "--capture", "--aov normal"};
+    for (size_t k = 0; k < sizeof view_usage / sizeof view_usage[0]; k++) {
+        assert_int_equal(run_in_dir(&err, "view %s", view_usage[k]), 2);
+        assert_non_null(strstr(err, "instess: "));
+    }
+    assert_int_equal(run_in_dir(&err, "view missing.obj --capture cap.png"), 1);
+    assert_non_null(strstr(err, "missing.obj"));
+    assert_int_equal(run_in_dir(&err, "view --capture nodir/cap.png"), 1);
+    assert_non_null(strstr(err, "nodir"));
+    assert_int_equal(prog_entries_with(dir, NULL), 0);
+    assert_int_equal(run_in_dir(&err, "view --help"), 0);
+    /* without a display and without the dummy driver: a message, exit 1 */
+    char cmd[400 + PATH_MAX];
+    snprintf(cmd, sizeof cmd, "cd '%s' && env -u DISPLAY -u WAYLAND_DISPLAY SDL_VIDEODRIVER=x11 '%s' view -q "
+             "--capture cap.png 2>stderr.txt >/dev/null", dir, bin);
+    int st = system(cmd);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 1);
+    assert_false(prog_exists(dir, "cap.png"));
+    /* nothing scripted on a driver that shows nothing: the run could never end, so it does not start */
+    assert_int_equal(run_in_dir(&err, "view -q"), 1);
+    assert_non_null(strstr(err, "dummy"));
+    snprintf(cmd, sizeof cmd, "cd '%s' && env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER timeout 60 '%s' view -q "
+             "2>stderr.txt >/dev/null", dir, bin);
+    st = system(cmd);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 1);
+}
+
+/* Closing the window in the middle of a script: what was asked before is complete (the screenshot, the
+ * capture of the state at the close), the keys after it are not applied, and no temporary file stays.  Keys
+ * pressed together (a+b: before the next frame) are in the screenshot and the capture: s and the end of the run
+ * draw the state of the keys before them, not the frame shown last. */
+static void test_close(void **state)
+{
+    const char *err;
+    clean();
+    assert_int_equal(run_in_dir(&err, "-q --size 120x90 --level 9 -o cli.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys ],s,close,],] --capture cap.png"), 0);
+    assert_true(same_file("cap.png", "cli.png"));
+    assert_true(same_file("instess-view-0001.png", "cli.png"));
+    assert_int_equal(prog_entries_with(dir, ".tmp"), 0);
+    assert_int_equal(prog_entries_with(dir, NULL), 3);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys Tab,Tab+]+s,c --capture cap2.png"), 0);
+    assert_true(same_file("instess-view-0002.png", "cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x90 --keys Tab,Tab+]+close --capture cap3.png"), 0);
+    assert_true(same_file("cap3.png", "cli.png"));
+}
+
+/* SIGTERM while screenshots are written one after the other: every screenshot left is complete (the CLI's
+ * bytes) and no temporary file stays. */
+static void test_sigterm(void **state)
+{
+    clean();
+    const char *err;
+    assert_int_equal(run_in_dir(&err, "-q --size 300x300 --level 12 -o cli.png"), 0);
+    char keys[400] = "s";
+    for (int k = 1; k < 60; k++) strcat(keys, ",s");
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (chdir(dir) != 0) _exit(126);
+        setenv("SDL_VIDEODRIVER", "dummy", 1);
+        if (!freopen("/dev/null", "w", stderr)) _exit(125);
+        execl(bin, bin, "view", "-q", "--no-hud", "--size", "300x300", "--level", "12", "--keys", keys, (char *)NULL);
+        _exit(127);
+    }
+    struct timespec tick = {0, 20000000};   /* the signal comes 0.2 s after the first screenshot (or at 30 s) */
+    for (int t = 0; t < 1500 && !prog_exists(dir, "instess-view-0001.png"); t++) nanosleep(&tick, NULL);
+    for (int t = 0; t < 10; t++) nanosleep(&tick, NULL);
+    kill(pid, SIGTERM);
+    int st;
+    assert_int_equal(waitpid(pid, &st, 0), pid);
+    assert_int_equal(prog_entries_with(dir, ".tmp"), 0);
+    int shots = prog_entries_with(dir, "instess-view-");
+    assert_true(shots >= 1);
+    fprintf(stderr, "sigterm: %d screenshots written before the signal (%s)\n", shots,
+            WIFSIGNALED(st) ? "killed" : "had finished");
+    for (int k = 1; k <= shots; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "instess-view-%04d.png", k);
+        assert_true(same_file(name, "cli.png"));
+    }
+}
+
+/* dev_reset: a device that drew with other states (wireframe with depth bias, the N-patch mode, no culling,
+ * blending, stream frequencies, constants) draws the next frame as a new device does, in place. */
+static void test_dev_reset(void **state)
+{
+    is_mesh m = {0};
+    char err[256];
+    assert_int_equal(mesh_builtin("icosahedron", &m, err, sizeof err), 0);
+    scene_opts o;
+    scene_opts_default(&o);
+    o.width = 96, o.height = 80, o.patch = VS_PATCH_NPATCH, o.fill = SCENE_FILL_SOLID_WIRE;
+    core_grid g;
+    assert_int_equal(core_grid_make(o.grid, o.level, &g), 0);
+    is_device *used = scene_create_device(&o, o.msaa, 0, err, sizeof err), *fresh = scene_create_device(&o, o.msaa, 0, err, sizeof err);
+    assert_non_null(used), assert_non_null(fresh);
+    scene_opts other = o;
+    other.path = SCENE_PATH_NPATCH_MODE, other.fill = SCENE_FILL_SOLID_WIRE;
+    assert_int_equal(scene_render_on(used, &other, &m, &g, NULL, err, sizeof err), 0);
+    dev_set_render_state(used, IS_RS_CULLMODE, IS_CULL_NONE);
+    dev_set_render_state(used, IS_RS_ALPHABLENDENABLE, 1);
+    dev_set_stream_source_freq(used, 2, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+    float junk[4] = {1, 2, 3, 4};
+    dev_set_vertex_shader_constant_f(used, 10, junk, 1);
+    o.fill = SCENE_FILL_SOLID;
+    dev_reset(used);
+    assert_int_equal(scene_render_on(used, &o, &m, &g, NULL, err, sizeof err), 0);
+    assert_int_equal(scene_render_on(fresh, &o, &m, &g, NULL, err, sizeof err), 0);
+    const rs_target *a = dev_render_target(used), *b = dev_render_target(fresh);
+    size_t n = (size_t)a->width * a->height * a->samples;
+    assert_memory_equal(a->color, b->color, n * sizeof *a->color);
+    assert_memory_equal(a->depth, b->depth, n * sizeof *a->depth);
+    dev_destroy(used), dev_destroy(fresh);
+    core_grid_free(&g);
+    mesh_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dev_reset),
+        cmocka_unit_test(test_capture_is_cli),
+        cmocka_unit_test(test_hud),
+        cmocka_unit_test(test_split),
+        cmocka_unit_test(test_views),
+        cmocka_unit_test(test_every_key_acts),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_close),
+        cmocka_unit_test(test_sigterm),
+    };
+    return cmocka_run_group_tests_name("view", tests, setup, teardown);
+}
