@@ -108,6 +108,9 @@ static void act_patch(view_state *v) { cycle(v, next_patch, VS_PATCH_COUNT, "pat
 static void next_normals(scene_opts *o) { o->normals = (vs_normals)((o->normals + 1) % 3); }
 static void act_normals(view_state *v) { cycle(v, next_normals, 3, "normals"); }
 
+static void next_lod(scene_opts *o) { o->lod = (scene_lod)((o->lod + 1) % 3); }
+static void act_lod(view_state *v) { cycle(v, next_lod, 3, "lod"); }
+
 static void next_path(scene_opts *o) { o->path = (scene_path)((o->path + 1) % 3); }
 static void act_path(view_state *v) { cycle(v, next_path, 3, "path"); }
 
@@ -192,8 +195,7 @@ static void act_down(view_state *v) { view_orbit(v, 0, 60); }
 static void act_closer(view_state *v) { view_zoom(v, 1); }
 static void act_farther(view_state *v) { view_zoom(v, -1); }
 
-/* The keys: one table for the actions, the `h` overlay and `instess view --help`.  (The level-of-detail mode's
- * `l` row comes with that option: its action cycles the option's values through cycle() like `n`.) */
+/* The keys: one table for the actions, the `h` overlay and `instess view --help`. */
 const view_key view_keys[] = {
     {"]", "]", "level up", act_level_up},
     {"[", "[", "level down", act_level_down},
@@ -202,6 +204,7 @@ const view_key view_keys[] = {
     {"N", "n", "next normals: linear, quadratic, real", act_normals},
     {"G", "g", "next grid: regular, pg-equal, pg-fractional-odd, pg-fractional-even", act_grid},
     {"T", "t", "next path: instanced, npatch-mode, cpu (where the patch allows)", act_path},
+    {"L", "l", "next level of detail: uniform, distance, screen (a level per mesh edge, --lod)", act_lod},
     {"W", "w", "next fill: solid, solid+wire, wire, point", act_fill},
     {"M", "m", "4x multisampling on / off", act_msaa},
     {"Tab", "Tab", "split screen: two patches side by side on one camera", act_split},
@@ -469,8 +472,9 @@ int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int 
     const char *base = strrchr(v->mesh.name, '/') ? strrchr(v->mesh.name, '/') + 1 : v->mesh.name;
     snprintf(lines[n++], 160, "%.48s  patch %.39s  normals %s  level %g", base, patch, vs_normals_name(o->normals),
              (double)o->level);
-    snprintf(lines[n++], 160, "grid %s  path %s  fill %s  msaa %dx  view %s", scene_grid_name(o->grid),
-             scene_path_names[o->path], scene_fill_names[o->fill], o->msaa, show_names[v->show]);
+    snprintf(lines[n++], 160, "grid %s  path %s  fill %s  msaa %dx  view %s  lod %s", scene_grid_name(o->grid),
+             scene_path_names[o->path], scene_fill_names[o->fill], o->msaa, show_names[v->show],
+             scene_lod_names[o->lod]);
     snprintf(lines[n++], 160, "%llu triangles drawn  %dx%d", (unsigned long long)v->triangles, o->width, o->height);
     double other = v->ms_render - v->ms_setup - v->ms_tile;
     snprintf(lines[n++], 160, "%.1f ms: shading+set-up %.1f  raster %.1f  other %.1f", v->ms_render, v->ms_setup,
