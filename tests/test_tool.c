@@ -125,6 +125,7 @@ static void test_compare_diff_image(void **state)
         assert_true(differs == is_red);
     }
     assert_int_equal(failing, number_after(out_buf, "failing pixels: "));
+    assert_int_equal(red, failing);
     image_free(&img);
     image_free(&a);
     image_free(&b);
