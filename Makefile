@@ -3,6 +3,9 @@
 #   make            install missing Debian packages (scripts/setup.sh), build the library and build/instess
 #   make figures    render every figure of the source documents into out/ with out/index.html
 #   make test       build and run every test (tests/run.sh prints "N passed, N failed")
+#   make install    install the library, headers, instess.pc, the program and its man page under PREFIX
+#                   (default /usr/local; DESTDIR stages it, e.g. make install DESTDIR=/tmp/stage);
+#                   make uninstall removes exactly those files
 #   make bench      the benchmark of docs/design.md, section 6, against Mesa's llvmpipe
 #   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
 #                   make goldens ONLY=ID[,ID...] re-renders just those
@@ -62,7 +65,7 @@ CFLAGS_SDL = $(shell pkg-config --cflags sdl2 SDL2_ttf 2>/dev/null)
 LDLIBS_SDL = $(shell pkg-config --libs sdl2 SDL2_ttf 2>/dev/null)
 SETUP    = $(B)/.setup-done
 
-.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean
+.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean install uninstall install-check FORCE
 .SECONDARY:
 .DEFAULT_GOAL := all
 
@@ -75,7 +78,7 @@ $(SETUP): scripts/setup.sh
 
 $(B)/%.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS) $(DEFS) -MMD -MP -c $< -o $@
 
 $(B)/core/image_oiio.o: core/image_oiio.cpp $(SETUP)
 	@mkdir -p $(dir $@)
@@ -145,6 +148,89 @@ $(VG_BIN): $(B)/cli/main.o $(B)/libinstess_app.a $(filter-out $(B)/core/image_co
 valgrind: $(VG_BIN)
 	@bash scripts/setup.sh --sanitize
 	@bash tests/valgrind.sh $(VG_BIN)
+
+# ------------------------------------------------------------------------------------------------------------
+# make install / make uninstall.  The version is core.h's INSTESS_VERSION; the soname carries its major number.
+#   $(LIBDIR)/libinstess.so.X.Y.Z (soname libinstess.so.X), libinstess.so -> it, libinstess.a
+#   $(LIBDIR)/instess/libinstess_codec.so   the OpenImageIO codec module the library opens on its first image call
+#   $(INCLUDEDIR)/instess/{core/core.h,raster/raster.h,vs/vs.h,meshes/meshes.h}: the folders' public headers
+#     as they are in the tree (their relative includes, "../core/core.h", hold there too)
+#   $(PKGCONFIGDIR)/instess.pc, $(BINDIR)/instess, $(MANDIR)/man1/instess.1 (written by `instess --man`)
+# The library's objects are built again with -fPIC under $(B)/pic/ (the program and the tests keep the fixed
+# configuration's objects).  The module's folder is compiled into core/image_codec.c (INSTESS_CODEC_DIR), so
+# changing PREFIX or LIBDIR rebuilds that one object; the shared library finds the module beside itself first,
+# which is what a staged (DESTDIR) copy uses.  cli/scene.h is the program's layer (option tables, output files)
+# and is not installed: a user sets up the device and the instanced draw with core.h, as examples/ shows.
+VERSION    := $(shell sed -n 's/^\#define INSTESS_VERSION "\(.*\)"/\1/p' core/core.h)
+SOVERSION  := $(firstword $(subst ., ,$(VERSION)))
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+MANDIR     ?= $(PREFIX)/share/man
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+CODECDIR    = $(LIBDIR)/instess
+SO_NAME     = libinstess.so.$(SOVERSION)
+SO_REAL     = libinstess.so.$(VERSION)
+PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o)
+PUB_HDR     = core/core.h raster/raster.h vs/vs.h meshes/meshes.h
+INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
+              $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so \
+              $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)
+
+# The module's folder as compiled in: the stamp changes (and image_codec.o is rebuilt) only when it does.
+$(B)/.codecdir: FORCE
+	@mkdir -p $(B)
+	@echo '$(CODECDIR)' | cmp -s - $@ || echo '$(CODECDIR)' > $@
+FORCE:
+$(B)/core/image_codec.o $(B)/pic/core/image_codec.o: $(B)/.codecdir
+$(B)/core/image_codec.o $(B)/pic/core/image_codec.o: DEFS = -DINSTESS_CODEC_DIR='"$(CODECDIR)"'
+
+$(B)/pic/%.o: %.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -fPIC -fno-semantic-interposition $(DEFS) -MMD -MP -c $< -o $@
+
+# -z defs: every symbol the library uses is in it or in the libraries named here.
+$(B)/$(SO_REAL): $(PIC_OBJ)
+	$(CC) -shared -Wl,-soname,$(SO_NAME) -Wl,-z,defs $(LDFLAGS) $^ $(LDLIBS) -ldl -lpthread -o $@
+
+# The man page, from the program's own tables (the same that print --help).
+$(B)/instess.1: $(B)/instess
+	$(B)/instess --man > $@.tmp && mv $@.tmp $@
+
+# instess.pc: the library links assimp (Requires.private), meshoptimizer, OpenMP and libstdc++ (Libs.private);
+# a static link must also export the library's image functions to the codec module (-rdynamic).  libdir and
+# includedir are relative to ${prefix} when under it, so `pkg-config --define-variable=prefix=...` finds a
+# staged or moved copy.
+$(B)/instess.pc: Makefile core/core.h $(B)/.codecdir
+	@printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))' \
+	  'includedir=$(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))' '' \
+	  'Name: instess' 'Description: tessellation through instancing on a CPU Direct3D 9-style device' \
+	  'Version: $(VERSION)' 'Requires.private: assimp' 'Cflags: -I$${includedir}' \
+	  'Libs: -L$${libdir} -linstess' 'Libs.private: -rdynamic -lmeshoptimizer -fopenmp -lstdc++ -ldl -lpthread -lm' > $@
+
+install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(B)/instess.pc
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(CODECDIR) $(DESTDIR)$(PKGCONFIGDIR) \
+	    $(DESTDIR)$(MANDIR)/man1 $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR)))
+	install -m 755 $(B)/instess $(DESTDIR)$(BINDIR)/instess
+	install -m 644 $(B)/instess.1 $(DESTDIR)$(MANDIR)/man1/instess.1
+	install -m 755 $(B)/$(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_REAL)
+	ln -sf $(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_NAME)
+	ln -sf $(SO_NAME) $(DESTDIR)$(LIBDIR)/libinstess.so
+	install -m 644 $(B)/libinstess.a $(DESTDIR)$(LIBDIR)/libinstess.a
+	install -m 755 $(CODEC_SO) $(DESTDIR)$(CODECDIR)/libinstess_codec.so
+	install -m 644 $(B)/instess.pc $(DESTDIR)$(PKGCONFIGDIR)/instess.pc
+	for h in $(PUB_HDR); do install -m 644 $$h $(DESTDIR)$(INCLUDEDIR)/instess/$$h || exit 1; done
+
+# Removes the files install writes, then the folders it made if they are empty.
+uninstall:
+	rm -f $(addprefix $(DESTDIR),$(INSTALLED))
+	-rmdir $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR))) $(DESTDIR)$(INCLUDEDIR)/instess \
+	    $(DESTDIR)$(CODECDIR) 2>/dev/null || true
+
+# The staged install, the example built against it with pkg-config, each installed header alone, the man page.
+install-check: $(B)/instess
+	@bash tests/install_check.sh
 
 figures: $(B)/instess
 	@mkdir -p out

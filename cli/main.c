@@ -1,7 +1,6 @@
 /* cli/main.c -- the `instess` program: option parsing and exit codes.  The rendering is in cli/scene.c.
  *
- * Exit codes: 0 success (image written atomically), 1 input error (names the input, nothing written),
- * 2 usage error (message on stderr). */
+ * Exit codes: render_exit_codes below (0 success, 1 input error, 2 usage error); compare's are its own. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,16 +8,25 @@
 
 #include "scene.h"
 
-/* The subcommands: name, entry point, synopsis (one table: the dispatch and the usage text). */
-typedef struct subcommand {
-    const char *name;
-    int (*run)(int argc, char **argv);   /* argv[0] is the subcommand's name */
-    const char *synopsis;
-} subcommand;
-static const subcommand subcommands[] = {
-    {"figures", scene_cmd_figures, "[--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]"},
-    {"smoothness", scene_cmd_smoothness, "[--samples N]"},
-    {"view", scene_cmd_view, "[OPTION]... [MESH] [--keys LIST] [--frames N] [--capture FILE.png] [--no-hud]"},
+/* The exit codes of a render (--help and the man page print this sentence; '\n' breaks the usage's line). */
+static const char render_exit_codes[] =
+    "0 success (the image written atomically),\n1 input error (the message names the input; nothing is written), "
+    "2 usage error.";
+
+/* The subcommands (one table: the dispatch, the usage text and the man page). */
+static const scene_subcommand subcommands[] = {
+    {"figures", scene_cmd_figures, "[--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]",
+     "Render every figure of the source documents into DIR (default out) with an index.html gallery; --only "
+     "renders some, --small the test size, --list prints the ids.", NULL, NULL},
+    {"smoothness", scene_cmd_smoothness, "[--samples N]",
+     "For every built-in mesh and patch, the angle between the surface normals on the two sides of each shared "
+     "edge and the largest bulge, as a Markdown table.", NULL, NULL},
+    {"compare", scene_cmd_compare, "A B [--diff FILE] [--fail T] [--failpercent P]",
+     "Compare two image files as the golden tests do (OpenImageIO's comparison): print the number of pixels, "
+     "the largest difference with its pixel and channel, the mean difference and the count of failing pixels.",
+     scene_compare_options,
+     "0 identical or within the thresholds, 1 different, 2 usage error, 3 the sizes or channels differ, 4 an "
+     "image cannot be read (or the diff image cannot be written)."},
 };
 enum { N_SUBCOMMANDS = sizeof subcommands / sizeof subcommands[0] };
 
@@ -29,6 +37,8 @@ static void print_usage(FILE *f)
     for (int k = 0; k < N_SUBCOMMANDS; k++) fprintf(f, "       instess %s %s\n", subcommands[k].name, subcommands[k].synopsis);
     fputs("Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n\n", f);
     scene_print_options(f);
+    fprintf(f, "%-28s%s\n\nExit status: %s\n", "  --man", "the manual page (roff) on stdout", render_exit_codes);
+    fputs("instess compare has its own: see instess compare --help.\n", f);
 }
 
 /* Print msg and the usage hint; exit code 2. */
@@ -108,6 +118,8 @@ int main(int argc, char **argv)
         fputs("\ninstess: no arguments: `instess MESH -o FILE.png` renders a mesh\n", stderr);
         return 2;
     }
+    if (argc == 2 && strcmp(argv[1], "--man") == 0)
+        return scene_print_man(stdout, render_exit_codes, subcommands, N_SUBCOMMANDS), 0;
     for (int k = 0; k < N_SUBCOMMANDS; k++)
         if (strcmp(argv[1], subcommands[k].name) == 0) return subcommands[k].run(argc - 1, argv + 1);
     return cmd_render(argc, argv);

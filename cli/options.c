@@ -39,6 +39,13 @@ static const char *fill_choices(const char *sep, char *buf, size_t len)
     return scene_join_names(scene_fill_names, sep, buf, len);
 }
 
+/* The names --stats takes, joined by sep into buf; buf. */
+static const char *const stats_names[] = {"text", "json", NULL};
+static const char *stats_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(stats_names, sep, buf, len);
+}
+
 /* "unknown --NAME (one of: ...)" for option opt into buf; buf. */
 static const char *unknown_choice(const scene_option *opt, char *buf, size_t len)
 {
@@ -202,6 +209,11 @@ static const char *opt_wire_levels(scene_opts *o, const char *a)
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
 static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
+static const char *opt_stats(scene_opts *o, const char *a)
+{
+    if (strcmp(a, "text") != 0 && strcmp(a, "json") != 0) return CHOICE_ERROR;
+    return o->stats_json = strcmp(a, "json") == 0, NULL;
+}
 
 /* ------------------------------------ the table ------------------------------------ */
 
@@ -258,6 +270,8 @@ const scene_option scene_options[] = {
     {"output", 'o', "FILE", "the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)", NULL, opt_output,
      NULL},
     {"quiet", 'q', NULL, "no statistics on stderr (warnings are still printed)", NULL, opt_quiet, NULL},
+    {"stats", 0, "FORMAT", "the statistics of a render: text on stderr, or json, one object on stdout for scripts "
+     "(with the same figures, printed also with -q)", "text", opt_stats, stats_choices},
 };
 const size_t scene_option_count = sizeof scene_options / sizeof scene_options[0];
 

@@ -942,24 +942,93 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
     return outputs_close_stream(outs, k, w.f, err, errlen);
 }
 
-/* The article's per-edge shortcut on the smoothed patch: print how many P_k evaluations it saved. */
-static void report_shortcut(const scene_opts *o, const is_mesh *m)
+/* The article's per-edge shortcut on the smoothed patch: how many P_k evaluations it saves of how many, into
+ * *saved and *total; false when it does not apply (another patch or grid) or memory is short. */
+static bool shortcut_savings(const scene_opts *o, const is_mesh *m, uint64_t *saved, uint64_t *total)
 {
-    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->lod != SCENE_LOD_UNIFORM || o->quiet) return;
+    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->lod != SCENE_LOD_UNIFORM) return false;
     vs_triangle *t = malloc(m->n_triangles * sizeof *t);
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
-    if (t && inst) {
+    bool ok = t && inst;
+    if (ok) {
         mesh_build_instances(m, inst);
         for (size_t k = 0; k < m->n_triangles; k++) {
             t[k] = vs_triangle_make(inst[k].v, inst[k].n);
             for (int e = 0; e < 3; e++) t[k].opp[e] = inst[k].opp[e];
         }
-        uint64_t total = 0, saved = vs_smooth_shortcut_savings(t, m->n_triangles, (int)o->level, &total);
-        fprintf(stderr, "instess: per-edge shortcut: %llu of %llu P_k evaluations skipped (%.1f%%)\n",
-                (unsigned long long)saved, (unsigned long long)total, total ? 100.0 * (double)saved / (double)total : 0.0);
+        *total = 0;
+        *saved = vs_smooth_shortcut_savings(t, m->n_triangles, (int)o->level, total);
     }
     free(t);
     free(inst);
+    return ok;
+}
+
+/* What a finished render reports: the scene's statistics, its time and the shortcut's savings. */
+typedef struct run_report {
+    scene_stats st;
+    double ms;
+    bool shortcut;             /* the savings below apply */
+    uint64_t saved, total;
+} run_report;
+
+/* The report as text on stderr (the default; -q: none). */
+static void print_stats_text(const scene_opts *o, const is_mesh *m, const run_report *r)
+{
+    if (r->shortcut)
+        fprintf(stderr, "instess: per-edge shortcut: %llu of %llu P_k evaluations skipped (%.1f%%)\n",
+                (unsigned long long)r->saved, (unsigned long long)r->total,
+                r->total ? 100.0 * (double)r->saved / (double)r->total : 0.0);
+    fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
+                    "%.1f ms -> %s\n",
+            m->name, r->st.mesh_triangles, r->st.grid_points, (unsigned long long)r->st.vertices_shaded,
+            (unsigned long long)r->st.triangles_drawn, r->ms, o->output);
+}
+
+/* s as a JSON string (quoted; control characters, '"' and '\\' escaped, bytes that are not UTF-8 as U+FFFD)
+ * into f. */
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        int len = *p < 0x80 ? 1 : (*p & 0xe0) == 0xc0 && *p >= 0xc2 ? 2 : (*p & 0xf0) == 0xe0 ? 3
+                : (*p & 0xf8) == 0xf0 && *p <= 0xf4 ? 4 : 0;
+        for (int k = 1; k < len; k++)
+            if ((p[k] & 0xc0) != 0x80) len = 0;
+        if (len == 0) fputs("\\ufffd", f), p++;
+        else if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p), p++;
+        else if (*p < 0x20) fprintf(f, "\\u%04x", *p), p++;
+        else fwrite(p, 1, (size_t)len, f), p += len;
+    }
+    fputc('"', f);
+}
+
+/* The report as one JSON object on stdout (--stats json): every figure of the text form. */
+static void print_stats_json(const scene_opts *o, const is_mesh *m, const run_report *r)
+{
+    fputs("{\"mesh\": ", stdout);
+    json_string(stdout, m->name);
+    fputs(", \"output\": ", stdout);
+    json_string(stdout, o->output);
+    printf(", \"triangles\": %zu, \"grid_points\": %zu, \"grid_triangles\": %zu, \"vertices_shaded\": %llu, "
+           "\"triangles_drawn\": %llu, \"ms\": %.3f",
+           r->st.mesh_triangles, r->st.grid_points, r->st.grid_triangles, (unsigned long long)r->st.vertices_shaded,
+           (unsigned long long)r->st.triangles_drawn, r->ms);
+    if (o->lod != SCENE_LOD_UNIFORM) {   /* the edge level histogram: {"level": edges} */
+        printf(", \"lod\": \"%s\", \"patterns\": %zu, \"buckets\": %zu, \"triangles_tessellated\": %zu, "
+               "\"edge_levels\": {", scene_lod_names[o->lod], r->st.n_patterns, r->st.n_buckets,
+               r->st.tessellated_triangles);
+        for (int l = 1, first = 1; l <= CORE_LOD_MAX_LEVEL; l++)
+            if (r->st.level_hist[l]) printf("%s\"%d\": %llu", first ? "" : ", ", l, (unsigned long long)r->st.level_hist[l]),
+                                     first = 0;
+        fputc('}', stdout);
+    }
+    if (r->shortcut)
+        printf(", \"shortcut\": {\"skipped\": %llu, \"evaluations\": %llu, \"percent\": %.3f}",
+               (unsigned long long)r->saved, (unsigned long long)r->total,
+               r->total ? 100.0 * (double)r->saved / (double)r->total : 0.0);
+    fputs("}\n", stdout);
+    fflush(stdout);
 }
 
 /* The level histogram of an adaptive render: mesh edges per level, patterns, buckets, triangles. */
@@ -1058,14 +1127,15 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     image_free(&img);
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
     if (rc == 0) rc = outputs_commit(outs, err, errlen);
-    if (rc == 0) report_shortcut(o, m);
-    if (rc == 0 && !o->quiet && o->lod != SCENE_LOD_UNIFORM) report_levels(o, &st);
-    if (rc == 0 && !o->quiet)
-        fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
-                        "%.1f ms -> %s\n",
-                m->name, st.mesh_triangles, st.grid_points, (unsigned long long)st.vertices_shaded,
-                (unsigned long long)st.triangles_drawn, (t1 - t0) * 1e3, o->output);
-    return rc;
+    if (rc != 0 || (o->quiet && !o->stats_json)) return rc;
+    run_report r = {.st = st, .ms = (t1 - t0) * 1e3};
+    r.shortcut = shortcut_savings(o, m, &r.saved, &r.total);
+    if (o->stats_json) print_stats_json(o, m, &r);
+    else {
+        if (o->lod != SCENE_LOD_UNIFORM) report_levels(o, &st);
+        print_stats_text(o, m, &r);
+    }
+    return 0;
 }
 
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)

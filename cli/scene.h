@@ -71,6 +71,7 @@ typedef struct scene_opts {
     float n110_factor;          /* factor of v_ij in the quadratic normal's n110 (vs_options.quad_factor) */
     const char *output, *export_obj;
     bool quiet;
+    bool stats_json;            /* --stats json: the statistics as one JSON object on stdout */
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
     unsigned max_file_mib;      /* a mesh file with its side files (0: meshes.h's default, 256 MiB) */
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
@@ -291,10 +292,34 @@ void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], 
 extern const char *const scene_lod_names[];
 bool scene_parse_lod(const char *s, scene_lod *out);
 
-/* Subcommands: `instess figures` (cli/figures.c), `instess smoothness` (cli/smoothness.c) and `instess view`
- * (cli/view_state.c, which loads the SDL2 window of cli/view.c as the module libinstess_view.so). */
+/* Subcommands: `instess figures` (cli/figures.c), `instess smoothness` (cli/smoothness.c), `instess compare`
+ * (cli/compare.c) and `instess view` (cli/view_state.c, which loads the SDL2 window of cli/view.c as the module
+ * libinstess_view.so).  argv[0] is the subcommand's name; each returns the exit code. */
 int scene_cmd_figures(int argc, char **argv);
 int scene_cmd_smoothness(int argc, char **argv);
+int scene_cmd_compare(int argc, char **argv);
 int scene_cmd_view(int argc, char **argv);
+
+/* An option of a subcommand, for its usage text and the man page: `--name METAVAR`, what it does. */
+typedef struct scene_subopt {
+    const char *name, *metavar, *help;
+} scene_subopt;
+/* compare's options, ended by a NULL name (its getopt table and usage are made from them). */
+extern const scene_subopt scene_compare_options[];
+
+/* One subcommand: its name, entry point, synopsis, what it does (a sentence or two), its options (NULL-name
+ * terminated, or NULL when the synopsis says all) and its exit codes (NULL: those of a render). */
+typedef struct scene_subcommand {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *synopsis, *summary;
+    const scene_subopt *options;
+    const char *exit_codes;
+} scene_subcommand;
+
+/* The manual page instess.1 (roff) into f, from the option table above, the exit codes of a render (a
+ * sentence) and the subcommands subs[0..n-1]: `instess --man`, which the Makefile runs to write the installed
+ * page. */
+void scene_print_man(FILE *f, const char *render_codes, const scene_subcommand *subs, size_t n);
 
 #endif

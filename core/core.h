@@ -617,6 +617,7 @@ typedef struct is_image_diff {
     double mean_error;
     long n_fail, n_warn;    /* values above the fail / warn thresholds */
     long n_pixels;
+    int max_x, max_y, max_channel;  /* where max_error is (the first such value) */
 } is_image_diff;
 /* Compare a and b (same size and channel count) through OpenImageIO; if diff_path is not NULL, also write a
  * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
@@ -624,9 +625,32 @@ int image_compare(const is_image *a, const is_image *b, float fail_thresh, float
                   const char *diff_path, char *err, size_t errlen);
 /* Notes on the above (core/image.cpp): n_fail / n_warn count PIXELS (a pixel counts once however many of its
  * channels exceed the threshold); mean_error is over all values.  The diff image shows the dimmed first image
- * plus |a - b| scaled so the largest difference is full brightness; failing pixels pure red, warning yellow.
+ * plus |a - b| scaled so the largest difference is full brightness; failing pixels red, warning yellow, from
+ * 35% to full brightness by their largest difference over the image's largest (amplified).
  * image_read overwrites *img without freeing it (image_free an earlier image first).  PNG colour is stored as
  * given (unassociated alpha: no premultiplication either way), channels 8-bit k/255. */
+
+/* The verdicts of image_check, which are also the exit codes of `instess compare` (2 is its usage error). */
+typedef enum is_image_verdict {
+    IS_IMAGE_PASS = 0,          /* identical, or within the thresholds */
+    IS_IMAGE_DIFFERENT = 1,     /* more than fail_percent % of the pixels differ by more than fail_thresh */
+    IS_IMAGE_SHAPE_DIFFERS = 3, /* width, height or channels (count or names) differ: not compared */
+    IS_IMAGE_IO_ERROR = 4       /* an image cannot be read, or the diff image cannot be written */
+} is_image_verdict;
+/* The pixel-diff test of actual against reference, as the golden tests and `instess compare` run it: through
+ * image_compare, a pixel fails when one of its channels differs by more than fail_thresh, and the test passes
+ * when at most fail_percent percent of the pixels fail (0 and 0: any difference fails).  *res gets the counts
+ * and the largest difference (zeroed when not compared).  On IS_IMAGE_DIFFERENT, if diff_path is not NULL,
+ * the amplified diff image (see the notes above) is written there as a run of its own (image_write); nothing
+ * is written otherwise.  Anything but IS_IMAGE_PASS / IS_IMAGE_DIFFERENT leaves the reason in err. */
+is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
+                             float fail_percent, const char *diff_path, is_image_diff *res, char *err, size_t errlen);
+/* The folder the codec module is installed in, as the Makefile compiled it in (LIBDIR/instess; see
+ * core/image_codec.c for where the module is looked for). */
+const char *image_codec_install_dir(void);
+/* image_check of the image files a and b (read with image_read); IS_IMAGE_IO_ERROR names the unreadable one. */
+is_image_verdict image_check_files(const char *a, const char *b, float fail_thresh, float fail_percent,
+                                   const char *diff_path, is_image_diff *res, char *err, size_t errlen);
 
 /* Text for diagrams, in DejaVu Sans (/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf), rendered by
  * OpenImageIO's render_text and composited "over" the channels R, G, B (and A if present) with colour rgba

@@ -132,3 +132,53 @@ int image_write(const is_image *img, const char *path, const is_image_meta *meta
     outputs_abort(&o);
     return -1;
 }
+
+/* The channel names of img joined by commas into buf; buf. */
+static const char *channel_names_of(const is_image *img, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = 0;
+    for (int c = 0; c < img->channels && used < len; c++)
+        used += (size_t)snprintf(buf + used, len - used, "%s%s", c ? "," : "", img->channel_names[c]);
+    return buf;
+}
+
+/* True when a and b have one width, height and list of channel names; else false with both shapes in err. */
+static bool same_shape(const is_image *a, const is_image *b, char *err, size_t errlen)
+{
+    bool same = a->width == b->width && a->height == b->height && a->channels == b->channels;
+    for (int c = 0; same && c < a->channels; c++) same = strcmp(a->channel_names[c], b->channel_names[c]) == 0;
+    if (!same) {
+        char na[IS_IMAGE_MAX_CHANNELS * 17], nb[IS_IMAGE_MAX_CHANNELS * 17];
+        core_set_err(err, errlen, "the images differ in shape: %dx%d [%s] against %dx%d [%s]", a->width, a->height,
+                     channel_names_of(a, na, sizeof na), b->width, b->height, channel_names_of(b, nb, sizeof nb));
+    }
+    return same;
+}
+
+is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
+                             float fail_percent, const char *diff_path, is_image_diff *res, char *err, size_t errlen)
+{
+    memset(res, 0, sizeof *res);
+    if (!same_shape(actual, reference, err, errlen)) return IS_IMAGE_SHAPE_DIFFERS;
+    if (image_compare(actual, reference, fail_thresh, fail_thresh, res, NULL, err, errlen) != 0)
+        return IS_IMAGE_IO_ERROR;
+    if (100.0 * (double)res->n_fail <= (double)fail_percent * (double)res->n_pixels) return IS_IMAGE_PASS;
+    is_image_diff again;
+    if (diff_path && image_compare(actual, reference, fail_thresh, fail_thresh, &again, diff_path, err, errlen) != 0)
+        return IS_IMAGE_IO_ERROR;
+    return IS_IMAGE_DIFFERENT;
+}
+
+is_image_verdict image_check_files(const char *a, const char *b, float fail_thresh, float fail_percent,
+                                   const char *diff_path, is_image_diff *res, char *err, size_t errlen)
+{
+    is_image ia = {0}, ib = {0};
+    memset(res, 0, sizeof *res);
+    is_image_verdict v = IS_IMAGE_IO_ERROR;
+    if (image_read(&ia, a, err, errlen) == 0 && image_read(&ib, b, err, errlen) == 0)
+        v = image_check(&ia, &ib, fail_thresh, fail_percent, diff_path, res, err, errlen);
+    image_free(&ia);
+    image_free(&ib);
+    return v;
+}

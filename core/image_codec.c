@@ -6,10 +6,18 @@
  * program, also of `--help`, of usage and input errors and of renders that fail before they write.  Now a
  * process loads them only when it encodes, reads, compares or draws text.
  *
- * Where the module is looked for, first found wins: beside the executable (build/instess), one folder up
- * (build/tests/...), and ../lib/instess beside it (an installed program).  The executable exports its own
- * symbols (-rdynamic) for the module's calls of image_alloc, image_write and the like.  When no module can be
- * loaded, every call fails with a message naming the places tried and dlerror's reason.
+ * Where the module is looked for, first found wins:
+ *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install);
+ *  2. instess/ beside the shared library that holds this code (libinstess.so in LIBDIR finds
+ *     LIBDIR/instess/libinstess_codec.so, wherever the library was installed or staged: found with dladdr);
+ *  3. beside the executable (build/instess), one folder up (build/tests/...), and ../lib/instess beside it
+ *     (the installed program, BINDIR = PREFIX/bin);
+ *  4. INSTESS_CODEC_DIR as compiled in by the Makefile (LIBDIR/instess of the PREFIX the library was built
+ *     for): a program linked with the static archive libinstess.a finds the installed module there.
+ * The module calls image_alloc, image_write and the like of the code that opened it: a program that links
+ * libinstess.so gets them from the library, one that links libinstess.a must export them (-rdynamic, which
+ * instess.pc's Libs.private carries).  When no module can be loaded, every call fails with a message naming
+ * the places tried and dlerror's reason.
  *
  * The function table is filled once (pthread_once) and read-only afterwards: with the signal handler's slots
  * (core/output.c), one of the two process-wide states the project allows. */
@@ -20,6 +28,7 @@
 #include <limits.h>
 #include <pthread.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -33,41 +42,84 @@ typedef struct codec_table {
     int (*compare)(const is_image *, const is_image *, float, float, is_image_diff *, const char *, char *, size_t);
     int (*draw_text)(is_image *, int, int, const char *, float, const float[4], char *, size_t);
     int (*text_size)(const char *, float, int *, int *);
-    char why[1536];  /* why loading failed, when it did */
+    char why[4096];  /* why loading failed, when it did */
 } codec_table;
 
 static codec_table g_codec;
 static pthread_once_t g_codec_once = PTHREAD_ONCE_INIT;
 
+#ifndef INSTESS_CODEC_DIR
+#define INSTESS_CODEC_DIR "/usr/local/lib/instess"
+#endif
+
+/* The folder of path (a file's path) into dir ("." if it has none). */
+static void dir_of(const char *path, char *dir, size_t len)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, len, ".");
+    else snprintf(dir, len, "%.*s", (int)(slash - path), path);
+}
+
 /* The folder of the running executable into dir ("." if unknown). */
 static void exe_dir(char *dir, size_t len)
 {
-    ssize_t n = readlink("/proc/self/exe", dir, len - 1);
-    if (n <= 0) {
-        snprintf(dir, len, ".");
-        return;
-    }
-    dir[n] = 0;
-    char *slash = strrchr(dir, '/');
-    if (slash) *slash = 0;
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    exe[n > 0 ? n : 0] = 0;
+    dir_of(exe, dir, len);
+}
+
+/* The folder of the shared object that holds this code into dir; false when it is the executable itself
+ * (linked with libinstess.a) or unknown. */
+static bool library_dir(char *dir, size_t len)
+{
+    Dl_info info;
+    char exe[PATH_MAX], lib[PATH_MAX];
+    if (!dladdr((void *)library_dir, &info) || !info.dli_fname || !realpath(info.dli_fname, lib)) return false;
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    exe[n > 0 ? n : 0] = 0;
+    if (strcmp(lib, exe) == 0) return false;
+    dir_of(lib, dir, len);
+    return true;
+}
+
+/* The folders to look in, in order (see the top of this file), into dirs[]; their number. */
+static int candidate_dirs(char dirs[][PATH_MAX + 32])
+{
+    int n = 0;
+    const char *env = getenv("INSTESS_CODEC_DIR");
+    char d[PATH_MAX];
+    if (env && *env) snprintf(dirs[n++], PATH_MAX + 32, "%.*s", PATH_MAX, env);
+    if (library_dir(d, sizeof d)) snprintf(dirs[n++], PATH_MAX + 32, "%s/instess", d);
+    exe_dir(d, sizeof d);
+    snprintf(dirs[n++], PATH_MAX + 32, "%s", d);
+    snprintf(dirs[n++], PATH_MAX + 32, "%s/..", d);
+    snprintf(dirs[n++], PATH_MAX + 32, "%s/../lib/instess", d);
+    snprintf(dirs[n++], PATH_MAX + 32, "%s", INSTESS_CODEC_DIR);
+    return n;
+}
+
+const char *image_codec_install_dir(void)
+{
+    return INSTESS_CODEC_DIR;
 }
 
 /* Open the module from the places above; its handle or NULL with g_codec.why filled. */
 static void *open_module(void)
 {
-    char dir[PATH_MAX], path[PATH_MAX + 64];
-    exe_dir(dir, sizeof dir);
-    const char *const rel[] = {"", "/..", "/../lib/instess"};
+    char dirs[6][PATH_MAX + 32], path[PATH_MAX + 64];
+    int nd = candidate_dirs(dirs);
     size_t n = (size_t)snprintf(g_codec.why, sizeof g_codec.why, "image codec: cannot load " CODEC_MODULE);
-    for (int k = 0; k < 3; k++) {
-        snprintf(path, sizeof path, "%s%s/" CODEC_MODULE, dir, rel[k]);
+    for (int k = 0; k < nd; k++) {
+        snprintf(path, sizeof path, "%.*s/" CODEC_MODULE, PATH_MAX, dirs[k]);
         if (access(path, R_OK) != 0) continue;
         void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
         if (h) return h;
         if (n < sizeof g_codec.why) n += (size_t)snprintf(g_codec.why + n, sizeof g_codec.why - n, "; %s", dlerror());
     }
-    if (n < sizeof g_codec.why)
-        snprintf(g_codec.why + n, sizeof g_codec.why - n, " (looked beside %.900s, in .. and ../lib/instess)", dir);
+    for (int k = 0; k < nd && n < sizeof g_codec.why; k++)
+        n += (size_t)snprintf(g_codec.why + n, sizeof g_codec.why - n, "%s%.300s", k ? ", " : " (looked in ", dirs[k]);
+    if (n < sizeof g_codec.why) snprintf(g_codec.why + n, sizeof g_codec.why - n, ")");
     return NULL;
 }
 

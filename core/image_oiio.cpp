@@ -207,7 +207,8 @@ ImageSpec float_spec(const is_image *img)
 }
 
 // The visual diff: dimmed luminance of a, plus |a - b| of the first three channels scaled so the largest
-// difference is full brightness; pixels with a channel above fail_thresh are pure red, above warn yellow.
+// difference is full brightness; pixels with a channel above fail_thresh are red, above warn yellow, from 35%
+// to full brightness by their largest difference over the image's largest.
 void fill_diff(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, float max_err,
                is_image *d)
 {
@@ -227,10 +228,11 @@ void fill_diff(const is_image *a, const is_image *b, float fail_thresh, float wa
         for (int c = 0; c < 3; c++)
             o[c] = std::min(1.0f, 0.2f * std::min(std::max(lum, 0.0f), 1.0f) + out[c]);
         o[3] = 1.0f;
+        float level = 0.35f + 0.65f * std::min(1.0f, worst * scale);  // amplified: the largest is full red
         if (worst > warn_thresh)
-            o[0] = 1.0f, o[1] = 1.0f, o[2] = 0.0f;
+            o[0] = level, o[1] = level, o[2] = 0.0f;
         if (worst > fail_thresh)
-            o[0] = 1.0f, o[1] = 0.0f, o[2] = 0.0f;
+            o[0] = level, o[1] = 0.0f, o[2] = 0.0f;
     }
 }
 
@@ -271,6 +273,7 @@ int compare_images(const is_image *a, const is_image *b, float fail_thresh, floa
     res->n_fail = (long)cr.nfail;
     res->n_warn = (long)cr.nwarn;
     res->n_pixels = (long)a->width * a->height;
+    res->max_x = cr.maxx, res->max_y = cr.maxy, res->max_channel = cr.maxc;
     if (diff_path)
         return write_diff(a, b, fail_thresh, warn_thresh, res->max_error, diff_path, err, errlen);
     return 0;

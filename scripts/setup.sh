@@ -19,6 +19,10 @@ have_pc SDL2_ttf || need+=(libsdl2-ttf-dev)
 [ -f /usr/share/assimp/models/MD2/faerie.md2 ] || need+=(assimp-testmodels)
 [ -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ] && [ -f /usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf ] ||
   need+=(fonts-dejavu-core)
+# make test's install stage renders the man page (man -l) and reads the library's soname (readelf)
+command -v man >/dev/null 2>&1 || need+=(man-db)
+command -v groff >/dev/null 2>&1 || need+=(groff-base)
+command -v readelf >/dev/null 2>&1 || need+=(binutils)
 if [ "${1:-}" = "--bench" ]; then
   have_pc egl || need+=(libegl-dev)
   have_pc gl || need+=(libgl-dev)

@@ -455,7 +455,8 @@ static void test_read_failures(void **state)
 /* ---------------------------------------------------------------- compare */
 
 /* image_compare: identical images give zero error; one pixel changed in two channels counts as ONE failing
- * pixel with the exact max error; the diff image is written, that pixel pure red and the others not red.
+ * pixel with the exact max error at its pixel and channel; the diff image is written, that pixel (the largest
+ * difference) full red, the warning yellow dimmed by its amplified difference, the others not red.
  * Mismatched sizes are an error. */
 static void test_compare_finds_changed_pixel(void **state)
 {
@@ -477,12 +478,14 @@ static void test_compare_finds_changed_pixel(void **state)
     assert_int_equal(res.n_fail, 1);
     assert_int_equal(res.n_warn, 2);
     assert_float_equal(res.max_error, 0.5, 1e-6);
+    assert_true(res.max_x == 7 && res.max_y == 3 && res.max_channel == 4);
     assert_true(res.mean_error > 0.0);
     assert_int_equal(image_read(&d, path, err, sizeof err), 0);
     assert_int_equal(d.width, 10);
     assert_int_equal(d.height, 6);
     assert_true(*px(&d, 7, 3, 0) == 1.0f && *px(&d, 7, 3, 1) == 0.0f && *px(&d, 7, 3, 2) == 0.0f);
-    assert_true(*px(&d, 2, 2, 0) == 1.0f && *px(&d, 2, 2, 1) == 1.0f && *px(&d, 2, 2, 2) == 0.0f); /* yellow */
+    /* yellow at 0.35 + 0.65 * 0.01 / 0.5 = 0.363 of full brightness (8-bit: 93/255) */
+    assert_true(*px(&d, 2, 2, 0) == 93.0f / 255.0f && *px(&d, 2, 2, 1) == 93.0f / 255.0f && *px(&d, 2, 2, 2) == 0.0f);
     for (int y = 0; y < 6; y++)
         for (int x = 0; x < 10; x++)
             if (!(x == 7 && y == 3) && !(x == 2 && y == 2))
@@ -664,6 +667,46 @@ static void test_draw_text(void **state)
     image_free(&img);
 }
 
+/* image_check, the pixel-diff test of the goldens and `instess compare`: identical passes; one failing pixel of
+ * 60 fails at 0% and passes at 2% (1.67%); a diff image is written only on a failure; a different size or
+ * channel list is SHAPE_DIFFERS naming both shapes; an unreadable file is IO_ERROR naming it. */
+static void test_image_check_verdicts(void **state)
+{
+    fixture *f = *state;
+    char path[PATH_LEN], pa[PATH_LEN], pb[PATH_LEN], err[PATH_LEN + 256] = "";
+    is_image a, b, c;
+    is_image_diff d;
+    make_pattern(&a, 10, 6, "R,G,B,A");
+    make_pattern(&b, 10, 6, "R,G,B,A");
+    assert_int_equal(image_check(&a, &b, 0.0f, 0.0f, in_dir(path, f, "d0.png"), &d, err, sizeof err), IS_IMAGE_PASS);
+    assert_true(d.max_error == 0.0f && d.n_fail == 0 && d.n_pixels == 60);
+    assert_int_equal(access(path, F_OK), -1);
+    *px(&b, 4, 5, 2) += 0.2f;
+    assert_int_equal(image_check(&a, &b, 0.1f, 2.0f, path, &d, err, sizeof err), IS_IMAGE_PASS);
+    assert_int_equal(d.n_fail, 1);
+    assert_int_equal(access(path, F_OK), -1);
+    assert_int_equal(image_check(&a, &b, 0.1f, 1.5f, path, &d, err, sizeof err), IS_IMAGE_DIFFERENT);
+    assert_true(d.max_x == 4 && d.max_y == 5 && d.max_channel == 2);
+    assert_int_equal(access(path, F_OK), 0);
+    assert_int_equal(image_check(&a, &b, 0.25f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_PASS);
+    make_pattern(&c, 10, 6, "R,G,B,Z");
+    assert_int_equal(image_check(&a, &c, 0.0f, 100.0f, NULL, &d, err, sizeof err), IS_IMAGE_SHAPE_DIFFERS);
+    assert_non_null(strstr(err, "[R,G,B,A] against 10x6 [R,G,B,Z]"));
+    image_free(&c);
+    make_pattern(&c, 10, 5, "R,G,B,A");
+    assert_int_equal(image_check(&a, &c, 0.0f, 100.0f, NULL, &d, err, sizeof err), IS_IMAGE_SHAPE_DIFFERS);
+    image_free(&c);
+    assert_int_equal(image_write(&a, in_dir(pa, f, "a.png"), &META, err, sizeof err), 0);
+    assert_int_equal(image_write(&b, in_dir(pb, f, "b.png"), &META, err, sizeof err), 0);
+    assert_int_equal(image_check_files(pa, pb, 0.1f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_DIFFERENT);
+    assert_int_equal(image_check_files(pa, pa, 0.0f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_PASS);
+    assert_int_equal(image_check_files(pa, in_dir(path, f, "none.png"), 0.0f, 0.0f, NULL, &d, err, sizeof err),
+                     IS_IMAGE_IO_ERROR);
+    assert_non_null(strstr(err, "none.png"));
+    image_free(&a);
+    image_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -678,6 +721,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_golden_missing_then_regenerated, setup, teardown),
         cmocka_unit_test_setup_teardown(test_golden_exr, setup, teardown),
         cmocka_unit_test_setup_teardown(test_draw_text, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_image_check_verdicts, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

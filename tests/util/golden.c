@@ -15,7 +15,7 @@
  * images.  A test that has an image to check has called image_alloc, which links image.o and resolves these. */
 #pragma weak image_write
 #pragma weak image_read
-#pragma weak image_compare
+#pragma weak image_check
 #pragma weak image_free
 
 /* The golden directory: $INSTESS_GOLDEN_DIR or tests/golden. */
@@ -83,28 +83,6 @@ static void report_hint(const char *name, const char *golden)
             name, golden);
 }
 
-/* True if a and b have the same size and channel names in the same order. */
-static int same_shape(const is_image *a, const is_image *b)
-{
-    if (a->width != b->width || a->height != b->height || a->channels != b->channels)
-        return 0;
-    for (int c = 0; c < a->channels; c++)
-        if (strcmp(a->channel_names[c], b->channel_names[c]) != 0)
-            return 0;
-    return 1;
-}
-
-/* "R,G,B,A" of img into buf, for messages. */
-static const char *names_of(const is_image *img, char *buf, size_t n)
-{
-    buf[0] = '\0';
-    for (int c = 0; c < img->channels; c++) {
-        size_t used = strlen(buf);
-        snprintf(buf + used, n - used, "%s%s", c ? "," : "", img->channel_names[c]);
-    }
-    return buf;
-}
-
 /* Write the golden (regeneration mode). */
 static int regenerate(const is_image *actual, const char *name, const char *golden, const is_image_meta *meta)
 {
@@ -137,31 +115,26 @@ static int store_actual(const is_image *actual, const char *name, const char *pa
     return 0;
 }
 
-/* Compare got with the golden; 0 when within tolerance, -1 (with a report and a diff image) otherwise. */
+/* Compare got with the golden by image_check, the pixel-diff test `instess compare` runs; 0 when it passes, -1
+ * (with a report, and the diff image when the pixels differ) otherwise. */
 static int compare_golden(const is_image *got, const is_image *gold, const char *name, const char *golden,
                           const char *actual_path, const char *diff_path, float fail_thresh, float fail_percent)
 {
-    char err[GOLDEN_PATH_MAX + 256], n1[IS_IMAGE_MAX_CHANNELS * 17], n2[IS_IMAGE_MAX_CHANNELS * 17];
-    if (!same_shape(got, gold)) {
-        fprintf(stderr, "golden %s: FAILURE: shape differs: actual %dx%d [%s], golden %s %dx%d [%s]; actual in %s\n",
-                name, got->width, got->height, names_of(got, n1, sizeof n1), golden, gold->width, gold->height,
-                names_of(gold, n2, sizeof n2), actual_path);
-        return -1;
-    }
+    char err[GOLDEN_PATH_MAX + 256];
     is_image_diff d;
-    if (image_compare(got, gold, fail_thresh, fail_thresh, &d, NULL, err, sizeof err) != 0) {
-        fprintf(stderr, "golden %s: FAILURE: %s\n", name, err);
+    is_image_verdict v = image_check(got, gold, fail_thresh, fail_percent, diff_path, &d, err, sizeof err);
+    if (v == IS_IMAGE_PASS)
+        return 0;
+    if (v != IS_IMAGE_DIFFERENT) {
+        fprintf(stderr, "golden %s: FAILURE: actual %s against the golden %s: %s\n", name, actual_path, golden, err);
         return -1;
     }
     double pct = 100.0 * (double)d.n_fail / (double)d.n_pixels;
-    if (pct <= fail_percent)
-        return 0;
-    int wrote = image_compare(got, gold, fail_thresh, fail_thresh, &d, diff_path, err, sizeof err) == 0;
     fprintf(stderr,
             "golden %s: FAILURE: %ld of %ld pixels (%.4f%%, allowed %.4f%%) differ by more than %g from %s;\n"
-            "  max error %g, mean error %g; actual: %s; diff: %s\n",
+            "  max error %g (pixel %d,%d, channel %d), mean error %g; actual: %s; diff: %s\n",
             name, d.n_fail, d.n_pixels, pct, (double)fail_percent, (double)fail_thresh, golden, (double)d.max_error,
-            d.mean_error, actual_path, wrote ? diff_path : err);
+            d.max_x, d.max_y, d.max_channel, d.mean_error, actual_path, diff_path);
     return -1;
 }
 
@@ -170,7 +143,7 @@ int golden_check(const is_image *actual, const char *name, float fail_thresh, fl
 {
     char stem[256], golden[GOLDEN_PATH_MAX], actual_path[GOLDEN_PATH_MAX], diff_path[GOLDEN_PATH_MAX], err[256];
     const char *ext;
-    if (!image_write || !image_read || !image_compare || !image_free) {
+    if (!image_write || !image_read || !image_check || !image_free) {
         fprintf(stderr, "golden_check: FAILURE: core/image.o is not linked into this test\n");
         return -1;
     }

@@ -72,3 +72,9 @@ int image_text_size(const char *text, float size_px, int *w, int *h)
     (void)text, (void)size_px, (void)w, (void)h;
     return -1;
 }
+
+/* No module in this build (the man page of this build names no folder). */
+const char *image_codec_install_dir(void)
+{
+    return "(none: the valgrind build has no codec module)";
+}

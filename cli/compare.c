@@ -1,0 +1,113 @@
+/* cli/compare.c -- `instess compare A B [--diff FILE] [--fail T] [--failpercent P]`: the pixel-diff test of
+ * the golden tests (image_check, core/core.h) on two image files, for scripts and for a user's own goldens.
+ *
+ * Prints the shape, the largest difference with its pixel and channel, the mean, and the count of failing
+ * pixels on stdout; exit codes are image_check's verdicts: 0 identical or within the thresholds, 1 different,
+ * 3 the sizes (or channels) differ, 4 an image cannot be read (or the diff cannot be written), and 2 for a
+ * usage error.  Its options are the table below, from which its usage text and the man page are printed. */
+#include "scene.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* What the command line asked for. */
+typedef struct compare_args {
+    const char *a, *b, *diff;
+    float fail, failpercent;
+} compare_args;
+
+const scene_subopt scene_compare_options[] = {
+    {"diff", "FILE", "when the images differ (exit 1), write the amplified diff image there (.png or .exr): the "
+     "first image dimmed plus |A - B| scaled so that the largest difference is full brightness, failing pixels "
+     "red; nothing is written when they pass"},
+    {"fail", "T", "a pixel fails when one of its channels differs by more than T (colour in 0..1)  [0]"},
+    {"failpercent", "P", "pass when at most P percent of the pixels fail  [0]"},
+    {NULL, NULL, NULL},
+};
+
+/* Print the usage of compare, from the table, to f. */
+static void compare_usage(FILE *f)
+{
+    fputs("usage: instess compare A B [--diff FILE] [--fail T] [--failpercent P]\n"
+          "Compare two images as the golden tests do; exit 0 identical or within the thresholds, 1 different,\n"
+          "2 usage error, 3 sizes or channels differ, 4 an image cannot be read.\n\n", f);
+    for (const scene_subopt *o = scene_compare_options; o->name; o++) {
+        char label[64];
+        snprintf(label, sizeof label, "  --%s %s", o->name, o->metavar);
+        fprintf(f, "%-22s%s\n", label, o->help);
+    }
+}
+
+/* A usage error: the message and the hint on stderr; 2. */
+static int compare_usage_error(const char *msg, const char *arg)
+{
+    fprintf(stderr, "instess compare: %s%s%s\nTry 'instess compare --help'.\n", msg, arg ? ": " : "", arg ? arg : "");
+    return 2;
+}
+
+/* A threshold in [0, hi] from s into *out; true on success. */
+static bool parse_threshold(const char *s, float hi, float *out)
+{
+    return scene_parse_float(s, 0.0f, hi, out);
+}
+
+/* argv into a; 0, -1 for a usage error (printed), 1 when --help was asked (usage printed). */
+static int parse_compare_args(int argc, char **argv, compare_args *a, int *code)
+{
+    struct option lo[sizeof scene_compare_options / sizeof scene_compare_options[0] + 1];
+    size_t n = 0;
+    for (; scene_compare_options[n].name; n++)
+        lo[n] = (struct option){scene_compare_options[n].name, required_argument, 0, (int)(256 + n)};
+    lo[n++] = (struct option){"help", no_argument, 0, 'h'};
+    lo[n] = (struct option){0, 0, 0, 0};
+    *a = (compare_args){0};
+    opterr = 0;
+    optind = 1;
+    int c;
+    while ((c = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+        const char *name = c >= 256 ? scene_compare_options[c - 256].name : "";
+        if (c == 'h') return compare_usage(stdout), *code = 0, 1;
+        if (c == '?') return *code = compare_usage_error("unknown option or missing value", argv[optind - 1]), -1;
+        if (!strcmp(name, "diff")) a->diff = optarg;
+        else if (!strcmp(name, "fail") && !parse_threshold(optarg, 1e30f, &a->fail))
+            return *code = compare_usage_error("--fail needs a number >= 0", optarg), -1;
+        else if (!strcmp(name, "failpercent") && !parse_threshold(optarg, 100.0f, &a->failpercent))
+            return *code = compare_usage_error("--failpercent needs a number in 0..100", optarg), -1;
+    }
+    if (argc - optind != 2) return *code = compare_usage_error("compare takes two images, A and B", NULL), -1;
+    a->a = argv[optind], a->b = argv[optind + 1];
+    char err[512];
+    if (a->diff && image_check_path(a->diff, err, sizeof err) != 0)
+        return *code = compare_usage_error("--diff", err), -1;
+    if (a->diff && (outputs_same_target(a->diff, a->a) || outputs_same_target(a->diff, a->b)))
+        return *code = compare_usage_error("--diff names one of the images compared", a->diff), -1;
+    return 0;
+}
+
+/* The report of a comparison that ran (verdict pass or different) on stdout. */
+static void print_report(const compare_args *a, const is_image_diff *d, is_image_verdict v)
+{
+    double pct = d->n_pixels ? 100.0 * (double)d->n_fail / (double)d->n_pixels : 0.0;
+    printf("%s vs %s: %ld pixels\n", a->a, a->b, d->n_pixels);
+    printf("largest difference: %g (pixel %d,%d, channel %d); mean difference: %g\n", (double)d->max_error, d->max_x,
+           d->max_y, d->max_channel, d->mean_error);
+    printf("failing pixels: %ld (%.4f%%) differ by more than %g; allowed: %g%%\n", d->n_fail, pct, (double)a->fail,
+           (double)a->failpercent);
+    if (v == IS_IMAGE_DIFFERENT) printf("DIFFERENT%s%s\n", a->diff ? "; diff image: " : "", a->diff ? a->diff : "");
+    else printf("%s\n", d->max_error == 0.0f ? "identical" : "within the thresholds");
+}
+
+int scene_cmd_compare(int argc, char **argv)
+{
+    compare_args a;
+    int code = 0;
+    if (parse_compare_args(argc, argv, &a, &code) != 0) return code;
+    is_image_diff d;
+    char err[2048];
+    is_image_verdict v = image_check_files(a.a, a.b, a.fail, a.failpercent, a.diff, &d, err, sizeof err);
+    if (v == IS_IMAGE_PASS || v == IS_IMAGE_DIFFERENT) print_report(&a, &d, v);
+    else fprintf(stderr, "instess compare: %s\n", err);
+    return (int)v;
+}

@@ -1,0 +1,148 @@
+#!/usr/bin/env bash
+# tests/install_check.sh -- `make install-check`, a stage of `make test`: instess as a user installs and uses it.
+#   - make install into a temporary DESTDIR (PREFIX /usr/local): every file, the soname and its links;
+#   - each installed header compiles alone as C17 (-Wall -Wextra -Wpedantic -Werror);
+#   - examples/npatch_diff.c built with pkg-config against the staged copy alone, from a folder outside the
+#     repository: the headers it includes and the library it loads are the staged ones (checked with cc -H and
+#     ldd); it matches examples/npatch_diff.png and fails (exit 1, diff image written) on another image;
+#   - the same example linked with the static archive: it finds the codec module through the folder compiled
+#     in from LIBDIR (named in its message), or $INSTESS_CODEC_DIR;
+#   - the staged program renders (finding its module in ../lib/instess) and compares;
+#   - man -l renders the staged page, which names every option `instess --help` prints;
+#   - a PREFIX of its own is compiled into the module's folder (the man page's FILES names it);
+#   - make uninstall leaves no file behind.
+# Prints "install: N passed, M failed"; exit status 1 when M > 0.
+set -u
+make=${MAKE:-make}
+root=$(cd "$(dirname "$0")/.." && pwd)
+B=${B:-build}
+tmp=$(mktemp -d /tmp/instess-install-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+stage=$tmp/stage
+prefix=/usr/local
+pass=0; fail=0
+
+# check NAME COMMAND...: run it quietly (output kept in $tmp/last.log); count and report.
+check() {
+  local name=$1; shift
+  if ( "$@" ) >"$tmp/last.log" 2>&1; then pass=$((pass + 1)); echo "ok   $name"
+  else fail=$((fail + 1)); echo "FAIL $name"; sed 's/^/    /' "$tmp/last.log" | head -n 20; fi
+}
+
+cd "$root" || exit 2
+# The builds run here (not counted); what they produced is checked below.
+$make --no-print-directory install DESTDIR="$stage" PREFIX=$prefix >"$tmp/install.log" 2>&1 ||
+  { cat "$tmp/install.log"; echo "install: 0 passed, 1 failed"; exit 1; }
+
+S=$stage$prefix
+files_installed() {
+  for f in bin/instess share/man/man1/instess.1 lib/libinstess.so.0.1.0 lib/libinstess.a \
+           lib/instess/libinstess_codec.so lib/pkgconfig/instess.pc include/instess/core/core.h \
+           include/instess/raster/raster.h include/instess/vs/vs.h include/instess/meshes/meshes.h; do
+    [ -f "$S/$f" ] || { echo "missing $S/$f"; return 1; }
+  done
+  [ "$(readlink "$S/lib/libinstess.so")" = libinstess.so.0 ] && [ "$(readlink "$S/lib/libinstess.so.0")" = libinstess.so.0.1.0 ] &&
+    readelf -d "$S/lib/libinstess.so.0.1.0" | grep -q 'SONAME.*\[libinstess.so.0\]'
+}
+check "install: files, soname libinstess.so.0 and its links" files_installed
+
+header_alone() {
+  printf '#include <instess/%s>\nint main(void) { return 0; }\n' "$1" |
+    cc -std=c17 -Wall -Wextra -Wpedantic -Werror -I"$S/include" -x c - -c -o /dev/null
+}
+for h in core/core.h raster/raster.h vs/vs.h meshes/meshes.h; do check "header alone as C17: $h" header_alone "$h"; done
+
+# pkg-config finds the staged copy alone: its .pc through PKG_CONFIG_PATH (the build tree has none), moved
+# to the stage by redefining prefix.
+pc() { PKG_CONFIG_PATH="$S/lib/pkgconfig" PKG_CONFIG_LIBDIR=/usr/lib/x86_64-linux-gnu/pkgconfig:/usr/share/pkgconfig \
+       pkg-config --define-variable=prefix="$S" "$@" instess; }
+pc_flags() {
+  local c l s
+  c=$(pc --cflags) && l=$(pc --libs) && s=$(pc --static --libs) || return 1
+  c=${c% }; l=${l% }   # pkg-config ends its output with a space
+  echo "cflags: $c; libs: $l; static: $s"
+  [ "$c" = "-I$S/include" ] && [ "$l" = "-L$S/lib -linstess" ] &&
+    [[ "$s" == *-rdynamic* && "$s" == *-lmeshoptimizer* && "$s" == *-lassimp* ]]
+}
+check "pkg-config: flags of the staged copy only (Requires.private, Libs.private)" pc_flags
+
+ex=$tmp/example; mkdir -p "$ex"
+cp examples/npatch_diff.png "$ex/ref.png"
+build_example() {
+  cd "$ex" && cc -std=c17 -Wall -Wextra -Werror -H "$root/examples/npatch_diff.c" $(pc --cflags) $(pc --libs) \
+       -Wl,-rpath,"$S/lib" -o npatch_diff 2>headers.txt || { cat headers.txt; return 1; }
+  # every instess header it read is the staged one
+  local ours
+  ours=$(grep -E 'instess|core\.h|raster\.h|vs\.h|meshes\.h' headers.txt | sed 's/^\.* //')
+  echo "$ours"
+  [ -n "$ours" ] && ! echo "$ours" | grep -v "^$S/include/instess/" &&
+    ldd ./npatch_diff | grep -q "libinstess.so.0 => $S/lib/libinstess.so.0"
+}
+check "example: built with pkg-config against the stage (headers and library from it)" build_example
+
+run_example() { cd "$ex" && ./npatch_diff ref.png && [ ! -e ref.png.diff.png ]; }
+check "example: renders the N-Patch and matches examples/npatch_diff.png (exit 0)" run_example
+
+# another image of the same size: the staged program's cube
+other_reference() {
+  cd "$ex" && "$S/bin/instess" --size 128x128 -q -o other.png && { ./npatch_diff other.png; [ $? -eq 1 ]; } &&
+    [ -f other.png.diff.png ]
+}
+check "example: a different reference fails (exit 1, diff image written)" other_reference
+
+static_example() {
+  cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \
+       $(pc --static --libs | sed 's/-linstess//') -o npatch_static || return 1
+  ! readelf -d npatch_static | grep -q libinstess || { echo "linked the shared library"; return 1; }
+  if [ ! -e "$prefix/lib/instess/libinstess_codec.so" ]; then   # not installed for real: the compiled-in folder
+    ./npatch_static ref.png 2>err.txt && { echo "found a module without one installed"; return 1; }
+    grep -q "$prefix/lib/instess" err.txt || { cat err.txt; return 1; }
+  fi
+  INSTESS_CODEC_DIR="$S/lib/instess" ./npatch_static ref.png
+}
+check "example: static archive, module by the compiled-in LIBDIR or INSTESS_CODEC_DIR" static_example
+
+staged_program() {
+  cd "$ex" && "$S/bin/instess" --mesh octahedron --size 64x64 -q -o a.png && "$S/bin/instess" compare a.png a.png
+}
+check "program: the staged instess renders (module in ../lib/instess) and compares" staged_program
+
+man_page() {
+  local text
+  text=$(MANWIDTH=120 man -l "$S/share/man/man1/instess.1" 2>&1) || return 1
+  for sec in NAME SYNOPSIS OPTIONS SUBCOMMANDS "EXIT STATUS" EXAMPLES FILES; do
+    grep -q "^$sec" <<<"$text" || { echo "no section $sec"; return 1; }
+  done
+  local opts
+  opts=$("$S/bin/instess" --help | grep -oE -- '^  (-[a-zA-Z], )?--[a-z][a-z-]*' | grep -oE -- '--[a-z-]+' | sort -u)
+  [ "$(echo "$opts" | wc -l)" -gt 20 ] || { echo "too few options in --help: $opts"; return 1; }
+  local section   # the OPTIONS section: each option has its own tag line there ("       -o, --output FILE")
+  section=$(sed -n '/^OPTIONS/,/^SUBCOMMANDS/p' <<<"$text")
+  for o in $opts; do
+    grep -qE -- "^ {7}(-[a-zA-Z], )?$o( |\$)" <<<"$section" || { echo "the man page's OPTIONS lack $o"; return 1; }
+  done
+  grep -qe "--failpercent P" <<<"$text" && grep -q "$prefix/lib/instess/libinstess_codec.so" <<<"$text"
+}
+check "man -l renders the page; it names every option of --help" man_page
+
+other_prefix() {
+  local o=/opt/instess-check
+  $make --no-print-directory install DESTDIR="$tmp/stage2" PREFIX=$o >"$tmp/install2.log" 2>&1 || { cat "$tmp/install2.log"; return 1; }
+  MANWIDTH=120 man -l "$tmp/stage2$o/share/man/man1/instess.1" 2>/dev/null | grep -q "$o/lib/instess/libinstess_codec.so" &&
+    grep -q "^prefix=$o" "$tmp/stage2$o/lib/pkgconfig/instess.pc" &&
+    [ -f "$tmp/stage2$o/lib/instess/libinstess_codec.so" ]
+}
+check "PREFIX=/opt/instess-check: compiled into the module's folder and instess.pc" other_prefix
+# the build tree back to the default PREFIX (only the module's folder is recompiled)
+$make --no-print-directory "$B/instess" >/dev/null 2>&1
+
+uninstalled() {
+  $make --no-print-directory uninstall DESTDIR="$stage" PREFIX=$prefix >/dev/null 2>&1 || return 1
+  local left
+  left=$(find "$stage" -type f -o -type l)
+  [ -z "$left" ] || { echo "left behind: $left"; return 1; }
+}
+check "make uninstall removes every installed file" uninstalled
+
+echo "install: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
