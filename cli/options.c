@@ -38,6 +38,11 @@ static const char *fill_choices(const char *sep, char *buf, size_t len)
     return scene_join_names(scene_fill_names, sep, buf, len);
 }
 
+static const char *cull_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_cull_names, sep, buf, len);
+}
+
 /* "unknown --NAME (one of: ...)" for option opt into buf; buf. */
 static const char *unknown_choice(const scene_option *opt, char *buf, size_t len)
 {
@@ -100,6 +105,14 @@ static const char *opt_threads(scene_opts *o, const char *a)
 {
     return scene_parse_int(a, 0, 256, &o->threads) ? NULL : "--threads must be 0..256";
 }
+static const char *opt_cull(scene_opts *o, const char *a)
+{
+    return scene_parse_cull(a, &o->cull) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_import_timeout(scene_opts *o, const char *a)
+{
+    return scene_parse_int(a, 1, 86400, &o->import_timeout_s) ? NULL : "--import-timeout takes seconds, 1..86400";
+}
 static const char *opt_recompute(scene_opts *o, const char *a) { return o->recompute_normals = true, NULL; }
 
 /* A size in MiB in [lo, 2^20] into *out; NULL or msg. */
@@ -124,7 +137,7 @@ static const char *opt_max_import_memory(scene_opts *o, const char *a)
 }
 static const char *opt_aov(scene_opts *o, const char *a)
 {
-    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
+    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory,depth";
 }
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
@@ -137,7 +150,9 @@ const scene_option scene_options[] = {
      "cylinder) or a file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...); also the positional MESH", "cube",
      opt_mesh, NULL},
     {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices},
-    {"normals", 0, "N", "the normals the patch shades with", "linear", opt_normals, normals_choices},
+    {"normals", 0, "N", "the normals the patch shades with: real (the patch's own, from its derivatives) shows how "
+     "the patches differ; D3D9 and the listings used linear (D3DRS_NORMALDEGREE's default), under which every curved "
+     "patch shades alike", "real; linear on --path npatch-mode and cpu", opt_normals, normals_choices},
     {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL},
     {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices},
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
@@ -147,18 +162,29 @@ const scene_option scene_options[] = {
     {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
     {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
+    {"cull", 0, "C", "the faces not drawn (D3DRS_CULLMODE): ccw culls the back faces (fronts run clockwise), cw "
+     "culls the fronts (shows a mesh wound the other way), none draws both sides (inside-out or open meshes)",
+     "ccw, D3D9's default", opt_cull, cull_choices},
     {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
     {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
     {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
      opt_recompute, NULL},
+    {"import-timeout", 0, "S", "seconds the mesh import (assimp, run in a child process) may take before it is "
+     "stopped and reported", "60", opt_import_timeout, NULL},
     {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},
     {"max-file-size", 0, "MIB", "the largest mesh file (with the files it refers to) read", "256",
      opt_max_file_size, NULL},
     {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL},
-    {"aov", 0, "LIST", "EXR only: extra channels, comma-separated: normal,bary,instance,gregory", NULL, opt_aov, NULL},
-    {"export-obj", 0, "FILE", "also write the tessellated surface as OBJ", NULL, opt_export_obj, NULL},
-    {"output", 'o', "FILE", "the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)", NULL, opt_output,
+    {"aov", 0, "LIST", "EXR only: extra float channels (one sample per pixel), comma-separated: normal (N.X,N.Y,N.Z, "
+     "the patch's unit normal), bary (bary.X,Y,Z), instance (the triangle's index; -1 on the background, which no "
+     "triangle has), gregory (gregory.X,Y,Z), depth (view-space depth in the mesh's units; +inf on the background); "
+     "the others are 0 on the background", NULL, opt_aov, NULL},
+    {"export-obj", 0, "FILE.obj", "also write the tessellated surface as OBJ (positions, texture coordinates, normals) "
+     "in the input's own frame: right-handed, counter-clockwise fronts, as assimp reads it", NULL, opt_export_obj,
      NULL},
+    {"output", 'o', "FILE", "the image: .png (8-bit sRGB over the background colour, A = 1) or .exr (R, G, B linear "
+     "and premultiplied by A = the pixel's coverage, the background transparent; half floats; Z = D3D9's depth z/w "
+     "in [MinZ, MaxZ] = [0, 1], 1 on the background, float; then the AOVs)", NULL, opt_output, NULL},
     {"quiet", 'q', NULL, "no statistics on stderr (warnings are still printed)", NULL, opt_quiet, NULL},
 };
 const size_t scene_option_count = sizeof scene_options / sizeof scene_options[0];
@@ -255,7 +281,7 @@ int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *re
 {
     struct option lo[sizeof scene_options / sizeof scene_options[0] + 3];
     long_options(lo);
-    bool mesh_given = false;
+    bool mesh_given = false, normals_given = false;
     int c;
     opterr = 0;
     optind = 1;
@@ -268,7 +294,12 @@ int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *re
         const char *msg = scene_apply_option(o, opt, optarg, buf, sizeof buf);
         if (msg) return snprintf(err, errlen, "%s%s%s", msg, optarg ? ": " : "", optarg ? optarg : ""), -1;
         mesh_given |= opt->apply == opt_mesh;
+        normals_given |= opt->apply == opt_normals;
     }
+    /* the default normals are the patch's own (real), which only the instanced path evaluates: the fixed-function
+     * paths default to D3D9's linear normals (--help says so) */
+    if (!normals_given && o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
+        o->normals = VS_NORMALS_LINEAR;
     if (optind < argc && !mesh_given) o->mesh = argv[optind++];   /* instess MESH -o OUT (getopt moved it last) */
     if (optind < argc)
         return snprintf(err, errlen, "%s: %s", mesh_given ? "unexpected argument (the mesh is given by --mesh)"

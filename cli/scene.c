@@ -18,11 +18,12 @@
 void scene_opts_default(scene_opts *o)
 {
     *o = (scene_opts){
-        .mesh = "cube", .patch = VS_PATCH_SMOOTH, .normals = VS_NORMALS_LINEAR, .level = 8.0f,
+        .mesh = "cube", .patch = VS_PATCH_SMOOTH, .normals = VS_NORMALS_REAL, .level = 8.0f,
         .grid = CORE_GRID_REGULAR, .path = SCENE_PATH_INSTANCED, .width = 512, .height = 512, .yaw = 30.0f,
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
-        .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
+        .background = IS_COLOR_ARGB(255, 46, 52, 64), .cull = IS_CULL_CCW,
+        .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
     };
 }
 
@@ -48,6 +49,7 @@ bool scene_parse_normals(const char *s, vs_normals *out)
 const char *const scene_grid_names[] = {"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL};
 const char *const scene_path_names[] = {"instanced", "npatch-mode", "cpu", NULL};
 const char *const scene_fill_names[] = {"solid", "wire", "solid+wire", "point", NULL};
+const char *const scene_cull_names[] = {"none", "cw", "ccw", NULL};
 
 const char *scene_grid_name(core_grid_kind g)
 {
@@ -67,6 +69,14 @@ bool scene_parse_path(const char *s, scene_path *out)
     int k = lookup(s, scene_path_names);
     if (k < 0) return false;
     *out = (scene_path)k;
+    return true;
+}
+
+bool scene_parse_cull(const char *s, uint32_t *out)
+{
+    int k = lookup(s, scene_cull_names);
+    if (k < 0) return false;
+    *out = (uint32_t)(IS_CULL_NONE + k);
     return true;
 }
 
@@ -135,7 +145,7 @@ bool scene_parse_msaa(const char *s, int *out)
 /* Comma-separated AOV names into a SCENE_AOV_* mask. */
 bool scene_parse_aovs(const char *s, unsigned *out)
 {
-    static const char *const names[] = {"normal", "bary", "instance", "gregory", NULL};
+    static const char *const names[] = {"normal", "bary", "instance", "gregory", "depth", NULL};
     char buf[256];
     if (!s || !*s || strlen(s) >= sizeof buf) return false;
     strcpy(buf, s);
@@ -167,6 +177,7 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->output && !has_ext(o->output, ".png") && !has_ext(o->output, ".exr"))
         return "the output must end in .png or .exr";
     if (o->aovs && (!o->output || !has_ext(o->output, ".exr"))) return "--aov needs an .exr output";
+    if (o->export_obj && !has_ext(o->export_obj, ".obj")) return "--export-obj writes OBJ: its name must end in .obj";
     if (o->path != SCENE_PATH_INSTANCED && !vs_patches[o->patch].fixed_function)
         return "--path npatch-mode and cpu draw the N-Patch (or flat): use --patch npatch or flat";
     if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
@@ -210,7 +221,10 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
  * listing's unnormalized mul(normal, (float3x3)g_mWorld) keeps unit length); positions are first centred and
  * scaled to a unit bounding radius. */
-typedef struct scene_camera { float4x4 world, wvp; } scene_camera;
+typedef struct scene_camera {
+    float4x4 world, wvp;
+    float zn, zf, radius;   /* the projection's near and far planes (bounding radii), the mesh's bounding radius */
+} scene_camera;
 
 static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
 {
@@ -225,6 +239,7 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
     float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
     float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
+    cam.zn = zn, cam.zf = o->distance + 2.0f, cam.radius = r;
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
@@ -464,6 +479,7 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
+    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
@@ -487,9 +503,9 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
 /* Channel names of the image: R,G,B,A,Z then the AOVs in SCENE_AOV_* order. */
 static void channel_list(unsigned aovs, char *buf, size_t len)
 {
-    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
+    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
              aovs & SCENE_AOV_BARY ? ",bary.X,bary.Y,bary.Z" : "", aovs & SCENE_AOV_INSTANCE ? ",instance" : "",
-             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "");
+             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "", aovs & SCENE_AOV_DEPTH ? ",depth" : "");
 }
 
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
@@ -508,8 +524,10 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
     return 0;
 }
 
-/* Copy the AOV planes of rt into img's channels from `first` on. */
-static void copy_aovs(const rs_target *rt, is_image *img, int first)
+/* Copy the AOV planes of rt (one sample per pixel) into img's channels from `first` on; on the background
+ * (depth still the clear value 1) `instance` becomes SCENE_INSTANCE_BACKGROUND; `depth` is the view-space depth
+ * of the projection of cam, from the depth buffer. */
+static void copy_aovs(const rs_target *rt, const scene_camera *cam, is_image *img, int first)
 {
     size_t n = (size_t)rt->width * rt->height;
     int c = first;
@@ -518,6 +536,42 @@ static void copy_aovs(const rs_target *rt, is_image *img, int first)
             for (int k = 0; k < rt->aov[a].comps; k++)
                 img->data[p * img->channels + c + k] = rt->aov[a].data[p * rt->aov[a].comps + k];
         c += rt->aov[a].comps;
+    }
+    int inst = image_channel_index(img, "instance"), depth = image_channel_index(img, "depth");
+    double zn = cam->zn, zf = cam->zf;
+    for (size_t p = 0; p < n; p++) {
+        float d = rt->depth[p];
+        if (inst >= 0 && d >= 1.0f) img->data[p * img->channels + inst] = SCENE_INSTANCE_BACKGROUND;
+        /* D3DXMatrixPerspectiveFovLH: d = zf / (zf - zn) - zn zf / ((zf - zn) z), solved for z */
+        if (depth >= 0)
+            img->data[p * img->channels + depth] =
+                d >= 1.0f ? INFINITY : (float)(zn * zf / (zf - d * (zf - zn)) * cam->radius);
+    }
+}
+
+/* The sRGB transfer function's inverse: a display value in [0, 1] as linear light. */
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* An EXR's colour (see scene_render_mesh): A = the fraction of each pixel's samples of rt that the mesh covers
+ * (depth below the clear value 1), R, G, B = the mesh's colour without the background (the resolved colour C =
+ * a F + (1 - a) B solved for F), decoded from sRGB to linear and premultiplied by A. */
+static void exr_colour(const rs_target *rt, uint32_t background, is_image *img)
+{
+    const float bg[3] = {(float)((background >> 16) & 0xffu) / 255.0f, (float)((background >> 8) & 0xffu) / 255.0f,
+                         (float)(background & 0xffu) / 255.0f};
+    size_t n = (size_t)rt->width * rt->height;
+    for (size_t p = 0; p < n; p++) {
+        int covered = 0;
+        for (int s = 0; s < rt->samples; s++) covered += rt->depth[p * rt->samples + s] < 1.0f;
+        float a = (float)covered / (float)rt->samples, *px = &img->data[p * img->channels];
+        for (int k = 0; k < 3; k++) {
+            float f = a > 0.0f ? (px[k] - (1.0f - a) * bg[k]) / a : 0.0f;
+            px[k] = srgb_to_linear(saturate(f)) * a;
+        }
+        px[3] = a;
     }
 }
 
@@ -564,7 +618,7 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
 {
     unsigned long long px = (unsigned long long)o->width * (unsigned long long)o->height;
     unsigned long long bytes = px * ((unsigned long long)o->msaa * 8 + 4 + 5 * 4);   /* target, resolve, image */
-    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 11 * 4);   /* the AOV device's target and planes, the channels */
+    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 12 * 4);   /* the AOV device's target and planes, the channels */
     bytes += (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 64);
     if (o->path == SCENE_PATH_CPU)
         bytes += SCENE_CPU_BYTES_PER_VERTEX * (unsigned long long)mesh_triangles * grid_points;
@@ -603,9 +657,12 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
+        if (rc == 0 && o->output && image_format_of(o->output) == IS_IMAGE_EXR)
+            exr_colour(dev_render_target(dev), o->background, img);
         if (rc == 0 && o->aovs) {
             is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
-            if (adev) copy_aovs(dev_render_target(adev), img, 5);
+            scene_camera cam = make_camera(o, m);
+            if (adev) copy_aovs(dev_render_target(adev), &cam, img, 5);
             else rc = -1, image_free(img);
             dev_destroy(adev);
         }
@@ -632,8 +689,27 @@ void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_in
     in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
 }
 
+/* One tessellated vertex of the export in the OBJ file's frame: OBJ is right-handed with counter-clockwise
+ * fronts and v up, and assimp's ConvertToLeftHanded (z -> -z, winding flipped, v -> 1 - v) turned the file into
+ * this program's frame; the export undoes it, so that an OBJ input comes back in its own coordinates and any
+ * export reads back (through assimp) as the mesh that was rendered. */
+static void write_obj_vertex(FILE *f, const is_vs_output *out, float2 t)
+{
+    float4 n = out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
+    fprintf(f, "v %.9g %.9g %.9g\nvt %.9g %.9g\nvn %.9g %.9g %.9g\n", out->pos.x, out->pos.y, -out->pos.z, t.x,
+            1.0f - t.y, n.x, n.y, -n.z);
+}
+
+/* The texture coordinates of instance inst at barycentrics b (the corners' interpolated, as the CPU path). */
+static float2 instance_texcoord(const is_patch_instance *inst, float3 b)
+{
+    return f2(b.x * inst->t[0].x + b.y * inst->t[1].x + b.z * inst->t[2].x,
+              b.x * inst->t[0].y + b.y * inst->t[1].y + b.z * inst->t[2].y);
+}
+
 /* Evaluate the patch shader at every grid point of every triangle with identity matrices, as the renderer
- * does, and write positions, normals and faces as OBJ into output k of outs; 0 or -1. */
+ * does, and write positions, texture coordinates, normals and faces as OBJ (in the file's frame, see
+ * write_obj_vertex) into output k of outs; 0 or -1. */
 static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, int k, char *err, size_t errlen)
 {
     core_grid g;
@@ -652,8 +728,10 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
     fill_constants(&c, o, &id, &id, o->diffuse);
     const is_vertex_shader *vs = vs_patch_shader(o->patch);
     mesh_build_instances(m, inst);
-    fprintf(f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION, m->name,
-            vs->name, (double)o->level, m->n_triangles, g.n_points);
+    fprintf(f, "# instess %s: %s, patch %s, normals %s, level %g, %zu triangles x %zu grid points\n"
+               "# right-handed, counter-clockwise fronts, v up (the OBJ convention; the input's own frame)\n",
+            INSTESS_VERSION, m->name, vs->name, vs_normals_name(o->normals), (double)o->level, m->n_triangles,
+            g.n_points);
     for (size_t t = 0; t < m->n_triangles && !ferror(f); t++) {
         for (size_t p = 0; p < g.n_points; p++) {
             is_vs_input in;
@@ -661,13 +739,13 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
             scene_input_from_instance(&inst[t], g.bary[p], &in);
             memset(&out, 0, sizeof out);
             vs->main(&c, &in, &out);
-            float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
-            fprintf(f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
+            write_obj_vertex(f, &out, instance_texcoord(&inst[t], g.bary[p]));
         }
         size_t base = t * g.n_points + 1;
-        for (size_t q = 0; q < g.n_triangles; q++)
-            fprintf(f, "f %zu//%zu %zu//%zu %zu//%zu\n", base + g.idx[3 * q], base + g.idx[3 * q],
-                    base + g.idx[3 * q + 1], base + g.idx[3 * q + 1], base + g.idx[3 * q + 2], base + g.idx[3 * q + 2]);
+        for (size_t q = 0; q < g.n_triangles; q++) {   /* clockwise here, so corners 0, 2, 1 in the file */
+            size_t a = base + g.idx[3 * q], b = base + g.idx[3 * q + 2], d = base + g.idx[3 * q + 1];
+            fprintf(f, "f %zu/%zu/%zu %zu/%zu/%zu %zu/%zu/%zu\n", a, a, a, b, b, b, d, d, d);
+        }
     }
     free(inst);
     core_grid_free(&g);
@@ -694,10 +772,11 @@ static void report_shortcut(const scene_opts *o, const is_mesh *m)
     free(inst);
 }
 
-/* Warnings of the mesh loader go to stderr (the program's choice; the library never prints). */
+/* Warnings of the mesh loader go to stderr (the program's choice; the library never prints), also with -q:
+ * -q hides statistics, never warnings. */
 static void warn_stderr(void *user, const char *msg)
 {
-    if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
+    fprintf(stderr, "instess: warning: %s\n", msg);
 }
 
 static double now_seconds(void)
@@ -730,11 +809,11 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     char names[64] = "none";
     channel_list(o->aovs, names, sizeof names);
     snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
-             "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, msaa %d, channels %s",
+             "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, cull %s, msaa %d, channels %s",
              INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
              vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
              o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
-             o->msaa, names);
+             scene_cull_names[o->cull - IS_CULL_NONE], o->msaa, names);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
@@ -777,7 +856,7 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     is_outputs outs;
     is_mesh m = {0};
     is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
-                          .warn_user = (void *)&o->quiet, .max_file_bytes = (uint64_t)o->max_file_mib << 20,
+                          .import_timeout_ms = o->import_timeout_s * 1000, .max_file_bytes = (uint64_t)o->max_file_mib << 20,
                           .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
     int rc = claim_outputs(o, &outs, err, errlen);
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);

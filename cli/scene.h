@@ -34,7 +34,13 @@
 
 typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_FILL_POINT } scene_fill;
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
-enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8 };
+/* The AOV channels of an EXR (--aov; docs/design.md lists them with their background values): the patch's
+ * unit normal N.X,N.Y,N.Z (0 on the background), barycentrics bary.* (0), the triangle's index `instance`
+ * (SCENE_INSTANCE_BACKGROUND on the background: no triangle has it), Gregory coordinates gregory.* (0), and the
+ * view-space depth `depth` (the distance from the camera's plane along the view direction, in the mesh's
+ * units; +infinity on the background).  One sample per pixel. */
+enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8, SCENE_AOV_DEPTH = 16 };
+#define SCENE_INSTANCE_BACKGROUND (-1.0f)
 
 typedef struct scene_opts {
     const char *mesh;           /* built-in name or file */
@@ -54,7 +60,9 @@ typedef struct scene_opts {
     float wire_color[4];        /* g_vDiffuse of the wireframe overlay */
     uint32_t background;        /* D3DCOLOR (ARGB) */
     const char *output, *export_obj;
+    uint32_t cull;              /* D3DRS_CULLMODE: IS_CULL_NONE, IS_CULL_CW or IS_CULL_CCW (D3D9's default) */
     bool quiet;
+    int import_timeout_s;       /* the import child's time limit in seconds (0: meshes.h's default, 60) */
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
     unsigned max_file_mib;      /* a mesh file with its side files (0: meshes.h's default, 256 MiB) */
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
@@ -91,7 +99,8 @@ typedef struct scene_stats {
     rs_stats raster;
 } scene_stats;
 
-/* Defaults: the welded cube, smoothed patch, level 8, 512x512, 4x MSAA, solid. */
+/* Defaults: the welded cube, smoothed patch, real normals (the patch's own: the patches look as different as they
+ * are; D3D9's were linear), level 8, 512x512, 4x MSAA, solid. */
 void scene_opts_default(scene_opts *o);
 /* NULL if the options are consistent, else the usage error (e.g. --aov without an .exr output). */
 const char *scene_check_opts(const scene_opts *o);
@@ -105,6 +114,9 @@ const char *scene_grid_name(core_grid_kind g);
 /* The names --grid, --path and --fill take, NULL-terminated, in their enums' order (the patches' are vs/vs.h's
  * table, the normals' vs_normals_name). */
 extern const char *const scene_grid_names[], *const scene_path_names[], *const scene_fill_names[];
+/* The names --cull takes, NULL-terminated: D3DCULL_NONE, _CW, _CCW (value = index + 1). */
+extern const char *const scene_cull_names[];
+bool scene_parse_cull(const char *s, uint32_t *out);
 /* names joined by sep into buf (for messages and usage texts); buf. */
 char *scene_join_names(const char *const *names, const char *sep, char *buf, size_t len);
 bool scene_parse_path(const char *s, scene_path *out);
@@ -121,7 +133,11 @@ bool scene_parse_aovs(const char *s, unsigned *out);
  * (dev_last_error tells why). */
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader);
-/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
+/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for).  R, G, B are
+ * the display (sRGB) values of the PNG and A = 1, unless o->output names an .exr: then A is the pixel's
+ * coverage (the fraction of its samples the mesh covers) and R, G, B the linear colour premultiplied by it, the
+ * background transparent black (OpenEXR's associated alpha).  Z is D3D9's depth z/w in [MinZ, MaxZ] = [0, 1] of
+ * the nearest sample (1 on the background). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,

@@ -541,8 +541,8 @@ static int child_failure(int r, int status, const import_src *src, uint64_t limi
 {
     const char *sep = *what ? ": " : "";
     if (r == RECV_TIMEOUT)
-        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within %d ms (stopped)", label,
-                src->lim.timeout_ms);
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within the import time limit of "
+                "%g s (stopped)", label, src->lim.timeout_ms / 1000.0);
     else if (limit_mib && says_out_of_memory(what))
         return out_of_memory(limit_mib, label, err, errlen);
     else if (WIFSIGNALED(status))
