@@ -43,6 +43,15 @@ static const char *cull_choices(const char *sep, char *buf, size_t len)
     return scene_join_names(scene_cull_names, sep, buf, len);
 }
 
+static const char *up_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_up_names, sep, buf, len);
+}
+static const char *fit_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_fit_names, sep, buf, len);
+}
+
 /* "unknown --NAME (one of: ...)" for option opt into buf; buf. */
 static const char *unknown_choice(const scene_option *opt, char *buf, size_t len)
 {
@@ -113,6 +122,14 @@ static const char *opt_import_timeout(scene_opts *o, const char *a)
 {
     return scene_parse_int(a, 1, 86400, &o->import_timeout_s) ? NULL : "--import-timeout takes seconds, 1..86400";
 }
+static const char *opt_up(scene_opts *o, const char *a)
+{
+    return scene_parse_name(a, scene_up_names, &o->up) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_fit(scene_opts *o, const char *a)
+{
+    return scene_parse_name(a, scene_fit_names, &o->fit) ? NULL : CHOICE_ERROR;
+}
 static const char *opt_recompute(scene_opts *o, const char *a) { return o->recompute_normals = true, NULL; }
 
 /* A size in MiB in [lo, 2^20] into *out; NULL or msg. */
@@ -158,9 +175,13 @@ const scene_option scene_options[] = {
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
      path_choices},
     {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL},
+    {"up", 0, "AXIS", "the mesh's axis drawn upwards, in the file's own frame (Blender and many CAD files: z)", "y",
+     opt_up, up_choices},
     {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL},
     {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
     {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
+    {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "
+     "which the turned bounding box fills the image (for long or flat models)", "sphere", opt_fit, fit_choices},
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
     {"cull", 0, "C", "the faces not drawn (D3DRS_CULLMODE): ccw culls the back faces (fronts run clockwise), cw "
      "culls the fronts (shows a mesh wound the other way), none draws both sides (inside-out or open meshes)",

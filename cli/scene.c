@@ -22,7 +22,7 @@ void scene_opts_default(scene_opts *o)
         .grid = CORE_GRID_REGULAR, .path = SCENE_PATH_INSTANCED, .width = 512, .height = 512, .yaw = 30.0f,
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
-        .background = IS_COLOR_ARGB(255, 46, 52, 64), .cull = IS_CULL_CCW,
+        .background = IS_COLOR_ARGB(255, 46, 52, 64), .cull = IS_CULL_CCW, .up = SCENE_UP_Y,
         .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
     };
 }
@@ -50,6 +50,8 @@ const char *const scene_grid_names[] = {"regular", "pg-equal", "pg-fractional-od
 const char *const scene_path_names[] = {"instanced", "npatch-mode", "cpu", NULL};
 const char *const scene_fill_names[] = {"solid", "wire", "solid+wire", "point", NULL};
 const char *const scene_cull_names[] = {"none", "cw", "ccw", NULL};
+const char *const scene_up_names[] = {"x", "y", "z", "-x", "-y", "-z", NULL};
+const char *const scene_fit_names[] = {"sphere", "box", NULL};
 
 const char *scene_grid_name(core_grid_kind g)
 {
@@ -77,6 +79,15 @@ bool scene_parse_cull(const char *s, uint32_t *out)
     int k = lookup(s, scene_cull_names);
     if (k < 0) return false;
     *out = (uint32_t)(IS_CULL_NONE + k);
+    return true;
+}
+
+/* Index of s in names into *out; false if it is not there. */
+bool scene_parse_name(const char *s, const char *const *names, int *out)
+{
+    int k = lookup(s, names);
+    if (k < 0) return false;
+    *out = k;
     return true;
 }
 
@@ -192,9 +203,8 @@ const char *scene_check_opts(const scene_opts *o)
 
 /* ---------------------------------------- camera and constants ---------------------------------------- */
 
-/* Centre of the bounding box and the largest distance from it to a vertex.  lo / 2 + hi / 2 (the same bits as
- * (lo + hi) / 2 without its overflow near FLT_MAX), and a distance that overflows in float is redone in double. */
-static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
+/* The bounding box of m's vertices into lo, hi. */
+static void mesh_box(const is_mesh *m, float3 *lo_out, float3 *hi_out)
 {
     float3 lo = m->positions[0], hi = lo;
     for (size_t k = 1; k < m->n_vertices; k++) {
@@ -202,6 +212,15 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
         lo = f3(fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z));
         hi = f3(fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z));
     }
+    *lo_out = lo, *hi_out = hi;
+}
+
+/* Centre of the bounding box and the largest distance from it to a vertex.  lo / 2 + hi / 2 (the same bits as
+ * (lo + hi) / 2 without its overflow near FLT_MAX), and a distance that overflows in float is redone in double. */
+static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
+{
+    float3 lo, hi;
+    mesh_box(m, &lo, &hi);
     *centre = add3(scale3(lo, 0.5f), scale3(hi, 0.5f));
     double r2 = 0;
     for (size_t k = 0; k < m->n_vertices; k++) {
@@ -226,6 +245,41 @@ typedef struct scene_camera {
     float zn, zf, radius;   /* the projection's near and far planes (bounding radii), the mesh's bounding radius */
 } scene_camera;
 
+/* The rotation that turns the --up axis o->up (scene_up_names; the file's axes, whose z the import negated)
+ * into +y, as rows: x, y, z. */
+static float4x4 up_rotation(int up)
+{
+    static const float rows[6][3][3] = {
+        {{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}},  /* x  -> +y */
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},   /* y  (identity) */
+        {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},  /* z: ours -z -> +y */
+        {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},  /* -x -> +y */
+        {{1, 0, 0}, {0, -1, 0}, {0, 0, -1}}, /* -y -> +y */
+        {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  /* -z: ours +z -> +y */
+    };
+    float4x4 u = mat_identity();
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) u.m[i][j] = rows[up][i][j];
+    return u;
+}
+
+/* The camera distance (in bounding radii) at which the 8 corners of m's bounding box, centred at c, scaled by
+ * 1 / r and rotated by world, fit in the 45 degree field of view of an image of aspect `aspect`, with a margin
+ * of 5% on each side; at least 1.2 (the mesh stays in front of the near plane). */
+static float box_fit_distance(const is_mesh *m, float3 c, float r, const float4x4 *world, float aspect)
+{
+    float3 lo, hi;
+    mesh_box(m, &lo, &hi);
+    double ty = tan(PI_F / 8.0) * 0.9, tx = ty * aspect, d = 1.2;
+    for (int k = 0; k < 8; k++) {
+        float3 corner = f3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        float3 q = mul3x3(scale3(sub3(corner, c), 1.0f / r), world);
+        double need = fmax(fabs(q.x) / tx, fabs(q.y) / ty) - q.z;
+        if (need > d) d = need;
+    }
+    return (float)d;
+}
+
 static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
 {
     float3 c;
@@ -236,10 +290,16 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     float4x4 ry = mat_rotation_y(o->yaw * PI_F / 180.0f), rx = mat_rotation_x(o->pitch * PI_F / 180.0f);
     scene_camera cam;
     cam.world = mat_mul(&ry, &rx);
-    float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
-    float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
-    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)o->width / (float)o->height, zn, o->distance + 2.0f);
-    cam.zn = zn, cam.zf = o->distance + 2.0f, cam.radius = r;
+    if (o->up != SCENE_UP_Y) {   /* (y: no product with the identity, so the images stay the same bits) */
+        float4x4 u = up_rotation(o->up);
+        cam.world = mat_mul(&u, &cam.world);
+    }
+    float aspect = (float)o->width / (float)o->height;
+    float dist = o->fit == SCENE_FIT_BOX ? box_fit_distance(m, c, r, &cam.world, aspect) : o->distance;
+    float4x4 view = mat_look_at_lh(f3(0, 0, -dist), f3(0, 0, 0), f3(0, 1, 0));
+    float zn = dist - 2.0f > 0.05f ? dist - 2.0f : 0.05f;
+    float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, aspect, zn, dist + 2.0f);
+    cam.zn = zn, cam.zf = dist + 2.0f, cam.radius = r;
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
@@ -809,10 +869,12 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     char names[64] = "none";
     channel_list(o->aovs, names, sizeof names);
     snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
-             "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, cull %s, msaa %d, channels %s",
+             "grid %s, path %s, size %dx%d, up %s, yaw %g, pitch %g, distance %g, fit %s, fill %s, cull %s, msaa %d, "
+             "channels %s",
              INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
              vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
-             o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
+             o->width, o->height, scene_up_names[o->up], (double)o->yaw, (double)o->pitch, (double)o->distance,
+             scene_fit_names[o->fit], scene_fill_names[o->fill],
              scene_cull_names[o->cull - IS_CULL_NONE], o->msaa, names);
 }
 

@@ -1,9 +1,10 @@
 /* cli/scene.h -- one rendered scene: a mesh, a patch, a grid, a path, a camera; the programs' shared layer
  * (the instess command, figures, bench and the golden tests all render through it).
  *
- * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then rotated by
- * yaw (about y) and pitch (about x) -- the world matrix -- and seen by a left-handed camera at (0, 0, -distance)
- * looking at the origin with a 45 degree vertical field of view.  The listing's light direction (0, 0, -1) is in
+ * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then turned so that
+ * the --up axis points up (+y), rotated by yaw (about y) and pitch (about x) -- the world matrix -- and seen by a
+ * left-handed camera at (0, 0, -distance) looking at the origin with a 45 degree vertical field of view (with
+ * --fit box the distance is the one at which the rotated bounding box fills the image).  The listing's light direction (0, 0, -1) is in
  * world space, so the lit side faces the camera (a headlight).  Errors: functions return 0 or -1 with a message
  * in err naming the input and what is wrong. */
 #ifndef INSTESS_SCENE_H
@@ -50,7 +51,9 @@ typedef struct scene_opts {
     core_grid_kind grid;
     scene_path path;
     int width, height;
+    int up;                     /* the axis drawn upwards: SCENE_UP_* (scene_up_names) */
     float yaw, pitch, distance; /* degrees, degrees, bounding radii */
+    int fit;                    /* SCENE_FIT_SPHERE (distance as given) or SCENE_FIT_BOX (distance computed) */
     scene_fill fill;
     int msaa;
     int threads;
@@ -114,6 +117,12 @@ const char *scene_grid_name(core_grid_kind g);
 /* The names --grid, --path and --fill take, NULL-terminated, in their enums' order (the patches' are vs/vs.h's
  * table, the normals' vs_normals_name). */
 extern const char *const scene_grid_names[], *const scene_path_names[], *const scene_fill_names[];
+/* --up's axes, in the input file's frame (its z is the import's -z), and --fit's framings, NULL-terminated. */
+enum { SCENE_UP_X, SCENE_UP_Y, SCENE_UP_Z, SCENE_UP_NEG_X, SCENE_UP_NEG_Y, SCENE_UP_NEG_Z };
+enum { SCENE_FIT_SPHERE, SCENE_FIT_BOX };
+extern const char *const scene_up_names[], *const scene_fit_names[];
+/* Index of s in the NULL-terminated names into *out; false if it is not there. */
+bool scene_parse_name(const char *s, const char *const *names, int *out);
 /* The names --cull takes, NULL-terminated: D3DCULL_NONE, _CW, _CCW (value = index + 1). */
 extern const char *const scene_cull_names[];
 bool scene_parse_cull(const char *s, uint32_t *out);

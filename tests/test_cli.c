@@ -324,6 +324,70 @@ static void test_exr_channels(void **state)
     unlink(prog_path(dir, "c.exr", p, sizeof p));
 }
 
+/* The box of the pixels of PNG dir/name that differ from the background: x0, y0, x1, y1 (inclusive), and the
+ * covered widths of its top and bottom fifths in w_top, w_bottom; false if nothing is covered. */
+static bool covered_box(const char *name, int box[4], long *w_top, long *w_bottom)
+{
+    char p[512], e[256];
+    is_image img = {0};
+    if (image_read(&img, prog_path(dir, name, p, sizeof p), e, sizeof e) != 0) return false;
+    const float bg[3] = {46 / 255.0f, 52 / 255.0f, 64 / 255.0f};
+    int W = img.width, H = img.height;
+    unsigned char *cov = calloc((size_t)W * H, 1);
+    box[0] = W, box[1] = H, box[2] = -1, box[3] = -1;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const float *px = &img.data[((size_t)y * W + x) * img.channels];
+            for (int c = 0; c < 3; c++) cov[y * W + x] |= fabsf(px[c] - bg[c]) > 0.5f / 255.0f;
+            if (!cov[y * W + x]) continue;
+            if (x < box[0]) box[0] = x;
+            if (y < box[1]) box[1] = y;
+            if (x > box[2]) box[2] = x;
+            if (y > box[3]) box[3] = y;
+        }
+    int h5 = (box[3] - box[1] + 1) / 5;
+    *w_top = *w_bottom = 0;
+    for (int y = 0; box[2] >= 0 && y < h5; y++)
+        for (int x = 0; x < W; x++) *w_top += cov[(box[1] + y) * W + x], *w_bottom += cov[(box[3] - y) * W + x];
+    free(cov);
+    image_free(&img);
+    unlink(p);
+    return box[2] >= 0;
+}
+
+/* --up z stands a pyramid whose apex is at the file's +z on its base (apex up: the top of the picture is
+ * narrower than its bottom, the picture taller than wide); -z turns it upside down; the default (y) leaves it
+ * lying.  --fit box makes the long model fill the image (at least 85% of its height, where the sphere fit
+ * leaves more) without touching the border. */
+static void test_up_and_fit(void **state)
+{
+    (void)state;
+    assert_true(prog_write_text(dir, "pyr.obj", "v -0.25 -0.25 0\nv 0.25 -0.25 0\nv 0.25 0.25 0\nv -0.25 0.25 0\n"
+                                                "v 0 0 3\nf 1 4 3\nf 1 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n"));
+    char args[1200];
+    int box[4] = {0}, sphere_h = 0;
+    long top = 0, bottom = 0;
+    const char *views[] = {"--up z", "--up -z", "", "--up z --fit box"};
+    for (int k = 0; k < 4; k++) {
+        snprintf(args, sizeof args, "%s/pyr.obj %s --yaw 20 --pitch 0 --size 96x96 -q -o %s/up.png", dir, views[k],
+                 dir);
+        assert_int_equal(run(args, NULL), 0);
+        assert_true(covered_box("up.png", box, &top, &bottom));
+        int w = box[2] - box[0] + 1, h = box[3] - box[1] + 1;
+        print_message("  '%s': %dx%d at (%d, %d), top fifth %ld px, bottom fifth %ld px\n", views[k], w, h, box[0],
+                      box[1], top, bottom);
+        if (k == 0) assert_true(h > 2 * w && top * 2 < bottom), sphere_h = h;
+        if (k == 1) assert_true(h > 2 * w && bottom * 2 < top);
+        if (k == 2) assert_true(w > 2 * h);
+        if (k == 3) {
+            assert_true(h >= 82 && sphere_h < 82 && top * 2 < bottom);   /* 90% of 96 rows asked, 85% at least */
+            assert_true(box[0] > 0 && box[1] > 0 && box[2] < 95 && box[3] < 95);
+        }
+    }
+    char p[512];
+    unlink(prog_path(dir, "pyr.obj", p, sizeof p));
+}
+
 /* Index of the triangle of m with the corners of triangle t of e at the same positions (bitwise) and texcoords,
  * in the same cyclic order (the same winding), or -1. */
 static long same_triangle(const is_mesh *m, const is_mesh *e, size_t t)
@@ -466,6 +530,7 @@ int main(void)
         cmocka_unit_test(test_command_line_conventions),
         cmocka_unit_test(test_codec_loaded_on_demand),
         cmocka_unit_test(test_cull),
+        cmocka_unit_test(test_up_and_fit),
         cmocka_unit_test(test_exr_channels),
         cmocka_unit_test(test_export_obj_frame),
         cmocka_unit_test(test_quiet_and_import_timeout),
