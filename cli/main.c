@@ -2,6 +2,7 @@
  *
  * Exit codes: 0 success (image written atomically), 1 input error (names the input, nothing written),
  * 2 usage error (message on stderr). */
+#include <omp.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,6 +29,17 @@ static void print_usage(FILE *f)
     for (int k = 0; k < N_SUBCOMMANDS; k++) fprintf(f, "       instess %s %s\n", subcommands[k].name, subcommands[k].synopsis);
     fputs("Render one mesh tessellated through instancing, as Direct3D 9 did, on the CPU.\n\n", f);
     scene_print_options(f);
+}
+
+/* The version and the libraries the program was built with (the image codec's by its build: --version does not
+ * load OpenImageIO) into f. */
+static void print_version(FILE *f)
+{
+    char mesh_libs[128];
+    mesh_library_versions(mesh_libs, sizeof mesh_libs);
+    fprintf(f, "instess %s\nbuilt with gcc %s, OpenMP %d, %s, OpenImageIO %s (in the module libinstess_codec.so, "
+               "loaded on the first image)\n", INSTESS_VERSION, __VERSION__, _OPENMP, mesh_libs,
+            image_codec_build_version());
 }
 
 /* Print msg and the usage hint; exit code 2. */
@@ -58,7 +70,7 @@ static int cmd_render(int argc, char **argv)
     char err[1024];
     if (scene_parse_args(argc, argv, &o, &res, err, sizeof err) != 0) return usage_error(err, NULL);
     if (res == SCENE_ARGS_HELP) return print_usage(stdout), 0;
-    if (res == SCENE_ARGS_VERSION) return printf("instess %s\n", INSTESS_VERSION), 0;
+    if (res == SCENE_ARGS_VERSION) return print_version(stdout), 0;
     if (!o.output) return usage_error("no output file (-o FILE.png or FILE.exr)", NULL);
     const char *msg = scene_check_opts(&o);
     if (msg) return usage_error(msg, NULL);

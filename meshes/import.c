@@ -26,6 +26,8 @@
 #include <unistd.h>
 
 #include <assimp/cimport.h>
+#include <assimp/version.h>
+#include <meshoptimizer.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <meshoptimizer.h>
@@ -846,4 +848,11 @@ int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *
         return IS_MESH_ERR_ARG;
     }
     return mesh_load_file(spec, opt, out, err, errlen);
+}
+
+/* mesh_library_versions: see meshes.h. */
+void mesh_library_versions(char *buf, size_t len)
+{
+    snprintf(buf, len, "assimp %u.%u.%u, meshoptimizer %d.%d", aiGetVersionMajor(), aiGetVersionMinor(),
+             aiGetVersionPatch(), MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10);
 }
