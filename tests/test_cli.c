@@ -237,8 +237,8 @@ static void test_command_line_conventions(void **state)
 }
 
 /* The image codec (OpenImageIO) is a module loaded on the first image call: a copy of the program without
- * the module beside it still answers --help and --version (which names the libraries) and reports usage errors, and a render fails with exit 1 naming
- * the module, writing nothing. */
+ * the module beside it still answers --help and --version (which names the libraries) and reports usage
+ * errors, and a render fails with exit 1 naming the module, writing nothing. */
 static void test_codec_loaded_on_demand(void **state)
 {
     (void)state;
