@@ -18,7 +18,7 @@ typedef struct subcommand {
 } subcommand;
 static const subcommand subcommands[] = {
     {"figures", scene_cmd_figures, "[--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]"},
-    {"smoothness", scene_cmd_smoothness, "[--samples N]"},
+    {"smoothness", scene_cmd_smoothness, "[--samples N] [--mesh NAME|FILE]... [--recompute-normals]"},
 };
 enum { N_SUBCOMMANDS = sizeof subcommands / sizeof subcommands[0] };
 

@@ -329,6 +329,29 @@ static void test_exr_channels(void **state)
     unlink(prog_path(dir, "c.exr", p, sizeof p));
 }
 
+/* `instess smoothness --mesh FILE` measures the user's mesh: one row per patch named by the file, and --mesh
+ * cube gives the very rows of the built-in table; a missing file is an input error naming it. */
+static void test_smoothness_mesh(void **state)
+{
+    (void)state;
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char cmd[2400];
+    snprintf(cmd, sizeof cmd, "%s smoothness --mesh tests/data/meshes/box.obj --samples 4 > %s/box.md && "
+                              "test $(grep -c '^| tests/data/meshes/box.obj | ' %s/box.md) -eq 6 && "
+                              "grep -q '^| tests/data/meshes/box.obj | npatch | ' %s/box.md", bin, dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s smoothness --samples 4 | grep '^| cube |' > %s/all.md && %s smoothness --samples 4 "
+                              "--mesh cube | grep '^| cube |' > %s/one.md && test -s %s/one.md && cmp -s %s/all.md "
+                              "%s/one.md", bin, dir, bin, dir, dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    const char *err;
+    assert_int_equal(run("smoothness --mesh tests/data/meshes/missing.obj", &err), 1);
+    assert_non_null(strstr(err, "missing.obj"));
+    assert_int_equal(run("smoothness --mesh", &err), 2);
+    snprintf(cmd, sizeof cmd, "rm -f %s/box.md %s/all.md %s/one.md", dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 /* The box of the pixels of PNG dir/name that differ from the background: x0, y0, x1, y1 (inclusive), and the
  * covered widths of its top and bottom fifths in w_top, w_bottom; false if nothing is covered. */
 static bool covered_box(const char *name, int box[4], long *w_top, long *w_bottom)
@@ -535,6 +558,7 @@ int main(void)
         cmocka_unit_test(test_command_line_conventions),
         cmocka_unit_test(test_codec_loaded_on_demand),
         cmocka_unit_test(test_cull),
+        cmocka_unit_test(test_smoothness_mesh),
         cmocka_unit_test(test_up_and_fit),
         cmocka_unit_test(test_exr_channels),
         cmocka_unit_test(test_export_obj_frame),
