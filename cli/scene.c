@@ -833,10 +833,12 @@ static void report_shortcut(const scene_opts *o, const is_mesh *m)
 }
 
 /* Warnings of the mesh loader go to stderr (the program's choice; the library never prints), also with -q:
- * -q hides statistics, never warnings. */
+ * -q hides statistics, never warnings.  user is the run's progress line, erased first. */
 static void warn_stderr(void *user, const char *msg)
 {
-    fprintf(stderr, "instess: warning: %s\n", msg);
+    char line[1200];
+    snprintf(line, sizeof line, "instess: warning: %s\n", msg);
+    scene_progress_print(user, line);
 }
 
 static double now_seconds(void)
@@ -887,14 +889,18 @@ static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_
     return 0;
 }
 
-/* Render the loaded mesh m and fill the claimed outputs, then commit them; 0 or -1 (nothing left behind). */
-static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *outs, char *err, size_t errlen)
+/* Render the loaded mesh m and fill the claimed outputs, then commit them, showing the phases on pr (stopped
+ * here, before the statistics); 0 or -1 (nothing left behind). */
+static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *outs, scene_progress *pr, char *err,
+                          size_t errlen)
 {
     double t0 = now_seconds();
     is_image img = {0};
     scene_stats st;
+    scene_progress_phase(pr, "rendering");
     int rc = scene_render_mesh(o, m, &img, &st, err, errlen);
     double t1 = now_seconds();
+    scene_progress_phase(pr, "writing");
     if (rc == 0) {
         char desc[1024];
         scene_describe(o, m, desc, sizeof desc);
@@ -904,6 +910,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     image_free(&img);
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
     if (rc == 0) rc = outputs_commit(outs, err, errlen);
+    scene_progress_stop(pr);
     if (rc == 0) report_shortcut(o, m);
     if (rc == 0 && !o->quiet)
         fprintf(stderr, "instess: %s: %zu triangles x %zu grid points, %llu vertices shaded, %llu triangles drawn, "
@@ -915,14 +922,19 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
 
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
 {
+    scene_progress pr;
     is_outputs outs;
     is_mesh m = {0};
-    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
-                          .import_timeout_ms = o->import_timeout_s * 1000, .max_file_bytes = (uint64_t)o->max_file_mib << 20,
+    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr, .warn_user = &pr,
+                          .import_timeout_ms = o->import_timeout_s * 1000,
+                          .max_file_bytes = (uint64_t)o->max_file_mib << 20,
                           .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
     int rc = claim_outputs(o, &outs, err, errlen);
+    scene_progress_start(&pr, o->mesh, o->quiet);
+    scene_progress_phase(&pr, "reading the mesh");
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
-    if (rc == 0) rc = render_outputs(o, &m, &outs, err, errlen);
+    if (rc == 0) rc = render_outputs(o, &m, &outs, &pr, err, errlen);
+    scene_progress_stop(&pr);
     outputs_abort(&outs);
     mesh_free(&m);
     return rc;

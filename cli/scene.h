@@ -12,6 +12,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <pthread.h>
 #include <stdio.h>
 
 #include "../core/core.h"
@@ -188,6 +189,28 @@ typedef enum { SCENE_ARGS_RUN, SCENE_ARGS_HELP, SCENE_ARGS_VERSION } scene_args_
  * argument, the mesh.  0 with *res saying whether to render or that --help / --version was asked; -1 with the
  * usage error in err. */
 int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *res, char *err, size_t errlen);
+
+/* ------------- the progress line of a long run (cli/progress.c) ------------- */
+
+/* After this many milliseconds of work a terminal gets a progress line. */
+#define SCENE_PROGRESS_DELAY_MS 1000
+/* One run's progress line: label (the mesh) and phase (a string constant) are shown with the elapsed time. */
+typedef struct scene_progress {
+    const char *label, *phase;
+    double t0;                  /* start, seconds on CLOCK_MONOTONIC */
+    bool active, stop, drawn;   /* the thread runs; asked to stop; a line is on the screen */
+    pthread_t thread;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+} scene_progress;
+/* Start p's clock, and its drawing thread when stderr is a terminal and not quiet. */
+void scene_progress_start(scene_progress *p, const char *label, bool quiet);
+/* The phase shown from now on ("reading the mesh", "rendering", "writing"). */
+void scene_progress_phase(scene_progress *p, const char *phase);
+/* Print text on stderr while p may be drawing: the line is erased first (and redrawn at the next tick). */
+void scene_progress_print(scene_progress *p, const char *text);
+/* Stop the thread and erase the line (before anything else is printed on stderr). */
+void scene_progress_stop(scene_progress *p);
 
 /* Subcommands: `instess figures` (cli/figures.c) and `instess smoothness` (cli/smoothness.c). */
 int scene_cmd_figures(int argc, char **argv);

@@ -329,6 +329,55 @@ static void test_exr_channels(void **state)
     unlink(prog_path(dir, "c.exr", p, sizeof p));
 }
 
+/* The run of `ARGS` with stderr (and stdout) on a terminal, through util-linux's script(1); what the terminal
+ * showed into *out (static buffer). */
+static void run_on_terminal(const char *args, const char **out)
+{
+    static char buf[16384];
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char cmd[2400], path[512];
+    snprintf(path, sizeof path, "%s/typescript", dir);
+    snprintf(cmd, sizeof cmd, "script -qec '%s %s' %s >/dev/null 2>&1 </dev/null", bin, args, path);
+    assert_true(system(cmd) != -1);
+    size_t n = 0;
+    unsigned char *b = prog_slurp(path, &n);
+    n = n < sizeof buf - 1 ? n : sizeof buf - 1;
+    if (b) memcpy(buf, b, n);
+    buf[b ? n : 0] = 0;
+    free(b);
+    unlink(path);
+    *out = buf;
+}
+
+/* A run that takes more than a second draws a progress line on a terminal (here the import of a PLY header
+ * that hangs assimp, stopped after 3 s: certainly longer than a second), erased before the error message;
+ * with -q, or with stderr in a file, no progress line at all. */
+static void test_progress_line(void **state)
+{
+    (void)state;
+    const char *out;
+    char args[1200];
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 3 -o %s/p.png", dir);
+    run_on_terminal(args, &out);
+    if (strstr(out, "ran out of the import memory")) {   /* AddressSanitizer's quarantine: the limit comes first */
+        print_message("  the import ran out of memory before the time limit: no long run to show\n");
+        return;
+    }
+    assert_non_null(strstr(out, "truncated_header.ply: reading the mesh, 1."));
+    assert_non_null(strstr(out, "\r\033[Kinstess: tests/data/meshes/truncated_header.ply: cannot read the mesh"));
+    assert_non_null(strstr(out, "import time limit of 3 s"));
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -q -o %s/p.png", dir);
+    run_on_terminal(args, &out);
+    assert_non_null(strstr(out, "import time limit of 2 s"));
+    assert_null(strstr(out, "reading the mesh"));
+    const char *err;
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -o %s/p.png", dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_null(strchr(err, '\r'));
+    assert_null(strstr(err, "reading the mesh"));
+    assert_false(exists("p.png"));
+}
+
 /* `instess smoothness --mesh FILE` measures the user's mesh: one row per patch named by the file, and --mesh
  * cube gives the very rows of the built-in table; a missing file is an input error naming it. */
 static void test_smoothness_mesh(void **state)
@@ -558,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_command_line_conventions),
         cmocka_unit_test(test_codec_loaded_on_demand),
         cmocka_unit_test(test_cull),
+        cmocka_unit_test(test_progress_line),
         cmocka_unit_test(test_smoothness_mesh),
         cmocka_unit_test(test_up_and_fit),
         cmocka_unit_test(test_exr_channels),
