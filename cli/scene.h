@@ -36,7 +36,7 @@
 
 typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_FILL_POINT } scene_fill;
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
-/* The AOV channels of an EXR (--aov; docs/design.md lists them with their background values): the patch's
+/* The AOV channels of an EXR (--aov; README.md lists them with their background values): the patch's
  * unit normal N.X,N.Y,N.Z (0 on the background), barycentrics bary.* (0), the triangle's index `instance`
  * (SCENE_INSTANCE_BACKGROUND on the background: no triangle has it), Gregory coordinates gregory.* (0), and the
  * view-space depth `depth` (the distance from the camera's plane along the view direction, in the mesh's
