@@ -889,6 +889,9 @@ static void test_import_normal_hints(void **state)
     assert_int_equal(m.stats.normals_against_faces, 12);
     assert_false(m.stats.facet_normals);
     assert_non_null(strstr(warnings, "12 of 12 corner normals point against their face's winding"));
+    /* and it offers both fixes: normals from the winding, or the other winding */
+    assert_non_null(strstr(warnings, "--recompute-normals"));
+    assert_non_null(strstr(warnings, "--cull cw"));
     mesh_free(&m);
     remove_tmp(dir);
 }
