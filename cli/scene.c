@@ -635,18 +635,19 @@ static void exr_colour(const rs_target *rt, uint32_t background, is_image *img)
     }
 }
 
-/* Coordinates beyond 1e18 or a bounding radius below 1e-18: the shaders' float intermediates (squared edge
- * lengths, control points before their /3) would overflow or underflow, and the patch would fall back to the
- * flat triangle.  Such a mesh is drawn from a copy moved to the origin and scaled to unit radius (patches are
- * affine-invariant, and the camera frames the mesh by its bounds anyway).  Other meshes are drawn as they are. */
-#define SCENE_EXTREME_COORD 1e18f
+/* Coordinates beyond 1e6 or a bounding radius below 1e-6: the shaders' float intermediates (squared edge
+ * lengths, control points before their /3, and the real normals' cross products of derivatives, which are of
+ * the order of the size squared and underflow at a size of 1e-12) would lose precision, overflow or underflow.
+ * Such a mesh is drawn from a copy moved to the origin and scaled to unit radius (patches are affine-invariant,
+ * and the camera frames the mesh by its bounds anyway).  Other meshes are drawn as they are. */
+#define SCENE_EXTREME_COORD 1e6f
 
-static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
-                       size_t errlen);
+static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_image *img, scene_stats *st,
+                       char *err, size_t errlen);
 
-/* The copy of m with positions (p - c) / r described above into out; 0, or -1 when m is not extreme or the
- * copy fails (m is then drawn as it is). */
-static int rescaled_copy(const is_mesh *m, is_mesh *out)
+/* The copy of m with positions (p - c) / r described above into out, r into *scale; 0, or -1 when m is not
+ * extreme or the copy fails (m is then drawn as it is). */
+static int rescaled_copy(const is_mesh *m, is_mesh *out, float *scale)
 {
     float3 c;
     float r;
@@ -661,6 +662,7 @@ static int rescaled_copy(const is_mesh *m, is_mesh *out)
     is_mesh_data d = {m->n_vertices, m->n_triangles, p, m->normals, m->texcoords, m->indices};
     int rc = mesh_create(out, m->name, &d, NULL, NULL, 0);
     free(p);
+    *scale = r;
     return rc == 0 ? 0 : -1;
 }
 
@@ -668,8 +670,9 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, s
                       size_t errlen)
 {
     is_mesh copy = {0};
-    const is_mesh *m = rescaled_copy(mesh, &copy) == 0 ? &copy : mesh;
-    int rc = render_mesh(o, m, img, st, err, errlen);
+    float scale = 1.0f;
+    const is_mesh *m = rescaled_copy(mesh, &copy, &scale) == 0 ? &copy : mesh;
+    int rc = render_mesh(o, m, m == &copy ? scale : 1.0f, img, st, err, errlen);
     mesh_free(&copy);
     return rc;
 }
@@ -685,9 +688,10 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
     return bytes;
 }
 
-/* scene_render_mesh on a mesh of ordinary coordinates. */
-static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
-                       size_t errlen)
+/* scene_render_mesh on a mesh of ordinary coordinates, whose unit is `unit` of the mesh's own (for the depth
+ * AOV). */
+static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_image *img, scene_stats *st,
+                       char *err, size_t errlen)
 {
     core_grid g;
     if (core_grid_make(o->grid, o->level, &g) != 0) {
@@ -722,6 +726,7 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
         if (rc == 0 && o->aovs) {
             is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
             scene_camera cam = make_camera(o, m);
+            cam.radius *= unit;
             if (adev) copy_aovs(dev_render_target(adev), &cam, img, 5);
             else rc = -1, image_free(img);
             dev_destroy(adev);
