@@ -181,7 +181,7 @@ const scene_option scene_options[] = {
     {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
     {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
     {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "
-     "which the turned bounding box fills the image (for long or flat models)", "sphere", opt_fit, fit_choices},
+     "which the turned bounding box fills the image (for long or flat models; --distance is then not used)", "sphere", opt_fit, fit_choices},
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
     {"cull", 0, "C", "the faces not drawn (D3DRS_CULLMODE): ccw culls the back faces (fronts run clockwise), cw "
      "culls the fronts (shows a mesh wound the other way), none draws both sides (inside-out or open meshes)",
@@ -206,7 +206,8 @@ const scene_option scene_options[] = {
     {"output", 'o', "FILE", "the image: .png (8-bit sRGB over the background colour, A = 1) or .exr (R, G, B linear "
      "and premultiplied by A = the pixel's coverage, the background transparent; half floats; Z = D3D9's depth z/w "
      "in [MinZ, MaxZ] = [0, 1], 1 on the background, float; then the AOVs)", NULL, opt_output, NULL},
-    {"quiet", 'q', NULL, "no statistics on stderr (warnings are still printed)", NULL, opt_quiet, NULL},
+    {"quiet", 'q', NULL, "no statistics and no progress line on stderr (warnings are still printed); the progress "
+     "line is drawn only on a terminal, for runs longer than a second", NULL, opt_quiet, NULL},
 };
 const size_t scene_option_count = sizeof scene_options / sizeof scene_options[0];
 
@@ -272,7 +273,7 @@ void scene_print_options(FILE *f)
 {
     for (size_t k = 0; k < scene_option_count; k++) print_option(f, &scene_options[k]);
     fprintf(f, "%-*s%s\n%-*s%s\n", HELP_INDENT, "  -h, --help", "this text", HELP_INDENT, "  -V, --version",
-            "the version");
+            "the version and the libraries it was built with");
 }
 
 /* ------------------------------------ parsing ------------------------------------ */
