@@ -78,7 +78,11 @@ $(SETUP): scripts/setup.sh
 
 $(B)/%.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(DEFS) -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS) $(DEFS) $(OBJ_DEFS) -MMD -MP -c $< -o $@
+
+# The OpenImageIO version the codec module is built against, for `instess --version` (core/image.c), which
+# names it without loading the module.
+$(B)/core/image.o: OBJ_DEFS = -DINSTESS_OIIO_VERSION='"$(shell pkg-config --modversion OpenImageIO 2>/dev/null)"'
 
 $(B)/core/image_oiio.o: core/image_oiio.cpp $(SETUP)
 	@mkdir -p $(dir $@)

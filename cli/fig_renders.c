@@ -347,7 +347,7 @@ static int fig_000_listing(const fig_ctx *ctx, is_image *out, char *err, size_t 
 static int fig_001_1(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     static const fig_panel p[] = {
-        {V_001_1 " --patch flat --level 1 --fill solid+wire", "input triangulation"},
+        {V_001_1 " --patch flat --normals linear --level 1 --fill solid+wire", "input triangulation"},
         {V_001_1 " --patch npatch --normals quadratic --level 12", "the model (PN triangles)"},
         {V_001_1 " --patch npatch --normals quadratic --level 12 --light normals", "PN model coloured by normals"}};
     fig_sizes s = sizes_of(ctx);
@@ -355,7 +355,7 @@ static int fig_001_1(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
                        s.panel, s.panel, out, err, errlen);
 }
 
-#define V_001_5 "--mesh cylinder --level 8 --yaw 20 --pitch -35 --distance 2.8"
+#define V_001_5 "--mesh cylinder --normals linear --level 8 --yaw 20 --pitch -35 --distance 2.8"
 /* Fig. 5: PN triangles over split normals open cracks (the background shows through); PN-AEN and welded normals
  * do not. */
 static int fig_001_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
@@ -373,8 +373,8 @@ static int fig_001_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
 static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
     static const fig_panel p[] = {
-        {"--mesh " FAERIE " --patch flat --level 1 " V_MD2, "faerie: input"},
-        {"--mesh " SYDNEY " --patch flat --level 1 " V_MD2, "sydney: input"},
+        {"--mesh " FAERIE " --patch flat --normals linear --level 1 " V_MD2, "faerie: input"},
+        {"--mesh " SYDNEY " --patch flat --normals linear --level 1 " V_MD2, "sydney: input"},
         {"--mesh " FAERIE " --patch npatch --normals quadratic --level 4 " V_MD2, "faerie: PN triangles"},
         {"--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "sydney: PN triangles"},
         {"--mesh " FAERIE " --patch smooth --normals quadratic --level 4 " V_MD2, "faerie: smoothed N-Patch"},
@@ -582,7 +582,7 @@ static int load_split_normals(const char *spec, is_mesh *out, char *err, size_t 
     return rc;
 }
 
-#define V_SEAMS "--mesh " SYDNEY " --patch npatch --level 4 --yaw 180 --pitch 0 --distance 2.9"
+#define V_SEAMS "--mesh " SYDNEY " --patch npatch --normals linear --level 4 --yaw 180 --pitch 0 --distance 2.9"
 /* Split normals at the texture seams of an MD2 character crack the PN triangles; welded normals do not. */
 static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {

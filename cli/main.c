@@ -1,6 +1,7 @@
 /* cli/main.c -- the `instess` program: option parsing and exit codes.  The rendering is in cli/scene.c.
  *
  * Exit codes: render_exit_codes below (0 success, 1 input error, 2 usage error); compare's are its own. */
+#include <omp.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +19,7 @@ static const scene_subcommand subcommands[] = {
     {"figures", scene_cmd_figures, "[--out DIR] [--only ID[,ID...]] [--small] [--threads N] [--list]",
      "Render every figure of the source documents into DIR (default out) with an index.html gallery; --only "
      "renders some, --small the test size, --list prints the ids.", NULL, NULL},
-    {"smoothness", scene_cmd_smoothness, "[--samples N]",
+    {"smoothness", scene_cmd_smoothness, "[--samples N] [--mesh NAME|FILE]... [--recompute-normals]",
      "For every built-in mesh and patch, the angle between the surface normals on the two sides of each shared "
      "edge and the largest bulge, as a Markdown table.", NULL, NULL},
     {"compare", scene_cmd_compare, "A B [--diff FILE] [--fail T] [--failpercent P]",
@@ -27,6 +28,10 @@ static const scene_subcommand subcommands[] = {
      scene_compare_options,
      "0 identical or within the thresholds, 1 different, 2 usage error, 3 the sizes or channels differ, 4 an "
      "image cannot be read (or the diff image cannot be written)."},
+    {"view", scene_cmd_view, "[OPTION]... [MESH] [--keys LIST] [--frames N] [--capture FILE.png] [--no-hud]",
+     "Open a window showing exactly what the same render options write with -o, re-rendered as keys and the mouse "
+     "change them (instess view --help lists the keys); --keys, --frames and --capture script it without a "
+     "display.", NULL, NULL},
 };
 enum { N_SUBCOMMANDS = sizeof subcommands / sizeof subcommands[0] };
 
@@ -39,6 +44,17 @@ static void print_usage(FILE *f)
     scene_print_options(f);
     fprintf(f, "%-28s%s\n\nExit status: %s\n", "  --man", "the manual page (roff) on stdout", render_exit_codes);
     fputs("instess compare has its own: see instess compare --help.\n", f);
+}
+
+/* The version and the libraries the program was built with (the image codec's by its build: --version does not
+ * load OpenImageIO) into f. */
+static void print_version(FILE *f)
+{
+    char mesh_libs[128];
+    mesh_library_versions(mesh_libs, sizeof mesh_libs);
+    fprintf(f, "instess %s\nbuilt with gcc %s, OpenMP %d, %s, OpenImageIO %s (in the module libinstess_codec.so, "
+               "loaded on the first image)\n", INSTESS_VERSION, __VERSION__, _OPENMP, mesh_libs,
+            image_codec_build_version());
 }
 
 /* Print msg and the usage hint; exit code 2. */
@@ -69,7 +85,7 @@ static int cmd_render(int argc, char **argv)
     char err[1024];
     if (scene_parse_args(argc, argv, &o, &res, err, sizeof err) != 0) return usage_error(err, NULL);
     if (res == SCENE_ARGS_HELP) return print_usage(stdout), 0;
-    if (res == SCENE_ARGS_VERSION) return printf("instess %s\n", INSTESS_VERSION), 0;
+    if (res == SCENE_ARGS_VERSION) return print_version(stdout), 0;
     if (!o.output) return usage_error("no output file (-o FILE.png or FILE.exr)", NULL);
     const char *msg = scene_check_opts(&o);
     if (msg) return usage_error(msg, NULL);

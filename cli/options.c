@@ -45,6 +45,19 @@ static const char *stats_choices(const char *sep, char *buf, size_t len)
 {
     return scene_join_names(stats_names, sep, buf, len);
 }
+static const char *cull_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_cull_names, sep, buf, len);
+}
+
+static const char *up_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_up_names, sep, buf, len);
+}
+static const char *fit_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_fit_names, sep, buf, len);
+}
 
 /* "unknown --NAME (one of: ...)" for option opt into buf; buf. */
 static const char *unknown_choice(const scene_option *opt, char *buf, size_t len)
@@ -139,6 +152,22 @@ static const char *opt_n110_factor(scene_opts *o, const char *a)
     static const char msg[] = "--n110-factor must be 1..2 (2: reflection, 1.5: van Overveld)";
     return scene_parse_float(a, 1.0f, 2.0f, &o->n110_factor) ? NULL : msg;
 }
+static const char *opt_cull(scene_opts *o, const char *a)
+{
+    return scene_parse_cull(a, &o->cull) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_import_timeout(scene_opts *o, const char *a)
+{
+    return scene_parse_int(a, 1, 86400, &o->import_timeout_s) ? NULL : "--import-timeout takes seconds, 1..86400";
+}
+static const char *opt_up(scene_opts *o, const char *a)
+{
+    return scene_parse_name(a, scene_up_names, &o->up) ? NULL : CHOICE_ERROR;
+}
+static const char *opt_fit(scene_opts *o, const char *a)
+{
+    return scene_parse_name(a, scene_fit_names, &o->fit) ? NULL : CHOICE_ERROR;
+}
 static const char *opt_recompute(scene_opts *o, const char *a) { return o->recompute_normals = true, NULL; }
 
 /* A size in MiB in [lo, 2^20] into *out; NULL or msg. */
@@ -163,7 +192,7 @@ static const char *opt_max_import_memory(scene_opts *o, const char *a)
 }
 static const char *opt_aov(scene_opts *o, const char *a)
 {
-    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory";
+    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory,depth";
 }
 /* --d3d9-adaptive: "depth" or four finite numbers "X,Y,Z,W" (scene.h). */
 static const char *opt_d3d9_adaptive(scene_opts *o, const char *a)
@@ -222,7 +251,9 @@ const scene_option scene_options[] = {
      "cylinder) or a file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...); also the positional MESH", "cube",
      opt_mesh, NULL},
     {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices},
-    {"normals", 0, "N", "the normals the patch shades with", "linear", opt_normals, normals_choices},
+    {"normals", 0, "N", "the normals the patch shades with: real (the patch's own, from its derivatives) shows how "
+     "the patches differ; D3D9 and the listings used linear (D3DRS_NORMALDEGREE's default), under which every curved "
+     "patch shades alike", "real; linear on --path npatch-mode and cpu", opt_normals, normals_choices},
     {"phong-alpha", 0, "A", "Phong tessellation's shape factor: 0 flat, 1 the full projection (Boubekeur and Alexa "
      "2008)", "0.75", opt_phong_alpha, NULL},
     {"n110-factor", 0, "F", "the quadratic normals' mid-edge normal n110 = normalize(n0 + n1 - v (p1 - p0)), v = F "
@@ -233,6 +264,8 @@ const scene_option scene_options[] = {
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
      path_choices},
     {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL},
+    {"up", 0, "AXIS", "the mesh's axis drawn upwards, in the file's own frame (Blender and many CAD files: z)", "y",
+     opt_up, up_choices},
     {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL},
     {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
     {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
@@ -243,6 +276,11 @@ const scene_option scene_options[] = {
      "normals: colour by the unit normal", "headlight", opt_light, NULL},
     {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL},
     {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL},
+    {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "
+     "which the turned bounding box fills the image (for long or flat models; --distance is then not used)", "sphere", opt_fit, fit_choices},
+    {"cull", 0, "C", "the faces not drawn (D3DRS_CULLMODE): ccw culls the back faces (fronts run clockwise), cw "
+     "culls the fronts (shows a mesh wound the other way), none draws both sides (inside-out or open meshes)",
+     "ccw, D3D9's default", opt_cull, cull_choices},
     {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
     {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
     {"lod", 0, "MODE", "level of detail: one --level for all (uniform), or a level per mesh edge from its "
@@ -258,18 +296,27 @@ const scene_option scene_options[] = {
      "(blue 1, green 8, red 64)", "off", opt_wire_levels, NULL},
     {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
      opt_recompute, NULL},
+    {"import-timeout", 0, "S", "seconds the mesh import (assimp, run in a child process) may take before it is "
+     "stopped and reported", "60", opt_import_timeout, NULL},
     {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},
     {"max-file-size", 0, "MIB", "the largest mesh file (with the files it refers to) read", "256",
      opt_max_file_size, NULL},
     {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL},
-    {"aov", 0, "LIST", "EXR only: extra channels, comma-separated: normal,bary,instance,gregory", NULL, opt_aov, NULL},
+    {"aov", 0, "LIST", "EXR only: extra float channels (one sample per pixel), comma-separated: normal (N.X,N.Y,N.Z, "
+     "the patch's unit normal), bary (bary.X,Y,Z), instance (the triangle's index; -1 on the background, which no "
+     "triangle has), gregory (gregory.X,Y,Z), depth (view-space depth in the mesh's units; +inf on the background); "
+     "the others are 0 on the background", NULL, opt_aov, NULL},
     {"d3d9-adaptive", 0, "MDM", "npatch-mode: D3D9's adaptive tessellation, per vertex level * ref / depth, per edge "
      "the mean, clamped to 1..--level; MDM is depth (the view depth over the nearest point's) or X,Y,Z,W (D3DRS_"
      "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL},
-    {"export-obj", 0, "FILE", "also write the tessellated surface as OBJ", NULL, opt_export_obj, NULL},
-    {"output", 'o', "FILE", "the image: .png (8-bit RGBA) or .exr (RGBA half + Z float + AOVs)", NULL, opt_output,
+    {"export-obj", 0, "FILE.obj", "also write the tessellated surface as OBJ (positions, texture coordinates, normals) "
+     "in the input's own frame: right-handed, counter-clockwise fronts, as assimp reads it", NULL, opt_export_obj,
      NULL},
-    {"quiet", 'q', NULL, "no statistics on stderr (warnings are still printed)", NULL, opt_quiet, NULL},
+    {"output", 'o', "FILE", "the image: .png (8-bit sRGB over the background colour, A = 1) or .exr (R, G, B linear "
+     "and premultiplied by A = the pixel's coverage, the background transparent; half floats; Z = D3D9's depth z/w "
+     "in [MinZ, MaxZ] = [0, 1], 1 on the background, float; then the AOVs)", NULL, opt_output, NULL},
+    {"quiet", 'q', NULL, "no statistics and no progress line on stderr (warnings are still printed); the progress "
+     "line is drawn only on a terminal, for runs longer than a second", NULL, opt_quiet, NULL},
     {"stats", 0, "FORMAT", "the statistics of a render: text on stderr, or json, one object on stdout for scripts "
      "(with the same figures, printed also with -q)", "text", opt_stats, stats_choices},
 };
@@ -346,7 +393,7 @@ void scene_print_options_except(FILE *f, const char *const *skip)
         if (!skipped) print_option(f, &scene_options[k]);
     }
     fprintf(f, "%-*s%s\n%-*s%s\n", HELP_INDENT, "  -h, --help", "this text", HELP_INDENT, "  -V, --version",
-            "the version");
+            "the version and the libraries it was built with");
 }
 
 /* ------------------------------------ parsing ------------------------------------ */
@@ -376,7 +423,7 @@ int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *re
 {
     struct option lo[sizeof scene_options / sizeof scene_options[0] + 3];
     long_options(lo);
-    bool mesh_given = false;
+    bool mesh_given = false, normals_given = false;
     int c;
     opterr = 0;
     optind = 1;
@@ -389,7 +436,12 @@ int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *re
         const char *msg = scene_apply_option(o, opt, optarg, buf, sizeof buf);
         if (msg) return snprintf(err, errlen, "%s%s%s", msg, optarg ? ": " : "", optarg ? optarg : ""), -1;
         mesh_given |= opt->apply == opt_mesh;
+        normals_given |= opt->apply == opt_normals;
     }
+    /* the default normals are the patch's own (real), which only the instanced path evaluates: the fixed-function
+     * paths default to D3D9's linear normals (--help says so) */
+    if (!normals_given && o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
+        o->normals = VS_NORMALS_LINEAR;
     if (optind < argc && !mesh_given) o->mesh = argv[optind++];   /* instess MESH -o OUT (getopt moved it last) */
     if (optind < argc)
         return snprintf(err, errlen, "%s: %s", mesh_given ? "unexpected argument (the mesh is given by --mesh)"

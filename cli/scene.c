@@ -18,13 +18,14 @@
 void scene_opts_default(scene_opts *o)
 {
     *o = (scene_opts){
-        .mesh = "cube", .patch = VS_PATCH_SMOOTH, .normals = VS_NORMALS_LINEAR, .level = 8.0f,
+        .mesh = "cube", .patch = VS_PATCH_SMOOTH, .normals = VS_NORMALS_REAL, .level = 8.0f,
         .grid = CORE_GRID_REGULAR, .path = SCENE_PATH_INSTANCED, .width = 512, .height = 512, .yaw = 30.0f,
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
         .lod = SCENE_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
         .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
+        .cull = IS_CULL_CCW, .up = SCENE_UP_Y,
     };
     vs_options vo = vs_default_options();
     o->phong_alpha = vo.phong_alpha, o->n110_factor = vo.quad_factor;
@@ -52,6 +53,9 @@ bool scene_parse_normals(const char *s, vs_normals *out)
 const char *const scene_grid_names[] = {"regular", "pg-equal", "pg-fractional-odd", "pg-fractional-even", NULL};
 const char *const scene_path_names[] = {"instanced", "npatch-mode", "cpu", NULL};
 const char *const scene_fill_names[] = {"solid", "wire", "solid+wire", "point", NULL};
+const char *const scene_cull_names[] = {"none", "cw", "ccw", NULL};
+const char *const scene_up_names[] = {"x", "y", "z", "-x", "-y", "-z", NULL};
+const char *const scene_fit_names[] = {"sphere", "box", NULL};
 
 const char *scene_grid_name(core_grid_kind g)
 {
@@ -71,6 +75,23 @@ bool scene_parse_path(const char *s, scene_path *out)
     int k = lookup(s, scene_path_names);
     if (k < 0) return false;
     *out = (scene_path)k;
+    return true;
+}
+
+bool scene_parse_cull(const char *s, uint32_t *out)
+{
+    int k = lookup(s, scene_cull_names);
+    if (k < 0) return false;
+    *out = (uint32_t)(IS_CULL_NONE + k);
+    return true;
+}
+
+/* Index of s in names into *out; false if it is not there. */
+bool scene_parse_name(const char *s, const char *const *names, int *out)
+{
+    int k = lookup(s, names);
+    if (k < 0) return false;
+    *out = k;
     return true;
 }
 
@@ -139,7 +160,7 @@ bool scene_parse_msaa(const char *s, int *out)
 /* Comma-separated AOV names into a SCENE_AOV_* mask. */
 bool scene_parse_aovs(const char *s, unsigned *out)
 {
-    static const char *const names[] = {"normal", "bary", "instance", "gregory", NULL};
+    static const char *const names[] = {"normal", "bary", "instance", "gregory", "depth", NULL};
     char buf[256];
     if (!s || !*s || strlen(s) >= sizeof buf) return false;
     strcpy(buf, s);
@@ -173,6 +194,7 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->output && !has_ext(o->output, ".png") && !has_ext(o->output, ".exr"))
         return "the output must end in .png or .exr";
     if (o->aovs && (!o->output || !has_ext(o->output, ".exr"))) return "--aov needs an .exr output";
+    if (o->export_obj && !has_ext(o->export_obj, ".obj")) return "--export-obj writes OBJ: its name must end in .obj";
     if (o->path != SCENE_PATH_INSTANCED && !vs_patches[o->patch].fixed_function)
         return "--path npatch-mode and cpu draw the N-Patch (or flat): use --patch npatch or flat";
     if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL)
@@ -213,9 +235,8 @@ static const char *check_lod_opts(const scene_opts *o)
 
 /* ---------------------------------------- camera and constants ---------------------------------------- */
 
-/* Centre of the bounding box and the largest distance from it to a vertex.  lo / 2 + hi / 2 (the same bits as
- * (lo + hi) / 2 without its overflow near FLT_MAX), and a distance that overflows in float is redone in double. */
-static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
+/* The bounding box of m's vertices into lo, hi. */
+static void mesh_box(const is_mesh *m, float3 *lo_out, float3 *hi_out)
 {
     float3 lo = m->positions[0], hi = lo;
     for (size_t k = 1; k < m->n_vertices; k++) {
@@ -223,6 +244,15 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
         lo = f3(fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z));
         hi = f3(fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z));
     }
+    *lo_out = lo, *hi_out = hi;
+}
+
+/* Centre of the bounding box and the largest distance from it to a vertex.  lo / 2 + hi / 2 (the same bits as
+ * (lo + hi) / 2 without its overflow near FLT_MAX), and a distance that overflows in float is redone in double. */
+static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
+{
+    float3 lo, hi;
+    mesh_box(m, &lo, &hi);
     *centre = add3(scale3(lo, 0.5f), scale3(hi, 0.5f));
     double r2 = 0;
     for (size_t k = 0; k < m->n_vertices; k++) {
@@ -242,7 +272,46 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
 /* The matrices of a scene: g_mWorld is the object's rotation (normals are rotated, never scaled, so the
  * listing's unnormalized mul(normal, (float3x3)g_mWorld) keeps unit length); positions are first centred and
  * scaled to a unit bounding radius. */
-typedef struct scene_camera { float4x4 world, wvp, world_view; float ref_depth; } scene_camera;
+typedef struct scene_camera {
+    float4x4 world, wvp, world_view;
+    float ref_depth;        /* the nearest depth of the unit bounding sphere (the LOD rules' reference) */
+    float zn, zf, radius;   /* the projection's near and far planes (bounding radii), the mesh's bounding radius */
+} scene_camera;
+
+/* The rotation that turns the --up axis o->up (scene_up_names; the file's axes, whose z the import negated)
+ * into +y, as rows: x, y, z. */
+static float4x4 up_rotation(int up)
+{
+    static const float rows[6][3][3] = {
+        {{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}},  /* x  -> +y */
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},   /* y  (identity) */
+        {{1, 0, 0}, {0, 0, 1}, {0, -1, 0}},  /* z: ours -z -> +y */
+        {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},  /* -x -> +y */
+        {{1, 0, 0}, {0, -1, 0}, {0, 0, -1}}, /* -y -> +y */
+        {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  /* -z: ours +z -> +y */
+    };
+    float4x4 u = mat_identity();
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) u.m[i][j] = rows[up][i][j];
+    return u;
+}
+
+/* The camera distance (in bounding radii) at which the 8 corners of m's bounding box, centred at c, scaled by
+ * 1 / r and rotated by world, fit in the vertical field of view fov_deg of an image of aspect `aspect`, with a
+ * margin of 5% on each side; at least 1.2 (the mesh stays in front of the near plane). */
+static float box_fit_distance(const is_mesh *m, float3 c, float r, const float4x4 *world, float aspect, float fov_deg)
+{
+    float3 lo, hi;
+    mesh_box(m, &lo, &hi);
+    double ty = tan(fov_deg * PI_F / 360.0) * 0.9, tx = ty * aspect, d = 1.2;
+    for (int k = 0; k < 8; k++) {
+        float3 corner = f3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        float3 q = mul3x3(scale3(sub3(corner, c), 1.0f / r), world);
+        double need = fmax(fabs(q.x) / tx, fabs(q.y) / ty) - q.z;
+        if (need > d) d = need;
+    }
+    return (float)d;
+}
 
 static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
 {
@@ -254,15 +323,22 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     float4x4 ry = mat_rotation_y(o->yaw * PI_F / 180.0f), rx = mat_rotation_x(o->pitch * PI_F / 180.0f);
     scene_camera cam;
     cam.world = mat_mul(&ry, &rx);
-    float4x4 view = mat_look_at_lh(f3(0, 0, -o->distance), f3(0, 0, 0), f3(0, 1, 0));
-    float zn = o->distance - 2.0f > 0.05f ? o->distance - 2.0f : 0.05f;
-    float4x4 proj = mat_perspective_fov_lh(o->fov / 180.0f * PI_F, (float)o->width / (float)o->height, zn,
-                                           o->distance + 2.0f);   /* 45 / 180 * pi: the same bits as pi / 4 */
+    if (o->up != SCENE_UP_Y) {   /* (y: no product with the identity, so the images stay the same bits) */
+        float4x4 u = up_rotation(o->up);
+        cam.world = mat_mul(&u, &cam.world);
+    }
+    float aspect = (float)o->width / (float)o->height;
+    float dist = o->fit == SCENE_FIT_BOX ? box_fit_distance(m, c, r, &cam.world, aspect, o->fov) : o->distance;
+    float4x4 view = mat_look_at_lh(f3(0, 0, -dist), f3(0, 0, 0), f3(0, 1, 0));
+    float zn = dist - 2.0f > 0.05f ? dist - 2.0f : 0.05f;
+    float4x4 proj = mat_perspective_fov_lh(o->fov / 180.0f * PI_F, aspect, zn, dist + 2.0f);   /* 45 / 180 * pi: the
+                                                                                                 same bits as pi / 4 */
+    cam.zn = zn, cam.zf = dist + 2.0f, cam.radius = r;
     float4x4 t = mat_mul(&fit, &cam.world);
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
     cam.world_view = t;
-    cam.ref_depth = o->distance - 1.0f; /* the nearest depth of the unit bounding sphere */
+    cam.ref_depth = dist - 1.0f; /* the nearest depth of the unit bounding sphere */
     return cam;
 }
 
@@ -638,6 +714,7 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
+    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
@@ -676,9 +753,9 @@ static is_device *render_device(const scene_opts *o, const is_mesh *m, const cor
 /* Channel names of the image: R,G,B,A,Z then the AOVs in SCENE_AOV_* order. */
 static void channel_list(unsigned aovs, char *buf, size_t len)
 {
-    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
+    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
              aovs & SCENE_AOV_BARY ? ",bary.X,bary.Y,bary.Z" : "", aovs & SCENE_AOV_INSTANCE ? ",instance" : "",
-             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "");
+             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "", aovs & SCENE_AOV_DEPTH ? ",depth" : "");
 }
 
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
@@ -697,8 +774,10 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
     return 0;
 }
 
-/* Copy the AOV planes of rt into img's channels from `first` on. */
-static void copy_aovs(const rs_target *rt, is_image *img, int first)
+/* Copy the AOV planes of rt (one sample per pixel) into img's channels from `first` on; on the background
+ * (depth still the clear value 1) `instance` becomes SCENE_INSTANCE_BACKGROUND; `depth` is the view-space depth
+ * of the projection of cam, from the depth buffer. */
+static void copy_aovs(const rs_target *rt, const scene_camera *cam, is_image *img, int first)
 {
     size_t n = (size_t)rt->width * rt->height;
     int c = first;
@@ -708,20 +787,57 @@ static void copy_aovs(const rs_target *rt, is_image *img, int first)
                 img->data[p * img->channels + c + k] = rt->aov[a].data[p * rt->aov[a].comps + k];
         c += rt->aov[a].comps;
     }
+    int inst = image_channel_index(img, "instance"), depth = image_channel_index(img, "depth");
+    double zn = cam->zn, zf = cam->zf;
+    for (size_t p = 0; p < n; p++) {
+        float d = rt->depth[p];
+        if (inst >= 0 && d >= 1.0f) img->data[p * img->channels + inst] = SCENE_INSTANCE_BACKGROUND;
+        /* D3DXMatrixPerspectiveFovLH: d = zf / (zf - zn) - zn zf / ((zf - zn) z), solved for z */
+        if (depth >= 0)
+            img->data[p * img->channels + depth] =
+                d >= 1.0f ? INFINITY : (float)(zn * zf / (zf - d * (zf - zn)) * cam->radius);
+    }
 }
 
-/* Coordinates beyond 1e18 or a bounding radius below 1e-18: the shaders' float intermediates (squared edge
- * lengths, control points before their /3) would overflow or underflow, and the patch would fall back to the
- * flat triangle.  Such a mesh is drawn from a copy moved to the origin and scaled to unit radius (patches are
- * affine-invariant, and the camera frames the mesh by its bounds anyway).  Other meshes are drawn as they are. */
-#define SCENE_EXTREME_COORD 1e18f
+/* The sRGB transfer function's inverse: a display value in [0, 1] as linear light. */
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
 
-static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
-                       size_t errlen);
+/* An EXR's colour (see scene_render_mesh): A = the fraction of each pixel's samples of rt that the mesh covers
+ * (depth below the clear value 1), R, G, B = the mesh's colour without the background (the resolved colour C =
+ * a F + (1 - a) B solved for F), decoded from sRGB to linear and premultiplied by A. */
+static void exr_colour(const rs_target *rt, uint32_t background, is_image *img)
+{
+    const float bg[3] = {(float)((background >> 16) & 0xffu) / 255.0f, (float)((background >> 8) & 0xffu) / 255.0f,
+                         (float)(background & 0xffu) / 255.0f};
+    size_t n = (size_t)rt->width * rt->height;
+    for (size_t p = 0; p < n; p++) {
+        int covered = 0;
+        for (int s = 0; s < rt->samples; s++) covered += rt->depth[p * rt->samples + s] < 1.0f;
+        float a = (float)covered / (float)rt->samples, *px = &img->data[p * img->channels];
+        for (int k = 0; k < 3; k++) {
+            float f = a > 0.0f ? (px[k] - (1.0f - a) * bg[k]) / a : 0.0f;
+            px[k] = srgb_to_linear(saturate(f)) * a;
+        }
+        px[3] = a;
+    }
+}
 
-/* The copy of m with positions (p - c) / r described above into out; 0, or -1 when m is not extreme or the
- * copy fails (m is then drawn as it is). */
-static int rescaled_copy(const is_mesh *m, is_mesh *out)
+/* Coordinates beyond 1e6 or a bounding radius below 1e-6: the shaders' float intermediates (squared edge
+ * lengths, control points before their /3, and the real normals' cross products of derivatives, which are of
+ * the order of the size squared and underflow at a size of 1e-12) would lose precision, overflow or underflow.
+ * Such a mesh is drawn from a copy moved to the origin and scaled to unit radius (patches are affine-invariant,
+ * and the camera frames the mesh by its bounds anyway).  Other meshes are drawn as they are. */
+#define SCENE_EXTREME_COORD 1e6f
+
+static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_image *img, scene_stats *st,
+                       char *err, size_t errlen);
+
+/* The copy of m with positions (p - c) / r described above into out, r into *scale; 0, or -1 when m is not
+ * extreme or the copy fails (m is then drawn as it is). */
+static int rescaled_copy(const is_mesh *m, is_mesh *out, float *scale)
 {
     float3 c;
     float r;
@@ -736,21 +852,24 @@ static int rescaled_copy(const is_mesh *m, is_mesh *out)
     is_mesh_data d = {m->n_vertices, m->n_triangles, p, m->normals, m->texcoords, m->indices};
     int rc = mesh_create(out, m->name, &d, NULL, NULL, 0);
     free(p);
+    *scale = r;
     return rc == 0 ? 0 : -1;
 }
 
 const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy)
 {
+    float scale;
     *copy = (is_mesh){0};
-    return rescaled_copy(mesh, copy) == 0 ? copy : mesh;
+    return rescaled_copy(mesh, copy, &scale) == 0 ? copy : mesh;
 }
 
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen)
 {
-    is_mesh copy;
-    const is_mesh *m = scene_fit_mesh(mesh, &copy);
-    int rc = render_mesh(o, m, img, st, err, errlen);
+    is_mesh copy = {0};
+    float scale = 1.0f;
+    const is_mesh *m = rescaled_copy(mesh, &copy, &scale) == 0 ? &copy : mesh;
+    int rc = render_mesh(o, m, m == &copy ? scale : 1.0f, img, st, err, errlen);
     mesh_free(&copy);
     return rc;
 }
@@ -759,7 +878,7 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
 {
     unsigned long long px = (unsigned long long)o->width * (unsigned long long)o->height;
     unsigned long long bytes = px * ((unsigned long long)o->msaa * 8 + 4 + 5 * 4);   /* target, resolve, image */
-    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 11 * 4);   /* the AOV device's target and planes, the channels */
+    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 12 * 4);   /* the AOV device's target and planes, the channels */
     bytes += (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 64);
     if (o->path == SCENE_PATH_CPU)
         bytes += SCENE_CPU_BYTES_PER_VERTEX * (unsigned long long)mesh_triangles * grid_points;
@@ -780,9 +899,10 @@ int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g
     return 0;
 }
 
-/* scene_render_mesh on a mesh of ordinary coordinates. */
-static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, scene_stats *st, char *err,
-                       size_t errlen)
+/* scene_render_mesh on a mesh of ordinary coordinates, whose unit is `unit` of the mesh's own (for the depth
+ * AOV). */
+static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_image *img, scene_stats *st,
+                       char *err, size_t errlen)
 {
     core_grid g;
     /* an adaptive render is checked against its finest level everywhere (its grid is not drawn) */
@@ -805,9 +925,13 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, is_image *img, sce
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
+        if (rc == 0 && o->output && image_format_of(o->output) == IS_IMAGE_EXR)
+            exr_colour(dev_render_target(dev), o->background, img);
         if (rc == 0 && o->aovs) {
             is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
-            if (adev) copy_aovs(dev_render_target(adev), img, 5);
+            scene_camera cam = make_camera(o, m);
+            cam.radius *= unit;
+            if (adev) copy_aovs(dev_render_target(adev), &cam, img, 5);
             else rc = -1, image_free(img);
             dev_destroy(adev);
         }
@@ -834,6 +958,27 @@ void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_in
     in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
 }
 
+/* One tessellated vertex of the export in the OBJ file's frame: OBJ is right-handed with counter-clockwise
+ * fronts and v up, and assimp's ConvertToLeftHanded (z -> -z, winding flipped, v -> 1 - v) turned the file into
+ * this program's frame; the export undoes it, so that an OBJ input comes back in its own coordinates and any
+ * export reads back (through assimp) as the mesh that was rendered. */
+static void write_obj_vertex(FILE *f, const is_vs_output *out, float2 t)
+{
+    float4 n = out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
+    fprintf(f, "v %.9g %.9g %.9g\nvt %.9g %.9g\nvn %.9g %.9g %.9g\n", out->pos.x, out->pos.y, -out->pos.z, t.x,
+            1.0f - t.y, n.x, n.y, -n.z);
+}
+
+/* The texture coordinates of instance inst at barycentrics b (the corners' interpolated, as the CPU path). */
+static float2 instance_texcoord(const is_patch_instance *inst, float3 b)
+{
+    return f2(b.x * inst->t[0].x + b.y * inst->t[1].x + b.z * inst->t[2].x,
+              b.x * inst->t[0].y + b.y * inst->t[1].y + b.z * inst->t[2].y);
+}
+
+/* The export's frame, said in its header. */
+#define OBJ_FRAME "# right-handed, counter-clockwise fronts, v up (the OBJ convention; the input's own frame)\n"
+
 /* What the OBJ export evaluates with: the patch shader with identity matrices, as the renderer does. */
 typedef struct obj_writer {
     FILE *f;
@@ -854,13 +999,12 @@ static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const flo
         if (nadj) set_nadj_regs(&in, nadj);
         memset(&out, 0, sizeof out);
         w->vs->main(&w->c, &in, &out);
-        float4 n = out.attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL];
-        fprintf(w->f, "v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n", out.pos.x, out.pos.y, out.pos.z, n.x, n.y, n.z);
+        write_obj_vertex(w->f, &out, instance_texcoord(inst, g->bary[p]));
     }
-    for (size_t q = 0; q < g->n_triangles; q++) {
-        size_t a = w->next + g->idx[3 * q], b = w->next + g->idx[3 * q + (flip ? 2 : 1)],
-               c = w->next + g->idx[3 * q + (flip ? 1 : 2)];
-        fprintf(w->f, "f %zu//%zu %zu//%zu %zu//%zu\n", a, a, b, b, c, c);
+    for (size_t q = 0; q < g->n_triangles; q++) {   /* clockwise here (unless flip), so corners 0, 2, 1 in the file */
+        size_t a = w->next + g->idx[3 * q], b = w->next + g->idx[3 * q + (flip ? 1 : 2)],
+               c = w->next + g->idx[3 * q + (flip ? 2 : 1)];
+        fprintf(w->f, "f %zu/%zu/%zu %zu/%zu/%zu %zu/%zu/%zu\n", a, a, a, b, b, b, c, c, c);
     }
     w->next += g->n_points;
 }
@@ -922,13 +1066,15 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
     if (o->patch == VS_PATCH_PN_AEN && !nadj) rc = -1, snprintf(err, errlen, "%s: out of memory", o->export_obj);
     if (rc != 0) {
     } else if (o->lod == SCENE_LOD_UNIFORM) {
-        fprintf(w.f, "# instess %s: %s, patch %s, level %g, %zu triangles x %zu grid points\n", INSTESS_VERSION,
-                m->name, w.vs->name, (double)o->level, m->n_triangles, g.n_points);
+        fprintf(w.f, "# instess %s: %s, patch %s, normals %s, level %g, %zu triangles x %zu grid points\n" OBJ_FRAME,
+                INSTESS_VERSION, m->name, w.vs->name, vs_normals_name(o->normals), (double)o->level, m->n_triangles,
+                g.n_points);
         for (size_t t = 0; t < m->n_triangles && !ferror(w.f); t++)
             obj_triangle(&w, &inst[t], nadj ? (const float3(*)[2])nadj[t] : NULL, &g, false);
     } else {
-        fprintf(w.f, "# instess %s: %s, patch %s, --lod %s, levels %d..%d, %zu triangles\n", INSTESS_VERSION,
-                m->name, w.vs->name, scene_lod_names[o->lod], o->min_level, scene_lod_max_level(o), m->n_triangles);
+        fprintf(w.f, "# instess %s: %s, patch %s, normals %s, --lod %s, levels %d..%d, %zu triangles\n" OBJ_FRAME,
+                INSTESS_VERSION, m->name, w.vs->name, vs_normals_name(o->normals), scene_lod_names[o->lod],
+                o->min_level, scene_lod_max_level(o), m->n_triangles);
         rc = obj_adaptive(&w, o, m, inst, (const float3(*)[3][2])nadj, err, errlen);
     }
     free(inst);
@@ -1042,10 +1188,13 @@ static void report_levels(const scene_opts *o, const scene_stats *st)
             scene_lod_max_level(o), st->mesh_triangles * st->grid_triangles);
 }
 
-/* Warnings of the mesh loader go to stderr (the program's choice; the library never prints). */
+/* Warnings of the mesh loader go to stderr (the program's choice; the library never prints), also with -q:
+ * -q hides statistics, never warnings.  user is the run's progress line, erased first. */
 static void warn_stderr(void *user, const char *msg)
 {
-    if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
+    char line[1200];
+    snprintf(line, sizeof line, "instess: warning: %s\n", msg);
+    scene_progress_print(user, line);
 }
 
 static double now_seconds(void)
@@ -1078,11 +1227,13 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     char names[64] = "none", light[96];
     channel_list(o->aovs, names, sizeof names);
     snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
-             "grid %s, path %s, size %dx%d, yaw %g, pitch %g, distance %g, fill %s, msaa %d, channels %s",
+             "grid %s, path %s, size %dx%d, up %s, yaw %g, pitch %g, distance %g, fit %s, fill %s, cull %s, msaa %d, "
+             "channels %s",
              INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
              vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
-             o->width, o->height, (double)o->yaw, (double)o->pitch, (double)o->distance, scene_fill_names[o->fill],
-             o->msaa, names);
+             o->width, o->height, scene_up_names[o->up], (double)o->yaw, (double)o->pitch, (double)o->distance,
+             scene_fit_names[o->fit], scene_fill_names[o->fill],
+             scene_cull_names[o->cull - IS_CULL_NONE], o->msaa, names);
     size_t n = strlen(buf);
     if (o->d3d9_adaptive == SCENE_D3D9_DEPTH && n < len) snprintf(buf + n, len - n, ", d3d9-adaptive depth");
     if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
@@ -1110,14 +1261,18 @@ static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_
     return 0;
 }
 
-/* Render the loaded mesh m and fill the claimed outputs, then commit them; 0 or -1 (nothing left behind). */
-static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *outs, char *err, size_t errlen)
+/* Render the loaded mesh m and fill the claimed outputs, then commit them, showing the phases on pr (stopped
+ * here, before the statistics); 0 or -1 (nothing left behind). */
+static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *outs, scene_progress *pr, char *err,
+                          size_t errlen)
 {
     double t0 = now_seconds();
     is_image img = {0};
     scene_stats st;
+    scene_progress_phase(pr, "rendering");
     int rc = scene_render_mesh(o, m, &img, &st, err, errlen);
     double t1 = now_seconds();
+    scene_progress_phase(pr, "writing");
     if (rc == 0) {
         char desc[1024];
         scene_describe(o, m, desc, sizeof desc);
@@ -1127,6 +1282,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     image_free(&img);
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
     if (rc == 0) rc = outputs_commit(outs, err, errlen);
+    scene_progress_stop(pr);
     if (rc != 0 || (o->quiet && !o->stats_json)) return rc;
     run_report r = {.st = st, .ms = (t1 - t0) * 1e3};
     r.shortcut = shortcut_savings(o, m, &r.saved, &r.total);
@@ -1140,14 +1296,19 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
 
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
 {
+    scene_progress pr;
     is_outputs outs;
     is_mesh m = {0};
-    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr,
-                          .warn_user = (void *)&o->quiet, .max_file_bytes = (uint64_t)o->max_file_mib << 20,
+    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr, .warn_user = &pr,
+                          .import_timeout_ms = o->import_timeout_s * 1000,
+                          .max_file_bytes = (uint64_t)o->max_file_mib << 20,
                           .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
     int rc = claim_outputs(o, &outs, err, errlen);
+    scene_progress_start(&pr, o->mesh, o->quiet);
+    scene_progress_phase(&pr, "reading the mesh");
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
-    if (rc == 0) rc = render_outputs(o, &m, &outs, err, errlen);
+    if (rc == 0) rc = render_outputs(o, &m, &outs, &pr, err, errlen);
+    scene_progress_stop(&pr);
     outputs_abort(&outs);
     mesh_free(&m);
     return rc;

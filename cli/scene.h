@@ -1,16 +1,18 @@
 /* cli/scene.h -- one rendered scene: a mesh, a patch, a grid, a path, a camera; the programs' shared layer
  * (the instess command, figures, bench and the golden tests all render through it).
  *
- * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then rotated by
- * yaw (about y) and pitch (about x) -- the world matrix -- and seen by a left-handed camera at (0, 0, -distance)
- * looking at the origin with a vertical field of view of 45 degrees (--fov).  The listing's light direction
- * (0, 0, -1) is in world space, so the lit side faces the camera (a headlight; --light changes it).  Errors:
- * functions return 0 or -1 with a message in err naming the input and what is wrong. */
+ * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then turned so that
+ * the --up axis points up (+y), rotated by yaw (about y) and pitch (about x) -- the world matrix -- and seen by a
+ * left-handed camera at (0, 0, -distance) looking at the origin with a vertical field of view of 45 degrees
+ * (--fov; with --fit box the distance is the one at which the rotated bounding box fills the image).  The
+ * listing's light direction (0, 0, -1) is in world space, so the lit side faces the camera (a headlight; --light
+ * changes it).  Errors: functions return 0 or -1 with a message in err naming the input and what is wrong. */
 #ifndef INSTESS_SCENE_H
 #define INSTESS_SCENE_H
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <pthread.h>
 #include <stdio.h>
 
 #include "../core/core.h"
@@ -36,7 +38,6 @@ typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_F
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
 /* The light (--light): the listing's headlight, a direction (with a little ambient), or colour by normal. */
 typedef enum { SCENE_LIGHT_HEADLIGHT = 0, SCENE_LIGHT_DIRECTION = 1, SCENE_LIGHT_NORMALS = 2 } scene_light;
-enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8 };
 /* --d3d9-adaptive: D3D9's adaptive N-patch mode (core.h) on the npatch-mode path.  "depth": Mdm = the view-depth
  * column of World * View divided by the depth of the object's nearest point (distance - 1 bounding radii), so
  * T = level * ref_depth / depth per vertex: --level at the nearest point, less farther away; "X,Y,Z,W": Mdm as
@@ -46,6 +47,13 @@ typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_ada
 /* Level of detail (--lod): one --level for all (uniform), or a level per mesh edge (cli/lod.c). */
 typedef enum { SCENE_LOD_UNIFORM, SCENE_LOD_DISTANCE, SCENE_LOD_SCREEN } scene_lod;
 #define SCENE_LOD_DEFAULT_TARGET 8.0f   /* --lod-target: pixels per segment of an edge's control polygon */
+/* The AOV channels of an EXR (--aov; README.md lists them with their background values): the patch's
+ * unit normal N.X,N.Y,N.Z (0 on the background), barycentrics bary.* (0), the triangle's index `instance`
+ * (SCENE_INSTANCE_BACKGROUND on the background: no triangle has it), Gregory coordinates gregory.* (0), and the
+ * view-space depth `depth` (the distance from the camera's plane along the view direction, in the mesh's
+ * units; +infinity on the background).  One sample per pixel. */
+enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8, SCENE_AOV_DEPTH = 16 };
+#define SCENE_INSTANCE_BACKGROUND (-1.0f)
 
 typedef struct scene_opts {
     const char *mesh;           /* built-in name or file */
@@ -55,7 +63,9 @@ typedef struct scene_opts {
     core_grid_kind grid;
     scene_path path;
     int width, height;
+    int up;                     /* the axis drawn upwards: SCENE_UP_* (scene_up_names) */
     float yaw, pitch, distance; /* degrees, degrees, bounding radii */
+    int fit;                    /* SCENE_FIT_SPHERE (distance as given) or SCENE_FIT_BOX (distance computed) */
     scene_fill fill;
     int msaa;
     int threads;
@@ -70,8 +80,10 @@ typedef struct scene_opts {
     float phong_alpha;          /* Phong tessellation's shape factor (vs_options.phong_alpha) */
     float n110_factor;          /* factor of v_ij in the quadratic normal's n110 (vs_options.quad_factor) */
     const char *output, *export_obj;
+    uint32_t cull;              /* D3DRS_CULLMODE: IS_CULL_NONE, IS_CULL_CW or IS_CULL_CCW (D3D9's default) */
     bool quiet;
     bool stats_json;            /* --stats json: the statistics as one JSON object on stdout */
+    int import_timeout_s;       /* the import child's time limit in seconds (0: meshes.h's default, 60) */
     unsigned max_memory_mib;    /* the memory budget (SCENE_DEFAULT_MAX_MEMORY_MIB) */
     unsigned max_file_mib;      /* a mesh file with its side files (0: meshes.h's default, 256 MiB) */
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
@@ -118,7 +130,8 @@ typedef struct scene_stats {
     size_t n_buckets, n_patterns, tessellated_triangles;
 } scene_stats;
 
-/* Defaults: the welded cube, smoothed patch, level 8, 512x512, 4x MSAA, solid. */
+/* Defaults: the welded cube, smoothed patch, real normals (the patch's own: the patches look as different as they
+ * are; D3D9's were linear), level 8, 512x512, 4x MSAA, solid. */
 void scene_opts_default(scene_opts *o);
 /* NULL if the options are consistent, else the usage error (e.g. --aov without an .exr output). */
 const char *scene_check_opts(const scene_opts *o);
@@ -132,6 +145,15 @@ const char *scene_grid_name(core_grid_kind g);
 /* The names --grid, --path and --fill take, NULL-terminated, in their enums' order (the patches' are vs/vs.h's
  * table, the normals' vs_normals_name). */
 extern const char *const scene_grid_names[], *const scene_path_names[], *const scene_fill_names[];
+/* --up's axes, in the input file's frame (its z is the import's -z), and --fit's framings, NULL-terminated. */
+enum { SCENE_UP_X, SCENE_UP_Y, SCENE_UP_Z, SCENE_UP_NEG_X, SCENE_UP_NEG_Y, SCENE_UP_NEG_Z };
+enum { SCENE_FIT_SPHERE, SCENE_FIT_BOX };
+extern const char *const scene_up_names[], *const scene_fit_names[];
+/* Index of s in the NULL-terminated names into *out; false if it is not there. */
+bool scene_parse_name(const char *s, const char *const *names, int *out);
+/* The names --cull takes, NULL-terminated: D3DCULL_NONE, _CW, _CCW (value = index + 1). */
+extern const char *const scene_cull_names[];
+bool scene_parse_cull(const char *s, uint32_t *out);
 /* names joined by sep into buf (for messages and usage texts); buf. */
 char *scene_join_names(const char *const *names, const char *sep, char *buf, size_t len);
 bool scene_parse_path(const char *s, scene_path *out);
@@ -161,7 +183,11 @@ void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_
  * (dev_last_error tells why). */
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader);
-/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for). */
+/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for).  R, G, B are
+ * the display (sRGB) values of the PNG and A = 1, unless o->output names an .exr: then A is the pixel's
+ * coverage (the fraction of its samples the mesh covers) and R, G, B the linear colour premultiplied by it, the
+ * background transparent black (OpenEXR's associated alpha).  Z is D3D9's depth z/w in [MinZ, MaxZ] = [0, 1] of
+ * the nearest sample (1 on the background). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
 /* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view_state.c).
@@ -291,6 +317,28 @@ void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], 
 /* The names --lod takes, in scene_lod's order; parse one. */
 extern const char *const scene_lod_names[];
 bool scene_parse_lod(const char *s, scene_lod *out);
+
+/* ------------- the progress line of a long run (cli/progress.c) ------------- */
+
+/* After this many milliseconds of work a terminal gets a progress line. */
+#define SCENE_PROGRESS_DELAY_MS 1000
+/* One run's progress line: label (the mesh) and phase (a string constant) are shown with the elapsed time. */
+typedef struct scene_progress {
+    const char *label, *phase;
+    double t0;                  /* start, seconds on CLOCK_MONOTONIC */
+    bool active, stop, drawn;   /* the thread runs; asked to stop; a line is on the screen */
+    pthread_t thread;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+} scene_progress;
+/* Start p's clock, and its drawing thread when stderr is a terminal and not quiet. */
+void scene_progress_start(scene_progress *p, const char *label, bool quiet);
+/* The phase shown from now on ("reading the mesh", "rendering", "writing"). */
+void scene_progress_phase(scene_progress *p, const char *phase);
+/* Print text on stderr while p may be drawing: the line is erased first (and redrawn at the next tick). */
+void scene_progress_print(scene_progress *p, const char *text);
+/* Stop the thread and erase the line (before anything else is printed on stderr). */
+void scene_progress_stop(scene_progress *p);
 
 /* Subcommands: `instess figures` (cli/figures.c), `instess smoothness` (cli/smoothness.c), `instess compare`
  * (cli/compare.c) and `instess view` (cli/view_state.c, which loads the SDL2 window of cli/view.c as the module

@@ -593,6 +593,10 @@ is_image_format image_format_of(const char *path);
 /* 0 if path can name an image file (a known extension after a non-empty stem), else -1 with a message. */
 int image_check_path(const char *path, char *err, size_t errlen);
 
+/* The OpenImageIO version the codec module was built against (from the build; "unknown" if it was not told),
+ * without loading the module. */
+const char *image_codec_build_version(void);
+
 /* Allocate an image with the given channel names (comma-separated, e.g. "R,G,B,A,Z"); 0 or -1. */
 int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen);
 void image_free(is_image *img);

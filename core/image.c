@@ -97,6 +97,14 @@ int image_channel_index(const is_image *img, const char *name)
     return -1;
 }
 
+#ifndef INSTESS_OIIO_VERSION
+#define INSTESS_OIIO_VERSION "unknown"
+#endif
+const char *image_codec_build_version(void)
+{
+    return INSTESS_OIIO_VERSION[0] ? INSTESS_OIIO_VERSION : "unknown";
+}
+
 void image_from_rgba8(is_image *img, const uint32_t *rgba)
 {
     if (!img || !img->data || !rgba) return;

@@ -26,6 +26,8 @@
 #include <unistd.h>
 
 #include <assimp/cimport.h>
+#include <assimp/version.h>
+#include <meshoptimizer.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <meshoptimizer.h>
@@ -541,8 +543,8 @@ static int child_failure(int r, int status, const import_src *src, uint64_t limi
 {
     const char *sep = *what ? ": " : "";
     if (r == RECV_TIMEOUT)
-        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within %d ms (stopped)", label,
-                src->lim.timeout_ms);
+        mesh_set_err(err, errlen, "%s: cannot read the mesh: assimp did not finish within the import time limit of "
+                "%g s (stopped)", label, src->lim.timeout_ms / 1000.0);
     else if (limit_mib && says_out_of_memory(what))
         return out_of_memory(limit_mib, label, err, errlen);
     else if (WIFSIGNALED(status))
@@ -846,4 +848,11 @@ int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *
         return IS_MESH_ERR_ARG;
     }
     return mesh_load_file(spec, opt, out, err, errlen);
+}
+
+/* mesh_library_versions: see meshes.h. */
+void mesh_library_versions(char *buf, size_t len)
+{
+    snprintf(buf, len, "assimp %u.%u.%u, meshoptimizer %d.%d", aiGetVersionMajor(), aiGetVersionMinor(),
+             aiGetVersionPatch(), MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10);
 }

@@ -175,6 +175,10 @@ int mesh_update_topology(is_mesh *m, char *err, size_t errlen);
  * computed in double; (0, 0, 0) for a degenerate triangle. */
 float3 mesh_compute_face_normal(float3 v0, float3 v1, float3 v2);
 
+/* The libraries meshes/ runs with, "assimp 5.2.4, meshoptimizer 0.18" (assimp's as the loaded library says,
+ * meshoptimizer's from its header: it is linked statically) into buf. */
+void mesh_library_versions(char *buf, size_t len);
+
 /* The counts (a copy of m->stats). */
 is_mesh_stats mesh_stats(const is_mesh *m);
 

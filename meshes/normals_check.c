@@ -40,6 +40,7 @@ void mesh_check_normals(is_mesh *m, const char *label, const is_mesh_options *op
              "renders as flat facets; --recompute-normals computes smooth vertex normals", label);
     if (2 * against > corners)
         mesh_warn(opt, "%s: %zu of %zu corner normals point against their face's winding (inward normals or "
-             "reversed faces), so the patches bulge the wrong way; --recompute-normals computes them from the "
-             "winding", label, against, corners);
+             "reversed faces), so the patches bulge the wrong way and the lit side renders black; --recompute-normals "
+             "computes them from the winding, or if the normals are right and the faces wound the other way, "
+             "--cull cw draws their fronts", label, against, corners);
 }

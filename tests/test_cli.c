@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +17,7 @@
 
 #include "util/prog.h"
 #include "../core/core.h"
+#include "../meshes/meshes.h"
 
 static char dir[256];
 
@@ -235,18 +237,23 @@ static void test_command_line_conventions(void **state)
 }
 
 /* The image codec (OpenImageIO) is a module loaded on the first image call: a copy of the program without
- * the module beside it still answers --help and reports usage errors, and a render fails with exit 1 naming
- * the module, writing nothing. */
+ * the module beside it still answers --help and --version (which names the libraries) and reports usage
+ * errors, and a render fails with exit 1 naming the module, writing nothing. */
 static void test_codec_loaded_on_demand(void **state)
 {
     (void)state;
     const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
-    char cmd[2400], copy[512], err_path[512];
+    char cmd[4096], copy[512], err_path[512];
     snprintf(copy, sizeof copy, "%s/lonely/instess", dir);
     snprintf(cmd, sizeof cmd, "mkdir -p %s/lonely && cp %s %s", dir, bin, copy);
     assert_int_equal(system(cmd), 0);
     snprintf(err_path, sizeof err_path, "%s/lonely/err.txt", dir);
     snprintf(cmd, sizeof cmd, "%s --help >/dev/null 2>%s", copy, err_path);
+    assert_int_equal(system(cmd), 0);
+    /* --version names the libraries, OpenImageIO's version from the build, without the module */
+    snprintf(cmd, sizeof cmd, "%s --version 2>%s | grep -q 'OpenImageIO [0-9]' && %s --version | grep -q 'assimp [0-9]' "
+                              "&& %s --version | grep -q 'meshoptimizer 0' && %s --version | grep -q 'gcc'",
+             copy, err_path, copy, copy, copy);
     assert_int_equal(system(cmd), 0);
     snprintf(cmd, sizeof cmd, "%s --patch curvy -o %s/x.png 2>%s", copy, dir, err_path);
     int st = system(cmd);
@@ -266,6 +273,330 @@ static void test_codec_loaded_on_demand(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* Channel name of img, asserted present. */
+static int channel(const is_image *img, const char *name)
+{
+    int c = image_channel_index(img, name);
+    if (c < 0) fail_msg("no channel %s", name);
+    return c;
+}
+
+/* The EXR's channels mean what they say: A is coverage (0 on the background, 1 inside, between at the
+ * antialiased edges), R, G, B are linear (the PNG's sRGB values decoded) and premultiplied, the background
+ * transparent; `instance` is -1 where no triangle is (and a triangle's index elsewhere), `depth` the view-space
+ * depth (+inf on the background; the cube's front face seen head-on lies at 5.5426 - 1 = 4.5426 mesh units,
+ * the camera being 3.2 bounding radii of sqrt(3) away), Z is z/w in [0, 1] and 1 on the background. */
+static void test_exr_channels(void **state)
+{
+    (void)state;
+    char args[1200], p[512], e[256];
+    const char *common = "--mesh cube --patch flat --yaw 0 --pitch 0 --size 64x64 -q";
+    snprintf(args, sizeof args, "%s -o %s/c.png", common, dir);
+    assert_int_equal(run(args, NULL), 0);
+    snprintf(args, sizeof args, "%s --aov instance,depth -o %s/c.exr", common, dir);
+    assert_int_equal(run(args, NULL), 0);
+    is_image png = {0}, exr = {0};
+    assert_int_equal(image_read(&png, prog_path(dir, "c.png", p, sizeof p), e, sizeof e), 0);
+    assert_int_equal(image_read(&exr, prog_path(dir, "c.exr", p, sizeof p), e, sizeof e), 0);
+    int A = channel(&exr, "A"), Z = channel(&exr, "Z"), I = channel(&exr, "instance"), D = channel(&exr, "depth");
+    int rgb[3] = {channel(&exr, "R"), channel(&exr, "G"), channel(&exr, "B")};
+    const float *bg = &exr.data[0], *mid = &exr.data[(32 * 64 + 32) * exr.channels];
+    assert_true(bg[A] == 0.0f && bg[rgb[0]] == 0.0f && bg[rgb[1]] == 0.0f && bg[rgb[2]] == 0.0f);
+    assert_true(bg[Z] == 1.0f && bg[I] == -1.0f && isinf(bg[D]) && bg[D] > 0);
+    assert_true(mid[A] == 1.0f);
+    assert_true(mid[Z] > 0.0f && mid[Z] < 1.0f);
+    assert_float_equal(mid[D], 3.2 * sqrt(3.0) - 1.0, 1e-3);
+    assert_true(mid[I] >= 0.0f && mid[I] <= 11.0f && mid[I] == floorf(mid[I]));
+    for (int k = 0; k < 3; k++) {   /* sRGB decoded: the PNG's value c as ((c + 0.055) / 1.055)^2.4 */
+        float c = png.data[(32 * 64 + 32) * png.channels + k];
+        double lin = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+        assert_float_equal(mid[rgb[k]], lin, 2e-3 * lin + 1e-4);
+        assert_true(c > 0.05f && mid[rgb[k]] < c - 0.01f);   /* really decoded, not the display value */
+    }
+    long partial = 0, background = 0;
+    for (long q = 0; q < 64 * 64; q++) {
+        const float *px = &exr.data[q * exr.channels];
+        partial += px[A] > 0.0f && px[A] < 1.0f;
+        for (int k = 0; k < 3; k++) assert_true(px[rgb[k]] <= px[A] + 1e-3f);   /* premultiplied */
+        assert_true(isinf(px[D]) == (px[I] == -1.0f));   /* no triangle exactly where no depth */
+        background += px[I] == -1.0f;
+    }
+    print_message("  %ld edge pixels with partial coverage, %ld background pixels\n", partial, background);
+    assert_true(partial > 20);
+    assert_true(background > 1000);
+    image_free(&png), image_free(&exr);
+    unlink(prog_path(dir, "c.png", p, sizeof p));
+    unlink(prog_path(dir, "c.exr", p, sizeof p));
+}
+
+/* The run of `ARGS` with stderr (and stdout) on a terminal, through util-linux's script(1); what the terminal
+ * showed into *out (static buffer). */
+static void run_on_terminal(const char *args, const char **out)
+{
+    static char buf[16384];
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char cmd[2400], path[512];
+    snprintf(path, sizeof path, "%s/typescript", dir);
+    snprintf(cmd, sizeof cmd, "script -qec '%s %s' %s >/dev/null 2>&1 </dev/null", bin, args, path);
+    assert_true(system(cmd) != -1);
+    size_t n = 0;
+    unsigned char *b = prog_slurp(path, &n);
+    n = n < sizeof buf - 1 ? n : sizeof buf - 1;
+    if (b) memcpy(buf, b, n);
+    buf[b ? n : 0] = 0;
+    free(b);
+    unlink(path);
+    *out = buf;
+}
+
+/* A run that takes more than a second draws a progress line on a terminal (here the import of a PLY header
+ * that hangs assimp, stopped after 3 s: certainly longer than a second), erased before the error message;
+ * with -q, or with stderr in a file, no progress line at all. */
+static void test_progress_line(void **state)
+{
+    (void)state;
+    const char *out;
+    char args[1200];
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 3 -o %s/p.png", dir);
+    run_on_terminal(args, &out);
+    if (strstr(out, "ran out of the import memory")) {   /* AddressSanitizer's quarantine: the limit comes first */
+        print_message("  the import ran out of memory before the time limit: no long run to show\n");
+        return;
+    }
+    assert_non_null(strstr(out, "truncated_header.ply: reading the mesh, 1."));
+    assert_non_null(strstr(out, "\r\033[Kinstess: tests/data/meshes/truncated_header.ply: cannot read the mesh"));
+    assert_non_null(strstr(out, "import time limit of 3 s"));
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -q -o %s/p.png", dir);
+    run_on_terminal(args, &out);
+    assert_non_null(strstr(out, "import time limit of 2 s"));
+    assert_null(strstr(out, "reading the mesh"));
+    const char *err;
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -o %s/p.png", dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_null(strchr(err, '\r'));
+    assert_null(strstr(err, "reading the mesh"));
+    assert_false(exists("p.png"));
+}
+
+/* `instess smoothness --mesh FILE` measures the user's mesh: one row per patch named by the file, and --mesh
+ * cube gives the very rows of the built-in table; a missing file is an input error naming it. */
+static void test_smoothness_mesh(void **state)
+{
+    (void)state;
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char cmd[2400];
+    snprintf(cmd, sizeof cmd, "%s smoothness --mesh tests/data/meshes/box.obj --samples 4 > %s/box.md && "
+                              "test $(grep -c '^| tests/data/meshes/box.obj | ' %s/box.md) -eq 6 && "
+                              "grep -q '^| tests/data/meshes/box.obj | npatch | ' %s/box.md", bin, dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s smoothness --samples 4 | grep '^| cube |' > %s/all.md && %s smoothness --samples 4 "
+                              "--mesh cube | grep '^| cube |' > %s/one.md && test -s %s/one.md && cmp -s %s/all.md "
+                              "%s/one.md", bin, dir, bin, dir, dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    const char *err;
+    assert_int_equal(run("smoothness --mesh tests/data/meshes/missing.obj", &err), 1);
+    assert_non_null(strstr(err, "missing.obj"));
+    assert_int_equal(run("smoothness --mesh", &err), 2);
+    snprintf(cmd, sizeof cmd, "rm -f %s/box.md %s/all.md %s/one.md", dir, dir, dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* The box of the pixels of PNG dir/name that differ from the background: x0, y0, x1, y1 (inclusive), and the
+ * covered widths of its top and bottom fifths in w_top, w_bottom; false if nothing is covered. */
+static bool covered_box(const char *name, int box[4], long *w_top, long *w_bottom)
+{
+    char p[512], e[256];
+    is_image img = {0};
+    if (image_read(&img, prog_path(dir, name, p, sizeof p), e, sizeof e) != 0) return false;
+    const float bg[3] = {46 / 255.0f, 52 / 255.0f, 64 / 255.0f};
+    int W = img.width, H = img.height;
+    unsigned char *cov = calloc((size_t)W * H, 1);
+    box[0] = W, box[1] = H, box[2] = -1, box[3] = -1;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const float *px = &img.data[((size_t)y * W + x) * img.channels];
+            for (int c = 0; c < 3; c++) cov[y * W + x] |= fabsf(px[c] - bg[c]) > 0.5f / 255.0f;
+            if (!cov[y * W + x]) continue;
+            if (x < box[0]) box[0] = x;
+            if (y < box[1]) box[1] = y;
+            if (x > box[2]) box[2] = x;
+            if (y > box[3]) box[3] = y;
+        }
+    int h5 = (box[3] - box[1] + 1) / 5;
+    *w_top = *w_bottom = 0;
+    for (int y = 0; box[2] >= 0 && y < h5; y++)
+        for (int x = 0; x < W; x++) *w_top += cov[(box[1] + y) * W + x], *w_bottom += cov[(box[3] - y) * W + x];
+    free(cov);
+    image_free(&img);
+    unlink(p);
+    return box[2] >= 0;
+}
+
+/* --up z stands a pyramid whose apex is at the file's +z on its base (apex up: the top of the picture is
+ * narrower than its bottom, the picture taller than wide); -z turns it upside down; the default (y) leaves it
+ * lying.  --fit box makes the long model fill the image (at least 85% of its height, where the sphere fit
+ * leaves more) without touching the border. */
+static void test_up_and_fit(void **state)
+{
+    (void)state;
+    assert_true(prog_write_text(dir, "pyr.obj", "v -0.25 -0.25 0\nv 0.25 -0.25 0\nv 0.25 0.25 0\nv -0.25 0.25 0\n"
+                                                "v 0 0 3\nf 1 4 3\nf 1 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n"));
+    char args[1200];
+    int box[4] = {0}, sphere_h = 0;
+    long top = 0, bottom = 0;
+    const char *views[] = {"--up z", "--up -z", "", "--up z --fit box"};
+    for (int k = 0; k < 4; k++) {
+        snprintf(args, sizeof args, "%s/pyr.obj %s --yaw 20 --pitch 0 --size 96x96 -q -o %s/up.png", dir, views[k],
+                 dir);
+        assert_int_equal(run(args, NULL), 0);
+        assert_true(covered_box("up.png", box, &top, &bottom));
+        int w = box[2] - box[0] + 1, h = box[3] - box[1] + 1;
+        print_message("  '%s': %dx%d at (%d, %d), top fifth %ld px, bottom fifth %ld px\n", views[k], w, h, box[0],
+                      box[1], top, bottom);
+        if (k == 0) assert_true(h > 2 * w && top * 2 < bottom), sphere_h = h;
+        if (k == 1) assert_true(h > 2 * w && bottom * 2 < top);
+        if (k == 2) assert_true(w > 2 * h);
+        if (k == 3) {
+            assert_true(h >= 82 && sphere_h < 82 && top * 2 < bottom);   /* 90% of 96 rows asked, 85% at least */
+            assert_true(box[0] > 0 && box[1] > 0 && box[2] < 95 && box[3] < 95);
+        }
+    }
+    char p[512];
+    unlink(prog_path(dir, "pyr.obj", p, sizeof p));
+}
+
+/* Index of the triangle of m with the corners of triangle t of e at the same positions (bitwise) and texcoords,
+ * in the same cyclic order (the same winding), or -1. */
+static long same_triangle(const is_mesh *m, const is_mesh *e, size_t t)
+{
+    for (size_t u = 0; u < m->n_triangles; u++)
+        for (int r = 0; r < 3; r++) {
+            bool same = true;
+            for (int c = 0; c < 3 && same; c++) {
+                uint32_t a = m->indices[3 * u + (c + r) % 3], b = e->indices[3 * t + c];
+                same = !memcmp(&m->positions[a], &e->positions[b], sizeof(float3)) &&
+                       !memcmp(&m->texcoords[a], &e->texcoords[b], sizeof(float2));
+            }
+            if (same) return (long)u;
+        }
+    return -1;
+}
+
+/* --export-obj writes the surface in the input's own frame: the flat patch at level 1 is the input, so the
+ * export read back through assimp has the input's triangles -- the same positions (not mirrored), texture
+ * coordinates and winding -- and its vertex lines are the input's; a curved export keeps the
+ * winding too (its faces' normals agree with its vertex normals).  An export not named .obj is refused. */
+static void test_export_obj_frame(void **state)
+{
+    (void)state;
+    /* an asymmetric tetrahedron, counter-clockwise seen from outside (OBJ), with texture coordinates */
+    assert_true(prog_write_text(dir, "in.obj", "v 0.25 -0.5 2\nv 2 0 0.5\nv 0 1.5 1.25\nv 0.5 0.25 -1\n"
+                                               "vt 0.1 0.2\nvt 0.9 0.3\nvt 0.4 0.8\nvt 0.7 0.6\n"
+                                               "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 2/2 3/3 4/4\nf 3/3 1/1 4/4\n"));
+    char args[1200], in[512], ex[512], err[512];
+    snprintf(args, sizeof args, "%s/in.obj --patch flat --level 1 --size 16x16 -q -o %s/a.png --export-obj %s/ex.obj",
+             dir, dir, dir);
+    assert_int_equal(run(args, NULL), 0);
+    is_mesh a = {0}, b = {0};
+    assert_int_equal(mesh_load_file(prog_path(dir, "in.obj", in, sizeof in), NULL, &a, err, sizeof err), 0);
+    assert_int_equal(mesh_load_file(prog_path(dir, "ex.obj", ex, sizeof ex), NULL, &b, err, sizeof err), 0);
+    assert_int_equal(b.n_triangles, a.n_triangles);
+    for (size_t t = 0; t < b.n_triangles; t++) assert_true(same_triangle(&a, &b, t) >= 0);
+    mesh_free(&b);
+    snprintf(args, sizeof args, "grep -qx 'v 0.25 -0.5 2' %s/ex.obj && grep -qx 'v 0.5 0.25 -1' %s/ex.obj", dir, dir);
+    assert_int_equal(system(args), 0);
+    /* the smoothed patch at level 4: every face's winding agrees with the normals (outward, as the input's) */
+    snprintf(args, sizeof args, "%s/in.obj --patch smooth --level 4 --size 16x16 -q -o %s/a.png --export-obj %s/ex.obj",
+             dir, dir, dir);
+    assert_int_equal(run(args, NULL), 0);
+    assert_int_equal(mesh_load_file(ex, NULL, &b, err, sizeof err), 0);
+    assert_int_equal(b.n_triangles, 4 * 16);
+    assert_int_equal(b.stats.normals_against_faces, 0);
+    mesh_free(&b);
+    mesh_free(&a);
+    const char *e;
+    snprintf(args, sizeof args, "--mesh cube -q -o %s/a.png --export-obj %s/ex.ply", dir, dir);
+    assert_int_equal(run(args, &e), 2);
+    assert_non_null(strstr(e, "--export-obj writes OBJ: its name must end in .obj"));
+    assert_false(exists("ex.ply"));
+    const char *names[] = {"in.obj", "ex.obj", "a.png"};
+    for (int k = 0; k < 3; k++) unlink(prog_path(dir, names[k], in, sizeof in));
+}
+
+/* Pixels of the PNG dir/name that differ from the default background (46, 52, 64); -1 if unreadable. */
+static long covered_pixels(const char *name)
+{
+    char p[512], e[256];
+    is_image img = {0};
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    if (image_read(&img, p, e, sizeof e) != 0) return -1;
+    long n = 0;
+    const float bg[3] = {46 / 255.0f, 52 / 255.0f, 64 / 255.0f};
+    for (long k = 0; k < (long)img.width * img.height; k++)
+        for (int c = 0; c < 3; c++)
+            if (fabsf(img.data[k * img.channels + c] - bg[c]) > 0.5f / 255.0f) {
+                n++;
+                break;
+            }
+    image_free(&img);
+    unlink(p);
+    return n;
+}
+
+/* --cull is D3DRS_CULLMODE: a triangle facing the camera (clockwise on screen after the import's change of
+ * handedness) is drawn under ccw (the default) and none, culled under cw; the same triangle wound the other way
+ * the opposite. */
+static void test_cull(void **state)
+{
+    (void)state;
+    const char *files[2] = {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 3 2\n"};
+    const char *culls[3] = {"", "--cull none", "--cull cw"};
+    const bool drawn[2][3] = {{true, true, false}, {false, true, true}};
+    char args[1200];
+    for (int f = 0; f < 2; f++) {
+        assert_true(prog_write_text(dir, "tri.obj", files[f]));
+        for (int c = 0; c < 3; c++) {
+            snprintf(args, sizeof args, "%s/tri.obj %s --yaw 0 --pitch 0 --size 64x64 -q -o %s/cull.png", dir,
+                     culls[c], dir);
+            assert_int_equal(run(args, NULL), 0);
+            long n = covered_pixels("cull.png");
+            print_message("  file %d, '%s': %ld pixels\n", f, culls[c], n);
+            assert_true(drawn[f][c] ? n > 200 : n == 0);
+        }
+    }
+    snprintf(args, sizeof args, "--cull both -o %s/x.png", dir);
+    const char *err;
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "one of: none | cw | ccw"));
+    char p[512];
+    unlink(prog_path(dir, "tri.obj", p, sizeof p));
+}
+
+/* -q hides statistics, never warnings; --import-timeout sets the import child's time limit (a PLY header that
+ * hangs assimp is stopped after 1 s and the message says so). */
+static void test_quiet_and_import_timeout(void **state)
+{
+    (void)state;
+    const char *err;
+    char args[1200];
+    snprintf(args, sizeof args, "tests/data/meshes/normals_bad.obj --size 16x16 -q -o %s/w.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    assert_non_null(strstr(err, "instess: warning:"));
+    assert_null(strstr(err, "triangles drawn"));
+    snprintf(args, sizeof args, "tests/data/meshes/normals_bad.obj --size 16x16 -o %s/w.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    assert_non_null(strstr(err, "triangles drawn"));
+    snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 1 -q -o %s/t.png", dir);
+    assert_int_equal(run(args, &err), 1);
+    print_message("  %s", err);
+    assert_true(strstr(err, "within the import time limit of 1 s") || strstr(err, "ran out of the import memory"));
+    assert_false(exists("t.png"));
+    snprintf(args, sizeof args, "--import-timeout 0 -o %s/t.png", dir);
+    assert_int_equal(run(args, &err), 2);
+    char p[512];
+    unlink(prog_path(dir, "w.png", p, sizeof p));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -275,6 +606,13 @@ int main(void)
         cmocka_unit_test(test_clamped_level_is_said),
         cmocka_unit_test(test_command_line_conventions),
         cmocka_unit_test(test_codec_loaded_on_demand),
+        cmocka_unit_test(test_cull),
+        cmocka_unit_test(test_progress_line),
+        cmocka_unit_test(test_smoothness_mesh),
+        cmocka_unit_test(test_up_and_fit),
+        cmocka_unit_test(test_exr_channels),
+        cmocka_unit_test(test_export_obj_frame),
+        cmocka_unit_test(test_quiet_and_import_timeout),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }

@@ -88,22 +88,33 @@ static void test_failed_export_leaves_no_image(void **state)
     rmdir(e);
 }
 
-/* The image and the export naming one file, however spelled, is a usage error and writes nothing. */
+/* The image and the export naming one file is a usage error and writes nothing: the export must end in .obj
+ * and the image in .png or .exr, so one name cannot be both; an existing file can (a hard link a.obj of a.png,
+ * or a.obj reached through a linked folder), and that is found before any output is claimed. */
 static void test_same_file_twice_is_usage_error(void **state)
 {
     (void)state;
     const char *err;
-    char sub[512], alias[512];
+    char sub[512], alias[512], a[512], b[512];
     mkdir(prog_path(dir, "sub", sub, sizeof sub), 0755);
     assert_int_equal(symlink(sub, prog_path(dir, "alias", alias, sizeof alias)), 0);
-    const char *spellings[][2] = {{"a.png", "a.png"}, {"a.png", "sub/../a.png"}, {"sub/b.png", "alias/b.png"}};
-    for (int k = 0; k < 3; k++) {
-        int rc = prog_run(dir, &err, "", "--mesh cube -q --size 16x16 -o '%s/%s' --export-obj '%s/%s'", dir,
-                          spellings[k][0], dir, spellings[k][1]);
+    int rc = prog_run(dir, &err, "", "--mesh cube -q --size 16x16 -o '%s/a.png' --export-obj '%s/a.png'", dir, dir);
+    expect(rc, 2, err, "its name must end in .obj");
+    assert_true(prog_write_text(dir, "sub/b.png", "earlier\n"));
+    const char *spellings[][2] = {{"sub/b.png", "sub/c.obj"}, {"sub/b.png", "alias/c.obj"}};
+    assert_int_equal(link(prog_path(dir, "sub/b.png", a, sizeof a), prog_path(dir, "sub/c.obj", b, sizeof b)), 0);
+    for (int k = 0; k < 2; k++) {
+        rc = prog_run(dir, &err, "", "--mesh cube -q --size 16x16 -o '%s/%s' --export-obj '%s/%s'", dir,
+                      spellings[k][0], dir, spellings[k][1]);
         expect(rc, 2, err, "name the same file");
         assert_false(prog_exists(dir, "a.png"));
-        assert_int_equal(prog_entries_with(sub, NULL), 0);
+        assert_int_equal(prog_entries_with(sub, NULL), 2);
+        size_t n;
+        unsigned char *bytes = prog_slurp(a, &n);
+        assert_true(bytes && n == 8 && !memcmp(bytes, "earlier\n", 8));
+        free(bytes);
     }
+    unlink(a), unlink(b);
     unlink(alias);
     rmdir(sub);
 }
@@ -136,8 +147,9 @@ static void test_only_regular_files_replaced(void **state)
     struct stat st;
     assert_int_equal(lstat(prog_path(dir, "link.png", p, sizeof p), &st), 0);
     assert_true(S_ISLNK(st.st_mode));
+    /* an export that is not named .obj is a usage error before any output is looked at */
     int rc = prog_run(dir, &err, "", "--mesh cube -q --size 16x16 -o /dev/null.png --export-obj /dev/null");
-    expect(rc, 1, err, "/dev/null");
+    expect(rc, 2, err, "--export-obj writes OBJ: its name must end in .obj");
     const char *names[] = {"link.png", "dangling.png", "loop.png", "fifo.png"};
     for (int k = 0; k < 4; k++) unlink(prog_path(dir, names[k], p, sizeof p));
     rmdir(prog_path(dir, "folder.png", p, sizeof p));

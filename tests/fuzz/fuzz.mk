@@ -13,7 +13,8 @@ FUZZ_SECONDS ?= 60
 FUZZ_NAMES   = import mesh
 FUZZ_SAN     = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
                -fno-omit-frame-pointer
-FUZZ_BINS    = $(FUZZ_NAMES:%=$(FUZZ_B)/fuzz/fuzz_%)
+# fuzz_replay replays fuzz_import's artifacts through the forked import child (run.sh: contained or not).
+FUZZ_BINS    = $(FUZZ_NAMES:%=$(FUZZ_B)/fuzz/fuzz_%) $(FUZZ_B)/fuzz/fuzz_replay
 
 .PHONY: fuzz-build
 
