@@ -692,7 +692,7 @@ const figure fig_renders[] = {
      "triangles (flat patch, level 1, wireframe overlay); PN triangles (npatch, quadratic normals, level 12) "
      "under the listing's headlight; the same PN model coloured by its world-space unit normal, RGB = 0.5 + 0.5 "
      "(x, y, -z) (--light normals).",
-     CMD_COMPOSITE("fig-001-1", PANEL(1, V_001_1 " --patch flat --level 1 --fill solid+wire", "320x320")
+     CMD_COMPOSITE("fig-001-1", PANEL(1, V_001_1 " --patch flat --normals linear --level 1 --fill solid+wire", "320x320")
                    PANEL(2, V_001_1 " --patch npatch --normals quadratic --level 12", "320x320")
                    PANEL(3, V_001_1 " --patch npatch --normals quadratic --level 12 --light normals", "320x320")),
      true, fig_001_1, 1},
@@ -727,8 +727,8 @@ const figure fig_renders[] = {
      "seen from the front (yaw 90, pitch 0). Top: the input triangles (flat patch, Gouraud-shaded). Middle: PN "
      "triangles (npatch, quadratic normals, level 4 = 16 triangles each). Bottom: Gruen's final smoothed patch "
      "at the same level (its boundary and non-manifold edges fall back to the N-Patch).",
-     CMD_COMPOSITE("fig-001-12", PANEL(1, "--mesh " FAERIE " --patch flat --level 1 " V_MD2, "240x400")
-                   PANEL(2, "--mesh " SYDNEY " --patch flat --level 1 " V_MD2, "240x400")
+     CMD_COMPOSITE("fig-001-12", PANEL(1, "--mesh " FAERIE " --patch flat --normals linear --level 1 " V_MD2, "240x400")
+                   PANEL(2, "--mesh " SYDNEY " --patch flat --normals linear --level 1 " V_MD2, "240x400")
                    PANEL(3, "--mesh " FAERIE " --patch npatch --normals quadratic --level 4 " V_MD2, "240x400")
                    PANEL(4, "--mesh " SYDNEY " --patch npatch --normals quadratic --level 4 " V_MD2, "240x400")
                    PANEL(5, "--mesh " FAERIE " --patch smooth --normals quadratic --level 4 " V_MD2, "240x400")

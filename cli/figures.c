@@ -10,10 +10,12 @@
 #include <errno.h>
 #include <omp.h>
 #include <ctype.h>
+#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -372,8 +374,9 @@ static void gallery_sort(const figure **all, size_t n)
     }
 }
 
-/* The table of contents: each section with links to its figures (all[0..n-1], the shown ones, in order). */
-static void html_toc(FILE *f, const figure **all, size_t n)
+/* The table of contents: each section with links to its figures (all[0..n-1], the shown ones, in order), then
+ * the viewer's section when live. */
+static void html_toc(FILE *f, const figure **all, size_t n, bool live)
 {
     fputs("<nav class=\"toc\"><b>Contents</b>\n<ol>\n", f);
     for (size_t k = 0; k < n; k++) {
@@ -383,6 +386,7 @@ static void html_toc(FILE *f, const figure **all, size_t n)
         fprintf(f, "<a class=\"fig\" href=\"#%s\">%s</a>\n", all[k]->id, all[k]->id);
         if (k + 1 == n || all[k + 1]->section != s) fputs("</li>\n", f);
     }
+    if (live) fputs("<li><a href=\"#live\">Explore it live: instess view</a></li>\n", f);
     fputs("</ol>\n</nav>\n", f);
 }
 
@@ -405,6 +409,50 @@ static void html_body(FILE *f, const char *dir, const figure **all, size_t n, co
         for (; k < end; k++) html_figure(f, dir, all[k], result_of(all[k], sel, n_sel, res));
         fputs("</div>\n", f);
     }
+}
+
+/* The viewer's section of the gallery, when DIR/viewer.png is there (capture_viewer). */
+static void html_viewer(FILE *f, const char *dir)
+{
+    if (!file_there(dir, "viewer", ".png")) return;
+    fputs("<h2 id=\"live\">Explore it live: instess view</h2>\n<p class=\"intro\">The same renders in an SDL2 "
+          "window: the mouse orbits and zooms, keys change the level, patch, normals, grid, path, fill, "
+          "multisampling and level of detail, Tab splits the screen between two patches. This frame was made "
+          "headless by <code>SDL_VIDEODRIVER=dummy instess view --normals real --size 960x540 --keys "
+          "Tab,Left,Right --capture viewer.png</code>: the smoothed patch (left) beside the N-Patch (right) on "
+          "the cube, with the HUD.</p>\n<div class=\"group\"><figure><img src=\"viewer.png\" "
+          "alt=\"instess view, split screen with the HUD\" width=\"960\" height=\"540\"></figure></div>\n", f);
+}
+
+extern char **environ;
+
+/* The viewer's frame for the gallery into DIR/viewer.png: this program's own executable run as `instess view`
+ * headless (SDL's dummy driver), as the README's picture is made.  0, or -1 with the reason on stderr (the
+ * gallery then has no viewer section). */
+static int capture_viewer(const char *dir)
+{
+    char out[4096];
+    snprintf(out, sizeof out, "%s/viewer.png", dir);
+    char *args[] = {"instess", "view", "-q", "--normals", "real", "--size", "960x540", "--keys", "Tab,Left,Right",
+                    "--capture", out, NULL};
+    size_t n_env = 0;
+    while (environ[n_env]) n_env++;
+    char **env = calloc(n_env + 2, sizeof *env);
+    if (!env) return -1;
+    size_t k = 0;
+    for (size_t i = 0; i < n_env; i++)
+        if (strncmp(environ[i], "SDL_VIDEODRIVER=", 16) != 0) env[k++] = environ[i];
+    env[k++] = "SDL_VIDEODRIVER=dummy";
+    pid_t pid;
+    int st = 0, rc = posix_spawn(&pid, "/proc/self/exe", NULL, NULL, args, env);
+    free(env);
+    if (rc == 0 && waitpid(pid, &st, 0) < 0) rc = errno;
+    if (rc != 0 || !WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+        fprintf(stderr, "instess: figures: warning: the viewer's frame (instess view) could not be made%s%s; the "
+                        "gallery has no viewer section\n", rc ? ": " : "", rc ? strerror(rc) : "");
+        return -1;
+    }
+    return 0;
 }
 
 static const char gallery_lead[] =
@@ -436,8 +484,9 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
                "<h1>instess: the figures of the source documents</h1>\n<p class=\"lead\">", gallery_css);
     fprintf(f, gallery_lead, INSTESS_VERSION);
     fputs("</p>\n", f);
-    html_toc(f, all, n);
+    html_toc(f, all, n, file_there(dir, "viewer", ".png"));
     html_body(f, dir, all, n, sel, n_sel, res);
+    html_viewer(f, dir);
     fputs("</body>\n</html>\n", f);
     bool ok = fflush(f) == 0 && !ferror(f);
     ok = fclose(f) == 0 && ok;
@@ -470,6 +519,7 @@ int scene_cmd_figures(int argc, char **argv)
     if (!res) return fprintf(stderr, "instess: figures: out of memory\n"), 1;
     double t0 = now_s();
     int failed = render_all(list, (size_t)n, &o, threads, res);
+    if (!o.only) capture_viewer(o.out);   /* the whole gallery shows the viewer too */
     int html = write_gallery(o.out, list, (size_t)n, res);
     fprintf(stderr, "instess: figures: %ld figure(s) in %.2f s on %d thread(s), %d failed -> %s/index.html\n", n,
             now_s() - t0, threads, failed, o.out);

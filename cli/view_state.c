@@ -111,8 +111,20 @@ static void act_normals(view_state *v) { cycle(v, next_normals, 3, "normals"); }
 static void next_lod(scene_opts *o) { o->lod = (scene_lod)((o->lod + 1) % 3); }
 static void act_lod(view_state *v) { cycle(v, next_lod, 3, "lod"); }
 
-static void next_path(scene_opts *o) { o->path = (scene_path)((o->path + 1) % 3); }
-static void act_path(view_state *v) { cycle(v, next_path, 3, "path"); }
+/* The next path; the N-patch mode and the CPU path evaluate linear or quadratic normals only, so real normals
+ * become linear there (the CLI's default for those paths), said on the HUD. */
+static void next_path(scene_opts *o)
+{
+    o->path = (scene_path)((o->path + 1) % 3);
+    if (o->path != SCENE_PATH_INSTANCED && o->normals == VS_NORMALS_REAL) o->normals = VS_NORMALS_LINEAR;
+}
+static void act_path(view_state *v)
+{
+    vs_normals before = v->o.normals;
+    cycle(v, next_path, 3, "path");
+    if (v->o.normals != before) notice(v, "the N-patch mode and the CPU path shade linear or quadratic normals: "
+                                          "normals linear");
+}
 
 /* The next grid; the regular grid takes the level rounded, a primitive-generator grid its clamped level. */
 static void act_grid(view_state *v)

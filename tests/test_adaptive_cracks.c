@@ -306,7 +306,7 @@ static void obj_closed(const char *path, long *bad, long *faces)
         if (l[0] == 'v' && l[1] == ' ') snprintf(v[iv].s, sizeof v->s, "%s", l + 2), v[iv].idx = (uint32_t)iv, iv++;
         if (l[0] != 'f') continue;
         size_t q[3];
-        assert_int_equal(sscanf(l, "f %zu//%*u %zu//%*u %zu//%*u", &q[0], &q[1], &q[2]), 3);
+        assert_int_equal(sscanf(l, "f %zu/%*u/%*u %zu/%*u/%*u %zu/%*u/%*u", &q[0], &q[1], &q[2]), 3);
         for (int j = 0; j < 3; j++) de[id++] = (uint64_t)(q[j] - 1) << 32 | (q[(j + 1) % 3] - 1);
     }
     assert_int_equal(iv, nv);

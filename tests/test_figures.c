@@ -299,6 +299,34 @@ static void test_only_index(void **state)
     prog_rmdir(dir);
 }
 
+/* The whole gallery (no --only) shows the viewer's frame, made by `instess view` headless into viewer.png, with
+ * its contents entry; a gallery of --only figures has no viewer section. */
+static void test_gallery_viewer(void **state)
+{
+    (void)state;
+    char dir[256], all[512], one[512], index[600], png[600];
+    assert_int_equal(prog_mkdtemp(dir, "viewer"), 0);
+    snprintf(all, sizeof all, "%s/all", dir);
+    snprintf(one, sizeof one, "%s/one", dir);
+    const char *err;
+    int rc = prog_run(dir, &err, "", "figures --small --out '%s'", all);
+    if (rc != 0) fprintf(stderr, "figures --small: exit %d: %s\n", rc, err);
+    assert_int_equal(rc, 0);
+    snprintf(index, sizeof index, "%s/index.html", all);
+    snprintf(png, sizeof png, "%s/viewer.png", all);
+    size_t n = 0;
+    unsigned char *bytes = prog_slurp(png, &n);
+    assert_non_null(bytes);
+    assert_true(n > 1000 && memcmp(bytes, "\x89PNG", 4) == 0);
+    free(bytes);
+    assert_int_equal(count_in_file(index, "<img src=\"viewer.png\""), 1);
+    assert_int_equal(count_in_file(index, "href=\"#live\""), 1);
+    assert_int_equal(prog_run(dir, &err, "", "figures --only fig-1.1.3 --out '%s'", one), 0);
+    snprintf(index, sizeof index, "%s/index.html", one);
+    assert_int_equal(count_in_file(index, "viewer.png"), 0);
+    prog_rmdir(dir);
+}
+
 /* A figure's bytes do not depend on the thread count (fig_ctx.threads 1 vs 3). */
 static void test_deterministic(void **state)
 {
@@ -323,6 +351,7 @@ int main(void)
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_no_repeated_sentences),
         cmocka_unit_test(test_only_index),
+        cmocka_unit_test(test_gallery_viewer),
         cmocka_unit_test(test_reproduce_lines),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),

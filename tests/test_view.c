@@ -86,7 +86,7 @@ static const key_case key_cases[] = {
     {"--size 128x128 --patch npatch", "t,[,[,w,w,p,p", "--size 128x128 --patch npatch --path npatch-mode --level 6 "
      "--fill wire"},
     {"--size 140x100 --patch pn-aen", "g,],PageUp,n,n,Left", "--size 140x100 --patch pn-aen --grid pg-equal --level 9 "
-     "--distance 2.909091 --normals real --yaw 45"},
+     "--distance 2.909091 --normals quadratic --yaw 45"},
     {"--size 96x96 --mesh icosahedron --fill point", "m,w,t,Up", "--size 96x96 --mesh icosahedron --msaa 1 --pitch 35"},
 };
 
@@ -212,13 +212,14 @@ static void test_views(void **state)
 }
 
 /* Every key of the table acts: after each key the s screenshot differs from the one before (in its pixels, or
- * for t -- the three paths draw the same pixels -- in the description it stores; h is test_hud's); q and Escape
+ * for t -- the three paths draw the same pixels -- in the description it stores; h is test_hud's; l three times:
+ * distance, screen, then uniform again, since the LOD modes need the instanced path); q and Escape
  * end the run before the keys after them. */
 static void test_every_key_acts(void **state)
 {
     const char *err;
     clean();
-    static const char *const keys[] = {"]", "[", "t", "p", "Tab", "o", "Tab", "n", "g", "w", "m", "c",
+    static const char *const keys[] = {"]", "[", "l", "l", "l", "t", "p", "Tab", "o", "Tab", "n", "g", "w", "m", "c",
                                        "Left", "Right", "Up", "Down", "PageUp", "PageDown"};
     const int n = (int)(sizeof keys / sizeof keys[0]);
     char list[400] = "s";
@@ -233,14 +234,14 @@ static void test_every_key_acts(void **state)
         if (same) fprintf(stderr, "key %s changed nothing\n", keys[k]);
         assert_false(same);
     }
-    assert_true(same_file("base.png", "instess-view-0019.png"));
+    assert_true(same_file("base.png", "instess-view-0022.png"));
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys q,] --capture q.png"), 0);
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys Escape,],s --capture e.png"),
                      0);
     assert_int_equal(run_in_dir(&err, "-q --size 96x96 --patch npatch -o cli.png"), 0);
     assert_true(same_file("q.png", "cli.png"));
     assert_true(same_file("e.png", "cli.png"));
-    assert_int_equal(prog_entries_with(dir, NULL), 19 + 4);
+    assert_int_equal(prog_entries_with(dir, NULL), n + 1 + 4);   /* the screenshots, base, q, e, cli */
 }
 
 /* Bad options: the CLI's message and exit code (2 usage, 1 input), and no capture written. */
