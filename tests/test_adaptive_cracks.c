@@ -23,37 +23,17 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "util/crack.h"
 #include "util/prog.h"
 
 enum { SIZE = 96, MAX_TEST_LEVEL = 12 };
-
-/* One round of a 32-bit integer hash (lowbias32). */
-static uint32_t mix32(uint32_t h)
-{
-    h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
-    return h;
-}
-
-/* The bits of f with -0 read as +0. */
-static uint32_t bits_of(float f)
-{
-    f = f + 0.0f;
-    uint32_t u;
-    memcpy(&u, &f, 4);
-    return u;
-}
 
 /* Colour 1/255 and, unless c10.y is 0, the bit-keyed jitter of oPos (a function of its bits alone). */
 static void count_finish(const is_vs_constants *c, is_vs_output *out)
 {
     out->attr[RS_ATTR_COLOR0] = f4(1.0f / 255.0f, 0, 0, 1.0f / 255.0f);
     if (c->c[10].y == 0.0f) return;
-    float4 *P = &out->pos;
-    uint32_t h = mix32(bits_of(P->w) ^ 0x5bd1e995u);
-    h = mix32(bits_of(P->x) ^ mix32(bits_of(P->y) ^ mix32(bits_of(P->z) ^ h)));
-    float jx = (float)(h & 0xffffu) / 65536.0f - 0.5f, jy = (float)(h >> 16) / 65536.0f - 0.5f;
-    P->x += jx * (2.0f / SIZE) * P->w;
-    P->y += jy * (2.0f / SIZE) * P->w;
+    crack_jitter(&out->pos, SIZE);
 }
 
 /* The patch selected by c10.x, through main. */
@@ -78,12 +58,7 @@ static is_device *count_device(vs_patch p)
 {
     is_device *dev = dev_create(SIZE, SIZE, 1, NULL, 0);
     assert_non_null(dev);
-    dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
-    dev_set_render_state(dev, IS_RS_ZENABLE, 0);
-    dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 1);
-    dev_set_render_state(dev, IS_RS_SRCBLEND, IS_BLEND_ONE);
-    dev_set_render_state(dev, IS_RS_DESTBLEND, IS_BLEND_ONE);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    crack_counting_states(dev);
     float sel[4] = {(float)p, 1.0f, 0, 0};
     dev_set_vertex_shader_constant_f(dev, 10, sel, 1);
     return dev;
@@ -121,7 +96,7 @@ static is_device *levels_device(const is_mesh *m, vs_patch p, uint32_t seed, boo
     scene_lod_edges e;
     char err[256];
     assert_int_equal(scene_lod_edges_build(m, &e, err, sizeof err), 0);
-    for (size_t k = 0; k < e.n_edges; k++) e.level[k] = (uint8_t)(1 + mix32((uint32_t)k * 2654435761u ^ seed) % MAX_TEST_LEVEL);
+    for (size_t k = 0; k < e.n_edges; k++) e.level[k] = (uint8_t)(1 + crack_mix32((uint32_t)k * 2654435761u ^ seed) % MAX_TEST_LEVEL);
     if (break_tri >= 0) { /* point its edge 0 at an edge of another level */
         uint32_t *te = &e.tri_edge[3 * (size_t)break_tri];
         for (size_t k = 0; k < e.n_edges; k++)
@@ -186,16 +161,6 @@ static void test_winding_of_renumbered_triangles(void **state)
     }
 }
 
-/* Whether two vertices at the same position carry different normals. */
-static bool has_split_normals(const is_mesh *m)
-{
-    for (size_t t = 0; t < 3 * m->n_triangles; t++) {
-        uint32_t a = m->indices[t], w = m->welded[t];
-        if (a != w && memcmp(&m->normals[a], &m->normals[w], sizeof(float3)) != 0) return true;
-    }
-    return false;
-}
-
 /* Every built-in mesh and patch with hashed per-edge levels, two seeds, batched and per-vertex: no odd pixel. */
 static void test_no_cracks_across_levels(void **state)
 {
@@ -204,7 +169,7 @@ static void test_no_cracks_across_levels(void **state)
         is_mesh m = {0};
         char err[256];
         assert_int_equal(mesh_builtin(*name, &m, err, sizeof err), 0);
-        bool split = has_split_normals(&m);
+        bool split = crack_split_normals(&m);
         for (int p = 0; p < VS_PATCH_COUNT; p++) {
             if (split && p != VS_PATCH_FLAT && p != VS_PATCH_PN_AEN) continue;
             for (uint32_t seed = 1; seed <= 2; seed++)

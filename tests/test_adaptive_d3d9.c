@@ -18,6 +18,7 @@
 #include "../cli/scene.h"
 #include "../core/device_internal.h" /* the draw's edge levels (dev->npatch_lv) */
 #include "util/golden.h"
+#include "util/crack.h"
 #include "util/prog.h"
 
 /* Bits of a float, as float render states take them. */
@@ -378,14 +379,6 @@ static void test_goldens_from_before(void **state)
 
 enum { SIZE = 96 };
 
-/* One round of a 32-bit integer hash (lowbias32). */
-static uint32_t mix32(uint32_t h)
-{
-    h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
-    return h;
-}
-/* The bits of f with -0 read as +0. */
-static uint32_t bits0(float f) { return fbits(f + 0.0f); }
 
 /* The counting shader: oPos = POSITION0 * c0..c3, moved by up to half a pixel in x and y by a hash of its bits
  * (the jitter of tests/test_cracks.c: equal bits move equally, one ulp apart moves about a pixel apart); colour
@@ -394,10 +387,7 @@ static void vs_count(const is_vs_constants *c, const is_vs_input *in, is_vs_outp
 {
     const float4x4 wvp = vs_const_matrix(c, 0);
     float4 P = mul4(f4_of(f3_of(in->position[0]), 1.0f), &wvp);
-    uint32_t h = mix32(bits0(P.w) ^ 0x5bd1e995u);
-    h = mix32(bits0(P.x) ^ mix32(bits0(P.y) ^ mix32(bits0(P.z) ^ h)));
-    P.x += ((float)(h & 0xffffu) / 65536.0f - 0.5f) * (2.0f / SIZE) * P.w;
-    P.y += ((float)(h >> 16) / 65536.0f - 0.5f) * (2.0f / SIZE) * P.w;
+    crack_jitter(&P, SIZE);
     out->pos = P;
     out->attr[RS_ATTR_COLOR0] = f4(1.0f / 255.0f, 0, 0, 1.0f / 255.0f);
 }
@@ -407,7 +397,7 @@ static const is_vertex_shader count_shader = {.name = "count", .main = vs_count,
  * vertex's number when by_index (different across a seam of split vertices: a planted disagreement). */
 static float factor_of(float3 p, uint32_t vertex, bool by_index)
 {
-    uint32_t h = by_index ? mix32(vertex * 2654435761u) : mix32(bits0(p.x) ^ mix32(bits0(p.y) ^ mix32(bits0(p.z))));
+    uint32_t h = by_index ? crack_mix32(vertex * 2654435761u) : crack_mix32(crack_bits(p.x) ^ crack_mix32(crack_bits(p.y) ^ crack_mix32(crack_bits(p.z))));
     return 0.5f + 1.5f * (float)(h & 0xffffu) / 65536.0f;
 }
 
@@ -474,12 +464,7 @@ static long adaptive_odd_pixels(const is_mesh *m, const crack_case *cc, float ya
     dev_set_render_state(dev, IS_RS_MAXTESSELLATIONLEVEL, fbits(14.0f));
     /* Mdm: the third column of World * View, so dot(V, Mdm) is the view depth (2.6 +- 1) */
     for (int i = 0; i < 4; i++) dev_set_render_state(dev, (is_rs)(IS_RS_ADAPTIVETESS_X + i), fbits(wv.m[i][2]));
-    dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
-    dev_set_render_state(dev, IS_RS_ZENABLE, 0);
-    dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 1);
-    dev_set_render_state(dev, IS_RS_SRCBLEND, IS_BLEND_ONE);
-    dev_set_render_state(dev, IS_RS_DESTBLEND, IS_BLEND_ONE);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    crack_counting_states(dev);
     assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)m->n_vertices, 0,
                                                 (unsigned)m->n_triangles),
                      IS_OK);
@@ -507,16 +492,6 @@ static long adaptive_odd_pixels(const is_mesh *m, const crack_case *cc, float ya
     return odd;
 }
 
-/* Whether two vertices at the same position carry different normals (N-Patches crack there by design). */
-static bool has_split_normals(const is_mesh *m)
-{
-    for (size_t t = 0; t < 3 * m->n_triangles; t++) {
-        uint32_t a = m->indices[t], w = m->welded[t];
-        if (a != w && memcmp(&m->normals[a], &m->normals[w], sizeof(float3)) != 0) return true;
-    }
-    return false;
-}
-
 /* Every built-in mesh, DISCRETE and CONTINUOUS, levels from the depth alone and from depth and TESSFACTOR, cubic
  * positions (linear where the normals split) and linear: no odd pixel, with levels that really differ per edge. */
 static void test_no_cracks_adaptive(void **state)
@@ -527,7 +502,7 @@ static void test_no_cracks_adaptive(void **state)
         is_mesh m = {0};
         char err[256];
         assert_int_equal(mesh_builtin(*name, &m, err, sizeof err), 0);
-        const bool split = has_split_normals(&m);
+        const bool split = crack_split_normals(&m);
         for (int deg = 0; deg < 2; deg++) {
             if (deg == 0 && split) continue;
             for (int style = 0; style < 2; style++)

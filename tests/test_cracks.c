@@ -39,6 +39,7 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "util/crack.h"
 
 enum { SIZE = 96 };
 
@@ -53,22 +54,6 @@ typedef enum {
 /* Vertices shaded through the counting shader's batched entry (so a test can check that it was used). */
 static unsigned long long batched_vertices;
 
-/* One round of a 32-bit integer hash (lowbias32). */
-static uint32_t mix32(uint32_t h)
-{
-    h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
-    return h;
-}
-
-/* The bits of f with -0 read as +0 (x + 0 is +0 for x = -0 and x otherwise). */
-static uint32_t bits_of(float f)
-{
-    f = f + 0.0f;
-    uint32_t u;
-    memcpy(&u, &f, 4);
-    return u;
-}
-
 /* What every counting vertex gets after the patch shader: colour 1/255, and with c10.y set the jitter: oPos
  * moved by (jx, jy) pixels, each in [-1/2, 1/2), hashed from the bits of oPos.  A function of oPos's bits alone,
  * so equal bits give equal results on both sides of an edge. */
@@ -76,12 +61,7 @@ static void count_finish(const is_vs_constants *c, is_vs_output *out)
 {
     out->attr[RS_ATTR_COLOR0] = f4(1.0f / 255.0f, 0, 0, 1.0f / 255.0f);
     if (c->c[10].y == 0.0f) return;
-    float4 *P = &out->pos;
-    uint32_t h = mix32(bits_of(P->w) ^ 0x5bd1e995u);
-    h = mix32(bits_of(P->x) ^ mix32(bits_of(P->y) ^ mix32(bits_of(P->z) ^ h)));
-    float jx = (float)(h & 0xffffu) / 65536.0f - 0.5f, jy = (float)(h >> 16) / 65536.0f - 0.5f;
-    P->x += jx * (2.0f / SIZE) * P->w; /* NDC x = x / w spans SIZE pixels over 2 */
-    P->y += jy * (2.0f / SIZE) * P->w;
+    crack_jitter(&out->pos, SIZE);
 }
 
 /* The wrapped patch: c10.x selects it, c10.y the jitter, c10.z the one-ulp nudge of instance 0's edge points. */
@@ -121,12 +101,7 @@ static long odd_pixels_grid(const is_mesh *m, vs_patch p, core_grid_kind kind, f
     assert_int_equal(core_grid_make(kind, o.level, &g), 0);
     is_device *dev = dev_create(SIZE, SIZE, 1, NULL, 0);
     assert_non_null(dev);
-    dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
-    dev_set_render_state(dev, IS_RS_ZENABLE, 0);
-    dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 1);
-    dev_set_render_state(dev, IS_RS_SRCBLEND, IS_BLEND_ONE);
-    dev_set_render_state(dev, IS_RS_DESTBLEND, IS_BLEND_ONE);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    crack_counting_states(dev);
     assert_false((mode & BATCH) && (mode & NUDGE_ONE_ULP)); /* the nudge reads the instance id per vertex */
     float sel[4] = {(float)p, (mode & JITTER) ? 1.0f : 0.0f, (mode & NUDGE_ONE_ULP) ? 1.0f : 0.0f, 0};
     dev_set_vertex_shader_constant_f(dev, 10, sel, 1);
@@ -150,16 +125,6 @@ static long odd_pixels(const is_mesh *m, vs_patch p, int level, float yaw, float
     return odd_pixels_grid(m, p, CORE_GRID_REGULAR, (float)level, yaw, pitch, mode, covered);
 }
 
-/* Whether two vertices at the same position carry different normals. */
-static bool has_split_normals(const is_mesh *m)
-{
-    for (size_t t = 0; t < 3 * m->n_triangles; t++) {
-        uint32_t a = m->indices[t], w = m->welded[t];
-        if (a != w && memcmp(&m->normals[a], &m->normals[w], sizeof(float3)) != 0) return true;
-    }
-    return false;
-}
-
 /* Every built-in mesh, every patch (see above for split normals), levels 1..16: no odd count in the plain view
  * (main), the jittered view through the batched entry and, for the two patches whose batched entry is
  * vs/batch8.c's, the jittered view through main. */
@@ -177,7 +142,7 @@ static void test_no_cracks(void **state)
         is_mesh m = {0};
         char err[256];
         assert_int_equal(mesh_builtin(*name, &m, err, sizeof err), 0);
-        bool split = has_split_normals(&m);
+        bool split = crack_split_normals(&m);
         for (int p = 0; p < VS_PATCH_COUNT; p++) {
             if (split && p != VS_PATCH_FLAT && p != VS_PATCH_PN_AEN) continue;
             bool b8 = p == VS_PATCH_NPATCH || p == VS_PATCH_SMOOTH;
@@ -241,7 +206,7 @@ static void test_split_normals_crack_the_npatch(void **state)
     is_mesh m = {0};
     char err[256];
     assert_int_equal(mesh_builtin("cylinder", &m, err, sizeof err), 0);
-    assert_true(has_split_normals(&m));
+    assert_true(crack_split_normals(&m));
     long covered;
     assert_true(odd_pixels(&m, VS_PATCH_NPATCH, 4, 30.0f, 20.0f, PLAIN, &covered) > 0);
     assert_int_equal(odd_pixels(&m, VS_PATCH_FLAT, 4, 30.0f, 20.0f, PLAIN, &covered), 0);
