@@ -114,7 +114,7 @@ man_page() {
     grep -q "^$sec" <<<"$text" || { echo "no section $sec"; return 1; }
   done
   local opts
-  opts=$("$S/bin/instess" --help | grep -oE -- '^  (-[a-zA-Z], )?--[a-z][a-z-]*' | grep -oE -- '--[a-z-]+' | sort -u)
+  opts=$("$S/bin/instess" --help | grep -oE -- '^  (-[a-zA-Z], )?--[a-z][a-z0-9-]*' | grep -oE -- '--[a-z0-9-]+' | sort -u)
   [ "$(echo "$opts" | wc -l)" -gt 20 ] || { echo "too few options in --help: $opts"; return 1; }
   local section   # the OPTIONS section: each option has its own tag line there ("       -o, --output FILE")
   section=$(sed -n '/^OPTIONS/,/^SUBCOMMANDS/p' <<<"$text")
