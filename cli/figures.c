@@ -27,7 +27,8 @@ static const char figures_usage[] =
     "N.X, N.Y, N.Z) and the gallery DIR/index.html, which lists the figures whose images are in DIR.\n"
     "\n"
     "  --out DIR      output directory (created if missing)                       [out]\n"
-    "  --only IDS     only these figures (comma-separated ids, e.g. fig-1.1.1a,fig-003-3)\n"
+    "  --only IDS     only these figures (comma-separated ids, e.g. fig-1.1.1a,fig-003-3; `viewer`: the\n"
+    "                 frame of instess view the whole gallery shows, viewer.png)\n"
     "  --small        the test size (about 1/4 of the pixels)\n"
     "  --threads N    threads (0: all cores; the images do not depend on it)       [0]\n"
     "  --list         print the figure ids and exit\n"
@@ -91,14 +92,21 @@ static const figure *find_figure(const figure *const *list, size_t n, const char
     return NULL;
 }
 
-/* Keep the figures named in `only` (comma-separated) in table order; returns the count or -1 (unknown id,
- * printed). */
+/* The pseudo-id of --only that asks for the viewer's frame (viewer.png; every whole run makes it). */
+#define VIEWER_ID "viewer"
+
+/* Keep the figures named in `only` (comma-separated; VIEWER_ID is not a figure) in table order; returns the
+ * count or -1 (unknown id, printed). */
 static long select_figures(const figure **list, size_t n, const char *only)
 {
     if (!only) return (long)n;
     bool keep[MAX_FIGURES] = {0};
     for (const char *p = only; *p;) {
         size_t len = strcspn(p, ",");
+        if (len == strlen(VIEWER_ID) && strncmp(p, VIEWER_ID, len) == 0) {
+            p += len + (p[len] == ',');
+            continue;
+        }
         const figure *f = len ? find_figure(list, n, p, len) : NULL;
         if (!f) {
             fprintf(stderr, "instess: figures: unknown figure id '%.*s' (instess figures --list shows them)\n",
@@ -424,6 +432,17 @@ static void html_viewer(FILE *f, const char *dir)
           "alt=\"instess view, split screen with the HUD\" width=\"960\" height=\"540\"></figure></div>\n", f);
 }
 
+/* Whether the comma-separated list only names VIEWER_ID. */
+static bool wants_viewer(const char *only)
+{
+    for (const char *p = only; *p;) {
+        size_t len = strcspn(p, ",");
+        if (len == strlen(VIEWER_ID) && strncmp(p, VIEWER_ID, len) == 0) return true;
+        p += len + (p[len] == ',');
+    }
+    return false;
+}
+
 extern char **environ;
 
 /* The viewer's frame for the gallery into DIR/viewer.png: this program's own executable run as `instess view`
@@ -519,7 +538,7 @@ int scene_cmd_figures(int argc, char **argv)
     if (!res) return fprintf(stderr, "instess: figures: out of memory\n"), 1;
     double t0 = now_s();
     int failed = render_all(list, (size_t)n, &o, threads, res);
-    if (!o.only) capture_viewer(o.out);   /* the whole gallery shows the viewer too */
+    if (!o.only || wants_viewer(o.only)) capture_viewer(o.out);   /* the whole gallery shows the viewer too */
     int html = write_gallery(o.out, list, (size_t)n, res);
     fprintf(stderr, "instess: figures: %ld figure(s) in %.2f s on %d thread(s), %d failed -> %s/index.html\n", n,
             now_s() - t0, threads, failed, o.out);
