@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "util/patch_util.h"
 
 /* A small deterministic generator (xorshift64*), so that a failure replays. */
 static uint64_t rnd_next(uint64_t *s)
@@ -132,25 +133,8 @@ static void test_random_scenes(void **state)
 static void test_cubes(void **state)
 {
     (void)state;
-    char err[256];
-    is_mesh cube = {0};
-    assert_int_equal(mesh_builtin("cube", &cube, err, sizeof err), 0);
-    const int side = 6;
-    size_t copies = (size_t)side * side, nv = cube.n_vertices, nt = cube.n_triangles;
-    float3 *p = malloc(copies * nv * sizeof *p), *n = malloc(copies * nv * sizeof *n);
-    uint32_t *idx = malloc(copies * nt * 3 * sizeof *idx);
-    assert_non_null(p), assert_non_null(n), assert_non_null(idx);
-    for (size_t c = 0; c < copies; c++) {
-        float ox = ((float)(c % (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
-        float oy = ((float)(c / (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
-        for (size_t k = 0; k < nv; k++) p[c * nv + k] = add3(cube.positions[k], f3(ox, oy, 0.0f)), n[c * nv + k] = cube.normals[k];
-        for (size_t k = 0; k < 3 * nt; k++) idx[c * 3 * nt + k] = (uint32_t)(c * nv) + cube.indices[k];
-    }
     is_mesh m;
-    is_mesh_data md = {copies * nv, copies * nt, p, n, NULL, idx};
-    assert_int_equal(mesh_create(&m, "cubes", &md, NULL, err, sizeof err), 0);
-    free(p), free(n), free(idx);
-    mesh_free(&cube);
+    assert_int_equal(cubes_mesh(6, &m), 0);
     scene_opts o;
     scene_opts_default(&o);
     o.patch = VS_PATCH_NPATCH, o.level = 8, o.width = o.height = 256, o.distance = 2.4f, o.msaa = 1, o.threads = 2;

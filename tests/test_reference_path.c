@@ -16,32 +16,13 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "util/patch_util.h"
 #include "../raster/raster_internal.h"
 
-/* The cube, or side x side copies of it 3 apart in the z = 0 plane (the benchmark's scene B layout). */
+/* The cube, or side x side copies of it (tests/util/patch_util.h). */
 static void make_cubes(int side, is_mesh *out)
 {
-    char err[256];
-    is_mesh cube = {0};
-    assert_int_equal(mesh_builtin("cube", &cube, err, sizeof err), 0);
-    if (side == 1) {
-        *out = cube;
-        return;
-    }
-    size_t copies = (size_t)side * (size_t)side, nv = cube.n_vertices, nt = cube.n_triangles;
-    float3 *p = malloc(copies * nv * sizeof *p), *n = malloc(copies * nv * sizeof *n);
-    uint32_t *idx = malloc(copies * nt * 3 * sizeof *idx);
-    assert_non_null(p), assert_non_null(n), assert_non_null(idx);
-    for (size_t c = 0; c < copies; c++) {
-        float ox = ((float)(c % (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
-        float oy = ((float)(c / (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
-        for (size_t k = 0; k < nv; k++) p[c * nv + k] = add3(cube.positions[k], f3(ox, oy, 0.0f)), n[c * nv + k] = cube.normals[k];
-        for (size_t k = 0; k < 3 * nt; k++) idx[c * 3 * nt + k] = (uint32_t)(c * nv) + cube.indices[k];
-    }
-    is_mesh_data md = {copies * nv, copies * nt, p, n, NULL, idx};
-    assert_int_equal(mesh_create(out, "cubes", &md, NULL, err, sizeof err), 0);
-    free(p), free(n), free(idx);
-    mesh_free(&cube);
+    assert_int_equal(cubes_mesh(side, out), 0);
 }
 
 /* Render o (mesh m) on a fresh device with the reference path on or off; returns the device. */

@@ -2,6 +2,7 @@
 #include "patch_util.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 float frand(uint64_t *s)
@@ -51,4 +52,27 @@ vs_triangle rotate(const vs_triangle *t, int r)
         o.nadj[k][0] = t->nadj[j][0], o.nadj[k][1] = t->nadj[j][1];
     }
     return o;
+}
+
+int cubes_mesh(int side, is_mesh *out)
+{
+    char err[256];
+    is_mesh cube = {0};
+    if (mesh_builtin("cube", &cube, err, sizeof err) != 0) return -1;
+    if (side == 1) return *out = cube, 0;
+    size_t copies = (size_t)side * (size_t)side, nv = cube.n_vertices, nt = cube.n_triangles;
+    float3 *p = malloc(copies * nv * sizeof *p), *n = malloc(copies * nv * sizeof *n);
+    uint32_t *idx = malloc(copies * nt * 3 * sizeof *idx);
+    int rc = p && n && idx ? 0 : -1;
+    for (size_t c = 0; rc == 0 && c < copies; c++) {
+        float ox = ((float)(c % (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
+        float oy = ((float)(c / (size_t)side) - 0.5f * (float)(side - 1)) * 3.0f;
+        for (size_t k = 0; k < nv; k++) p[c * nv + k] = add3(cube.positions[k], f3(ox, oy, 0.0f)), n[c * nv + k] = cube.normals[k];
+        for (size_t k = 0; k < 3 * nt; k++) idx[c * 3 * nt + k] = (uint32_t)(c * nv) + cube.indices[k];
+    }
+    is_mesh_data md = {copies * nv, copies * nt, p, n, NULL, idx};
+    if (rc == 0) rc = mesh_create(out, "cubes", &md, NULL, err, sizeof err) == 0 ? 0 : -1;
+    free(p), free(n), free(idx);
+    mesh_free(&cube);
+    return rc;
 }

@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "../../meshes/meshes.h"
 #include "../../vs/vs.h"
 
 /* xorshift64* in [-1, 1). */
@@ -21,5 +22,8 @@ void to_d(const vs_triangle *t, double v[3][3], double n[3][3], double opp[3][3]
 double dist_d(float3 a, const double b[3]);
 /* Rotate labels by r: v_k <- v_(k+r)%3 with its normal, opposite vertex, texcoord and nadj. */
 vs_triangle rotate(const vs_triangle *t, int r);
+/* The built-in cube, or side x side copies of it 3 apart in the z = 0 plane (the benchmark's scene B layout),
+ * into out; 0 or -1. */
+int cubes_mesh(int side, is_mesh *out);
 
 #endif
