@@ -47,7 +47,11 @@ LDLIBS   = $(LDLIBS_MESH) -lm
 PROG_LDFLAGS = -rdynamic
 
 LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c)
-LIB_OBJ  = $(LIB_SRC:%.c=$(B)/%.o)
+# The rasterizer's fast-path kernels are compiled a second time for AVX-512 (raster/raster_internal.h,
+# RS_KERNEL): the library picks that copy at run time on CPUs that have it (rs_set_isa), with the same bytes.
+KERNEL_SRC = raster/span.c raster/setup_simd.c
+KERNEL512  = -march=x86-64-v4 -DRS_KERNEL_AVX512
+LIB_OBJ  = $(LIB_SRC:%.c=$(B)/%.o) $(KERNEL_SRC:%.c=$(B)/%.avx512.o)
 IMG_OBJ  = $(B)/core/image_oiio.o
 CODEC_SO = $(B)/libinstess_codec.so
 TEST_SRC = $(wildcard tests/test_*.c)
@@ -79,6 +83,10 @@ $(SETUP): scripts/setup.sh
 $(B)/%.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(DEFS) $(OBJ_DEFS) -MMD -MP -c $< -o $@
+
+$(B)/%.avx512.o: %.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(KERNEL512) -MMD -MP -c $< -o $@
 
 # The OpenImageIO version the codec module is built against, for `instess --version` (core/image.c), which
 # names it without loading the module.
@@ -176,7 +184,7 @@ PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 CODECDIR    = $(LIBDIR)/instess
 SO_NAME     = libinstess.so.$(SOVERSION)
 SO_REAL     = libinstess.so.$(VERSION)
-PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o)
+PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
 PUB_HDR     = core/core.h raster/raster.h vs/vs.h meshes/meshes.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so \
@@ -189,6 +197,10 @@ $(B)/.codecdir: FORCE
 FORCE:
 $(B)/core/image_codec.o $(B)/pic/core/image_codec.o: $(B)/.codecdir
 $(B)/core/image_codec.o $(B)/pic/core/image_codec.o: DEFS = -DINSTESS_CODEC_DIR='"$(CODECDIR)"'
+
+$(B)/pic/%.avx512.o: %.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(KERNEL512) -fPIC -fno-semantic-interposition -MMD -MP -c $< -o $@
 
 $(B)/pic/%.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)

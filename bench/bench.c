@@ -93,6 +93,7 @@ typedef struct bench_args {
     const char *keep;     /* directory for the images and scene files, or NULL */
     int no_gl;
     int cull;             /* --cull: instess with its pre-tessellation cull (dev_set_patch_cull) */
+    int isa;              /* --isa: the rasterizer's instruction set (RS_ISA_*), -1: the device's own choice */
 } bench_args;
 
 /* Print the usage to f. */
@@ -100,10 +101,12 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCD|A,B,C,D] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
+               "             [--isa avx2|avx512]\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
                "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
-               "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n");
+               "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n"
+               "  --isa I           instess's rasterizer kernels: avx2, or avx512 (the default where the CPU has it)\n");
 }
 
 /* A comma-separated list of up to max integers in [lo, hi]; the count or -1. */
@@ -131,6 +134,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     if (strcmp(opt, "--warmup") == 0) return parse_int_list(v, &a->warmup, 1, 0, 10000) == 1 ? 0 : -1;
     if (strcmp(opt, "--threads") == 0) return parse_int_list(v, &a->threads[1], 1, 1, 1024) == 1 ? 0 : -1;
     if (strcmp(opt, "--gl") == 0) return a->gl_path = v, 0;
+    if (strcmp(opt, "--isa") == 0) return (a->isa = rs_isa_parse(v)) >= 0 ? 0 : -1;
     if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
     if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
     if (strcmp(opt, "--scenes") == 0) /* "ABCD" or "A,B,C,D" (D: bench/bench_lod.c) */
@@ -147,7 +151,7 @@ static int parse_args(int argc, char **argv, bench_args *a)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     *a = (bench_args){.frames = 31, .warmup = 3, .scenes = "ABC", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
-                      .lp_threads = {1, 2}, .n_lp = 2};
+                      .lp_threads = {1, 2}, .n_lp = 2, .isa = -1};
     for (int i = 1; i < argc; i++) {
         int used = 0;
         if (strcmp(argv[i], "--help") == 0) return usage(stdout), exit(0), 0;
@@ -158,6 +162,10 @@ static int parse_args(int argc, char **argv, bench_args *a)
         i += used;
     }
     a->n_threads = a->threads[1] == 1 ? 1 : 2;
+    if (a->isa >= 0 && !rs_isa_supported(a->isa)) {
+        fprintf(stderr, "bench: --isa %s: this CPU does not have it\n", rs_isa_name(a->isa));
+        return -1;
+    }
     return 0;
 }
 
@@ -344,12 +352,13 @@ static void inst_release(inst_gpu *g)
 /* Create the device (1 sample, D3D9's default states), bind the scene layer's instanced draw of the scene, the
  * patch's shader and the constants; 0 or -1 with a message. */
 static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads,
-                      bool cull, char *err, size_t errlen)
+                      bool cull, int isa, char *err, size_t errlen)
 {
     memset(g, 0, sizeof *g);
     g->dev = dev_create(d->width, d->height, 1, err, errlen);
     if (!g->dev) return -1;
     dev_set_threads(g->dev, threads);
+    if (isa >= 0 && dev_set_isa(g->dev, isa) != 0) return snprintf(err, errlen, "instess: no %s", rs_isa_name(isa)), -1;
     is_vs_constants c;
     memset(&c, 0, sizeof c);
     vs_set_constants(&c, &bd->wvp, &bd->world, f4(bench_diffuse[0], bench_diffuse[1], bench_diffuse[2], bench_diffuse[3]),
@@ -466,7 +475,7 @@ static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch pat
 {
     memset(r, 0, (size_t)a->n_threads * sizeof *r);
     inst_gpu g;
-    int rc = inst_setup(&g, d, bd, patch, a->threads[0], a->cull != 0, err, errlen);
+    int rc = inst_setup(&g, d, bd, patch, a->threads[0], a->cull != 0, a->isa, err, errlen);
     if (rc == 0) rc = inst_measure(&g, bd, a, r, err, errlen);
     inst_release(&g);
     return rc;
@@ -799,10 +808,29 @@ static void warn_load(void)
     printf("OMP_WAIT_POLICY=%s\n", wp ? wp : "(unset)");
 }
 
+/* The CPU's model name (/proc/cpuinfo) into out, "unknown" when it cannot be read. */
+static void cpu_model(char *out, size_t len)
+{
+    snprintf(out, len, "unknown");
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f)) {
+        const char *c = strchr(line, ':');
+        if (strncmp(line, "model name", 10) != 0 || !c) continue;
+        snprintf(out, len, "%.*s", (int)strcspn(c + 2, "\n"), c + 2);
+        break;
+    }
+    if (f) fclose(f);
+}
+
 /* The header of the table. */
 static void print_header(const bench_args *a)
 {
     warn_load();
+    char cpu[256];
+    cpu_model(cpu, sizeof cpu);
+    int isa = a->isa >= 0 ? a->isa : rs_isa_best();
+    printf("CPU: %s; instess rasterizer kernels: %s%s\n", cpu, rs_isa_name(isa), a->isa >= 0 ? " (--isa)" : "");
     printf("instess vs llvmpipe: median of %d frames after %d warm-up frames; ratio = llvmpipe best / instess\n",
            a->frames, a->warmup);
     printf("setup, tiles, other: medians of the frame's set-up region (shading, set-up, binning), tile pass and the "

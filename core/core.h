@@ -425,6 +425,11 @@ float core_adaptive_edge_level(float t1, float t2, float min_level, float max_le
  * paths (batched shaders, shared vertex projection, 8-pixel spans), which produce the same bytes. */
 void dev_set_reference_path(is_device *dev, bool on);
 bool dev_reference_path(const is_device *dev);
+/* The instruction set of the rasterizer's fast paths (raster.h's RS_ISA_*: AVX2, or AVX-512 where the CPU has
+ * it, which a new device picks): 0, or -1 (nothing changed) when this CPU lacks it.  Every one writes the same
+ * bytes; this exists to compare them and to measure each. */
+int dev_set_isa(is_device *dev, int isa);
+int dev_isa(const is_device *dev);
 
 /* ================================ tessellation grids (core/grid.c) ================================ */
 

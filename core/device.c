@@ -130,6 +130,11 @@ void dev_set_reference_path(is_device *dev, bool on)
 
 bool dev_reference_path(const is_device *dev) { return dev->reference; }
 
+/* The rasterizer's instruction set (core.h). */
+int dev_set_isa(is_device *dev, int isa) { return rs_set_isa(dev->rs, isa) == RS_OK ? 0 : -1; }
+
+int dev_isa(const is_device *dev) { return rs_isa(dev->rs); }
+
 /* Phase times in dev_stats on or off (device_internal.h). */
 void dev_set_timing(is_device *dev, bool on)
 {

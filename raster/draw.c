@@ -15,10 +15,61 @@
 #define CHUNK_MAX_COUNT 256       /* chunks per draw, at most */
 #define BIN_OFFSETS_BUDGET (1u << 22) /* chunks * (tiles + 1) bin offsets per draw, at most */
 
+/* The kernel table: one row per instruction set (RS_ISA_*), each a copy of span.c and setup_simd.c compiled for
+ * it (raster_internal.h, RS_KERNEL). */
+static const rs_kernels kernels[RS_ISA_COUNT] = {
+    [RS_ISA_AVX2] = { "avx2", rs_tri_fast_avx2, rs_project_vertices_avx2, rs_project_vertex_avx2,
+                      rs_setup_shared_avx2 },
+    [RS_ISA_AVX512] = { "avx512", rs_tri_fast_avx512, rs_project_vertices_avx512, rs_project_vertex_avx512,
+                        rs_setup_shared_avx512 },
+};
+
+const rs_kernels *rs_kernels_of(int isa) { return &kernels[isa >= 0 && isa < RS_ISA_COUNT ? isa : RS_ISA_AVX2]; }
+
+bool rs_isa_supported(int isa)
+{
+    if (isa == RS_ISA_AVX2) return true; /* the build's own level: rs_span_ok decides what it can do */
+#if defined(__x86_64__) && defined(__GNUC__)
+    /* what -march=x86-64-v4 lets the compiler use (and the OS saves: __builtin_cpu_supports checks XCR0 too) */
+    if (isa == RS_ISA_AVX512)
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+               __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+    return false;
+}
+
+int rs_isa_best(void)
+{
+    for (int isa = RS_ISA_COUNT - 1; isa > RS_ISA_AVX2; isa--)
+        if (rs_isa_supported(isa)) return isa;
+    return RS_ISA_AVX2;
+}
+
+int rs_set_isa(rs_context *rs, int isa)
+{
+    if (!rs || !rs_isa_supported(isa)) return RS_EINVAL;
+    rs->isa = isa;
+    return RS_OK;
+}
+
+int rs_isa(const rs_context *rs) { return rs ? rs->isa : RS_ISA_AVX2; }
+
+const char *rs_isa_name(int isa) { return isa >= 0 && isa < RS_ISA_COUNT ? kernels[isa].name : NULL; }
+
+int rs_isa_parse(const char *name)
+{
+    for (int i = 0; name && i < RS_ISA_COUNT; i++)
+        if (strcmp(name, kernels[i].name) == 0) return i;
+    return -1;
+}
+
 rs_context *rs_create(int threads)
 {
     rs_context *rs = calloc(1, sizeof *rs);
-    if (rs) rs->threads = threads > 0 ? threads : 0;
+    if (!rs) return NULL;
+    rs->threads = threads > 0 ? threads : 0;
+    rs->isa = rs_isa_best();
     return rs;
 }
 
@@ -138,6 +189,7 @@ static void make_job(rs_job *j, const rs_state *st, rs_target *rt, int prim, con
 {
     static const int32_t pat[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } }; /* 1/16 px */
     memset(j, 0, sizeof *j);
+    j->kern = rs_kernels_of(RS_ISA_AVX2); /* the callers set the context's own */
     j->st = st;
     j->rt = rt;
     j->prim = prim;
@@ -229,7 +281,7 @@ static void shared_pass(rs_context *rs, rs_job *j, size_t n_verts, size_t n_prim
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nb >= 2)
     for (long b = 0; b < nb; b++) {
         size_t v0 = (size_t)b * block, n = n_verts - v0 < block ? n_verts - v0 : block;
-        rs_project_vertices(j, j->verts + v0, n, (rs_pvert *)((char *)pv + v0 * rs_pvert_size()));
+        j->kern->project_vertices(j, j->verts + v0, n, (rs_pvert *)((char *)pv + v0 * rs_pvert_size()));
     }
     j->pv = pv;
 }
@@ -259,7 +311,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     ch->first = 0, ch->count = np;
     if (np && nv <= 3 * np && nv <= src->max_verts && !rs->reference) {
         rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * src->max_verts * rs_pvert_size());
-        rs_project_vertices(&jl, v, nv, pv);
+        jl.kern->project_vertices(&jl, v, nv, pv);
         jl.pv = pv;
     }
     rs_setup_chunk(&jl, ch);
@@ -398,6 +450,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     rs_job j;
     make_job(&j, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
     j.reference = rs->reference;
+    j.kern = rs_kernels_of(rs->isa);
     int nt = thread_count(rs);
     if (!reserve_context(rs, src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
         return RS_ENOMEM;
@@ -429,6 +482,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     rs_job j;
     make_job(&j, st, rt, prim, verts, idx);
     j.reference = rs->reference;
+    j.kern = rs_kernels_of(rs->isa);
     size_t n_chunks = chunk_count(n_prims, (size_t)j.n_tiles);
     if (!reserve_context(rs, n_chunks, (size_t)j.n_tiles)) return RS_ENOMEM;
     size_t per = (n_prims + n_chunks - 1) / n_chunks;

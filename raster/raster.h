@@ -38,7 +38,9 @@
  *  - Determinism: the same draw gives the same bytes for any thread count (tiles are owned by one thread and
  *    walk primitives in submission order).
  *  - Paths: every draw has a scalar reference path (rs_set_reference_path) and fast paths (shared vertex
- *    projection, four-lane set-up, 8-lane spans) that write the same bytes; the tests compare the two.
+ *    projection, four-lane set-up, 8-lane spans) that write the same bytes; the tests compare the two.  The
+ *    fast paths exist once per instruction set (rs_set_isa: AVX2, and AVX-512 where the CPU has it, chosen at
+ *    run time), again with the same bytes.
  *  - Frames: rs_target_clear_deferred starts a frame on a context (its clear is written tile by tile when a draw
  *    first touches a tile); until rs_target_flush the target's planes must be read or written only through that
  *    context.  The work bound (RS_MAX_OVERDRAW) counts per frame (each draw alone on a context that never
@@ -164,6 +166,20 @@ int rs_threads(const rs_context *rs);
 /* The scalar reference path on (every draw takes the simplest per-sample loops: set-up per triangle, tri.c's
  * per-pixel walk, no tile buffers) or off (the default: the fast paths, which write the same bytes). */
 void rs_set_reference_path(rs_context *rs, bool on);
+/* Instruction sets of the fast paths: each has its own copy of the fast kernels, and all of them write the same
+ * bytes.  rs_create picks the widest one the CPU (and the build) supports. */
+enum { RS_ISA_AVX2 = 0, RS_ISA_AVX512 = 1, RS_ISA_COUNT };
+/* Does this CPU (and this build) run instruction set isa's kernels? */
+bool rs_isa_supported(int isa);
+/* The widest instruction set this CPU runs (what rs_create picks). */
+int rs_isa_best(void);
+/* The fast paths of rs use instruction set isa: RS_OK, or RS_EINVAL (nothing changed) when it is unsupported. */
+int rs_set_isa(rs_context *rs, int isa);
+/* The instruction set rs's fast paths use. */
+int rs_isa(const rs_context *rs);
+/* "avx2", "avx512", or NULL for an unknown value; rs_isa_parse is the inverse (-1: unknown name). */
+const char *rs_isa_name(int isa);
+int rs_isa_parse(const char *name);
 /* Measure each draw's phase times into rs_stats.setup_ms / tile_ms (on) or leave them 0 (off, the default).
  * Timing changes no image byte and no counter; it costs two clock reads per region. */
 void rs_set_timing(rs_context *rs, bool on);

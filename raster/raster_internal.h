@@ -26,6 +26,17 @@
 
 #include "raster.h"
 
+/* The fast-path kernels (span.c, setup_simd.c) are compiled twice: for AVX2 (the build's -march=x86-64-v3) and,
+ * with RS_KERNEL_AVX512 defined, for AVX-512 (-march=x86-64-v4: 32 vector registers, 16-lane kernels where
+ * they pay).  RS_KERNEL(name) gives each copy's entry points their own names; the job's kernel table (rs_kernels)
+ * picks the copy the context chose (rs_set_isa).  Both copies perform the same IEEE operations per lane, so
+ * they write the same bytes (tests/test_isa.c compares them). */
+#ifdef RS_KERNEL_AVX512
+#define RS_KERNEL(name) name##_avx512
+#else
+#define RS_KERNEL(name) name##_avx2
+#endif
+
 /* RS_ASSERT(cond): assert(cond) when INSTESS_CHECKS is defined; otherwise no code at all (cond is not evaluated,
  * only type-checked, so it may name variables that exist for the check alone). */
 #ifdef INSTESS_CHECKS
@@ -54,6 +65,7 @@ static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) 
 enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
 
 typedef struct rs_pvert rs_pvert;
+typedef struct rs_kernels rs_kernels;
 
 /* Constants of one draw, shared read-only by every thread. */
 typedef struct rs_job {
@@ -79,6 +91,7 @@ typedef struct rs_job {
     int stride;                 /* floats per primitive in the attribute pool */
     bool flat;
     bool reference;             /* the scalar reference path (rs_set_reference_path): no fast paths */
+    const rs_kernels *kern;     /* the fast-path kernels of the context's instruction set (rs_set_isa) */
     int span_mode;              /* span.c's walk instance for the depth state (rs_span_mode) */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
@@ -139,6 +152,7 @@ struct rs_context {
     bool frame;                  /* a deferred clear started a frame (else each draw's work counts alone) */
     bool reference;              /* rs_set_reference_path */
     bool timing;                 /* rs_set_timing: phase times into rs_stats */
+    int isa;                     /* RS_ISA_*: the fast paths' instruction set (rs_set_isa) */
     rs_chunk *chunks;
     size_t n_chunks_cap;
     uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
@@ -205,13 +219,19 @@ bool rs_clip_line(const rs_job *j, rs_cvert *v, unsigned planes, rs_clipbuf *cb)
 /* Set up input primitives [c->first, c->first+c->count) of the job into chunk c (prims, attr, counters). */
 void rs_setup_chunk(const rs_job *j, rs_chunk *c);
 
-/* ---- setup_simd.c: the shared pass ---- */
+/* ---- setup_simd.c: the shared pass (one copy per instruction set: RS_KERNEL) ---- */
 /* Outcode and projection of vertex v into its record (once per vertex, not once per triangle). */
-void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out);
+void rs_project_vertex_avx2(const rs_job *j, const rs_vertex *v, rs_pvert *out);
+void rs_project_vertex_avx512(const rs_job *j, const rs_vertex *v, rs_pvert *out);
 /* Bytes of one rs_pvert record (the type is opaque outside setup_simd.c). */
 size_t rs_pvert_size(void);
 /* rs_project_vertex for v[0..n) into out[0..n) (four at a time where AVX2 is available, same results). */
-void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
+void rs_project_vertices_avx2(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
+void rs_project_vertices_avx512(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
+/* Set up chunk c's triangles from the shared pass's records (j->pv, indices j->idx): per triangle what
+ * setup.c's rs_setup_triangle gives, the front-facing unclipped ones finished four at a time. */
+void rs_setup_shared_avx2(const rs_job *j, rs_chunk *c);
+void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
 
 /* ---- bin.c ---- */
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
@@ -249,8 +269,23 @@ static inline int rs_span_mode(const rs_state *st, const rs_target *rt)
     return zw && st->z_func == RS_CMP_LESSEQUAL ? 0 : zw && st->z_func == RS_CMP_LESS ? 1 : 2;
 }
 /* Rasterize triangle p's pixels [x0, x1] x [y0, y1] (its box clipped to tile t) on the fast path (rs_span_ok):
- * the same bytes and counters as tri.c's reference walk. */
-void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
+ * the same bytes and counters as tri.c's reference walk.  One copy per instruction set (RS_KERNEL). */
+void rs_tri_fast_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                      int y1);
+void rs_tri_fast_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                        int y1);
+
+/* ---- the kernel table: one row per instruction set (draw.c) ---- */
+struct rs_kernels {
+    const char *name;                                   /* rs_isa_name */
+    void (*tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                     int y1);                           /* rs_tri_fast_* */
+    void (*project_vertices)(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
+    void (*project_vertex)(const rs_job *j, const rs_vertex *v, rs_pvert *out);
+    void (*setup_shared)(const rs_job *j, rs_chunk *c); /* rs_setup_shared_* */
+};
+/* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
+const rs_kernels *rs_kernels_of(int isa);
 
 /* ---- tri.c, line.c ---- */
 /* Rasterize triangle p (attributes a) inside tile t. */

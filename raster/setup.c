@@ -343,7 +343,7 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c)
     c->oom = false;
     size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
     if (vpp == 3 && j->pv && j->idx) { /* the shared pass's triangles: indices straight to the projected vertices */
-        rs_setup_shared(j, c);
+        j->kern->setup_shared(j, c);
         return;
     }
     for (size_t k = c->first; k < c->first + c->count && !c->oom; k++) {

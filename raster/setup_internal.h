@@ -43,11 +43,6 @@ void rs_finish_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v,
 /* Set up one input triangle v[0..3): clip, project, cull, emit (the definition). */
 void rs_setup_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v);
 
-/* ---- setup_simd.c: the shared pass's triangles ---- */
-/* Set up chunk c's triangles from the shared pass's records (j->pv, indices j->idx): per triangle what
- * rs_setup_triangle gives, the front-facing unclipped ones finished four at a time. */
-void rs_setup_shared(const rs_job *j, rs_chunk *c);
-
 /* ---- inline pieces of both set-ups ---- */
 
 /* The ptile entry of a primitive with pixel box [x0, x1] x [y0, y1]. */

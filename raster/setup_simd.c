@@ -38,7 +38,9 @@ enum {
 };
 _Static_assert(sizeof(rs_pvert) == 24, "rs_pvert: x, y, z, flags, oc, pad, iw without padding");
 
+#ifndef RS_KERNEL_AVX512 /* one definition, in the AVX2 copy */
 size_t rs_pvert_size(void) { return sizeof(rs_pvert); }
+#endif
 
 /* rs_outcode inline: bit k set when p is outside clip plane k (clip.c's plane_dist, same expressions). */
 static inline unsigned outcode6(const rs_job *j, const double *p)
@@ -50,7 +52,7 @@ static inline unsigned outcode6(const rs_job *j, const double *p)
 }
 
 /* What setup.c's load() and rs_project() give for one vertex, without building the clip vertex's other fields. */
-void rs_project_vertex(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+void RS_KERNEL(rs_project_vertex)(const rs_job *j, const rs_vertex *v, rs_pvert *out)
 {
     const rs_vec4 *q = &v->pos;
     *out = (rs_pvert){ 0 };
@@ -135,13 +137,13 @@ static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
 }
 #endif
 
-void rs_project_vertices(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out)
+void RS_KERNEL(rs_project_vertices)(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out)
 {
     size_t i = 0;
 #ifdef __AVX2__
     for (; i + 4 <= n; i += 4) project4(j, v + i, out + i);
 #endif
-    for (; i < n; i++) rs_project_vertex(j, &v[i], &out[i]);
+    for (; i < n; i++) RS_KERNEL(rs_project_vertex)(j, &v[i], &out[i]);
 }
 
 /* Set up triangle k[0..3) of the shared pass when some vertex is not `ready` or the fill mode is not solid: the
@@ -420,7 +422,7 @@ static inline int64_t area3(const rs_pvert *a, const rs_pvert *b, const rs_pvert
 /* Set up the shared pass's triangles of chunk c (indices j->idx into the records j->pv): per triangle what
  * rs_setup_triangle gives.  A ready, solid, front-facing triangle is pushed with its box and slots at once, in
  * submission order, and queued; its edges and planes are written four triangles at a time (finish_queued). */
-void rs_setup_shared(const rs_job *j, rs_chunk *c)
+void RS_KERNEL(rs_setup_shared)(const rs_job *j, rs_chunk *c)
 {
     const rs_pvert *pv = j->pv;
     const uint32_t *idx = j->idx;

@@ -747,7 +747,8 @@ static walk_fn *const walks[4][3] = {
     {big_le, big_less, big_any},
 };
 
-void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                            int y1)
 {
     const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
     const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
@@ -757,7 +758,8 @@ void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, 
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
 
-void rs_tri_fast(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1)
+void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                            int y1)
 {
 }
 
