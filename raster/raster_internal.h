@@ -132,7 +132,8 @@ _Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment state
 
 /* The set-up output of one chunk of input primitives, with its tile bins (CSR: bin_off[tile]..[tile+1]). */
 typedef struct rs_chunk {
-    size_t first, count;         /* input primitives [first, first+count) */
+    _Alignas(64) size_t first, count; /* input primitives [first, first+count) (a chunk starts a cache line: two
+                                    set-up threads writing neighbouring chunks' counters share none) */
     rs_prim *prims;
     uint32_t *ptile;             /* per primitive: its tile when its box lies in one, else RS_MULTI_TILE */
     float *attr;                 /* stride floats per primitive */
