@@ -27,10 +27,11 @@
 #include "raster.h"
 
 /* The fast-path kernels (span.c, setup_simd.c) are compiled twice: for AVX2 (the build's -march=x86-64-v3) and,
- * with RS_KERNEL_AVX512 defined, for AVX-512 (-march=x86-64-v4: 32 vector registers, 16-lane kernels where
- * they pay).  RS_KERNEL(name) gives each copy's entry points their own names; the job's kernel table (rs_kernels)
- * picks the copy the context chose (rs_set_isa).  Both copies perform the same IEEE operations per lane, so
- * they write the same bytes (tests/test_isa.c compares them). */
+ * with RS_KERNEL_AVX512 defined, for AVX-512 (-march=x86-64-v4: the same source, with 32 vector registers and
+ * AVX-512's encodings).  RS_KERNEL(name) gives each copy's entry points their own names; the job's kernel table
+ * (rs_kernels, draw.c) picks the copy the context chose (rs_set_isa).  Both copies perform the same IEEE
+ * operations per lane, so they write the same bytes (tests/test_reference_path.c compares each with the
+ * reference path and, in test_isa_avx512, with each other). */
 #ifdef RS_KERNEL_AVX512
 #define RS_KERNEL(name) name##_avx512
 #else

@@ -4,7 +4,9 @@
  * fill-bound), smaller, with every patch, 1 and 2 threads, plus the cases that leave the fast paths: near-plane
  * clipping, a target width that is not a multiple of 8, 4 samples, AOV planes, the wireframe overlay, the
  * device's N-patch mode and CPU tessellation; the limits of the fused path (several rasterizer calls per draw,
- * instances larger than a piece); and every shader's batched entry against its per-vertex main, bit for bit. */
+ * instances larger than a piece); and every shader's batched entry against its per-vertex main, bit for bit.
+ * Every comparison runs for each instruction set's copy of the rasterizer's kernels that this CPU runs (AVX2, and
+ * AVX-512 where it has it: test_isa_avx512 says when that copy could not run). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
