@@ -46,8 +46,8 @@ static void print_usage(FILE *f)
     fputs("instess compare has its own: see instess compare --help.\n", f);
 }
 
-/* The version and the libraries the program was built with (the image codec's by its build: --version does not
- * load OpenImageIO) into f. */
+/* The version, the libraries the program was built with (the image codec's by its build: --version does not
+ * load OpenImageIO) and the rasterizer kernels this CPU runs into f. */
 static void print_version(FILE *f)
 {
     char mesh_libs[128];
@@ -55,6 +55,7 @@ static void print_version(FILE *f)
     fprintf(f, "instess %s\nbuilt with gcc %s, OpenMP %d, %s, OpenImageIO %s (in the module libinstess_codec.so, "
                "loaded on the first image)\n", INSTESS_VERSION, __VERSION__, _OPENMP, mesh_libs,
             image_codec_build_version());
+    fprintf(f, "rasterizer kernels on this CPU: %s (the same bytes as every other)\n", rs_isa_name(rs_isa_best()));
 }
 
 /* Print msg and the usage hint; exit code 2. */

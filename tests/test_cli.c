@@ -89,6 +89,16 @@ static void test_usage_errors(void **state)
     }
     assert_int_equal(run("--help", NULL), 0);
     assert_int_equal(run("--version", &err), 0);
+    /* --version names the rasterizer kernels this CPU runs (what a new device picks) */
+    char cmd[600], out[2048], want[128];
+    snprintf(cmd, sizeof cmd, "%s --version", getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess");
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    assert_int_equal(pclose(p), 0);
+    snprintf(want, sizeof want, "rasterizer kernels on this CPU: %s ", rs_isa_name(rs_isa_best()));
+    assert_non_null(strstr(out, want));
 }
 
 static void test_input_errors(void **state)
