@@ -61,7 +61,8 @@ static void man_options(FILE *f)
     option_tag(f, 'h', "help", NULL);
     fputs("The usage text, every option with its choices and default.\n", f);
     option_tag(f, 'V', "version", NULL);
-    fputs("The version.\n", f);
+    fputs("The version, the libraries it was built with and the rasterizer kernels this CPU runs (avx2 or avx512: the "
+          "same bytes either way).\n", f);
     option_tag(f, 0, "man", NULL);
     fputs("This manual page, as roff, on standard output (the Makefile installs it as instess.1).\n", f);
 }

@@ -393,7 +393,7 @@ void scene_print_options_except(FILE *f, const char *const *skip)
         if (!skipped) print_option(f, &scene_options[k]);
     }
     fprintf(f, "%-*s%s\n%-*s%s\n", HELP_INDENT, "  -h, --help", "this text", HELP_INDENT, "  -V, --version",
-            "the version and the libraries it was built with");
+            "the version, the libraries it was built with and the rasterizer kernels this CPU runs");
 }
 
 /* ------------------------------------ parsing ------------------------------------ */
