@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# tests/run.sh BIN... -- run each cmocka test binary, count its tests, and end with "N passed, N failed".
+# tests/run.sh BIN... -- run each cmocka test binary, count its tests, and end with "N passed, N failed" (and
+# ", N skipped" when a test skipped itself: a test that cannot run on this machine, such as the AVX-512 one on a
+# CPU without it, is reported, never counted as passed).
 # The binaries run TEST_JOBS at a time (default: the number of cores; many of them spend their time starting
 # the program or waiting for it), each with its own log; the results are printed in the order given.  Idle
 # OpenMP threads sleep (OMP_WAIT_POLICY=passive unless set).
 # A binary that crashes, hangs (timeout) or prints no cmocka summary counts as one failed test, so a crash is
 # never mistaken for success.  Exit status: 0 only if nothing failed.
 set -u
-passed=0; failed=0
+passed=0; failed=0; skipped=0
 log_dir=${TEST_LOG_DIR:-build/test-logs}
 jobs=${TEST_JOBS:-$(nproc)}
 # Idle OpenMP threads sleep instead of spinning, so that binaries running side by side do not steal each
@@ -32,7 +34,9 @@ for bin in "$@"; do
   rc=$(cat "$log_dir/$name.rc" 2>/dev/null || echo 127)
   p=$(grep -E '^\[  PASSED  \] [0-9]+ test' "$log" | tail -n1 | sed -E 's/.*\] ([0-9]+) test.*/\1/')
   f=$(grep -E '^\[  FAILED  \] [0-9]+ test' "$log" | tail -n1 | sed -E 's/.*\] ([0-9]+) test.*/\1/')
-  p=${p:-0}; f=${f:-0}
+  k=$(grep -E '^\[  SKIPPED \] [0-9]+ test' "$log" | tail -n1 | sed -E 's/.*\] ([0-9]+) test.*/\1/')
+  p=${p:-0}; f=${f:-0}; k=${k:-0}
+  skipped=$((skipped + k))
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi   # crashed, timed out or failed outside a test
   if [ "$p" -eq 0 ] && [ "$f" -eq 0 ]; then f=1; fi    # ran no test at all
   passed=$((passed + p)); failed=$((failed + f))
@@ -40,8 +44,8 @@ for bin in "$@"; do
     printf 'FAIL %-28s %3d passed, %d failed (exit %d; log %s)\n' "$name" "$p" "$f" "$rc" "$log"
     grep -E '^\[  (FAILED|ERROR) +\]|error:|Failure|failure' "$log" | head -n 20 | sed 's/^/    /'
   else
-    printf 'ok   %-28s %3d passed\n' "$name" "$p"
+    printf 'ok   %-28s %3d passed%s\n' "$name" "$p" "$([ "$k" -gt 0 ] && echo ", $k skipped: $(grep -E '^\[  SKIPPED \] [a-z_]' "$log" | sed -E 's/.*\] //' | sort -u | tr '\n' ' ')")"
   fi
 done
-echo "${TEST_LABEL:-tests}: $passed passed, $failed failed"
+echo "${TEST_LABEL:-tests}: $passed passed, $failed failed$([ "$skipped" -gt 0 ] && echo ", $skipped skipped")"
 [ "$failed" -eq 0 ]
