@@ -50,19 +50,13 @@ static void jittered_mesh(const char *name, float jp, float jn, uint64_t *s, is_
 static is_device *render_path(const scene_opts *o, const is_mesh *m, uint32_t cull, bool patch_cull, bool reference)
 {
     char err[256];
-    core_grid g;
-    assert_int_equal(core_grid_make(o->grid, o->level, &g), 0);
     is_device *dev = dev_create(o->width, o->height, o->msaa, err, sizeof err);
     assert_non_null(dev);
     dev_set_threads(dev, o->threads);
     dev_set_reference_path(dev, reference);
     dev_set_patch_cull(dev, patch_cull);
     assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, cull), IS_OK);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    int rc = scene_draw(dev, o, m, &g, NULL);
-    if (rc) fprintf(stderr, "draw failed: %s\n", dev_last_error(dev));
-    assert_int_equal(rc, 0);
-    core_grid_free(&g);
+    assert_int_equal(clear_and_draw(dev, o, m), 0);
     return dev;
 }
 

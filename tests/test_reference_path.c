@@ -32,8 +32,6 @@ static void make_cubes(int side, is_mesh *out)
 static is_device *render_isa(const scene_opts *o, const is_mesh *m, unsigned aovs, bool reference, int isa)
 {
     char err[256];
-    core_grid g;
-    assert_int_equal(core_grid_make(o->grid, o->level, &g), 0);
     is_device *dev = dev_create(o->width, o->height, aovs ? 1 : o->msaa, err, sizeof err);
     assert_non_null(dev);
     dev_set_threads(dev, o->threads);
@@ -45,11 +43,7 @@ static is_device *render_isa(const scene_opts *o, const is_mesh *m, unsigned aov
     }
     for (int k = 0; aovs && k < 4; k++)
         assert_int_equal(rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + 1 + k, k == 2 ? 1 : 3), RS_OK);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    int rc = scene_draw(dev, o, m, &g, NULL);
-    if (rc) fprintf(stderr, "draw failed: %s\n", dev_last_error(dev));
-    assert_int_equal(rc, 0);
-    core_grid_free(&g);
+    assert_int_equal(clear_and_draw(dev, o, m), 0);
     return dev;
 }
 

@@ -2,6 +2,7 @@
 #include "patch_util.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -74,5 +75,16 @@ int cubes_mesh(int side, is_mesh *out)
     if (rc == 0) rc = mesh_create(out, "cubes", &md, NULL, err, sizeof err) == 0 ? 0 : -1;
     free(p), free(n), free(idx);
     mesh_free(&cube);
+    return rc;
+}
+
+int clear_and_draw(is_device *dev, const scene_opts *o, const is_mesh *m)
+{
+    core_grid g;
+    if (core_grid_make(o->grid, o->level, &g) != 0) return -1;
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
+    int rc = scene_draw(dev, o, m, &g, NULL);
+    if (rc) fprintf(stderr, "draw failed: %s\n", dev_last_error(dev));
+    core_grid_free(&g);
     return rc;
 }

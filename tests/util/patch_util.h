@@ -7,6 +7,7 @@
 
 #include "../../meshes/meshes.h"
 #include "../../vs/vs.h"
+#include "../../cli/scene.h"
 
 /* xorshift64* in [-1, 1). */
 float frand(uint64_t *s);
@@ -25,5 +26,8 @@ vs_triangle rotate(const vs_triangle *t, int r);
 /* The built-in cube, or side x side copies of it 3 apart in the z = 0 plane (the benchmark's scene B layout),
  * into out; 0 or -1. */
 int cubes_mesh(int side, is_mesh *out);
+/* Clear dev (target and depth, o's background) and draw scene o of mesh m with o's grid: scene_draw's result (the
+ * device's error printed to stderr when it fails). */
+int clear_and_draw(is_device *dev, const scene_opts *o, const is_mesh *m);
 
 #endif
