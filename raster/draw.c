@@ -187,13 +187,14 @@ static void job_slots(rs_job *j)
     j->stride = j->n_slots * RS_ATTR_STRIDE;
 }
 
-/* Fill the per-draw constants. */
-static void make_job(rs_job *j, const rs_state *st, rs_target *rt, int prim, const rs_vertex *verts,
-                     const uint32_t *idx)
+/* Fill the per-draw constants of a draw on rs (its path and kernels too). */
+static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_target *rt, int prim,
+                     const rs_vertex *verts, const uint32_t *idx)
 {
     static const int32_t pat[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } }; /* 1/16 px */
     memset(j, 0, sizeof *j);
-    j->kern = rs_kernels_of(RS_ISA_AVX2); /* the callers set the context's own */
+    j->reference = rs->reference;
+    j->kern = rs_kernels_of(rs->isa);
     j->st = st;
     j->rt = rt;
     j->prim = prim;
@@ -454,9 +455,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     if (stats) stats->prims_in = src->n_prims;
     if (src->n_pieces == 0 || src->n_prims == 0) return RS_OK;
     rs_job j;
-    make_job(&j, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
-    j.reference = rs->reference;
-    j.kern = rs_kernels_of(rs->isa);
+    make_job(&j, rs, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
     int nt = thread_count(rs);
     if (!reserve_context(rs, src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
         return RS_ENOMEM;
@@ -486,9 +485,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     if (stats) stats->prims_in = n_prims;
     if (n_prims == 0) return RS_OK;
     rs_job j;
-    make_job(&j, st, rt, prim, verts, idx);
-    j.reference = rs->reference;
-    j.kern = rs_kernels_of(rs->isa);
+    make_job(&j, rs, st, rt, prim, verts, idx);
     size_t n_chunks = chunk_count(n_prims, (size_t)j.n_tiles);
     if (!reserve_context(rs, n_chunks, (size_t)j.n_tiles)) return RS_ENOMEM;
     size_t per = (n_prims + n_chunks - 1) / n_chunks;
