@@ -40,19 +40,19 @@ CXXFLAGS_IMG = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 LDLIBS_MESH = $(shell pkg-config --libs assimp 2>/dev/null) -lmeshoptimizer -lstdc++
 LDLIBS_TEST = $(shell pkg-config --libs cmocka 2>/dev/null)
 # --as-needed: link only what is used.  OpenImageIO is not linked into the programs at all: the image codec is
-# the module libinstess_codec.so (core/image_oiio.cpp), opened on the first image call (core/image_codec.c);
+# the module libinstess_codec.so (image/image_oiio.cpp), opened on the first image call (image/image_codec.c);
 # programs export their symbols to it (-rdynamic).
 LDFLAGS  ?= -fopenmp -Wl,--as-needed
 LDLIBS   = $(LDLIBS_MESH) -lm
 PROG_LDFLAGS = -rdynamic
 
-LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c)
+LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c image/*.c)
 # The rasterizer's fast-path kernels are compiled a second time for AVX-512 (raster/raster_internal.h,
 # RS_KERNEL): the library picks that copy at run time on CPUs that have it (rs_set_isa), with the same bytes.
 KERNEL_SRC = raster/span.c raster/setup_simd.c
 KERNEL512  = -march=x86-64-v4 -DRS_KERNEL_AVX512
 LIB_OBJ  = $(LIB_SRC:%.c=$(B)/%.o) $(KERNEL_SRC:%.c=$(B)/%.avx512.o)
-IMG_OBJ  = $(B)/core/image_oiio.o
+IMG_OBJ  = $(B)/image/image_oiio.o
 CODEC_SO = $(B)/libinstess_codec.so
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
@@ -88,11 +88,11 @@ $(B)/%.avx512.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(KERNEL512) -MMD -MP -c $< -o $@
 
-# The OpenImageIO version the codec module is built against, for `instess --version` (core/image.c), which
+# The OpenImageIO version the codec module is built against, for `instess --version` (image/image.c), which
 # names it without loading the module.
-$(B)/core/image.o: OBJ_DEFS = -DINSTESS_OIIO_VERSION='"$(shell pkg-config --modversion OpenImageIO 2>/dev/null)"'
+$(B)/image/image.o: OBJ_DEFS = -DINSTESS_OIIO_VERSION='"$(shell pkg-config --modversion OpenImageIO 2>/dev/null)"'
 
-$(B)/core/image_oiio.o: core/image_oiio.cpp $(SETUP)
+$(B)/image/image_oiio.o: image/image_oiio.cpp $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS) -fPIC $(CXXFLAGS_IMG) -MMD -MP -c $< -o $@
 
@@ -153,7 +153,7 @@ sanitize: $(SETUP)
 # under valgrind on CPUs without RDTSCP; see that file): the renderer's code is the same, only the file
 # encoding differs, and each image is compared with the same run's image outside valgrind.
 VG_BIN   = $(B)/tests/valgrind/instess
-$(VG_BIN): $(B)/cli/main.o $(B)/libinstess_app.a $(filter-out $(B)/core/image_codec.o,$(LIB_OBJ)) \
+$(VG_BIN): $(B)/cli/main.o $(B)/libinstess_app.a $(filter-out $(B)/image/image_codec.o,$(LIB_OBJ)) \
           $(B)/tests/valgrind/codec_raw.o
 	$(CC) $(LDFLAGS) $^ $(LDLIBS_MESH) -lm -o $@
 
@@ -169,11 +169,11 @@ valgrind: $(VG_BIN)
 #     as they are in the tree (their relative includes, "../core/core.h", hold there too)
 #   $(PKGCONFIGDIR)/instess.pc, $(BINDIR)/instess, $(MANDIR)/man1/instess.1 (written by `instess --man`)
 # The library's objects are built again with -fPIC under $(B)/pic/ (the program and the tests keep the fixed
-# configuration's objects).  The module's folder is compiled into core/image_codec.c (INSTESS_CODEC_DIR), so
+# configuration's objects).  The module's folder is compiled into image/image_codec.c (INSTESS_CODEC_DIR), so
 # changing PREFIX or LIBDIR rebuilds that one object; the shared library finds the module beside itself first,
 # which is what a staged (DESTDIR) copy uses.  cli/scene.h is the program's layer (option tables, output files)
 # and is not installed: a user sets up the device and the instanced draw with core.h, as examples/ shows.
-VERSION    := $(shell sed -n 's/^\#define INSTESS_VERSION "\(.*\)"/\1/p' core/core.h)
+VERSION    := $(shell sed -n 's/^\#define INSTESS_VERSION "\(.*\)"/\1/p' core/api.h)
 SOVERSION  := $(firstword $(subst ., ,$(VERSION)))
 PREFIX     ?= /usr/local
 BINDIR     ?= $(PREFIX)/bin
@@ -185,7 +185,8 @@ CODECDIR    = $(LIBDIR)/instess
 SO_NAME     = libinstess.so.$(SOVERSION)
 SO_REAL     = libinstess.so.$(VERSION)
 PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
-PUB_HDR     = core/core.h raster/raster.h vs/vs.h meshes/meshes.h
+PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/grid.h raster/raster.h vs/vs.h meshes/meshes.h \
+              image/image.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so \
               $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)
@@ -195,8 +196,8 @@ $(B)/.codecdir: FORCE
 	@mkdir -p $(B)
 	@echo '$(CODECDIR)' | cmp -s - $@ || echo '$(CODECDIR)' > $@
 FORCE:
-$(B)/core/image_codec.o $(B)/pic/core/image_codec.o: $(B)/.codecdir
-$(B)/core/image_codec.o $(B)/pic/core/image_codec.o: DEFS = -DINSTESS_CODEC_DIR='"$(CODECDIR)"'
+$(B)/image/image_codec.o $(B)/pic/image/image_codec.o: $(B)/.codecdir
+$(B)/image/image_codec.o $(B)/pic/image/image_codec.o: DEFS = -DINSTESS_CODEC_DIR='"$(CODECDIR)"'
 
 $(B)/pic/%.avx512.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
@@ -218,7 +219,7 @@ $(B)/instess.1: $(B)/instess
 # a static link must also export the library's image functions to the codec module (-rdynamic).  libdir and
 # includedir are relative to ${prefix} when under it, so `pkg-config --define-variable=prefix=...` finds a
 # staged or moved copy.
-$(B)/instess.pc: Makefile core/core.h $(B)/.codecdir
+$(B)/instess.pc: Makefile core/api.h $(B)/.codecdir
 	@printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))' \
 	  'includedir=$(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))' '' \
 	  'Name: instess' 'Description: tessellation through instancing on a CPU Direct3D 9-style device' \

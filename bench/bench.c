@@ -33,6 +33,7 @@
 #include "bench_lod.h"
 #include "bench_scene_file.h"
 
+#include "../core/hlsl.h"
 extern char **environ;
 
 #define PI_F 3.14159265358979f

@@ -20,6 +20,7 @@
 #include "../cli/scene.h"
 #include "bench_lod.h"
 
+#include "../core/hlsl.h"
 #define PI_F 3.14159265358979f
 enum { D_SIDE = 1024, D_COLS = 8, D_ROWS = 12, D_MAX_LEVEL = 16 };
 static const float d_targets[] = {8.0f, 4.0f, 2.0f}; /* --lod-target values measured */

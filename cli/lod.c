@@ -2,6 +2,7 @@
  * welded end points, and one level per edge from that edge alone, so both of its triangles agree. */
 #include "scene.h"
 
+#include "../core/hlsl.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

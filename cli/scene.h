@@ -16,6 +16,9 @@
 #include <stdio.h>
 
 #include "../core/core.h"
+#include "../core/hlsl.h"
+#include "../image/image.h"
+#include "outputs.h"
 #include "../meshes/meshes.h"
 #include "../vs/vs.h"
 

@@ -1,6 +1,7 @@
 /* core/adaptive.c -- D3D9's adaptive tessellation rule for the N-patch mode (core.h, "Adaptive N-patch mode"):
  * per-vertex levels from the eye depth and TESSFACTOR, per-edge levels as their mean, out-of-range and clamping. */
 #include "core.h"
+#include "hlsl.h"
 
 /* S, F, V and Mdm in; T = S * F / dot(V, Mdm) out (float arithmetic, left to right, so a test can redo it).  A
  * depth of (+-)0 gives IEEE's quotient without dividing (the sanitizer build traps float division by zero): +-inf

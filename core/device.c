@@ -1,9 +1,21 @@
 /* core/device.c -- device creation and state: streams, frequencies, render states, constants, viewport, clear. */
 #include "device_internal.h"
 
+#include <stdarg.h>
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+void core_set_err(char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
 
 /* Record a printf-style message for dev_last_error; returns code so callers can `return dev_fail(...)`. */
 is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...)

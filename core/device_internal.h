@@ -6,6 +6,7 @@
 #define INSTESS_DEVICE_INTERNAL_H
 
 #include "core.h"
+#include "hlsl.h"
 
 #include <omp.h>
 #include <stdarg.h>

@@ -16,6 +16,7 @@
  * D3D9's fetch address (index / divider * stride) is device_internal.h's fetch_offset. */
 #include "device_internal.h"
 
+#include "hlsl.h"
 #include <stdlib.h>
 #include <string.h>
 

@@ -1,5 +1,6 @@
 /* core/grid.c -- the regular barycentric grid of one triangle (seed 000, Fig. 1.1.6). */
 #include "core.h"
+#include "hlsl.h"
 
 /* Fill bary with the (L+1)(L+2)/2 grid points and idx with L*L triangles (3 indices each); returns the
  * point count.  Point (i, j) is b = ((L-i-j)/L, i/L, j/L): each coordinate is an exact integer over L, so the

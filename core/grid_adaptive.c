@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core.h"
+#include "hlsl.h"
 
 /* Snap position s of 0..M on an edge of level l <= M to the nearest of 0..l (ties up). */
 static int snap(int s, int M, int l)

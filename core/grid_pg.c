@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "core.h"
+#include "hlsl.h"
 
 /* A fractional level less than this above n-2 (the two short segments together, in level units) is taken as n-2. */
 #define PG_SNAP (1.0 / 1024.0)

@@ -1,5 +1,6 @@
 /* core/math.c -- D3DX-style matrices for row vectors (v' = mul(v, M)); see core.h for the conventions. */
 #include "core.h"
+#include "hlsl.h"
 
 /* Identity matrix. */
 float4x4 mat_identity(void)

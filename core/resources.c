@@ -1,6 +1,7 @@
 /* core/resources.c -- vertex buffers, index buffers and vertex declarations (CreateVertexBuffer & co.). */
 #include "device_internal.h"
 
+#include "hlsl.h"
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>

@@ -15,6 +15,7 @@
  * The images are the same bytes on every x86-64 machine for the library's fixed build, whatever the thread
  * count, so a threshold of 0 works; a project may allow a little with FAIL_THRESH and FAIL_PERCENT. */
 #include <instess/core/core.h>
+#include <instess/image/image.h>
 #include <instess/meshes/meshes.h>
 #include <instess/vs/vs.h>
 
@@ -92,12 +93,12 @@ static is_result set_npatch_shader(is_device *dev)
 {
     float4x4 ry = mat_rotation_y(30.0f * PI_F / 180.0f), rx = mat_rotation_x(20.0f * PI_F / 180.0f);
     float4x4 world = mat_mul(&ry, &rx);
-    float4x4 view = mat_look_at_lh(f3(0, 0, -3.2f), f3(0, 0, 0), f3(0, 1, 0));
+    float4x4 view = mat_look_at_lh((float3){0, 0, -3.2f}, (float3){0, 0, 0}, (float3){0, 1, 0});
     float4x4 proj = mat_perspective_fov_lh(PI_F / 4.0f, (float)WIDTH / HEIGHT, 1.2f, 5.2f);
     float4x4 wv = mat_mul(&world, &view), wvp = mat_mul(&wv, &proj);
     is_vs_constants c;
     memset(&c, 0, sizeof c);
-    vs_set_constants(&c, &wvp, &world, f4(0.85f, 0.85f, 0.8f, 1.0f), NULL);   /* linear normals, as D3D9 */
+    vs_set_constants(&c, &wvp, &world, (float4){0.85f, 0.85f, 0.8f, 1.0f}, NULL);   /* linear normals, as D3D9 */
     is_result e = dev_set_vertex_shader(dev, vs_patch_shader(VS_PATCH_NPATCH));
     return e == IS_OK ? dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, VS_C_COUNT) : e;
 }

@@ -1,6 +1,7 @@
 /* meshes/builtin.c -- the built-in meshes, closed and wound clockwise from outside (see meshes.h). */
 #include "meshes.h"
 
+#include "../core/hlsl.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

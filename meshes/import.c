@@ -5,6 +5,7 @@
 #include "meshes.h"
 #include "mesh_internal.h"
 
+#include "../core/hlsl.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>

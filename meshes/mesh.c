@@ -2,6 +2,7 @@
 #include "meshes.h"
 #include "mesh_internal.h"
 
+#include "../core/hlsl.h"
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>

@@ -11,6 +11,7 @@
 #include <assimp/cfileio.h>
 
 #include "meshes.h"
+#include "../core/hlsl.h"
 
 /* Write a formatted message into err (if any). */
 void mesh_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));

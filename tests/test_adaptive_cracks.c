@@ -26,6 +26,7 @@
 #include "util/crack.h"
 #include "util/prog.h"
 
+#include "../core/hlsl.h"
 enum { SIZE = 96, MAX_TEST_LEVEL = 12 };
 
 /* Colour 1/255 and, unless c10.y is 0, the bit-keyed jitter of oPos (a function of its bits alone). */

@@ -21,6 +21,7 @@
 #include "util/crack.h"
 #include "util/prog.h"
 
+#include "../core/hlsl.h"
 /* Bits of a float, as float render states take them. */
 static uint32_t fbits(float f)
 {

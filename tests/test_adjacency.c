@@ -12,6 +12,7 @@
 
 #include "../meshes/meshes.h"
 
+#include "../core/hlsl.h"
 /* Load a built-in or fail the test. */
 static is_mesh load_builtin(const char *name)
 {

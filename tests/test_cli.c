@@ -17,6 +17,7 @@
 
 #include "util/prog.h"
 #include "../core/core.h"
+#include "../image/image.h"
 #include "../meshes/meshes.h"
 
 static char dir[256];

@@ -41,6 +41,7 @@
 #include "../cli/scene.h"
 #include "util/crack.h"
 
+#include "../core/hlsl.h"
 enum { SIZE = 96 };
 
 /* How a counting image is drawn. */

@@ -12,6 +12,7 @@
 
 #include "../core/device_internal.h"
 
+#include "../core/hlsl.h"
 enum { W = 64, H = 64 };
 
 /* ---------------- stream frequencies ---------------- */

@@ -11,6 +11,7 @@
 #include "util/patch_util.h"
 #include "util/pn_ref.h"
 
+#include "../core/hlsl.h"
 /* Erratum 1: evaluateCurve / evaluateNPatch drop the /3 of the control points and the 3 of the weights: the same
  * surface as the canonical Bernstein form (double); Eq. 1.1.1's printed b111 (five tangent points) is not. */
 static void test_erratum1_missing_thirds(void **state)

@@ -15,6 +15,7 @@
 
 #include "../core/core.h"
 
+#include "../core/hlsl.h"
 static const core_grid_kind SPACINGS[3] = {CORE_GRID_PG_EQUAL, CORE_GRID_PG_FRACTIONAL_ODD,
                                            CORE_GRID_PG_FRACTIONAL_EVEN};
 static const char *const SPACING_NAME[4] = {"regular", "equal", "fractional_odd", "fractional_even"};

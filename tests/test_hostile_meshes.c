@@ -39,6 +39,7 @@
 
 #include "util/prog.h"
 #include "../core/core.h"
+#include "../image/image.h"
 
 char *realpath(const char *restrict path, char *restrict resolved);   /* POSIX (XSI) */
 

@@ -14,6 +14,7 @@
 #include "util/prog.h"
 #include "../meshes/meshes.h"
 
+#include "../core/hlsl.h"
 #define FAERIE "/usr/share/assimp/models/MD2/faerie.md2"
 
 /* Whether this is the AddressSanitizer build (make sanitize): clang's __has_feature, gcc's macro. */

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "../cli/scene.h"
+#include "../core/hlsl.h"
 #include "../vs/vs_internal.h"  /* vs_finite3 */
 
 #define SIDE 64

@@ -18,6 +18,7 @@
 #include "../cli/scene.h"
 #include "util/patch_util.h"
 
+#include "../core/hlsl.h"
 /* A small deterministic generator (xorshift64*), so that a failure replays. */
 static uint64_t rnd_next(uint64_t *s)
 {

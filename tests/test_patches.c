@@ -13,6 +13,7 @@
 #include "util/patch_util.h"
 #include "util/pn_ref.h"
 
+#include "../core/hlsl.h"
 static bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 static float3 grid_b(int L, int i, int j) { return f3((float)(L - i - j) / (float)L, (float)i / (float)L, (float)j / (float)L); }
 static double angle_deg(float3 a, float3 b)

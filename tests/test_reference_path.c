@@ -21,6 +21,7 @@
 #include "util/patch_util.h"
 #include "../raster/raster_internal.h"
 
+#include "../core/hlsl.h"
 /* The cube, or side x side copies of it (tests/util/patch_util.h). */
 static void make_cubes(int side, is_mesh *out)
 {

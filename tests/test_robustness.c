@@ -31,6 +31,7 @@
 #include <unistd.h>
 
 #include "../core/core.h"
+#include "../image/image.h"
 #include "util/prog.h"
 
 int putenv(char *string);   /* POSIX (XSI), not declared under _POSIX_C_SOURCE alone */

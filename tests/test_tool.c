@@ -17,6 +17,7 @@ char *realpath(const char *path, char *resolved);   /* POSIX; glibc declares it 
 
 #include "util/prog.h"
 #include "../core/core.h"
+#include "../image/image.h"
 
 static char dir[256];
 static char out_buf[16384], err_buf[16384];

@@ -11,6 +11,7 @@
 #include "../vs/vs.h"
 #include "util/patch_util.h"
 
+#include "../core/hlsl.h"
 static const vs_normals modes[3] = {VS_NORMALS_LINEAR, VS_NORMALS_QUADRATIC, VS_NORMALS_REAL};
 
 /* Triangles a and b share the edge (a.v[ka], a.v[ka+1]) = (b.v[kb+1], b.v[kb]): compare every edge grid point of

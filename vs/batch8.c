@@ -10,6 +10,7 @@
  * through the per-vertex path. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 #include <stddef.h>
 
 #ifdef __AVX2__

@@ -2,6 +2,7 @@
  * N-patch evaluator and the instanced N-Patch shader. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 /* evaluateNPatch of Listing 1.1.2, errata 1 and 2 resolved: the control points lack the /3 of Eq. 1.1.1 and the
  * weights lack the 3 (the products are the same), b111's 6 b111 = 0.5 * (sum of the six) - v0 - v1 - v2. */
 float3 vs_evaluate_npatch(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1, float3 n2, float3 b)

@@ -4,6 +4,7 @@
  * npatch.c. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 #include <string.h>
 
 /* ---------------------------------------------------------------- small helpers */

@@ -2,6 +2,7 @@
  * fixed shaders, and the table of shaders by name. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 #include <stdio.h>
 #include <string.h>
 

@@ -2,6 +2,7 @@
  * (Listing 1.1.2, Eq. 1.1.9-1.1.11), errata resolved (docs/errata.md), and the per-edge shortcut. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 /* evaluateCurve of Listing 1.1.1 (Eq. 1.1.5): the cubic from v0 to v1 with end normals n0, n1 at b; the inner
  * control points lack the /3 and the weights the 3 (erratum 1: the same curve). */
 float3 vs_evaluate_curve(float3 v0, float3 v1, float3 n0, float3 n1, float b)

@@ -1,6 +1,7 @@
 /* vs/smoothness.c -- smoothness in numbers: normal angles across shared edges and the bulge of a patch. */
 #include "vs_internal.h"
 
+#include "../core/hlsl.h"
 #include <stdlib.h>
 #include <string.h>
 

@@ -5,6 +5,7 @@
 #define INSTESS_VS_INTERNAL_H
 
 #include "vs.h"
+#include "../core/hlsl.h"
 
 /* Read the input registers (zero n_adj registers become the own normals). */
 void vs_triangle_from_input(const is_vs_input *in, vs_triangle *tri);

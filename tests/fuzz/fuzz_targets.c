@@ -22,6 +22,7 @@
 #include "../../cli/scene.h"
 #include "../../meshes/meshes.h"
 
+#include "../../core/hlsl.h"
 #define FUZZ_SIDE 32
 
 /* printf into why; returns -1 (the "invariant broken" result). */

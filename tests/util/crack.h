@@ -11,6 +11,8 @@
 #include <stdint.h>
 
 #include "../../core/core.h"
+#include "../../core/hlsl.h"
+#include "../../image/image.h"
 #include "../../meshes/meshes.h"
 
 /* One round of a 32-bit integer hash (lowbias32). */

@@ -24,6 +24,8 @@
 #define INSTESS_TESTS_GOLDEN_H
 
 #include "../../core/core.h"
+#include "../../core/hlsl.h"
+#include "../../image/image.h"
 
 /* Returns 0 when actual matches the golden `name` (or the golden was regenerated), -1 otherwise. */
 int golden_check(const is_image *actual, const char *name, float fail_thresh, float fail_percent);

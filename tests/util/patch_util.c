@@ -1,6 +1,7 @@
 /* tests/util/patch_util.c -- random triangles and small helpers shared by the patch tests. */
 #include "patch_util.h"
 
+#include "../../core/hlsl.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -2,6 +2,7 @@
 #include "prog.h"
 
 #include "../../core/core.h"
+#include "../../image/image.h"
 
 #include <dirent.h>
 #include <stdint.h>

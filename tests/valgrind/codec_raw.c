@@ -12,6 +12,7 @@
  * run without valgrind, byte for byte.  Reading gives the image back; comparison and text are not needed by
  * the scenes valgrind runs and fail with a message. */
 #include "../../core/core.h"
+#include "../../image/image.h"
 
 #include <stdio.h>
 #include <stdlib.h>

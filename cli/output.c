@@ -1,4 +1,4 @@
-/* core/output.c -- the files one run writes, all or none (the API and its rules are in core/core.h).
+/* cli/output.c -- the files one run writes, all or none (the API and its rules are in cli/outputs.h).
  *
  * Each output is checked when it is claimed, before any work: a regular file or nothing at the path (never a
  * symbolic link, a directory, a device, a FIFO or a socket), a name within the filesystem's limit, no second
@@ -12,7 +12,7 @@
  * handler can unlink them (outputs_remove_temp_files).  That table is the one accepted exception to "no
  * mutable globals": a signal handler reaches nothing else. */
 #define _GNU_SOURCE  /* mkostemps */
-#include "device_internal.h"
+#include "outputs.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -37,7 +37,8 @@ typedef struct temp_slot {
 _Static_assert(ATOMIC_INT_LOCK_FREE == 2, "the signal handler needs lock-free atomics");
 static temp_slot g_temp_slots[TEMP_SLOTS];  /* zero-initialised: all free */
 
-void core_set_err(char *err, size_t errlen, const char *fmt, ...)
+/* printf into err (when given), always NUL-terminated. */
+static void __attribute__((format(printf, 3, 4))) set_err(char *err, size_t errlen, const char *fmt, ...)
 {
     if (!err || errlen == 0) return;
     va_list ap;
@@ -109,29 +110,29 @@ static int check_target(const char *path, struct stat *st, bool *exists, char *e
 {
     const char *base = base_of(path);
     if (!*base || !strcmp(base, ".") || !strcmp(base, "..")) {
-        core_set_err(err, errlen, "%s: not a file name", *path ? path : "(empty output path)");
+        set_err(err, errlen, "%s: not a file name", *path ? path : "(empty output path)");
         return -1;
     }
     char dir[TEMP_PATH_MAX];
-    if (!dir_of(path, dir, sizeof dir)) return core_set_err(err, errlen, "%s: path too long", path), -1;
+    if (!dir_of(path, dir, sizeof dir)) return set_err(err, errlen, "%s: path too long", path), -1;
     long name_max = pathconf(dir, _PC_NAME_MAX);
     if (name_max <= 0) name_max = NAME_MAX;
     if ((long)strlen(base) > name_max) {
-        core_set_err(err, errlen, "%s: the file name is %zu bytes, longer than the folder's limit of %ld", path,
+        set_err(err, errlen, "%s: the file name is %zu bytes, longer than the folder's limit of %ld", path,
                 strlen(base), name_max);
         return -1;
     }
     struct stat ds;
     errno = 0;
     if (stat(dir, &ds) != 0 || !S_ISDIR(ds.st_mode) || access(dir, W_OK | X_OK) != 0) {
-        core_set_err(err, errlen, "%s: cannot create a file in the folder %s: %s", path, dir,
+        set_err(err, errlen, "%s: cannot create a file in the folder %s: %s", path, dir,
                 errno ? strerror(errno) : "not a directory");
         return -1;
     }
     *exists = lstat(path, st) == 0;
-    if (!*exists && errno != ENOENT) return core_set_err(err, errlen, "%s: %s", path, strerror(errno)), -1;
+    if (!*exists && errno != ENOENT) return set_err(err, errlen, "%s: %s", path, strerror(errno)), -1;
     if (*exists && !S_ISREG(st->st_mode)) {
-        core_set_err(err, errlen, "%s: is %s; instess writes only regular files and will not replace it", path,
+        set_err(err, errlen, "%s: is %s; instess writes only regular files and will not replace it", path,
                 kind_of(st));
         return -1;
     }
@@ -156,12 +157,12 @@ static int make_temp(is_output_file *f, char *err, size_t errlen)
     char dir[TEMP_PATH_MAX];
     dir_of(f->path, dir, sizeof dir);
     int n = snprintf(f->tmp, sizeof f->tmp, "%s/.instess-XXXXXX.tmp", dir);
-    if (n < 0 || (size_t)n >= sizeof f->tmp) return core_set_err(err, errlen, "%s: path too long", f->path), -1;
+    if (n < 0 || (size_t)n >= sizeof f->tmp) return set_err(err, errlen, "%s: path too long", f->path), -1;
     f->slot = temp_claim(f->tmp);
     char *name = f->slot >= 0 ? g_temp_slots[f->slot].path : f->tmp;
     int fd = mkostemps(name, 4, O_CLOEXEC);
     if (fd < 0) {
-        core_set_err(err, errlen, "%s: cannot create a file in the folder %s: %s", f->path, dir, strerror(errno));
+        set_err(err, errlen, "%s: cannot create a file in the folder %s: %s", f->path, dir, strerror(errno));
         temp_release(f->slot);
         f->slot = -1;
         return -1;
@@ -179,15 +180,15 @@ void outputs_init(is_outputs *o)
 
 int outputs_add(is_outputs *o, const char *path, char *err, size_t errlen)
 {
-    if (!path) return core_set_err(err, errlen, "outputs_add: NULL path"), -1;
-    if (o->n >= IS_OUTPUTS_MAX) return core_set_err(err, errlen, "%s: more than %d outputs", path, IS_OUTPUTS_MAX), -1;
-    if (strlen(path) >= TEMP_PATH_MAX - 32) return core_set_err(err, errlen, "%s: path too long", path), -1;
+    if (!path) return set_err(err, errlen, "outputs_add: NULL path"), -1;
+    if (o->n >= IS_OUTPUTS_MAX) return set_err(err, errlen, "%s: more than %d outputs", path, IS_OUTPUTS_MAX), -1;
+    if (strlen(path) >= TEMP_PATH_MAX - 32) return set_err(err, errlen, "%s: path too long", path), -1;
     struct stat st;
     bool exists;
     if (check_target(path, &st, &exists, err, errlen) != 0) return -1;
     for (int k = 0; k < o->n; k++)
         if (outputs_same_target(o->f[k].path, path)) {
-            core_set_err(err, errlen, "%s: named as two outputs of one run (%s and %s)", path, o->f[k].path, path);
+            set_err(err, errlen, "%s: named as two outputs of one run (%s and %s)", path, o->f[k].path, path);
             return -1;
         }
     is_output_file *f = &o->f[o->n];
@@ -215,7 +216,7 @@ int outputs_write(is_outputs *o, int k, const void *buf, size_t n, char *err, si
         if (w <= 0) {
             const char *why = w < 0 ? (errno == EFBIG ? "the file size limit (ulimit -f) was reached" : strerror(errno))
                                     : "no progress";
-            core_set_err(err, errlen, "%s: write failed after %zu of %zu bytes: %s", f->path, done, n, why);
+            set_err(err, errlen, "%s: write failed after %zu of %zu bytes: %s", f->path, done, n, why);
             return -1;
         }
         done += (size_t)w;
@@ -230,7 +231,7 @@ FILE *outputs_stream(is_outputs *o, int k, char *err, size_t errlen)
     int fd = dup(f->fd);
     FILE *s = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!s) {
-        core_set_err(err, errlen, "%s: cannot open a stream: %s", f->path, strerror(errno));
+        set_err(err, errlen, "%s: cannot open a stream: %s", f->path, strerror(errno));
         if (fd >= 0) close(fd);
     }
     return s;
@@ -244,7 +245,7 @@ int outputs_close_stream(is_outputs *o, int k, FILE *s, char *err, size_t errlen
     ok = fclose(s) == 0 && ok;
     if (!e) e = errno;
     if (!ok)
-        core_set_err(err, errlen, "%s: write failed: %s", o->f[k].path,
+        set_err(err, errlen, "%s: write failed: %s", o->f[k].path,
                 e == EFBIG ? "the file size limit (ulimit -f) was reached" : e ? strerror(e) : "stream error");
     return ok ? 0 : -1;
 }
@@ -289,7 +290,7 @@ int outputs_commit(is_outputs *o, char *err, size_t errlen)
         if (open_temp(f, err, errlen) != 0) return outputs_abort(o), -1;
         if (fsync(f->fd) != 0 || close(f->fd) != 0) {
             f->fd = -1;
-            core_set_err(err, errlen, "%s: fsync / close failed: %s", f->path, strerror(errno));
+            set_err(err, errlen, "%s: fsync / close failed: %s", f->path, strerror(errno));
             outputs_abort(o);
             return -1;
         }
@@ -300,7 +301,7 @@ int outputs_commit(is_outputs *o, char *err, size_t errlen)
     for (int k = 0; k < o->n; k++) {
         is_output_file *f = &o->f[k];
         if (rename(f->tmp, f->path) != 0) {
-            core_set_err(err, errlen, "%s: cannot rename the temporary file into place: %s", f->path, strerror(errno));
+            set_err(err, errlen, "%s: cannot rename the temporary file into place: %s", f->path, strerror(errno));
             outputs_abort(o);
             return -1;
         }
@@ -323,4 +324,17 @@ void outputs_abort(is_outputs *o)
         temp_release(f->slot);
         f->slot = -1;
     }
+}
+
+int image_write_output(is_outputs *o, int k, const is_image *img, const is_image_meta *meta, char *err,
+                       size_t errlen)
+{
+    const char *path = o->f[k].path;
+    if (image_check_path(path, err, errlen) != 0) return -1;
+    unsigned char *bytes = NULL;
+    size_t len = 0;
+    if (image_encode(img, image_format_of(path), meta, path, &bytes, &len, err, errlen) != 0) return -1;
+    int rc = outputs_write(o, k, bytes, len, err, errlen);
+    free(bytes);
+    return rc;
 }

@@ -1,6 +1,6 @@
-/* core/image_codec.c -- the image codec, loaded on the first image call: image_encode, image_read,
+/* image/image_codec.c -- the image codec, loaded on the first image call: image_encode, image_read,
  * image_compare, image_draw_text and image_text_size (core/core.h) forward to libinstess_codec.so
- * (core/image_oiio.cpp and OpenImageIO), opened with dlopen.
+ * (image/image_oiio.cpp and OpenImageIO), opened with dlopen.
  *
  * Why: OpenImageIO brings in about 260 shared libraries, and loading them took 0.5 s of every start of the
  * program, also of `--help`, of usage and input errors and of renders that fail before they write.  Now a
@@ -22,7 +22,7 @@
  * The function table is filled once (pthread_once) and read-only afterwards: with the signal handler's slots
  * (core/output.c), one of the two process-wide states the project allows. */
 #define _GNU_SOURCE  /* dladdr-free /proc/self/exe handling, RTLD_* */
-#include "device_internal.h"
+#include "image_internal.h"
 
 #include <dlfcn.h>
 #include <limits.h>
@@ -146,7 +146,7 @@ static const codec_table *codec(char *err, size_t errlen)
 {
     pthread_once(&g_codec_once, load_codec);
     if (g_codec.encode) return &g_codec;
-    core_set_err(err, errlen, "%s", g_codec.why);
+    image_set_err(err, errlen, "%s", g_codec.why);
     return NULL;
 }
 

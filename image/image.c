@@ -1,6 +1,13 @@
-/* core/image.c -- images in memory and image files written through the outputs of a run (core/output.c).
- * The codec (encode, read, compare, text) is core/image.cpp, the one file that uses OpenImageIO; see core.h. */
-#include "device_internal.h"
+/* image/image.c -- images in memory, and image files written one at a time (image_write).
+ * The codec (encode, read, compare, text) is image/image_oiio.cpp, the one file that uses OpenImageIO; see
+ * image/image.h. */
+#define _GNU_SOURCE /* mkostemps */
+#include "image_internal.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <ctype.h>
 #include <stdarg.h>
@@ -28,14 +35,14 @@ is_image_format image_format_of(const char *path)
 
 int image_check_path(const char *path, char *err, size_t errlen)
 {
-    if (!path || !*path) return core_set_err(err, errlen, "empty image path"), -1;
+    if (!path || !*path) return image_set_err(err, errlen, "empty image path"), -1;
     if (image_format_of(path) == IS_IMAGE_NONE) {
-        core_set_err(err, errlen, "%s: unknown image extension \"%s\" (use .png or .exr)", path, extension_of(path));
+        image_set_err(err, errlen, "%s: unknown image extension \"%s\" (use .png or .exr)", path, extension_of(path));
         return -1;
     }
     const char *slash = strrchr(path, '/');
     if (extension_of(path) == (slash ? slash + 1 : path)) {
-        core_set_err(err, errlen, "%s: the file name has no stem before its extension", path);
+        image_set_err(err, errlen, "%s: the file name has no stem before its extension", path);
         return -1;
     }
     return 0;
@@ -59,23 +66,23 @@ static bool parse_names(is_image *img, const char *list)
 
 int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen)
 {
-    if (!img) return core_set_err(err, errlen, "image_alloc: NULL image"), -1;
+    if (!img) return image_set_err(err, errlen, "image_alloc: NULL image"), -1;
     memset(img, 0, sizeof *img);
     if (!channel_names || !parse_names(img, channel_names)) {
-        core_set_err(err, errlen, "image_alloc: bad channel names \"%s\" (1 to %d names of 1 to 15 characters)",
+        image_set_err(err, errlen, "image_alloc: bad channel names \"%s\" (1 to %d names of 1 to 15 characters)",
                 channel_names ? channel_names : "(null)", IS_IMAGE_MAX_CHANNELS);
         memset(img, 0, sizeof *img);
         return -1;
     }
     if (width <= 0 || height <= 0 || width > IS_IMAGE_MAX_DIM || height > IS_IMAGE_MAX_DIM) {
-        core_set_err(err, errlen, "image_alloc: bad size %dx%d (1 to %d pixels each way)", width, height,
+        image_set_err(err, errlen, "image_alloc: bad size %dx%d (1 to %d pixels each way)", width, height,
                 IS_IMAGE_MAX_DIM);
         memset(img, 0, sizeof *img);
         return -1;
     }
     img->data = calloc((size_t)width * (size_t)height * (size_t)img->channels, sizeof(float));
     if (!img->data) {
-        core_set_err(err, errlen, "image_alloc: out of memory for %dx%d x %d channels", width, height, img->channels);
+        image_set_err(err, errlen, "image_alloc: out of memory for %dx%d x %d channels", width, height, img->channels);
         memset(img, 0, sizeof *img);
         return -1;
     }
@@ -116,29 +123,65 @@ void image_from_rgba8(is_image *img, const uint32_t *rgba)
             if (idx[k] >= 0) img->data[p * img->channels + idx[k]] = (float)((rgba[p] >> (8 * k)) & 0xffu) * (1.0f / 255.0f);
 }
 
-int image_write_output(is_outputs *o, int k, const is_image *img, const is_image_meta *meta, char *err,
-                       size_t errlen)
+void image_set_err(char *err, size_t errlen, const char *fmt, ...)
 {
-    const char *path = o->f[k].path;
-    if (image_check_path(path, err, errlen) != 0) return -1;
-    unsigned char *bytes = NULL;
-    size_t len = 0;
-    if (image_encode(img, image_format_of(path), meta, path, &bytes, &len, err, errlen) != 0) return -1;
-    int rc = outputs_write(o, k, bytes, len, err, errlen);
-    free(bytes);
-    return rc;
+    if (!err || errlen == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+/* Write n bytes to fd, retrying short writes; 0 or an errno value. */
+static int write_all(int fd, const unsigned char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return w < 0 ? errno : EIO;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* bytes[0..len) onto path through a temporary ".instess-XXXXXX.tmp" beside it, renamed when complete;
+ * path must be a regular file or absent.  0 or -1 with a message naming path; nothing left on failure. */
+static int write_file_atomic(const char *path, const unsigned char *bytes, size_t len, char *err, size_t errlen)
+{
+    struct stat st;
+    if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return image_set_err(err, errlen, "%s: is %s; instess writes only regular files and will not replace it", path,
+                             S_ISDIR(st.st_mode) ? "a directory" : S_ISLNK(st.st_mode) ? "a symbolic link"
+                             : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a regular file"), -1;
+    char tmp[4096];
+    const char *slash = strrchr(path, '/');
+    int dlen = slash ? (int)(slash - path) : 1;
+    int n = snprintf(tmp, sizeof tmp, "%.*s/.instess-XXXXXX.tmp", dlen, slash ? (slash == path ? "/" : path) : ".");
+    if (n < 0 || (size_t)n >= sizeof tmp) return image_set_err(err, errlen, "%s: path too long", path), -1;
+    int fd = mkostemps(tmp, 4, O_CLOEXEC);
+    if (fd < 0) return image_set_err(err, errlen, "%s: cannot create a file beside it: %s", path, strerror(errno)), -1;
+    (void)fchmod(fd, 0644);
+    int e = write_all(fd, bytes, len);
+    if (!e && fsync(fd) != 0) e = errno;
+    if (close(fd) != 0 && !e) e = errno;
+    if (!e && rename(tmp, path) != 0) e = errno;
+    if (e) {
+        unlink(tmp);
+        return image_set_err(err, errlen, "%s: %s", path, strerror(e)), -1;
+    }
+    return 0;
 }
 
 int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen)
 {
     if (image_check_path(path, err, errlen) != 0) return -1;
-    is_outputs o;
-    outputs_init(&o);
-    int k = outputs_add(&o, path, err, errlen);
-    int rc = k < 0 ? -1 : image_write_output(&o, k, img, meta, err, errlen);
-    if (rc == 0) return outputs_commit(&o, err, errlen);
-    outputs_abort(&o);
-    return -1;
+    unsigned char *bytes = NULL;
+    size_t len = 0;
+    if (image_encode(img, image_format_of(path), meta, path, &bytes, &len, err, errlen) != 0) return -1;
+    int rc = write_file_atomic(path, bytes, len, err, errlen);
+    free(bytes);
+    return rc;
 }
 
 /* The channel names of img joined by commas into buf; buf. */
@@ -158,7 +201,7 @@ static bool same_shape(const is_image *a, const is_image *b, char *err, size_t e
     for (int c = 0; same && c < a->channels; c++) same = strcmp(a->channel_names[c], b->channel_names[c]) == 0;
     if (!same) {
         char na[IS_IMAGE_MAX_CHANNELS * 17], nb[IS_IMAGE_MAX_CHANNELS * 17];
-        core_set_err(err, errlen, "the images differ in shape: %dx%d [%s] against %dx%d [%s]", a->width, a->height,
+        image_set_err(err, errlen, "the images differ in shape: %dx%d [%s] against %dx%d [%s]", a->width, a->height,
                      channel_names_of(a, na, sizeof na), b->width, b->height, channel_names_of(b, nb, sizeof nb));
     }
     return same;

@@ -1,0 +1,360 @@
+/* core/device.h -- a device modelled on IDirect3DDevice9: resources, vertex declarations, stream sources and
+ * frequencies (instancing), vertex shaders as C functions, render states, draws, N-patch mode.
+ *
+ * Conventions:
+ *  - Spaces and matrices: core/math.h.  Clip volume -w <= x, y <= w, 0 <= z <= w; the viewport maps z/w to
+ *    [MinZ, MaxZ].
+ *  - Pixel centres at integer coordinates, top-left fill rule, clockwise front faces, default cull CCW:
+ *    see raster/raster.h, which is the interface between this device and the rasterizer.
+ *  - Names: a D3D9 method becomes dev_<snake_case>(dev, ...) (SetStreamSourceFreq -> dev_set_stream_source_freq);
+ *    a D3D9 constant D3DXXX_YYY becomes IS_XXX_YYY (D3DCULL_CCW -> IS_CULL_CCW, D3DRS_CULLMODE -> IS_RS_CULLMODE).
+ *    Values of render states equal D3D9's.
+ *  - Errors: every dev_* call returns IS_OK (0) or a negative IS_ERR_* code; an invalid call changes nothing and
+ *    leaves a message in dev_last_error(dev).
+ *  - No globals: all state lives in the device (the context passed first).  Threads: dev_set_threads.
+ */
+#ifndef INSTESS_CORE_DEVICE_H
+#define INSTESS_CORE_DEVICE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "api.h"
+#include "math.h"
+#include "../raster/raster.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum is_result {
+    IS_OK = 0,
+    IS_ERR_INVALIDCALL = -1,        /* D3DERR_INVALIDCALL                          */
+    IS_ERR_OUTOFMEMORY = -2,        /* E_OUTOFMEMORY / D3DERR_OUTOFVIDEOMEMORY     */
+    IS_ERR_NOTAVAILABLE = -3        /* D3DERR_NOTAVAILABLE (unsupported format...) */
+} is_result;
+
+/* --- vertex declarations (D3DVERTEXELEMENT9) --- */
+typedef enum is_decltype {
+    IS_DECLTYPE_FLOAT1 = 0, IS_DECLTYPE_FLOAT2 = 1, IS_DECLTYPE_FLOAT3 = 2, IS_DECLTYPE_FLOAT4 = 3,
+    IS_DECLTYPE_D3DCOLOR = 4, IS_DECLTYPE_UBYTE4 = 5, IS_DECLTYPE_SHORT2 = 6, IS_DECLTYPE_SHORT4 = 7,
+    IS_DECLTYPE_UBYTE4N = 8, IS_DECLTYPE_SHORT2N = 9, IS_DECLTYPE_SHORT4N = 10,
+    IS_DECLTYPE_USHORT2N = 11, IS_DECLTYPE_USHORT4N = 12,
+    IS_DECLTYPE_UNUSED = 17
+} is_decltype;
+
+typedef enum is_declusage {
+    IS_DECLUSAGE_POSITION = 0, IS_DECLUSAGE_BLENDWEIGHT = 1, IS_DECLUSAGE_BLENDINDICES = 2,
+    IS_DECLUSAGE_NORMAL = 3, IS_DECLUSAGE_PSIZE = 4, IS_DECLUSAGE_TEXCOORD = 5, IS_DECLUSAGE_TANGENT = 6,
+    IS_DECLUSAGE_BINORMAL = 7, IS_DECLUSAGE_TESSFACTOR = 8, IS_DECLUSAGE_POSITIONT = 9,
+    IS_DECLUSAGE_COLOR = 10, IS_DECLUSAGE_FOG = 11, IS_DECLUSAGE_DEPTH = 12, IS_DECLUSAGE_SAMPLE = 13,
+    IS_DECLUSAGE_COUNT = 14
+} is_declusage;
+
+typedef struct is_vertex_element {
+    uint16_t stream;   /* 0..IS_MAX_STREAMS-1, or 0xFF in the end marker */
+    uint16_t offset;   /* bytes from the start of the vertex */
+    uint8_t type;      /* is_decltype */
+    uint8_t method;    /* D3DDECLMETHOD_DEFAULT (0) only */
+    uint8_t usage;     /* is_declusage */
+    uint8_t usage_index;
+} is_vertex_element;
+#define IS_DECL_END { 0xFF, 0, IS_DECLTYPE_UNUSED, 0, 0, 0 } /* D3DDECL_END() */
+
+#define IS_MAX_STREAMS 16
+#define IS_MAX_ELEMENTS 64
+#define IS_USAGE_INDICES 16        /* usage indices 0..15 per usage */
+#define IS_MAX_VS_CONSTANTS 256    /* float4 registers c0..c255 (vs_3_0) */
+
+/* --- stream frequencies (D3DSTREAMSOURCE_*) --- */
+#define IS_STREAMSOURCE_INDEXEDDATA (1u << 30)
+#define IS_STREAMSOURCE_INSTANCEDATA (2u << 30)
+
+/* --- primitives, formats, render states --- */
+typedef enum is_primtype {
+    IS_PT_POINTLIST = 1, IS_PT_LINELIST = 2, IS_PT_LINESTRIP = 3,
+    IS_PT_TRIANGLELIST = 4, IS_PT_TRIANGLESTRIP = 5, IS_PT_TRIANGLEFAN = 6
+} is_primtype;
+
+typedef enum is_format { IS_FMT_INDEX16 = 101, IS_FMT_INDEX32 = 102 } is_format;
+
+typedef enum is_rs {
+    IS_RS_ZENABLE = 7, IS_RS_FILLMODE = 8, IS_RS_SHADEMODE = 9, IS_RS_ZWRITEENABLE = 14,
+    IS_RS_SRCBLEND = 19, IS_RS_DESTBLEND = 20, IS_RS_CULLMODE = 22, IS_RS_ZFUNC = 23,
+    IS_RS_ALPHABLENDENABLE = 27, IS_RS_MULTISAMPLEANTIALIAS = 161, IS_RS_POSITIONDEGREE = 172,
+    IS_RS_NORMALDEGREE = 173, IS_RS_SLOPESCALEDEPTHBIAS = 175, IS_RS_DEPTHBIAS = 195,
+    IS_RS_PATCHEDGESTYLE = 163,
+    /* D3D9's adaptive tessellation of N-patches (see "adaptive N-patch mode" below): floats passed as their
+     * bits, but ENABLEADAPTIVETESSELLATION, a BOOL */
+    IS_RS_MINTESSELLATIONLEVEL = 178, IS_RS_MAXTESSELLATIONLEVEL = 179, IS_RS_ADAPTIVETESS_X = 180,
+    IS_RS_ADAPTIVETESS_Y = 181, IS_RS_ADAPTIVETESS_Z = 182, IS_RS_ADAPTIVETESS_W = 183,
+    IS_RS_ENABLEADAPTIVETESSELLATION = 184
+} is_rs;
+
+enum { IS_CULL_NONE = 1, IS_CULL_CW = 2, IS_CULL_CCW = 3 };
+enum { IS_FILL_POINT = 1, IS_FILL_WIREFRAME = 2, IS_FILL_SOLID = 3 };
+enum { IS_SHADE_FLAT = 1, IS_SHADE_GOURAUD = 2 };
+enum { IS_ZB_FALSE = 0, IS_ZB_TRUE = 1 };
+enum {
+    IS_CMP_NEVER = 1, IS_CMP_LESS, IS_CMP_EQUAL, IS_CMP_LESSEQUAL,
+    IS_CMP_GREATER, IS_CMP_NOTEQUAL, IS_CMP_GREATEREQUAL, IS_CMP_ALWAYS
+};
+enum {
+    IS_BLEND_ZERO = 1, IS_BLEND_ONE = 2, IS_BLEND_SRCCOLOR = 3, IS_BLEND_INVSRCCOLOR = 4,
+    IS_BLEND_SRCALPHA = 5, IS_BLEND_INVSRCALPHA = 6, IS_BLEND_DESTALPHA = 7, IS_BLEND_INVDESTALPHA = 8,
+    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10
+};
+enum { IS_DEGREE_LINEAR = 1, IS_DEGREE_QUADRATIC = 2, IS_DEGREE_CUBIC = 3 };
+enum { IS_PATCHEDGE_DISCRETE = 0, IS_PATCHEDGE_CONTINUOUS = 1 };
+enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2 };
+#define IS_RS_COUNT 256
+
+/* D3DCOLOR_ARGB -> is stored as packed RGBA8 in the target; these helpers build a D3DCOLOR (ARGB). */
+#define IS_COLOR_ARGB(a, r, g, b) \
+    ((uint32_t)((((a) & 0xffu) << 24) | (((r) & 0xffu) << 16) | (((g) & 0xffu) << 8) | ((b) & 0xffu)))
+
+typedef struct is_viewport { uint32_t x, y, width, height; float min_z, max_z; } is_viewport;
+
+/* --- vertex shaders: plain C functions --- */
+
+/* The input registers of one vertex, filled by the device from the vertex declaration: an element with
+ * usage U and index i lands in the register of (U, i), expanded to float4 with D3D9's defaults (0, 0, 0, 1).
+ * A shader reads in->texcoord[3], not byte offsets.  Registers not in the declaration read (0, 0, 0, 1). */
+typedef struct is_vs_input {
+    float4 position[2];
+    float4 blendweight[1];
+    float4 blendindices[1];
+    float4 normal[2];
+    float4 psize[1];
+    float4 texcoord[IS_USAGE_INDICES];
+    float4 tangent[1];
+    float4 binormal[1];
+    float4 color[2];
+    float4 tessfactor[1]; /* D3DDECLUSAGE_TESSFACTOR index 0 (FLOAT1 only): the adaptive N-patch mode's factor */
+} is_vs_input;
+
+/* The outputs: oPos, oD0/oD1, oT0..oT7 (the rasterizer's vertex). */
+typedef rs_vertex is_vs_output;
+#define IS_OUT_COLOR0 (1u << RS_ATTR_COLOR0)
+#define IS_OUT_COLOR1 (1u << RS_ATTR_COLOR1)
+#define IS_OUT_TEXCOORD(k) (1u << (RS_ATTR_TEXCOORD0 + (k)))
+
+/* Shader constants c0..c255 (SetVertexShaderConstantF). */
+typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constants;
+
+/* A shader's function: reads constants and one vertex's inputs, writes its outputs.  The shader must write
+ * oPos and every output named in its `outputs` mask; the others read zero in the rasterizer (the device zeroes
+ * them, or never reads them). */
+typedef void (*is_vs_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out);
+
+/* The registers of is_vs_input as an array: register r is the r-th float4 (position[0] is 0, texcoord[k] is
+ * IS_VS_REG_TEXCOORD + k); a mask of registers has bit r for register r. */
+#define IS_VS_INPUT_REGS ((int)(sizeof(is_vs_input) / sizeof(float4)))
+#define IS_VS_REG_TEXCOORD ((int)(offsetof(is_vs_input, texcoord) / sizeof(float4)))
+#define IS_VS_REGS_ALL ((1u << IS_VS_INPUT_REGS) - 1u) /* every register */
+#define IS_VS_REGS_INSTANCE (IS_VS_REGS_ALL & ~1u)      /* every register but POSITION0 (a patch's instance data) */
+
+/* Vertex v of a batch whose `shared` registers are stored in in[0] only: in + v itself when nothing is shared
+ * or v is 0, else *tmp filled with in[v]'s registers and in[0]'s shared ones (what `main` is given). */
+static inline const is_vs_input *is_vs_input_at(const is_vs_input *in, size_t v, uint32_t shared, is_vs_input *tmp)
+{
+    if (!shared || v == 0) return in + v;
+    *tmp = in[v];
+    for (int r = 0; r < IS_VS_INPUT_REGS; r++)
+        if (shared & (1u << r)) ((float4 *)tmp)[r] = ((const float4 *)in)[r];
+    return tmp;
+}
+
+/* Optional batched entry: shade in[0..n) into out[0..n) (not necessarily zeroed first), producing exactly the
+ * bytes of n calls of `main` in oPos and in the outputs of `live` (an IS_OUT_* mask: what the caller will read);
+ * lets a shader share the work of consecutive vertices of one instance, and skip outputs nobody reads (as a D3D9
+ * driver drops vertex outputs the pixel stage does not consume).  Outputs outside `live` may be left unwritten.
+ * `shared` (a register mask, 0: none): registers that hold the same value for every vertex of the batch (an
+ * instance's per-instance registers, the ones no element fills) and are stored in in[0] only -- in in[1..n) they
+ * are unspecified; vertex v's inputs are those of is_vs_input_at.  The device's fused path uses it so that one
+ * instance's data is neither copied to every vertex nor compared vertex by vertex. */
+typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                               uint32_t shared, is_vs_output *out);
+
+/* The hull stage (an extension of the D3D9 shader object, in the spirit of D3D11's hull shader and of
+ * Hasselgren, Munkberg and Akenine-Moller's pre-tessellation culling): a conservative bound of what `main` writes
+ * to oPos for one instance, over the barycentric domain b = POSITION0.xyz (b >= 0, b0 + b1 + b2 = 1, widened by
+ * IS_HULL_DOMAIN_SLACK: b_k >= -slack, |b0 + b1 + b2 - 1| <= slack, as float grids give).  oPos(b) lies within
+ * `err` (per coordinate, absolute) of the convex hull of pos[0..n_pos) (clip space x, y, z, w).  When degree
+ * d > 0, oPos is moreover within err of the polynomial Q(b) = sum of B_ijk(b) pos[k-major index of (i, j, k)]
+ * (Bernstein polynomials of degree d, i + j + k = d the exponents of b0, b1, b2; index = sum over q < k of
+ * (d + 1 - q), plus j), so n_pos = (d + 1)(d + 2) / 2.  The device uses it to skip whole instances that the
+ * rasterizer would draw nothing of (dev_set_patch_cull). */
+#define IS_HULL_MAX_POS 10 /* degree 3 at most */
+#define IS_HULL_DOMAIN_SLACK 0x1p-23
+typedef struct is_patch_hull {
+    int n_pos, degree;
+    double pos[IS_HULL_MAX_POS][4];
+    double err;
+} is_patch_hull;
+/* Fill *h for the instance whose per-instance registers are in `in` (POSITION0 is not read); false when the
+ * instance has no bound (non-finite data, say): it is then drawn. */
+typedef bool (*is_vs_hull_fn)(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
+
+typedef struct is_vertex_shader {
+    const char *name;
+    is_vs_fn main;
+    uint32_t outputs;   /* IS_OUT_* mask of written outputs (what the rasterizer interpolates) */
+    is_vs_batch_fn batch; /* NULL: the device calls main per vertex */
+    is_vs_hull_fn hull;   /* NULL: no bound, every instance is shaded */
+} is_vertex_shader;
+
+/* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */
+static inline float4x4 vs_const_matrix(const is_vs_constants *c, int r)
+{
+    float4x4 m;
+    for (int i = 0; i < 4; i++) {
+        m.m[i][0] = c->c[r + i].x; m.m[i][1] = c->c[r + i].y;
+        m.m[i][2] = c->c[r + i].z; m.m[i][3] = c->c[r + i].w;
+    }
+    return m;
+}
+
+/* --- resources --- */
+typedef struct is_device is_device;
+typedef struct is_vertex_buffer is_vertex_buffer;
+typedef struct is_index_buffer is_index_buffer;
+typedef struct is_vertex_declaration is_vertex_declaration;
+
+/* Create a device with a w x h back buffer with `samples` (1 or 4) samples and a float depth buffer.
+ * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
+is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
+void dev_destroy(is_device *dev);
+/* The device's state back to a new device's (render states, stream sources and frequencies, indices,
+ * declaration, shader, constants, viewport, N-patch mode and evaluator); the target, its contents, the thread
+ * count, timing, reference path and scratch memory are kept.  For programs that draw frame after frame on one
+ * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
+void dev_reset(is_device *dev);
+/* The message of the last failed call ("" if none). */
+const char *dev_last_error(const is_device *dev);
+/* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
+void dev_set_threads(is_device *dev, int threads);
+/* Phase times on or off (default off): dev_stats' setup_ms and tile_ms then sum the frame's set-up regions
+ * (vertex shading included) and tile passes; off, both stay 0 so that the statistics of two renders compare
+ * equal. */
+void dev_set_timing(is_device *dev, bool on);
+/* Pre-tessellation culling on or off (default off; the reference path never culls): an instanced triangle draw
+ * whose shader has a hull stage skips, before shading any of its vertices, every instance that the hull proves
+ * invisible -- outside one plane of the view, or (on a regular barycentric grid in stream 0's POSITION0, cull mode
+ * CW or CCW, solid fill) with every grid triangle culled by its snapped winding.  The image bytes are those of the
+ * draw without it; the statistics count fewer triangles and vertices (dev_instances_culled counts the skips). */
+void dev_set_patch_cull(is_device *dev, bool on);
+
+/* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
+is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
+is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out);
+void *vb_lock(is_vertex_buffer *vb);
+void vb_unlock(is_vertex_buffer *vb);
+size_t vb_size(const is_vertex_buffer *vb);
+void vb_release(is_vertex_buffer *vb);
+void *ib_lock(is_index_buffer *ib);
+void ib_unlock(is_index_buffer *ib);
+size_t ib_size(const is_index_buffer *ib);
+void ib_release(is_index_buffer *ib);
+
+/* CreateVertexDeclaration: elements ended by IS_DECL_END; validates types, usages and overlaps. */
+is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
+                                        is_vertex_declaration **out);
+void decl_release(is_vertex_declaration *decl);
+
+/* State setters, as IDirect3DDevice9. */
+is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl);
+is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
+                                unsigned stride);
+is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting);
+is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting);
+is_result dev_set_indices(is_device *dev, is_index_buffer *ib);
+is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs);
+is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
+is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
+is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
+is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
+is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
+/* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
+is_result dev_set_npatch_mode(is_device *dev, float segments);
+float dev_get_npatch_mode(const is_device *dev);
+
+/* Clear(flags, color (D3DCOLOR ARGB), z). */
+is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z);
+/* DrawPrimitive / DrawIndexedPrimitive, with D3D9 instancing (stream frequencies) on indexed draws. */
+is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count);
+is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                     unsigned prim_count);
+
+/* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
+ * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,
+ * so call it again after clearing and drawing before reading the planes -- a pointer kept across a dev_clear
+ * may see tiles that were never drawn to with their old contents. */
+rs_target *dev_render_target(is_device *dev);
+const rs_stats *dev_stats(const is_device *dev);
+/* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */
+uint64_t dev_vertices_shaded(const is_device *dev);
+/* Instances skipped by the pre-tessellation cull since the last dev_clear (dev_set_patch_cull). */
+uint64_t dev_instances_culled(const is_device *dev);
+
+/* N-patch mode (SetNPatchMode, POSITIONDEGREE, NORMALDEGREE, PATCHEDGESTYLE).  With segments >= 1, indexed
+ * triangle-list draws are tessellated by the device before the vertex shader, as D3D9's tessellator did: each
+ * input triangle becomes a grid with the same vertex and triangle order as the instanced path: with
+ * PATCHEDGESTYLE DISCRETE (the default) the regular grid of level (int)segments, with CONTINUOUS the
+ * primitive generator's fractional_even grid of level segments (core_grid_make); at each grid point the evaluator below computes the object-space
+ * position and normal from the triangle's POSITION0 / NORMAL0; every other input register is interpolated
+ * linearly in the barycentrics.  The evaluator is the patch code of vs/ (vs_npatch_evaluate), plugged in by the
+ * application so that core does not depend on vs/.  b = (b0, b1, b2) weights v[0], v[1], v[2]. */
+typedef void (*is_npatch_eval_fn)(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
+                                  uint32_t normal_degree, float3 *pos, float3 *nrm);
+is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
+
+/* Adaptive N-patch mode (D3DRS_ENABLEADAPTIVETESSELLATION TRUE, with N-patch mode on as above).  The rule, as the
+ * DirectX 9 documentation states it (Microsoft, "Tessellation (Direct3D 9)", section "Adaptive Tessellation",
+ * and its "Math" part; the D3DX counterpart is ID3DXPatchMesh::TessellateAdaptive):
+ *  - each vertex i of a triangle gets T_i = S * F_i / dot(V_i, Mdm), where S is the N-patch segments
+ *    (SetNPatchMode: the documentation's "MaxTessellationLevel ... set by SetNPatchMode for N-patches", the level
+ *    at eye depth 1), F_i the vertex's D3DDECLUSAGE_TESSFACTOR (FLOAT1, usage index 0; 1.0 when the declaration
+ *    has none), V_i its POSITION0 register as fetched (x, y, z, w; w = 1 for FLOAT3: the control vertex before any
+ *    transform) and Mdm = (ADAPTIVETESS_X, _Y, _Z, _W), which maps V to its eye-space depth: e.g. the third column
+ *    of World * View, so that dot(V, Mdm) is the vertex's view z;
+ *  - each edge gets the mean of its two ends, T_e = (T_1 + T_2) / 2; a T_e above MAXTESSELLATIONLEVEL, below 0,
+ *    or not a number becomes MAXTESSELLATIONLEVEL (the documentation's "> MAX || < 0"; NaN, which it does not
+ *    name -- 0/0, or +inf and -inf averaged -- is taken as out of range too), and then a T_e below
+ *    MINTESSELLATIONLEVEL becomes MINTESSELLATIONLEVEL (so MIN wins when MIN > MAX).
+ * An edge's level depends on its two vertices alone (the mean is symmetric), so both triangles of an edge agree.
+ * Defaults (the documentation's): ENABLEADAPTIVETESSELLATION FALSE, MIN = MAX = 1.0f, Mdm = (0, 0, 1, 0); MIN and
+ * MAX must be finite and >= 1 ("cannot be less than 1"), X..W finite.  Disabled, the mode draws as above, bit
+ * for bit as before these states existed.
+ * The tessellation of a triangle with edge levels (e0, e1, e2) (edge k from v[k] to v[k+1 mod 3]): DISCRETE
+ * truncates each to an integer, CONTINUOUS keeps them; levels above CORE_PG_MAX_LEVEL (64) are taken as 64 (the
+ * primitive generator's bound).  Equal levels give exactly the non-adaptive grid of that level (so MIN = MAX = S
+ * renders the same bytes as the mode without adaptivity); otherwise the primitive generator's grid
+ * (core_grid_pg: equal spacing for DISCRETE, fractional_even for CONTINUOUS) with outer = (e0, e1, e2) and inner =
+ * max(e0, e1, e2) -- D3D11's ProcessTriTessFactorsMax rule: the interior is never coarser than the triangle's
+ * finest edge, so a triangle refined for one near vertex keeps that detail inside.  Edge points depend only on
+ * the edge's level and ends (core_grid_pg's watertightness), so neighbours at different levels share them bit
+ * for bit.  (The documentation's sentence that adaptive tessellation also draws triangles as N-patches when
+ * SetNPatchMode is below 1 is not followed: below 1, S is below 1 and the mode is off.) */
+/* T_i of one vertex: S * factor / dot(v, mdm) in float, as above (not clamped: that is per edge). */
+float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm);
+/* T_e of an edge from its ends' T_1, T_2 and the MIN / MAX states, as above. */
+float core_adaptive_edge_level(float t1, float t2, float min_level, float max_level);
+
+/* The scalar reference path (for tests and teaching): with on, draws shade vertex by vertex through the
+ * shader's `main` and the rasterizer walks its simplest per-sample loops; off (the default) takes the fast
+ * paths (batched shaders, shared vertex projection, 8-pixel spans), which produce the same bytes. */
+void dev_set_reference_path(is_device *dev, bool on);
+bool dev_reference_path(const is_device *dev);
+/* The instruction set of the rasterizer's fast paths (raster.h's RS_ISA_*: AVX2, or AVX-512 where the CPU has
+ * it, which a new device picks): 0, or -1 (nothing changed) when this CPU lacks it.  Every one writes the same
+ * bytes; this exists to compare them and to measure each. */
+int dev_set_isa(is_device *dev, int isa);
+int dev_isa(const is_device *dev);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
