@@ -46,7 +46,7 @@ LDFLAGS  ?= -fopenmp -Wl,--as-needed
 LDLIBS   = $(LDLIBS_MESH) -lm
 PROG_LDFLAGS = -rdynamic
 
-LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c image/*.c)
+LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c image/*.c tess/*.c)
 # The rasterizer's fast-path kernels are compiled a second time for AVX-512 (raster/raster_internal.h,
 # RS_KERNEL): the library picks that copy at run time on CPUs that have it (rs_set_isa), with the same bytes.
 KERNEL_SRC = raster/span.c raster/setup_simd.c
@@ -186,7 +186,7 @@ SO_NAME     = libinstess.so.$(SOVERSION)
 SO_REAL     = libinstess.so.$(VERSION)
 PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
 PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/grid.h raster/raster.h vs/vs.h meshes/meshes.h \
-              image/image.h
+              image/image.h tess/tess.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so \
               $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)

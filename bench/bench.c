@@ -339,13 +339,13 @@ typedef struct inst_result {
 /* The device and the resources of the instanced path. */
 typedef struct inst_gpu {
     is_device *dev;
-    scene_resources r;
+    tess_resources r;
 } inst_gpu;
 
 /* Release what inst_setup created. */
 static void inst_release(inst_gpu *g)
 {
-    scene_resources_free(&g->r);
+    tess_resources_free(&g->r);
     dev_destroy(g->dev);
     memset(g, 0, sizeof *g);
 }
@@ -364,7 +364,7 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     memset(&c, 0, sizeof c);
     vs_set_constants(&c, &bd->wvp, &bd->world, f4(bench_diffuse[0], bench_diffuse[1], bench_diffuse[2], bench_diffuse[3]),
                      NULL);
-    is_result e = scene_bind_instanced(g->dev, &bd->mesh, &bd->grid, &g->r);
+    is_result e = tess_bind_instanced(g->dev, &bd->mesh, &bd->grid, &g->r);
     if (e == IS_OK) e = dev_set_vertex_shader(g->dev, vs_patch_shader(patch));
     if (e == IS_OK) e = dev_set_vertex_shader_constant_f(g->dev, 0, &c.c[0].x, VS_C_COUNT);
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;

@@ -5,7 +5,7 @@
  * that the saving at equal quality is a number.
  *
  * A frame: uniform -- Clear + one instanced DrawIndexedPrimitive (buffers bound once); adaptive -- the per-edge
- * levels for the camera, the buckets and their buffers (scene_bind_adaptive, patterns from a cache kept across
+ * levels for the camera, the buckets and their buffers (tess_bind_adaptive, patterns from a cache kept across
  * frames), Clear + one instanced draw per bucket: everything a view-dependent LOD pays per frame.
  * Deviation: both surfaces are piecewise linear over each mesh triangle's parameter domain (the vertices as the
  * patch shader computes them, projected to pixels); they are compared at the points of the level-2M grid (the
@@ -80,7 +80,7 @@ static void d_project(const is_vertex_shader *vs, const is_vs_constants *c, cons
     for (size_t p = 0; p < g->n_points; p++) {
         is_vs_input in;
         is_vs_output out;
-        scene_input_from_instance(inst, g->bary[p], &in);
+        tess_input_from_instance(inst, NULL, g->bary[p], &in);
         memset(&out, 0, sizeof out);
         vs->main(c, &in, &out);
         float4 q = mul4(f4(out.pos.x, out.pos.y, out.pos.z, 1.0f), wvp);
@@ -115,7 +115,7 @@ static void d_sample(const core_grid *g, const double (*px)[2], int S, double (*
 
 /* The largest screen distance (pixels) between the adaptive tessellation of the levels in e and the uniform
  * level-M one, over every triangle of m, at the level-2M grid's points; -1 when out of memory. */
-static double d_deviation(const is_mesh *m, const scene_lod_edges *e, vs_patch patch, const float4x4 *wvp, int M,
+static double d_deviation(const is_mesh *m, const tess_lod_edges *e, vs_patch patch, const float4x4 *wvp, int M,
                           core_pattern_cache *cache)
 {
     const int S = 2 * M;
@@ -142,7 +142,7 @@ static double d_deviation(const is_mesh *m, const scene_lod_edges *e, vs_patch p
             const core_grid *ga = core_pattern_get(cache, s[0], s[1], s[2]);
             if (!ga) { worst = -1; break; }
             is_patch_instance pi;
-            scene_permute_instance(&inst[t], (const uint8_t[3]){(uint8_t)p[0], (uint8_t)p[1], (uint8_t)p[2]}, &pi);
+            tess_permute_instance(&inst[t], (const uint8_t[3]){(uint8_t)p[0], (uint8_t)p[1], (uint8_t)p[2]}, &pi);
             d_project(vs, &c, &pi, ga, wvp, pa);   /* the regular grid is symmetric: both in the renumbered frame */
             d_sample(ga, (const double(*)[2])pa, S, va, done);
             d_project(vs, &c, &pi, &gm, wvp, pm);
@@ -186,10 +186,10 @@ static double d_time(d_frame_fn frame, void *ctx, int frames, int warmup, is_res
 typedef struct d_adaptive {
     is_device *dev;
     const is_mesh *m;
-    scene_lod_edges *e;
-    scene_lod_params p;
+    tess_lod_edges *e;
+    tess_lod_params p;
     core_pattern_cache *cache;
-    scene_adaptive a;
+    tess_adaptive a;
     uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
 } d_adaptive;
 
@@ -197,16 +197,16 @@ typedef struct d_adaptive {
 static is_result d_adaptive_frame(void *ctx)
 {
     d_adaptive *s = ctx;
-    scene_adaptive_free(&s->a);
-    scene_lod_levels(&s->p, s->m, s->e, s->hist);
-    is_result r = scene_bind_adaptive(s->dev, s->m, s->e, s->cache, &s->a);
+    tess_adaptive_free(&s->a);
+    tess_lod_levels(&s->p, s->m, s->e, s->hist);
+    is_result r = tess_bind_adaptive(s->dev, s->m, s->e, s->cache, &s->a);
     if (r == IS_OK) r = dev_clear(s->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, IS_COLOR_ARGB(255, 46, 52, 64), 1.0f);
-    for (size_t k = 0; k < s->a.n_buckets && r == IS_OK; k++) r = scene_draw_bucket(s->dev, &s->a, k);
+    for (size_t k = 0; k < s->a.n_buckets && r == IS_OK; k++) r = tess_draw_bucket(s->dev, &s->a, k);
     return r;
 }
 
 /* A uniform frame: Clear and the one instanced draw. */
-typedef struct d_uniform { is_device *dev; const scene_resources *r; } d_uniform;
+typedef struct d_uniform { is_device *dev; const tess_resources *r; } d_uniform;
 static is_result d_uniform_frame(void *ctx)
 {
     d_uniform *s = ctx;
@@ -235,25 +235,25 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
 {
     core_grid g;
     is_device *dev = d_device(patch, wvp, a->threads);
-    scene_resources res = {0};
+    tess_resources res = {0};
     if (!dev || core_grid_make(CORE_GRID_REGULAR, (float)D_MAX_LEVEL, &g) != 0) return dev_destroy(dev), -1;
-    is_result e = scene_bind_instanced(dev, m, &g, &res);
+    is_result e = tess_bind_instanced(dev, m, &g, &res);
     d_uniform s = {dev, &res};
     r->ms = 0;
     if (e == IS_OK) r->ms = d_time(d_uniform_frame, &s, a->frames, a->warmup, &e);
     *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, dev_stats(dev)->prims_drawn, 1, 1};
-    scene_resources_free(&res);
+    tess_resources_free(&res);
     core_grid_free(&g);
     dev_destroy(dev);
     return e == IS_OK ? 0 : -1;
 }
 
 /* Adaptive at one target: timed, counted, its deviation. */
-static int d_run_adaptive(const is_mesh *m, scene_lod_edges *e, vs_patch patch, const float4x4 *view,
+static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, const float4x4 *view,
                           const float4x4 *wvp, float target, const bench_lod_args *a, d_result *r)
 {
     d_adaptive s = {.dev = d_device(patch, wvp, a->threads), .m = m, .e = e, .cache = core_pattern_cache_create(0)};
-    s.p = (scene_lod_params){.mode = SCENE_LOD_SCREEN, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
+    s.p = (tess_lod_params){.mode = TESS_LOD_SCREEN, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
                              .max_level = D_MAX_LEVEL, .width = D_SIDE, .height = D_SIDE, .world_view = *view,
                              .wvp = *wvp};
     is_result err = s.dev && s.cache ? IS_OK : IS_ERR_OUTOFMEMORY;
@@ -263,7 +263,7 @@ static int d_run_adaptive(const is_mesh *m, scene_lod_edges *e, vs_patch patch, 
         r->patterns = s.a.n_patterns, r->buckets = s.a.n_buckets;
         r->deviation = d_deviation(m, e, patch, wvp, D_MAX_LEVEL, s.cache);
     }
-    scene_adaptive_free(&s.a);
+    tess_adaptive_free(&s.a);
     core_pattern_cache_destroy(s.cache);
     dev_destroy(s.dev);
     return err == IS_OK && r->deviation >= 0 ? 0 : -1;
@@ -283,8 +283,8 @@ int bench_scene_d(const bench_lod_args *a)
 {
     is_mesh m = {0};
     char err[256];
-    scene_lod_edges e;
-    if (d_mesh(&m, err, sizeof err) != 0 || scene_lod_edges_build(&m, &e, err, sizeof err) != 0)
+    tess_lod_edges e;
+    if (d_mesh(&m, err, sizeof err) != 0 || tess_lod_edges_build(&m, &e, err, sizeof err) != 0)
         return fprintf(stderr, "bench: scene D: %s\n", err), mesh_free(&m), 1;
     float4x4 view, wvp;
     d_camera(&view, &wvp);
@@ -310,7 +310,7 @@ int bench_scene_d(const bench_lod_args *a)
         }
     }
     if (bad) fprintf(stderr, "bench: scene D: %d case(s) failed\n", bad);
-    scene_lod_edges_free(&e);
+    tess_lod_edges_free(&e);
     mesh_free(&m);
     return bad ? 1 : 0;
 }

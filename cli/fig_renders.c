@@ -400,14 +400,14 @@ static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errle
 /* Triangles the adaptive draw of view v on m tessellates (the levels as scene_draw computes them); 0 on failure. */
 static size_t lod_triangles(const fig_view *v, const is_mesh *m)
 {
-    scene_lod_params p = scene_lod_params_of(&v->o, m);
-    scene_lod_edges e;
+    tess_lod_params p = scene_lod_params_of(&v->o, m);
+    tess_lod_edges e;
     char err[64];
     uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
     core_pattern_cache *cache = core_pattern_cache_create(0);
     size_t n = 0;
-    if (cache && scene_lod_edges_build(m, &e, err, sizeof err) == 0) {
-        scene_lod_levels(&p, m, &e, hist);
+    if (cache && tess_lod_edges_build(m, &e, err, sizeof err) == 0) {
+        tess_lod_levels(&p, m, &e, hist);
         for (size_t t = 0; t < m->n_triangles; t++) {
             int lv[3], s[3], q[3];
             for (int k = 0; k < 3; k++) lv[k] = e.level[e.tri_edge[3 * t + k]];
@@ -415,7 +415,7 @@ static size_t lod_triangles(const fig_view *v, const is_mesh *m)
             const core_grid *g = core_pattern_get(cache, s[0], s[1], s[2]);
             n += g ? g->n_triangles : 0;
         }
-        scene_lod_edges_free(&e);
+        tess_lod_edges_free(&e);
     }
     core_pattern_cache_destroy(cache);
     return n;

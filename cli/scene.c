@@ -24,7 +24,7 @@ void scene_opts_default(scene_opts *o)
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
-        .lod = SCENE_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
+        .lod = TESS_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
         .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
         .cull = IS_CULL_CCW, .up = SCENE_UP_Y,
     };
@@ -210,17 +210,33 @@ const char *scene_check_opts(const scene_opts *o)
                "--level must be 1..64";
     if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->export_obj)
         return "--export-obj writes the uniform tessellation: it cannot be combined with --d3d9-adaptive";
-    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->lod != SCENE_LOD_UNIFORM)
+    if (o->d3d9_adaptive != SCENE_D3D9_OFF && o->lod != TESS_LOD_UNIFORM)
         return "--d3d9-adaptive (the device's N-patch mode) and --lod (instanced patterns) are two ways: choose one";
-    if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == SCENE_LOD_UNIFORM)
+    if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == TESS_LOD_UNIFORM)
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
-    if (o->lod == SCENE_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette || o->wire_by_level))
+    if (o->lod == TESS_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette || o->wire_by_level))
         return "--min-level, --max-level, --silhouette and --wire-levels need --lod distance or screen";
-    if (o->lod != SCENE_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
-    return o->lod == SCENE_LOD_UNIFORM ? NULL : check_lod_opts(o);
+    if (o->lod != TESS_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
+    return o->lod == TESS_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
 
 /* The adaptive options' consistency (scene_check_opts for --lod distance and screen). */
+const char *const scene_lod_names[] = {"uniform", "distance", "screen", NULL};
+
+bool scene_parse_lod(const char *s, tess_lod_mode *out)
+{
+    for (int k = 0; s && scene_lod_names[k]; k++)
+        if (strcmp(s, scene_lod_names[k]) == 0) return *out = (tess_lod_mode)k, true;
+    return false;
+}
+
+int scene_lod_max_level(const scene_opts *o)
+{
+    if (o->max_level > 0) return o->max_level;
+    int l = (int)lroundf(o->level);
+    return l < 1 ? 1 : l;
+}
+
 static const char *check_lod_opts(const scene_opts *o)
 {
     if (o->path != SCENE_PATH_INSTANCED) return "--lod distance and screen draw through instancing (--path instanced)";
@@ -343,12 +359,12 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     return cam;
 }
 
-scene_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
+tess_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
 {
     scene_camera cam = make_camera(o, m);
     int hi = scene_lod_max_level(o);
     if (hi > CORE_LOD_MAX_LEVEL) hi = CORE_LOD_MAX_LEVEL;
-    return (scene_lod_params){.mode = o->lod, .target_px = o->lod_target, .ref_depth = cam.ref_depth,
+    return (tess_lod_params){.mode = o->lod, .target_px = o->lod_target, .ref_depth = cam.ref_depth,
                               .min_level = o->min_level < hi ? o->min_level : hi, .max_level = hi,
                               .width = o->width, .height = o->height, .silhouette = o->silhouette,
                               .world_view = cam.world_view, .wvp = cam.wvp};
@@ -378,115 +394,6 @@ static void set_constants(is_device *dev, const scene_opts *o, const scene_camer
 
 /* ---------------------------------------- buffers ---------------------------------------- */
 
-/* ---- PN-AEN's extra per-instance stream: the neighbour's normals at each edge's two ends ---- */
-
-/* One triangle edge keyed by its welded end points (a < b). */
-typedef struct edge_rec { uint32_t a, b, tri, k; } edge_rec;
-
-static int edge_cmp(const void *x, const void *y)
-{
-    const edge_rec *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return p->tri < q->tri ? -1 : (p->tri > q->tri);
-}
-
-/* The normal triangle u has at the vertex welded to w (fallback: `own`). */
-static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
-{
-    for (int c = 0; c < 3; c++)
-        if (m->welded[3 * (size_t)u + c] == w) return m->normals[m->indices[3 * (size_t)u + c]];
-    return own;
-}
-
-/* Fill nadj[t][k][j] = the normal that the triangle across edge k has at corner (k + j) % 3 of triangle t; an
- * edge without exactly one neighbour (boundary, non-manifold) gets t's own normals.  Returns 0 or -1. */
-static int adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
-{
-    const size_t ne = 3 * m->n_triangles;
-    edge_rec *e = malloc(ne * sizeof *e);
-    if (!e) return -1;
-    for (size_t i = 0; i < ne; i++) {
-        uint32_t t = (uint32_t)(i / 3), k = (uint32_t)(i % 3);
-        uint32_t a = m->welded[i], b = m->welded[3 * (size_t)t + (k + 1) % 3];
-        e[i] = (edge_rec){a < b ? a : b, a < b ? b : a, t, k};
-    }
-    qsort(e, ne, sizeof *e, edge_cmp);
-    for (size_t i = 0; i < ne;) {
-        size_t j = i;
-        while (j < ne && e[j].a == e[i].a && e[j].b == e[i].b) j++;
-        for (size_t r = i; r < j; r++) {
-            uint32_t t = e[r].tri, k = e[r].k;
-            for (int c = 0; c < 2; c++) {
-                size_t corner = 3 * (size_t)t + (k + (uint32_t)c) % 3;
-                float3 own = m->normals[m->indices[corner]];
-                uint32_t other = j - i == 2 ? e[r == i ? i + 1 : i].tri : t;
-                nadj[t][k][c] = other == t ? own : normal_at(m, other, m->welded[corner], own);
-            }
-        }
-        i = j;
-    }
-    free(e);
-    return 0;
-}
-
-/* One triangle's neighbour normals in, those of its renumbering by p (scene_permute_instance) out. */
-static void permute_nadj(const float3 in[3][2], const uint8_t p[3], float3 out[3][2])
-{
-    for (int k = 0; k < 3; k++) {
-        const int x = p[k], y = p[(k + 1) % 3], old = y == (x + 1) % 3 ? x : y; /* the edge joining x, y */
-        for (int j = 0; j < 2; j++) /* the corner p[k + j] of the old edge is (old + c) % 3 */
-            out[k][j] = in[old][(p[(k + j) % 3] - old + 3) % 3];
-    }
-}
-
-/* adjacent_normals for the instances of an adaptive draw (a's order and renumbering); 0 or -1. */
-static int permuted_adjacent_normals(const is_mesh *m, const scene_adaptive *a, float3 (*out)[3][2])
-{
-    float3 (*nadj)[3][2] = malloc(m->n_triangles * sizeof *nadj);
-    if (!nadj || adjacent_normals(m, nadj) != 0) return free(nadj), -1;
-    for (size_t i = 0; i < m->n_triangles; i++) permute_nadj((const float3(*)[2])nadj[a->tri[i]], a->perm[i], out[i]);
-    free(nadj);
-    return 0;
-}
-
-/* PN-AEN's neighbour normals into the registers of vs_nadj_regs (for evaluating outside a draw). */
-static void set_nadj_regs(is_vs_input *in, const float3 nadj[3][2])
-{
-    for (int k = 0; k < 3; k++)
-        for (int j = 0; j < 2; j++) {
-            const vs_reg r = vs_nadj_regs[k][j];
-            float4 *reg = r.usage == IS_DECLUSAGE_TEXCOORD ? &in->texcoord[r.usage_index]
-                          : r.usage == IS_DECLUSAGE_NORMAL ? &in->normal[r.usage_index] : &in->tangent[r.usage_index];
-            *reg = f4_of(nadj[k][j], 1.0f);
-        }
-}
-
-/* Bind stream 2 (INSTANCEDATA | 1) with the neighbour normals (a: in an adaptive draw's order) and a declaration that adds vs_nadj_regs to
- * Listing 1.1.2's; replaces the declaration of scene_bind_instanced. */
-is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a)
-{
-    is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
-    if (e != IS_OK) return e;
-    if (a ? permuted_adjacent_normals(m, a, vb_lock(r->vb2)) : adjacent_normals(m, vb_lock(r->vb2))) return IS_ERR_OUTOFMEMORY;
-    is_vertex_element el[MESH_PATCH_DECLARATION_COUNT + 6];
-    size_t n = 0;
-    while (mesh_patch_declaration[n].stream != 0xFF) el[n] = mesh_patch_declaration[n], n++;
-    for (int k = 0; k < 3; k++)
-        for (int j = 0; j < 2; j++)
-            el[n++] = (is_vertex_element){2, (uint16_t)((k * 2 + j) * sizeof(float3)), IS_DECLTYPE_FLOAT3, 0,
-                                          vs_nadj_regs[k][j].usage, vs_nadj_regs[k][j].usage_index};
-    el[n] = (is_vertex_element)IS_DECL_END;
-    decl_release(r->decl);
-    r->decl = NULL;
-    e = dev_create_vertex_declaration(dev, el, &r->decl);
-    if (e != IS_OK) return e;
-    dev_set_vertex_declaration(dev, r->decl);
-    dev_set_stream_source(dev, 2, r->vb2, 0, sizeof(float3[3][2]));
-    dev_set_stream_source_freq(dev, 2, IS_STREAMSOURCE_INSTANCEDATA | 1u);
-    return IS_OK;
-}
-
 /* The vertex of the non-instanced paths: position, normal, texcoord (declaration vs_tnl_declaration). */
 typedef struct tnl_vertex { float3 p, n; float2 t; } tnl_vertex;
 static const is_vertex_element tnl_declaration[] = {
@@ -496,9 +403,9 @@ static const is_vertex_element tnl_declaration[] = {
     IS_DECL_END};
 
 /* Bind a non-instanced vertex buffer of tnl_vertex and an index buffer. */
-static is_result bind_tnl(is_device *dev, scene_resources *r, const uint32_t *idx, size_t n_idx, size_t n_vtx)
+static is_result bind_tnl(is_device *dev, tess_resources *r, const uint32_t *idx, size_t n_idx, size_t n_vtx)
 {
-    is_result e = scene_index_buffer(dev, idx, n_idx, n_vtx, &r->ib);
+    is_result e = tess_index_buffer(dev, idx, n_idx, n_vtx, &r->ib);
     if (e == IS_OK) e = dev_create_vertex_declaration(dev, tnl_declaration, &r->decl);
     if (e != IS_OK) return e;
     dev_set_vertex_declaration(dev, r->decl);
@@ -509,7 +416,7 @@ static is_result bind_tnl(is_device *dev, scene_resources *r, const uint32_t *id
 }
 
 /* The device's N-patch mode: the mesh itself in stream 0, SetNPatchMode(level) and the degrees. */
-static is_result build_npatch_mode(is_device *dev, const scene_opts *o, const is_mesh *m, scene_resources *r)
+static is_result build_npatch_mode(is_device *dev, const scene_opts *o, const is_mesh *m, tess_resources *r)
 {
     is_result e = dev_create_vertex_buffer(dev, m->n_vertices * sizeof(tnl_vertex), &r->vb0);
     if (e != IS_OK) return e;
@@ -530,7 +437,7 @@ static is_result build_npatch_mode(is_device *dev, const scene_opts *o, const is
 /* CPU tessellation (D3DXTessellateNPatches-style): every grid point of every triangle evaluated on all cores
  * into a dynamic vertex buffer, drawn without instancing. */
 static is_result build_cpu(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
-                           scene_resources *r)
+                           tess_resources *r)
 {
     const size_t np = g->n_points, nt = g->n_triangles, T = m->n_triangles;
     is_result e = dev_create_vertex_buffer(dev, T * np * sizeof(tnl_vertex), &r->vb0);
@@ -581,7 +488,7 @@ static void set_overlay_states(is_device *dev)
 }
 
 /* Issue the draw(s) of the fill mode on a device whose buffers are bound. */
-static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_resources *r)
+static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_camera *cam, const tess_resources *r)
 {
     const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
     static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
@@ -603,7 +510,7 @@ static void level_color(int level, float rgba[4])
 }
 
 /* One pass over every bucket of a; with by_level each bucket's colour is its finest level's, else `color`. */
-static is_result draw_buckets(is_device *dev, const scene_opts *o, const scene_camera *cam, const scene_adaptive *a,
+static is_result draw_buckets(is_device *dev, const scene_opts *o, const scene_camera *cam, const tess_adaptive *a,
                               bool by_level, const float color[4])
 {
     is_result e = IS_OK;
@@ -611,14 +518,14 @@ static is_result draw_buckets(is_device *dev, const scene_opts *o, const scene_c
     for (size_t k = 0; k < a->n_buckets && e == IS_OK; k++) {
         float c[4];
         if (by_level) level_color(a->buckets[k].level[2], c), set_constants(dev, o, cam, c);
-        e = scene_draw_bucket(dev, a, k);
+        e = tess_draw_bucket(dev, a, k);
     }
     return e;
 }
 
 /* draw_fill for an adaptive draw: every bucket per pass, the wireframe coloured by level if o asks. */
 static is_result draw_fill_adaptive(is_device *dev, const scene_opts *o, const scene_camera *cam,
-                                    const scene_adaptive *a)
+                                    const tess_adaptive *a)
 {
     const int fills[4] = {IS_FILL_SOLID, IS_FILL_WIREFRAME, IS_FILL_SOLID, IS_FILL_POINT};
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
@@ -632,14 +539,14 @@ static is_result draw_fill_adaptive(is_device *dev, const scene_opts *o, const s
 
 /* Bind the buffers of o->path on dev. */
 static is_result build_path(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
-                            scene_resources *r)
+                            tess_resources *r)
 {
     switch (o->path) {
     case SCENE_PATH_NPATCH_MODE: return build_npatch_mode(dev, o, m, r);
     case SCENE_PATH_CPU: return build_cpu(dev, o, m, g, r);
     default: {
-        is_result e = scene_bind_instanced(dev, m, g, r);
-        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? scene_bind_adjacent_normals(dev, m, r, NULL) : e;
+        is_result e = tess_bind_instanced(dev, m, g, r);
+        return e == IS_OK && o->patch == VS_PATCH_PN_AEN ? tess_bind_adjacent_normals(dev, m, r, NULL) : e;
     }
     }
 }
@@ -664,25 +571,25 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
                          scene_stats *st)
 {
     scene_camera cam = make_camera(o, m);
-    scene_lod_params p = scene_lod_params_of(o, m);
-    scene_lod_edges e;
-    scene_adaptive a = {0};
+    tess_lod_params p = scene_lod_params_of(o, m);
+    tess_lod_edges e;
+    tess_adaptive a = {0};
     uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
     char err[256];
     core_pattern_cache *cache = core_pattern_cache_create(0);
-    if (!cache || scene_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
-    scene_lod_levels(&p, m, &e, hist);
+    if (!cache || tess_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
+    tess_lod_levels(&p, m, &e, hist);
     dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, vs_patch_shader(o->patch)));
     if (!shader) scene_light_constants(dev, o, vs_patch_shader(o->patch));
-    is_result r = scene_bind_adaptive(dev, m, &e, cache, &a);
-    if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = scene_bind_adjacent_normals(dev, m, &a.r, &a);
+    is_result r = tess_bind_adaptive(dev, m, &e, cache, &a);
+    if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = tess_bind_adjacent_normals(dev, m, &a.r, &a);
     if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
     if (st) {
         memcpy(st->level_hist, hist, sizeof hist);
         st->n_buckets = a.n_buckets, st->n_patterns = a.n_patterns, st->tessellated_triangles = a.n_triangles;
     }
-    scene_adaptive_free(&a);
-    scene_lod_edges_free(&e);
+    tess_adaptive_free(&a);
+    tess_lod_edges_free(&e);
     core_pattern_cache_destroy(cache);
     return r == IS_OK ? 0 : -1;
 }
@@ -691,22 +598,22 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
 static int draw_scene(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                       const is_vertex_shader *shader, scene_stats *st)
 {
-    if (o->lod != SCENE_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, st);
+    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, st);
     return scene_draw(dev, o, m, g, shader);
 }
 
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader)
 {
-    if (o->lod != SCENE_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
+    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
     scene_camera cam = make_camera(o, m);
-    scene_resources r = {0};
+    tess_resources r = {0};
     dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, path_shader(o)));
     if (!shader) scene_light_constants(dev, o, path_shader(o));
     is_result e = build_path(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
-    scene_resources_free(&r);
+    tess_resources_free(&r);
     return e == IS_OK ? 0 : -1;
 }
 
@@ -907,7 +814,7 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_ima
 {
     core_grid g;
     /* an adaptive render is checked against its finest level everywhere (its grid is not drawn) */
-    const bool adaptive = o->lod != SCENE_LOD_UNIFORM;
+    const bool adaptive = o->lod != TESS_LOD_UNIFORM;
     if (core_grid_make(adaptive ? CORE_GRID_REGULAR : o->grid, adaptive ? (float)scene_lod_max_level(o) : o->level,
                        &g) != 0) {
         snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level);
@@ -943,21 +850,6 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_ima
 }
 
 /* ---------------------------------------- files ---------------------------------------- */
-
-/* The input registers the device would fetch for grid point b of instance inst (Listing 1.1.2's layout). */
-void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in)
-{
-    float4 *r = (float4 *)in;
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
-    in->position[0] = f4_of(b, 1.0f);
-    for (int k = 0; k < 3; k++) {
-        in->texcoord[VS_IN_V0 + k] = f4_of(inst->v[k], 1.0f);
-        in->texcoord[VS_IN_N0 + k] = f4_of(inst->n[k], 1.0f);
-        in->texcoord[VS_IN_OPP0 + k] = f4_of(inst->opp[k], 1.0f);
-        in->texcoord[VS_IN_T0 + k] = f4(inst->t[k].x, inst->t[k].y, 0.0f, 1.0f);
-    }
-    in->texcoord[VS_IN_ID] = f4(inst->instance_id, 0.0f, 0.0f, 1.0f);
-}
 
 /* One tessellated vertex of the export in the OBJ file's frame: OBJ is right-handed with counter-clockwise
  * fronts and v up, and assimp's ConvertToLeftHanded (z -> -z, winding flipped, v -> 1 - v) turned the file into
@@ -996,8 +888,7 @@ static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const flo
     for (size_t p = 0; p < g->n_points; p++) {
         is_vs_input in;
         is_vs_output out;
-        scene_input_from_instance(inst, g->bary[p], &in);
-        if (nadj) set_nadj_regs(&in, nadj);
+        tess_input_from_instance(inst, nadj, g->bary[p], &in);
         memset(&out, 0, sizeof out);
         w->vs->main(&w->c, &in, &out);
         write_obj_vertex(w->f, &out, instance_texcoord(inst, g->bary[p]));
@@ -1014,15 +905,15 @@ static void obj_triangle(obj_writer *w, const is_patch_instance *inst, const flo
 static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, const is_patch_instance *inst,
                         const float3 (*nadj)[3][2], char *err, size_t errlen)
 {
-    scene_lod_params p = scene_lod_params_of(o, m);
-    scene_lod_edges e;
+    tess_lod_params p = scene_lod_params_of(o, m);
+    tess_lod_edges e;
     uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
     core_pattern_cache *cache = core_pattern_cache_create(0);
-    if (!cache || scene_lod_edges_build(m, &e, err, errlen) != 0) {
+    if (!cache || tess_lod_edges_build(m, &e, err, errlen) != 0) {
         core_pattern_cache_destroy(cache);
         return snprintf(err, errlen, "%s: out of memory", o->export_obj), -1;
     }
-    scene_lod_levels(&p, m, &e, hist);
+    tess_lod_levels(&p, m, &e, hist);
     int rc = 0;
     for (size_t t = 0; t < m->n_triangles && !ferror(w->f) && rc == 0; t++) {
         int lv[3], sorted[3], perm[3];
@@ -1032,12 +923,12 @@ static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, co
         if (!g) snprintf(err, errlen, "%s: out of memory for a pattern", o->export_obj), rc = -1;
         is_patch_instance pi;
         const uint8_t p8[3] = {(uint8_t)perm[0], (uint8_t)perm[1], (uint8_t)perm[2]};
-        scene_permute_instance(&inst[t], p8, &pi);
+        tess_permute_instance(&inst[t], p8, &pi);
         float3 pn[3][2];
-        if (nadj) permute_nadj(nadj[t], p8, pn);
+        if (nadj) tess_permute_adjacent_normals(nadj[t], p8, pn);
         if (g) obj_triangle(w, &pi, nadj ? (const float3(*)[2])pn : NULL, g, odd);
     }
-    scene_lod_edges_free(&e);
+    tess_lod_edges_free(&e);
     core_pattern_cache_destroy(cache);
     return rc;
 }
@@ -1047,7 +938,7 @@ static int obj_adaptive(obj_writer *w, const scene_opts *o, const is_mesh *m, co
 static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, int k, char *err, size_t errlen)
 {
     core_grid g;
-    if (core_grid_make(o->grid, o->lod == SCENE_LOD_UNIFORM ? o->level : 1.0f, &g) != 0)
+    if (core_grid_make(o->grid, o->lod == TESS_LOD_UNIFORM ? o->level : 1.0f, &g) != 0)
         return snprintf(err, errlen, "cannot build the grid"), -1;
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
     obj_writer w = {.f = inst ? outputs_stream(outs, k, err, errlen) : NULL, .vs = vs_patch_shader(o->patch), .next = 1};
@@ -1063,10 +954,10 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
     mesh_build_instances(m, inst);
     float3 (*nadj)[3][2] = o->patch == VS_PATCH_PN_AEN ? malloc(m->n_triangles * sizeof *nadj) : NULL;
     int rc = 0;
-    if (nadj && adjacent_normals(m, nadj) != 0) free(nadj), nadj = NULL;
+    if (nadj && tess_adjacent_normals(m, nadj) != 0) free(nadj), nadj = NULL;
     if (o->patch == VS_PATCH_PN_AEN && !nadj) rc = -1, snprintf(err, errlen, "%s: out of memory", o->export_obj);
     if (rc != 0) {
-    } else if (o->lod == SCENE_LOD_UNIFORM) {
+    } else if (o->lod == TESS_LOD_UNIFORM) {
         fprintf(w.f, "# instess %s: %s, patch %s, normals %s, level %g, %zu triangles x %zu grid points\n" OBJ_FRAME,
                 INSTESS_VERSION, m->name, w.vs->name, vs_normals_name(o->normals), (double)o->level, m->n_triangles,
                 g.n_points);
@@ -1093,7 +984,7 @@ static int export_obj(const scene_opts *o, const is_mesh *m, is_outputs *outs, i
  * *saved and *total; false when it does not apply (another patch or grid) or memory is short. */
 static bool shortcut_savings(const scene_opts *o, const is_mesh *m, uint64_t *saved, uint64_t *total)
 {
-    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->lod != SCENE_LOD_UNIFORM) return false;
+    if (o->patch != VS_PATCH_SMOOTH || o->grid != CORE_GRID_REGULAR || o->lod != TESS_LOD_UNIFORM) return false;
     vs_triangle *t = malloc(m->n_triangles * sizeof *t);
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
     bool ok = t && inst;
@@ -1161,7 +1052,7 @@ static void print_stats_json(const scene_opts *o, const is_mesh *m, const run_re
            "\"triangles_drawn\": %llu, \"ms\": %.3f",
            r->st.mesh_triangles, r->st.grid_points, r->st.grid_triangles, (unsigned long long)r->st.vertices_shaded,
            (unsigned long long)r->st.triangles_drawn, r->ms);
-    if (o->lod != SCENE_LOD_UNIFORM) {   /* the edge level histogram: {"level": edges} */
+    if (o->lod != TESS_LOD_UNIFORM) {   /* the edge level histogram: {"level": edges} */
         printf(", \"lod\": \"%s\", \"patterns\": %zu, \"buckets\": %zu, \"triangles_tessellated\": %zu, "
                "\"edge_levels\": {", scene_lod_names[o->lod], r->st.n_patterns, r->st.n_buckets,
                r->st.tessellated_triangles);
@@ -1240,7 +1131,7 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
         snprintf(buf + n, len - n, ", d3d9-adaptive %g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1],
                  (double)o->d3d9_mdm[2], (double)o->d3d9_mdm[3]);
-    if (o->lod != SCENE_LOD_UNIFORM && (n = strlen(buf)) < len) {
+    if (o->lod != TESS_LOD_UNIFORM && (n = strlen(buf)) < len) {
         snprintf(buf + n, len - n, ", lod %s, lod-target %g, min-level %d, max-level %d, silhouette %s",
                  scene_lod_names[o->lod], (double)o->lod_target, o->min_level, scene_lod_max_level(o),
                  o->silhouette ? "on" : "off");
@@ -1289,7 +1180,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     r.shortcut = shortcut_savings(o, m, &r.saved, &r.total);
     if (o->stats_json) print_stats_json(o, m, &r);
     else {
-        if (o->lod != SCENE_LOD_UNIFORM) report_levels(o, &st);
+        if (o->lod != TESS_LOD_UNIFORM) report_levels(o, &st);
         print_stats_text(o, m, &r);
     }
     return 0;

@@ -21,6 +21,7 @@
 #include "outputs.h"
 #include "../meshes/meshes.h"
 #include "../vs/vs.h"
+#include "../tess/tess.h"
 
 #define SCENE_MAX_LEVEL 256.0f
 #define SCENE_LEVEL_MSG "--level must be a number in 1..256"
@@ -47,8 +48,7 @@ typedef enum { SCENE_LIGHT_HEADLIGHT = 0, SCENE_LIGHT_DIRECTION = 1, SCENE_LIGHT
  * given (T = level * 1 / dot(V, Mdm), V the mesh's own vertex).  MINTESSELLATIONLEVEL 1, MAXTESSELLATIONLEVEL
  * --level. */
 typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_adaptive;
-/* Level of detail (--lod): one --level for all (uniform), or a level per mesh edge (cli/lod.c). */
-typedef enum { SCENE_LOD_UNIFORM, SCENE_LOD_DISTANCE, SCENE_LOD_SCREEN } scene_lod;
+/* Level of detail (--lod): one --level for all (uniform), or a level per mesh edge (tess/lod.c). */
 #define SCENE_LOD_DEFAULT_TARGET 8.0f   /* --lod-target: pixels per segment of an edge's control polygon */
 /* The AOV channels of an EXR (--aov; README.md lists them with their background values): the patch's
  * unit normal N.X,N.Y,N.Z (0 on the background), barycentrics bary.* (0), the triangle's index `instance`
@@ -92,7 +92,7 @@ typedef struct scene_opts {
     unsigned max_import_memory_mib; /* the import child's memory (0: meshes.h's rule by the files' size) */
     scene_d3d9_adaptive d3d9_adaptive; /* --d3d9-adaptive (npatch-mode only): off, depth, or d3d9_mdm */
     float d3d9_mdm[4];          /* SCENE_D3D9_MDM: (ADAPTIVETESS_X, _Y, _Z, _W) as given */
-    scene_lod lod;              /* SCENE_LOD_UNIFORM: o->level everywhere; else per-edge levels (cli/lod.c) */
+    tess_lod_mode lod;              /* TESS_LOD_UNIFORM: o->level everywhere; else per-edge levels (tess/lod.c) */
     float lod_target;           /* screen: pixels per segment (SCENE_LOD_DEFAULT_TARGET) */
     int min_level, max_level;   /* per-edge levels are clamped to these (1..CORE_LOD_MAX_LEVEL); max 0: --level */
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
@@ -103,20 +103,6 @@ typedef struct scene_opts {
  * estimate stated at SCENE_DEFAULT_MAX_MEMORY_MIB. */
 unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triangles, size_t grid_points);
 
-/* The device resources of one scene draw (released by scene_resources_free). */
-typedef struct scene_resources {
-    is_vertex_buffer *vb0, *vb1, *vb2;
-    is_index_buffer *ib;
-    is_vertex_declaration *decl;
-    unsigned n_vertices, n_prims, n_instances;   /* the draw's NumVertices, PrimitiveCount, instances */
-} scene_resources;
-void scene_resources_free(scene_resources *r);
-/* An index buffer of n indices copied from idx: 16-bit when max_index < 65536, else 32-bit; IS_OK or an error. */
-is_result scene_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out);
-/* (cli/instancing.c) Tessellation through instancing on dev: the grid g in stream 0 (INDEXEDDATA | n_triangles; 16-bit indices
- * when they fit), one is_patch_instance per triangle of m in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
- * declaration; created in r and bound.  The shader and constants are the caller's.  IS_OK or an error. */
-is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r);
 
 /* The canonical description of a render of mesh m, stored in its image (ImageDescription): the mesh's name,
  * size and hash, and every option that changes pixels -- not the thread count, the output's name or the time,
@@ -209,9 +195,6 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
  * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
-/* The input registers the device fetches for grid point b of instance inst (Listing 1.1.2's declaration, as
- * mesh_patch_declaration lays it out): for evaluating a patch shader outside a draw (OBJ export, tests). */
-void scene_input_from_instance(const is_patch_instance *inst, float3 b, is_vs_input *in);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 
@@ -248,78 +231,14 @@ typedef enum { SCENE_ARGS_RUN, SCENE_ARGS_HELP, SCENE_ARGS_VERSION } scene_args_
  * usage error in err. */
 int scene_parse_args(int argc, char **argv, scene_opts *o, scene_args_result *res, char *err, size_t errlen);
 
-/* ---------------------------------------- adaptive level of detail (cli/lod.c, cli/instancing.c) ----------------
- *
- * Per-edge levels: each mesh edge (a pair of welded vertices a < b) gets one level, computed once per edge from
- * its two end points in that canonical order (and, for --lod screen, the normals at its ends of the first
- * triangle holding it), so both triangles of an edge use the same level whatever their vertex order.
- *  - distance: L = max_level * ref_depth / z, z the view depth of the edge's midpoint (ref_depth: the depth at
- *    which max_level is reached; the scene uses the nearest depth of the object's bounding sphere);
- *  - screen: L = length in pixels of the projected N-Patch control polygon of the edge (b300 b210 b120 b030, the
- *    border curve's hull: a bound of the curve's projected length) / target (NVIDIA's GDC 2011 rule);
- *  - then rounded up and clamped to [min_level, max_level]; an edge with a corner behind the eye gets max_level;
- *    with silhouette, an edge whose two faces face opposite ways (view space) gets max_level. */
-typedef struct scene_lod_params {
-    scene_lod mode;
-    float target_px, ref_depth;
-    int min_level, max_level, width, height;
-    bool silhouette;
-    float4x4 world_view, wvp;   /* object -> view, object -> clip */
-} scene_lod_params;
-
-/* A mesh's edges (topology only, built once) and their current levels. */
-typedef struct scene_lod_edges {
-    size_t n_edges;
-    uint32_t (*ends)[2];        /* welded vertices a < b */
-    float3 (*nrm)[2];           /* the normals at a and b of the first triangle holding the edge */
-    uint32_t (*faces)[2];       /* its first two triangles (UINT32_MAX: none) */
-    uint32_t *n_faces;
-    uint32_t *tri_edge;         /* 3 per triangle: the edge index of its edge k */
-    uint8_t *level;             /* per edge, after scene_lod_levels */
-} scene_lod_edges;
-int scene_lod_edges_build(const is_mesh *m, scene_lod_edges *e, char *err, size_t errlen);
-void scene_lod_edges_free(scene_lod_edges *e);
-/* Compute every edge's level as p says into e->level; hist[l] (CORE_LOD_MAX_LEVEL + 1 entries, zeroed here)
- * counts edges per level. */
-void scene_lod_levels(const scene_lod_params *p, const is_mesh *m, scene_lod_edges *e, uint64_t *hist);
+/* ---------------------------------------- adaptive level of detail (tess/tess.h has the rules) ------------- */
 /* The parameters of o's scene for mesh m (camera as scene_draw's; ref_depth the bounding sphere's nearest). */
-scene_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m);
+tess_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m);
 /* The largest level a render of o may use (max_level, or --level rounded). */
 int scene_lod_max_level(const scene_opts *o);
-
-/* One bucket: the triangles drawn with one pattern and one winding, in one instanced draw. */
-typedef struct scene_bucket {
-    int level[3];               /* the pattern's sorted edge levels */
-    bool odd;                   /* instances renumbered by an odd permutation: the flipped index range */
-    unsigned first, count;      /* its instances in stream 1 (and 2) */
-    int base_vertex;            /* the pattern's points in stream 0 (BaseVertexIndex) */
-    unsigned n_points, start_index, n_prims;
-} scene_bucket;
-/* The buffers of an adaptive draw: every pattern in use in stream 0 (16-bit indices local to the pattern, each
- * pattern's triangles then the same with two indices swapped), the instances renumbered (core_lod_order) and
- * sorted by bucket in stream 1. */
-typedef struct scene_adaptive {
-    scene_resources r;
-    scene_bucket *buckets;
-    size_t n_buckets, n_patterns, n_triangles;  /* n_triangles: tessellated, over all buckets */
-    uint32_t *tri;              /* per instance: the mesh triangle */
-    uint8_t (*perm)[3];         /* per instance: the renumbering */
-} scene_adaptive;
-void scene_adaptive_free(scene_adaptive *a);
-/* Bucket m's triangles by the patterns of the levels in e, fill and bind the buffers (stream 0, 1, the index
- * buffer, Listing 1.1.2's declaration) in a; patterns from cache.  IS_OK or an error. */
-is_result scene_bind_adaptive(is_device *dev, const is_mesh *m, const scene_lod_edges *e, core_pattern_cache *cache,
-                              scene_adaptive *a);
-/* PN-AEN's third stream: the neighbours' normals at each edge's ends (INSTANCEDATA | 1) and the declaration with
- * them, replacing r's; with a (an adaptive draw) in a's order and renumbering.  IS_OK or an error. */
-is_result scene_bind_adjacent_normals(is_device *dev, const is_mesh *m, scene_resources *r, const scene_adaptive *a);
-/* Set stream 1 (and 2, if bound) to bucket k's instances with INDEXEDDATA | count on stream 0, and draw it. */
-is_result scene_draw_bucket(is_device *dev, const scene_adaptive *a, size_t k);
-/* The renumbered instance: perm[i] of in becomes vertex i (positions, normals, texcoords, opposite vertices). */
-void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out);
-/* The names --lod takes, in scene_lod's order; parse one. */
+/* The names --lod takes, in tess_lod_mode's order; parse one. */
 extern const char *const scene_lod_names[];
-bool scene_parse_lod(const char *s, scene_lod *out);
+bool scene_parse_lod(const char *s, tess_lod_mode *out);
 
 /* ------------- the progress line of a long run (cli/progress.c) ------------- */
 

@@ -109,7 +109,7 @@ static void act_patch(view_state *v) { cycle(v, next_patch, VS_PATCH_COUNT, "pat
 static void next_normals(scene_opts *o) { o->normals = (vs_normals)((o->normals + 1) % 3); }
 static void act_normals(view_state *v) { cycle(v, next_normals, 3, "normals"); }
 
-static void next_lod(scene_opts *o) { o->lod = (scene_lod)((o->lod + 1) % 3); }
+static void next_lod(scene_opts *o) { o->lod = (tess_lod_mode)((o->lod + 1) % 3); }
 static void act_lod(view_state *v) { cycle(v, next_lod, 3, "lod"); }
 
 /* The next path; the N-patch mode and the CPU path evaluate linear or quadratic normals only, so real normals

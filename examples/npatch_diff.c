@@ -17,6 +17,7 @@
 #include <instess/core/core.h>
 #include <instess/image/image.h>
 #include <instess/meshes/meshes.h>
+#include <instess/tess/tess.h>
 #include <instess/vs/vs.h>
 
 #include <stdio.h>
@@ -48,45 +49,6 @@ static int build_octahedron(is_mesh *m, char *err, size_t errlen)
     return mesh_create(m, "octahedron", &d, NULL, err, errlen);
 }
 
-/* The buffers of one instanced draw (released by release_draw). */
-typedef struct draw_buffers {
-    is_vertex_buffer *grid, *instances;
-    is_index_buffer *indices;
-    is_vertex_declaration *decl;
-} draw_buffers;
-
-static void release_draw(draw_buffers *b)
-{
-    vb_release(b->grid);
-    vb_release(b->instances);
-    ib_release(b->indices);
-    decl_release(b->decl);
-}
-
-/* Tessellation through instancing on dev: the grid of level LEVEL in stream 0, drawn once per triangle of m
- * (INDEXEDDATA | n), one is_patch_instance per triangle in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
- * declaration.  IS_OK or the device's error. */
-static is_result bind_instanced(is_device *dev, const is_mesh *m, draw_buffers *b)
-{
-    size_t np = core_grid_points(LEVEL), nt = core_grid_triangles(LEVEL);
-    is_result e = dev_create_vertex_buffer(dev, np * sizeof(float3), &b->grid);
-    if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &b->instances);
-    if (e == IS_OK) e = dev_create_index_buffer(dev, 3 * nt * sizeof(uint32_t), IS_FMT_INDEX32, &b->indices);
-    if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &b->decl);
-    if (e != IS_OK) return e;
-    core_grid_regular(LEVEL, vb_lock(b->grid), ib_lock(b->indices));   /* the barycentric grid, once */
-    vb_unlock(b->grid);
-    ib_unlock(b->indices);
-    mesh_build_instances(m, vb_lock(b->instances));                     /* corners, normals, neighbours */
-    vb_unlock(b->instances);
-    dev_set_vertex_declaration(dev, b->decl);
-    dev_set_stream_source(dev, 0, b->grid, 0, sizeof(float3));
-    dev_set_stream_source(dev, 1, b->instances, 0, sizeof(is_patch_instance));
-    dev_set_indices(dev, b->indices);
-    dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | (uint32_t)m->n_triangles);
-    return dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
-}
-
 /* The N-Patch shader with its constants: World (yaw 30, pitch 20 degrees), a camera 3.2 units away, a 45
  * degree field of view, and a light grey g_vDiffuse.  IS_OK or the device's error. */
 static is_result set_npatch_shader(is_device *dev)
@@ -107,17 +69,25 @@ static is_result set_npatch_shader(is_device *dev)
 static int render(is_image *img, char *err, size_t errlen)
 {
     is_mesh m = {0};
-    draw_buffers b = {0};
+    core_grid g = {0};
+    tess_resources r = {0};
     if (build_octahedron(&m, err, errlen) != 0) return -1;
+    if (core_grid_make(CORE_GRID_REGULAR, LEVEL, &g) != 0) {   /* the barycentric grid of one triangle */
+        snprintf(err, errlen, "out of memory");
+        mesh_free(&m);
+        return -1;
+    }
     is_device *dev = dev_create(WIDTH, HEIGHT, SAMPLES, err, errlen);
     int rc = dev ? 0 : -1;
     is_result e = IS_OK;
     if (dev) e = dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff202830u, 1.0f);
-    if (dev && e == IS_OK) e = bind_instanced(dev, &m, &b);
+    /* tessellation through instancing: the grid in stream 0 drawn once per triangle of m (INDEXEDDATA | n),
+     * one is_patch_instance per triangle in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's declaration */
+    if (dev && e == IS_OK) e = tess_bind_instanced(dev, &m, &g, &r);
     if (dev && e == IS_OK) e = set_npatch_shader(dev);
     if (dev && e == IS_OK)   /* the grid's points and triangles, drawn m.n_triangles times */
-        e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)core_grid_points(LEVEL), 0,
-                                       (unsigned)core_grid_triangles(LEVEL));
+        e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)g.n_points, 0,
+                                       (unsigned)g.n_triangles);
     if (dev && e != IS_OK) rc = -1, snprintf(err, errlen, "draw failed: %s", dev_last_error(dev));
     uint32_t *rgba = rc == 0 ? malloc((size_t)WIDTH * HEIGHT * sizeof *rgba) : NULL;
     if (rc == 0 && !rgba) rc = -1, snprintf(err, errlen, "out of memory");
@@ -127,8 +97,9 @@ static int render(is_image *img, char *err, size_t errlen)
         image_from_rgba8(img, rgba);
     }
     free(rgba);
-    release_draw(&b);
+    tess_resources_free(&r);
     dev_destroy(dev);
+    core_grid_free(&g);
     mesh_free(&m);
     return rc;
 }

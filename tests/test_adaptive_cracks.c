@@ -94,9 +94,9 @@ static scene_opts test_opts(vs_patch p)
 static is_device *levels_device(const is_mesh *m, vs_patch p, uint32_t seed, bool batch, long break_tri, uint32_t cull)
 {
     scene_opts o = test_opts(p);
-    scene_lod_edges e;
+    tess_lod_edges e;
     char err[256];
-    assert_int_equal(scene_lod_edges_build(m, &e, err, sizeof err), 0);
+    assert_int_equal(tess_lod_edges_build(m, &e, err, sizeof err), 0);
     for (size_t k = 0; k < e.n_edges; k++) e.level[k] = (uint8_t)(1 + crack_mix32((uint32_t)k * 2654435761u ^ seed) % MAX_TEST_LEVEL);
     if (break_tri >= 0) { /* point its edge 0 at an edge of another level */
         uint32_t *te = &e.tri_edge[3 * (size_t)break_tri];
@@ -108,20 +108,20 @@ static is_device *levels_device(const is_mesh *m, vs_patch p, uint32_t seed, boo
     dev_set_render_state(dev, IS_RS_CULLMODE, cull);
     if (cull != IS_CULL_NONE) dev_set_vertex_shader_constant_f(dev, 10, (const float[4]){(float)p, 0, 0, 0}, 1);
     dev_set_vertex_shader(dev, batch ? &count_batch : &count_main);
-    scene_lod_params lp = scene_lod_params_of(&o, m);
+    tess_lod_params lp = scene_lod_params_of(&o, m);
     is_vs_constants c;
     memset(&c, 0, sizeof c);
     float4x4 id = mat_identity();
     vs_options vo = vs_default_options();
     vs_set_constants(&c, &lp.wvp, &id, f4(1, 1, 1, 1), &vo);
     dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, VS_C_COUNT);
-    scene_adaptive a;
-    assert_int_equal(scene_bind_adaptive(dev, m, &e, cache, &a), IS_OK);
-    if (p == VS_PATCH_PN_AEN) assert_int_equal(scene_bind_adjacent_normals(dev, m, &a.r, &a), IS_OK);
+    tess_adaptive a;
+    assert_int_equal(tess_bind_adaptive(dev, m, &e, cache, &a), IS_OK);
+    if (p == VS_PATCH_PN_AEN) assert_int_equal(tess_bind_adjacent_normals(dev, m, &a.r, &a), IS_OK);
     assert_true(a.n_buckets > 1);
-    for (size_t k = 0; k < a.n_buckets; k++) assert_int_equal(scene_draw_bucket(dev, &a, k), IS_OK);
-    scene_adaptive_free(&a);
-    scene_lod_edges_free(&e);
+    for (size_t k = 0; k < a.n_buckets; k++) assert_int_equal(tess_draw_bucket(dev, &a, k), IS_OK);
+    tess_adaptive_free(&a);
+    tess_lod_edges_free(&e);
     core_pattern_cache_destroy(cache);
     return dev;
 }
@@ -213,7 +213,7 @@ static void test_no_cracks_lod_modes(void **state)
         for (int p = 0; p < VS_PATCH_COUNT; p++)
             for (int mode = 0; mode < 3; mode++) {
                 scene_opts o = test_opts((vs_patch)p);
-                o.lod = mode == 0 ? SCENE_LOD_DISTANCE : SCENE_LOD_SCREEN, o.max_level = 12, o.lod_target = 3.0f;
+                o.lod = mode == 0 ? TESS_LOD_DISTANCE : TESS_LOD_SCREEN, o.max_level = 12, o.lod_target = 3.0f;
                 o.distance = 1.6f, o.silhouette = mode == 2;
                 is_device *dev = count_device((vs_patch)p);
                 assert_int_equal(scene_draw(dev, &o, &m, NULL, &count_batch), 0);
@@ -324,7 +324,7 @@ static void test_export_obj_closed(void **state)
     prog_rmdir(dir);
 }
 
-/* The renumbered instance is the same patch: every patch shader evaluated on scene_permute_instance's record at
+/* The renumbered instance is the same patch: every patch shader evaluated on tess_permute_instance's record at
  * the renumbered barycentrics gives the original's point (up to rounding), for all six renumberings, on the
  * welded cube (curved; its edges are feature edges or coplanar diagonals, so a wrong opp changes the smoothed
  * patches). */
@@ -349,12 +349,12 @@ static void test_permuted_instance_same_surface(void **state)
         for (size_t t = 0; t < m.n_triangles; t++)
             for (int q = 0; q < 6; q++) {
                 is_patch_instance pi;
-                scene_permute_instance(&inst[t], perms[q], &pi);
+                tess_permute_instance(&inst[t], perms[q], &pi);
                 const float b[3] = {0.2f, 0.5f, 0.3f};
                 is_vs_input in0, in1;
                 is_vs_output o0, o1;
-                scene_input_from_instance(&inst[t], f3(b[0], b[1], b[2]), &in0);
-                scene_input_from_instance(&pi, f3(b[perms[q][0]], b[perms[q][1]], b[perms[q][2]]), &in1);
+                tess_input_from_instance(&inst[t], NULL, f3(b[0], b[1], b[2]), &in0);
+                tess_input_from_instance(&pi, NULL, f3(b[perms[q][0]], b[perms[q][1]], b[perms[q][2]]), &in1);
                 vs->main(&c, &in0, &o0), vs->main(&c, &in1, &o1);
                 double d = fabs((double)o0.pos.x - o1.pos.x) + fabs((double)o0.pos.y - o1.pos.y) +
                            fabs((double)o0.pos.z - o1.pos.z);

@@ -56,7 +56,7 @@ static int check_vertices(const is_vertex_shader *vs, const is_vs_constants *c, 
     for (size_t k = 0; k < n; k++) {
         is_vs_input in;
         is_vs_output out;
-        scene_input_from_instance(inst, b[k], &in);
+        tess_input_from_instance(inst, NULL, b[k], &in);
         memset(&out, 0, sizeof out);
         vs->main(c, &in, &out);
         if (!finite4(out.pos)) { dropped++; continue; }

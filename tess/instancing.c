@@ -1,12 +1,12 @@
-/* cli/instancing.c -- the scene layer's buffers of tessellation through instancing (cli/scene.h): the grid in
- * stream 0, one instance per mesh triangle in stream 1.  A file of its own, with no image code, so that a
- * program that only draws (build/bench) does not link the image library. */
-#include "scene.h"
+/* tess/instancing.c -- the buffers of tessellation through instancing (tess/tess.h): the grid in stream 0, one
+ * instance per mesh triangle in stream 1; for per-edge levels, the patterns in use in stream 0 and the instances
+ * renumbered and sorted by bucket. */
+#include "tess_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-void scene_resources_free(scene_resources *r)
+void tess_resources_free(tess_resources *r)
 {
     vb_release(r->vb0);
     vb_release(r->vb1);
@@ -16,7 +16,7 @@ void scene_resources_free(scene_resources *r)
     memset(r, 0, sizeof *r);
 }
 
-is_result scene_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out)
+is_result tess_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out)
 {
     bool small = max_index < 65536;
     is_result r = dev_create_index_buffer(dev, n * (small ? 2 : 4), small ? IS_FMT_INDEX16 : IS_FMT_INDEX32, out);
@@ -30,11 +30,11 @@ is_result scene_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size
     return IS_OK;
 }
 
-is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, scene_resources *r)
+is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, tess_resources *r)
 {
     is_result e = dev_create_vertex_buffer(dev, g->n_points * sizeof(float3), &r->vb0);
     if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
-    if (e == IS_OK) e = scene_index_buffer(dev, g->idx, 3 * g->n_triangles, g->n_points, &r->ib);
+    if (e == IS_OK) e = tess_index_buffer(dev, g->idx, 3 * g->n_triangles, g->n_points, &r->ib);
     if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
     if (e != IS_OK) return e;
     memcpy(vb_lock(r->vb0), g->bary, g->n_points * sizeof(float3));
@@ -53,7 +53,7 @@ is_result scene_bind_instanced(is_device *dev, const is_mesh *m, const core_grid
 
 /* ---------------------------------------- adaptive: buckets of patterns ---------------------------------------- */
 
-void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out)
+void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out)
 {
     for (int i = 0; i < 3; i++) {
         out->v[i] = in->v[perm[i]], out->n[i] = in->n[perm[i]], out->t[i] = in->t[perm[i]];
@@ -63,9 +63,9 @@ void scene_permute_instance(const is_patch_instance *in, const uint8_t perm[3], 
     out->instance_id = in->instance_id;
 }
 
-void scene_adaptive_free(scene_adaptive *a)
+void tess_adaptive_free(tess_adaptive *a)
 {
-    scene_resources_free(&a->r);
+    tess_resources_free(&a->r);
     free(a->buckets), free(a->tri), free(a->perm);
     memset(a, 0, sizeof *a);
 }
@@ -91,7 +91,7 @@ static bool grow(void **p, size_t *cap, size_t need, size_t sz)
 
 /* Append pattern g (its triangles, then the same with indices 1 and 2 swapped) to the pool; bucket b gets its
  * base vertex, point count, start index (of the unflipped range) and triangle count.  False when out of memory. */
-static bool pool_add(pattern_pool *pool, const core_grid *g, scene_bucket *b)
+static bool pool_add(pattern_pool *pool, const core_grid *g, tess_bucket *b)
 {
     if (!grow((void **)&pool->pts, &pool->cap_pts, pool->n_pts + g->n_points, sizeof(float3)) ||
         !grow((void **)&pool->idx, &pool->cap_idx, pool->n_idx + 6 * g->n_triangles, sizeof(uint32_t)))
@@ -113,7 +113,7 @@ static bool pool_add(pattern_pool *pool, const core_grid *g, scene_bucket *b)
 
 /* Each triangle's bucket key ((a, b, c) sorted levels and parity) in the high 32 bits, the triangle below; its
  * renumbering into a->perm[t] (by triangle here; reordered by the caller). */
-static void triangle_keys(const is_mesh *m, const scene_lod_edges *e, uint64_t *keys, uint8_t (*perm)[3])
+static void triangle_keys(const is_mesh *m, const tess_lod_edges *e, uint64_t *keys, uint8_t (*perm)[3])
 {
     for (size_t t = 0; t < m->n_triangles; t++) {
         int lv[3], s[3], p[3];
@@ -134,11 +134,11 @@ static int cmp_u64(const void *x, const void *y)
 /* Sorted keys in; a->buckets, a->tri, a->perm (reordered from by-triangle tperm) and the pool filled.  IS_OK or
  * IS_ERR_OUTOFMEMORY. */
 static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tperm)[3], core_pattern_cache *cache,
-                              scene_adaptive *a, pattern_pool *pool)
+                              tess_adaptive *a, pattern_pool *pool)
 {
     size_t cap = 0;
     uint64_t pattern_key = UINT64_MAX;
-    scene_bucket last = {0};
+    tess_bucket last = {0};
     for (size_t i = 0; i < n; i++) {
         const uint32_t t = (uint32_t)keys[i];
         a->tri[i] = t;
@@ -146,8 +146,8 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
         const uint64_t key = keys[i] >> 32;
         if (i > 0 && key == keys[i - 1] >> 32) { a->buckets[a->n_buckets - 1].count++; continue; }
         if (!grow((void **)&a->buckets, &cap, a->n_buckets + 1, sizeof *a->buckets)) return IS_ERR_OUTOFMEMORY;
-        scene_bucket *b = &a->buckets[a->n_buckets++];
-        *b = (scene_bucket){.odd = key & 1, .first = (unsigned)i, .count = 1};
+        tess_bucket *b = &a->buckets[a->n_buckets++];
+        *b = (tess_bucket){.odd = key & 1, .first = (unsigned)i, .count = 1};
         const uint64_t pk = key >> 1;
         b->level[0] = (int)(pk / (CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL)) + 1;
         b->level[1] = (int)(pk / CORE_LOD_MAX_LEVEL % CORE_LOD_MAX_LEVEL) + 1;
@@ -170,20 +170,20 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
 }
 
 /* The pool and the sorted instances into device buffers, bound with Listing 1.1.2's declaration. */
-static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern_pool *pool, scene_adaptive *a)
+static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern_pool *pool, tess_adaptive *a)
 {
-    scene_resources *r = &a->r;
+    tess_resources *r = &a->r;
     is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
     if (!inst) return IS_ERR_OUTOFMEMORY;
     is_result e = dev_create_vertex_buffer(dev, pool->n_pts * sizeof(float3), &r->vb0);
     if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
-    if (e == IS_OK) e = scene_index_buffer(dev, pool->idx, pool->n_idx, pool->max_points, &r->ib);
+    if (e == IS_OK) e = tess_index_buffer(dev, pool->idx, pool->n_idx, pool->max_points, &r->ib);
     if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
     if (e == IS_OK) {
         memcpy(vb_lock(r->vb0), pool->pts, pool->n_pts * sizeof(float3));
         mesh_build_instances(m, inst);
         is_patch_instance *out = vb_lock(r->vb1);
-        for (size_t i = 0; i < m->n_triangles; i++) scene_permute_instance(&inst[a->tri[i]], a->perm[i], &out[i]);
+        for (size_t i = 0; i < m->n_triangles; i++) tess_permute_instance(&inst[a->tri[i]], a->perm[i], &out[i]);
         dev_set_vertex_declaration(dev, r->decl);
         dev_set_stream_source(dev, 0, r->vb0, 0, sizeof(float3));
         dev_set_indices(dev, r->ib);
@@ -193,8 +193,8 @@ static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern
     return e;
 }
 
-is_result scene_bind_adaptive(is_device *dev, const is_mesh *m, const scene_lod_edges *e, core_pattern_cache *cache,
-                              scene_adaptive *a)
+is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
+                              tess_adaptive *a)
 {
     memset(a, 0, sizeof *a);
     const size_t n = m->n_triangles;
@@ -213,9 +213,9 @@ is_result scene_bind_adaptive(is_device *dev, const is_mesh *m, const scene_lod_
     return r;
 }
 
-is_result scene_draw_bucket(is_device *dev, const scene_adaptive *a, size_t k)
+is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k)
 {
-    const scene_bucket *b = &a->buckets[k];
+    const tess_bucket *b = &a->buckets[k];
     is_result e = dev_set_stream_source(dev, 1, a->r.vb1, b->first * (unsigned)sizeof(is_patch_instance),
                                         sizeof(is_patch_instance));
     if (e == IS_OK && a->r.vb2)

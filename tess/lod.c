@@ -1,27 +1,11 @@
-/* cli/lod.c -- per-edge levels of detail (scene.h, "adaptive level of detail"): the mesh's edges keyed by their
+/* tess/lod.c -- per-edge levels of detail (tess/tess.h, "adaptive level of detail"): the mesh's edges keyed by their
  * welded end points, and one level per edge from that edge alone, so both of its triangles agree. */
-#include "scene.h"
+#include "tess_internal.h"
 
-#include "../core/hlsl.h"
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-const char *const scene_lod_names[] = {"uniform", "distance", "screen", NULL};
-
-bool scene_parse_lod(const char *s, scene_lod *out)
-{
-    for (int k = 0; s && scene_lod_names[k]; k++)
-        if (strcmp(s, scene_lod_names[k]) == 0) return *out = (scene_lod)k, true;
-    return false;
-}
-
-int scene_lod_max_level(const scene_opts *o)
-{
-    if (o->max_level > 0) return o->max_level;
-    int l = (int)lroundf(o->level);
-    return l < 1 ? 1 : l;
-}
 
 /* One triangle corner's edge: welded ends a < b, the triangle and the edge's index k in it. */
 typedef struct corner_edge { uint32_t a, b, tri, k; } corner_edge;
@@ -35,7 +19,7 @@ static int corner_edge_cmp(const void *x, const void *y)
     return p->k < q->k ? -1 : (p->k > q->k);
 }
 
-void scene_lod_edges_free(scene_lod_edges *e)
+void tess_lod_edges_free(tess_lod_edges *e)
 {
     free(e->ends), free(e->nrm), free(e->faces), free(e->n_faces), free(e->tri_edge), free(e->level);
     memset(e, 0, sizeof *e);
@@ -50,7 +34,7 @@ static float3 corner_normal(const is_mesh *m, uint32_t t, uint32_t w)
 }
 
 /* Sorted corner edges c[0..n) in; the unique edges written to e (arrays allocated by the caller). */
-static void fill_edges(const is_mesh *m, const corner_edge *c, size_t n, scene_lod_edges *e)
+static void fill_edges(const is_mesh *m, const corner_edge *c, size_t n, tess_lod_edges *e)
 {
     size_t k = 0;
     for (size_t i = 0; i < n; k++) {
@@ -68,7 +52,7 @@ static void fill_edges(const is_mesh *m, const corner_edge *c, size_t n, scene_l
     e->n_edges = k;
 }
 
-int scene_lod_edges_build(const is_mesh *m, scene_lod_edges *e, char *err, size_t errlen)
+int tess_lod_edges_build(const is_mesh *m, tess_lod_edges *e, char *err, size_t errlen)
 {
     memset(e, 0, sizeof *e);
     const size_t n = 3 * m->n_triangles;
@@ -78,7 +62,7 @@ int scene_lod_edges_build(const is_mesh *m, scene_lod_edges *e, char *err, size_
     e->tri_edge = malloc(n * sizeof *e->tri_edge), e->level = malloc(n ? n : 1);
     if (!c || !e->ends || !e->nrm || !e->faces || !e->n_faces || !e->tri_edge || !e->level) {
         free(c);
-        scene_lod_edges_free(e);
+        tess_lod_edges_free(e);
         return snprintf(err, errlen, "%s: out of memory for the edges of %zu triangles", m->name, m->n_triangles), -1;
     }
     for (size_t i = 0; i < n; i++) {
@@ -93,7 +77,7 @@ int scene_lod_edges_build(const is_mesh *m, scene_lod_edges *e, char *err, size_
 }
 
 /* A level from a real number of segments: rounded up, clamped to the parameters' range. */
-static int clamp_level(const scene_lod_params *p, double x)
+static int clamp_level(const tess_lod_params *p, double x)
 {
     if (!(x < (double)p->max_level)) return p->max_level; /* NaN too */
     int l = (int)ceil(x);
@@ -101,7 +85,7 @@ static int clamp_level(const scene_lod_params *p, double x)
 }
 
 /* Object position in, pixel position out; false when it is not in front of the eye. */
-static bool to_pixels(const scene_lod_params *p, float3 v, double *x, double *y)
+static bool to_pixels(const tess_lod_params *p, float3 v, double *x, double *y)
 {
     float4 c = mul4(f4_of(v, 1.0f), &p->wvp);
     if (!(c.w > 1e-6f)) return false;
@@ -119,10 +103,10 @@ static void edge_polygon(float3 pa, float3 na, float3 pb, float3 nb, float3 q[4]
 }
 
 /* Edge k's level as p says (without the silhouette rule). */
-static int edge_level(const scene_lod_params *p, const is_mesh *m, const scene_lod_edges *e, size_t k)
+static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod_edges *e, size_t k)
 {
     const float3 pa = m->positions[e->ends[k][0]], pb = m->positions[e->ends[k][1]];
-    if (p->mode == SCENE_LOD_DISTANCE) {
+    if (p->mode == TESS_LOD_DISTANCE) {
         float3 mid = scale3(add3(pa, pb), 0.5f);
         float4 v = mul4(f4_of(mid, 1.0f), &p->world_view);
         return v.z > 0.0f ? clamp_level(p, (double)p->max_level * p->ref_depth / v.z) : p->max_level;
@@ -139,7 +123,7 @@ static int edge_level(const scene_lod_params *p, const is_mesh *m, const scene_l
 }
 
 /* Triangle t's facing in view space: the sign of its normal against the direction to the eye (+1, -1, 0). */
-static int facing(const scene_lod_params *p, const is_mesh *m, uint32_t t)
+static int facing(const tess_lod_params *p, const is_mesh *m, uint32_t t)
 {
     float3 v[3];
     for (int c = 0; c < 3; c++) v[c] = f3_of(mul4(f4_of(m->positions[m->indices[3 * (size_t)t + c]], 1.0f), &p->world_view));
@@ -147,11 +131,11 @@ static int facing(const scene_lod_params *p, const is_mesh *m, uint32_t t)
     return (f > 0) - (f < 0);
 }
 
-void scene_lod_levels(const scene_lod_params *p, const is_mesh *m, scene_lod_edges *e, uint64_t *hist)
+void tess_lod_levels(const tess_lod_params *p, const is_mesh *m, tess_lod_edges *e, uint64_t *hist)
 {
     memset(hist, 0, (CORE_LOD_MAX_LEVEL + 1) * sizeof *hist);
     for (size_t k = 0; k < e->n_edges; k++) {
-        int l = p->mode == SCENE_LOD_UNIFORM ? p->max_level : edge_level(p, m, e, k);
+        int l = p->mode == TESS_LOD_UNIFORM ? p->max_level : edge_level(p, m, e, k);
         if (p->silhouette && e->n_faces[k] == 2 && facing(p, m, e->faces[k][0]) * facing(p, m, e->faces[k][1]) < 0)
             l = p->max_level;
         e->level[k] = (uint8_t)l;
