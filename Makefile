@@ -58,11 +58,12 @@ TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(TEST_SRC:tests/%.c=$(B)/tests/%)
 TEST_UTIL_SRC = $(wildcard tests/util/*.c)
 TEST_UTIL_OBJ = $(TEST_UTIL_SRC:%.c=$(B)/%.o)
-# cli/: the program's main (cli/main.c) and the scene layer every program and golden test shares.
-APP_SRC  = $(filter-out cli/main.c cli/view.c,$(wildcard cli/*.c))
+# cli/: the program, in three folders: run/ (main, the option table, the scene, the files of a run, compare,
+# smoothness), figures/ (the gallery) and view/ (the viewer; its SDL2 window is a module of its own).
+APP_SRC  = $(filter-out cli/run/main.c cli/view/view.c,$(wildcard cli/*/*.c))
 APP_OBJ  = $(APP_SRC:%.c=$(B)/%.o)
-# The window of `instess view` (cli/view.c, SDL2 and SDL2_ttf) is the module libinstess_view.so, opened by
-# cli/view_state.c only when `instess view` runs: SDL2 links about fifty libraries, which every start of the
+# The window of `instess view` (cli/view/view.c, SDL2 and SDL2_ttf) is the module libinstess_view.so, opened by
+# cli/view/view_state.c only when `instess view` runs: SDL2 links about fifty libraries, which every start of the
 # program would load otherwise.
 VIEW_SO  = $(B)/libinstess_view.so
 CFLAGS_SDL = $(shell pkg-config --cflags sdl2 SDL2_ttf 2>/dev/null)
@@ -99,11 +100,11 @@ $(B)/image/image_oiio.o: image/image_oiio.cpp $(SETUP)
 $(CODEC_SO): $(IMG_OBJ)
 	$(CXX) -shared $(LDFLAGS) $^ $(LDLIBS_IMG) -o $@
 
-$(B)/cli/view.pic.o: cli/view.c $(SETUP)
+$(B)/cli/view/view.pic.o: cli/view/view.c $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -fPIC $(CFLAGS_SDL) -MMD -MP -c $< -o $@
 
-$(VIEW_SO): $(B)/cli/view.pic.o
+$(VIEW_SO): $(B)/cli/view/view.pic.o
 	$(CC) -shared $(LDFLAGS) $^ $(LDLIBS_SDL) -o $@
 
 $(B)/libinstess.a: $(LIB_OBJ)
@@ -114,7 +115,7 @@ $(B)/libinstess_app.a: $(APP_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(B)/instess: $(B)/cli/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
+$(B)/instess: $(B)/cli/run/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO)
@@ -153,7 +154,7 @@ sanitize: $(SETUP)
 # under valgrind on CPUs without RDTSCP; see that file): the renderer's code is the same, only the file
 # encoding differs, and each image is compared with the same run's image outside valgrind.
 VG_BIN   = $(B)/tests/valgrind/instess
-$(VG_BIN): $(B)/cli/main.o $(B)/libinstess_app.a $(filter-out $(B)/image/image_codec.o,$(LIB_OBJ)) \
+$(VG_BIN): $(B)/cli/run/main.o $(B)/libinstess_app.a $(filter-out $(B)/image/image_codec.o,$(LIB_OBJ)) \
           $(B)/tests/valgrind/codec_raw.o
 	$(CC) $(LDFLAGS) $^ $(LDLIBS_MESH) -lm -o $@
 
@@ -171,7 +172,7 @@ valgrind: $(VG_BIN)
 # The library's objects are built again with -fPIC under $(B)/pic/ (the program and the tests keep the fixed
 # configuration's objects).  The module's folder is compiled into image/image_codec.c (INSTESS_CODEC_DIR), so
 # changing PREFIX or LIBDIR rebuilds that one object; the shared library finds the module beside itself first,
-# which is what a staged (DESTDIR) copy uses.  cli/scene.h is the program's layer (option tables, output files)
+# which is what a staged (DESTDIR) copy uses.  cli/run/scene.h is the program's layer (option tables, output files)
 # and is not installed: a user sets up the device and the instanced draw with core.h, as examples/ shows.
 VERSION    := $(shell sed -n 's/^\#define INSTESS_VERSION "\(.*\)"/\1/p' core/api.h)
 SOVERSION  := $(firstword $(subst ., ,$(VERSION)))

@@ -2,7 +2,7 @@
  *
  * For each scene (A: the cube at level 32, 1024x1024; B: 100 cubes at level 16, 1024x1024; C: the cube at level
  * 4, 2048x2048) and patch (npatch, smooth) it renders tessellation through instancing with instess in-process
- * (the device API of core/core.h with the shaders of vs/, exactly scene.c's instanced path: grid in stream 0 with
+ * (the device API of core/core.h with the shaders of vs/ and the binding of tess/, exactly the program's instanced path: grid in stream 0 with
  * INDEXEDDATA | n_triangles, is_patch_instance in stream 1 with INSTANCEDATA | 1) with 1 thread and with all
  * threads, and the same data with Mesa's llvmpipe through build/bench-gl (a child process per LP_NUM_THREADS
  * value, so that LP_NUM_THREADS and GLIBC_TUNABLES apply), then prints a table, one machine-readable line per
@@ -29,7 +29,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../cli/scene.h"   /* the scene layer: core, meshes, vs and the instanced draw */
+#include "../core/core.h"
+#include "../meshes/meshes.h"
+#include "../tess/tess.h"   /* tessellation through instancing: the grid and instance streams */
+#include "../vs/vs.h"
 #include "bench_lod.h"
 #include "bench_scene_file.h"
 

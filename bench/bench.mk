@@ -28,7 +28,7 @@ $(BENCH_OBJ)/bench_lod.o: bench/bench_lod.c bench/bench_lod.h $(SETUP)
 $(B)/bench-gl: $(BENCH_OBJ)/gl_ref.o
 	$(CC) $(LDFLAGS) $^ $(BENCH_GL_LIBS) -o $@
 
-$(B)/bench: $(BENCH_OBJ)/bench.o $(BENCH_OBJ)/bench_lod.o $(B)/libinstess_app.a $(B)/libinstess.a
+$(B)/bench: $(BENCH_OBJ)/bench.o $(BENCH_OBJ)/bench_lod.o $(B)/libinstess.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 .PHONY: bench-setup bench-build

@@ -17,7 +17,10 @@
 #include <string.h>
 #include <time.h>
 
-#include "../cli/scene.h"
+#include "../core/core.h"
+#include "../meshes/meshes.h"
+#include "../tess/tess.h"
+#include "../vs/vs.h"
 #include "bench_lod.h"
 
 #include "../core/hlsl.h"

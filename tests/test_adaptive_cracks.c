@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "util/crack.h"
 #include "util/prog.h"
 

@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "../core/device_internal.h" /* the draw's edge levels (dev->npatch_lv) */
 #include "util/golden.h"
 #include "util/crack.h"

@@ -38,7 +38,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "util/crack.h"
 
 #include "../core/hlsl.h"

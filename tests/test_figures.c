@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../cli/figures.h"
+#include "../cli/figures/figures.h"
 #include "util/golden.h"
 #include "util/prog.h"
 

@@ -41,7 +41,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "../vs/vs_internal.h" /* vs_npatch_batch, vs_smooth_batch */
 #include "util/golden.h"
 

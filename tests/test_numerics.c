@@ -15,7 +15,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "../core/hlsl.h"
 #include "../vs/vs_internal.h"  /* vs_finite3 */
 

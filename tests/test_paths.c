@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "util/golden.h"
 
 /* Render mesh `name` with o into img (asserting success). */

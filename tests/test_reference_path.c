@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 #include "util/patch_util.h"
 #include "../raster/raster_internal.h"
 

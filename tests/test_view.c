@@ -19,7 +19,7 @@
 #include <unistd.h>
 
 #include "util/prog.h"
-#include "../cli/scene.h"
+#include "../cli/run/scene.h"
 
 static char dir[256], bin[PATH_MAX];
 

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../cli/scene.h"
+#include "../../cli/run/scene.h"
 #include "../../meshes/meshes.h"
 
 #include "../../core/hlsl.h"

@@ -7,7 +7,7 @@
 
 #include "../../meshes/meshes.h"
 #include "../../vs/vs.h"
-#include "../../cli/scene.h"
+#include "../../cli/run/scene.h"
 
 /* xorshift64* in [-1, 1). */
 float frand(uint64_t *s);

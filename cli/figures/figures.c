@@ -21,7 +21,7 @@
 
 #include "figures.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 static const char figures_usage[] =
     "usage: instess figures [--out DIR] [--only ID[,ID...]] [--small] [--threads N]\n"
     "Render every figure of the source documents into DIR (default out): ID.png, ID.exr (renderings: RGBA, Z,\n"

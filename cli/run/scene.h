@@ -15,13 +15,13 @@
 #include <pthread.h>
 #include <stdio.h>
 
-#include "../core/core.h"
-#include "../core/hlsl.h"
-#include "../image/image.h"
+#include "../../core/core.h"
+#include "../../core/hlsl.h"
+#include "../../image/image.h"
 #include "outputs.h"
-#include "../meshes/meshes.h"
-#include "../vs/vs.h"
-#include "../tess/tess.h"
+#include "../../meshes/meshes.h"
+#include "../../vs/vs.h"
+#include "../../tess/tess.h"
 
 #define SCENE_MAX_LEVEL 256.0f
 #define SCENE_LEVEL_MSG "--level must be a number in 1..256"

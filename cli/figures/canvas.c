@@ -15,7 +15,7 @@
 
 #include "figures.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #define CANVAS_MARGIN 0.03f   /* of the smaller image side */
 #define CANVAS_DISC_SEGS 20   /* polygon sides of a disc of radius >= 4 px */
 #define CANVAS_ARROW_HEAD 4.0f /* head length in line widths (at least 5 px) */

@@ -11,7 +11,7 @@
 #ifndef INSTESS_VIEW_INTERNAL_H
 #define INSTESS_VIEW_INTERNAL_H
 
-#include "scene.h"
+#include "../run/scene.h"
 
 /* What the frame shows: the colour render, or one AOV mapped to colours, or the crack view (additive coverage,
  * no culling, no depth test: a closed surface covers each pixel an even number of times; odd counts in red). */

@@ -13,7 +13,7 @@
 
 #include <stdbool.h>
 
-#include "scene.h"
+#include "../run/scene.h"
 
 typedef struct fig_ctx {
     bool small;   /* test size */

@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "../image/image.h"
+#include "../../image/image.h"
 
 /* The files one run writes succeed together or none is left.  outputs_add claims each target before any work:
  * it must be a regular file or absent (a symbolic link, a directory, a device, a FIFO or a socket is refused,

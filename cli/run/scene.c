@@ -2,7 +2,7 @@
  * (instanced, the device's N-patch mode, CPU tessellation), image assembly (RGBA, Z, AOVs) and output. */
 #include "scene.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #include <errno.h>
 #include <math.h>
 #include <omp.h>

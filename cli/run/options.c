@@ -3,7 +3,7 @@
  * figures' "Reproduce" lines) are made, so that no list of options is repeated anywhere else. */
 #include "scene.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>

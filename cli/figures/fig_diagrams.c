@@ -13,7 +13,7 @@
 
 #include "figures.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 /* ------------------------------------------------------------------ style */
 
 static const float BG[4] = {1.0f, 1.0f, 1.0f, 1.0f};

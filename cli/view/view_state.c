@@ -5,7 +5,7 @@
 #define _GNU_SOURCE  /* RTLD_* */
 #include "view_internal.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #include <dlfcn.h>
 #include <limits.h>
 #include <math.h>

@@ -15,7 +15,7 @@
 
 #include "figures.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #define FIG_CHANNELS "R,G,B,A,Z,N.X,N.Y,N.Z"
 #define FIG_NCH 8
 #define MD2_DIR "/usr/share/assimp/models/MD2/"

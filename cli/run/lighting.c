@@ -14,7 +14,7 @@
  * vs_shaders, c10.y = SCENE_LIGHT_*, c11 = the unit direction towards the light. */
 #include "scene.h"
 
-#include "../core/hlsl.h"
+#include "../../core/hlsl.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
