@@ -118,6 +118,16 @@ $(B)/libinstess_app.a: $(APP_OBJ)
 $(B)/instess: $(B)/cli/run/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
 
+# The program with the test hooks (cli/run/output.c, INSTESS_TEST_HOOKS): only tests run it; its output.o is
+# linked ahead of the archive, whose own output.o is then never pulled in.
+HOOKS_BIN = $(B)/tests/instess-hooks
+$(B)/cli/run/output.hooks.o: cli/run/output.c $(SETUP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -DINSTESS_TEST_HOOKS -MMD -MP -c $< -o $@
+$(HOOKS_BIN): $(B)/cli/run/main.o $(B)/cli/run/output.hooks.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
+
 $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
@@ -126,7 +136,7 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 test:
 	@MAKE="$(MAKE)" bash tests/all.sh
 
-test-unit: $(TEST_BIN) $(B)/instess
+test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
 	@bash tests/run.sh $(TEST_BIN)
 
@@ -143,10 +153,10 @@ sanitize: $(SETUP)
 	    CFLAGS="$(CFLAGS_BASE) $(SAN) -DINSTESS_CHECKS -Wno-unknown-warning-option" \
 	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN) -fno-sanitize=vptr" \
 	    LDFLAGS="-fopenmp -Wl,--no-as-needed -lstdc++ -Wl,--as-needed $(SAN)" \
-	    $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess
+	    $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess $(SAN_B)/tests/instess-hooks
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
 	 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp \
-	 INSTESS_BIN=$(SAN_B)/instess TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
+	 INSTESS_BIN=$(SAN_B)/instess INSTESS_HOOKS_BIN=$(SAN_B)/tests/instess-hooks TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
 	 bash tests/run.sh $(TEST_BIN:$(B)/%=$(SAN_B)/%)
 
 # valgrind on the renderer: a few scenes, no errors, no definite leaks.  memcheck runs the instess program
@@ -202,11 +212,11 @@ $(B)/image/image_codec.o $(B)/pic/image/image_codec.o: DEFS = -DINSTESS_CODEC_DI
 
 $(B)/pic/%.avx512.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(KERNEL512) -fPIC -fno-semantic-interposition -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS) $(KERNEL512) -fPIC -fvisibility=hidden -fno-semantic-interposition -MMD -MP -c $< -o $@
 
 $(B)/pic/%.o: %.c $(SETUP)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -fPIC -fno-semantic-interposition $(DEFS) -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS) -fPIC -fvisibility=hidden -fno-semantic-interposition $(DEFS) -MMD -MP -c $< -o $@
 
 # -z defs: every symbol the library uses is in it or in the libraries named here.
 $(B)/$(SO_REAL): $(PIC_OBJ)

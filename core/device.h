@@ -224,67 +224,67 @@ typedef struct is_vertex_declaration is_vertex_declaration;
 
 /* Create a device with a w x h back buffer with `samples` (1 or 4) samples and a float depth buffer.
  * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
-is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
-void dev_destroy(is_device *dev);
+INSTESS_API is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
+INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
  * declaration, shader, constants, viewport, N-patch mode and evaluator); the target, its contents, the thread
  * count, timing, reference path and scratch memory are kept.  For programs that draw frame after frame on one
  * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
-void dev_reset(is_device *dev);
+INSTESS_API void dev_reset(is_device *dev);
 /* The message of the last failed call ("" if none). */
-const char *dev_last_error(const is_device *dev);
+INSTESS_API const char *dev_last_error(const is_device *dev);
 /* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
-void dev_set_threads(is_device *dev, int threads);
+INSTESS_API void dev_set_threads(is_device *dev, int threads);
 /* Phase times on or off (default off): dev_stats' setup_ms and tile_ms then sum the frame's set-up regions
  * (vertex shading included) and tile passes; off, both stay 0 so that the statistics of two renders compare
  * equal. */
-void dev_set_timing(is_device *dev, bool on);
+INSTESS_API void dev_set_timing(is_device *dev, bool on);
 /* Pre-tessellation culling on or off (default off; the reference path never culls): an instanced triangle draw
  * whose shader has a hull stage skips, before shading any of its vertices, every instance that the hull proves
  * invisible -- outside one plane of the view, or (on a regular barycentric grid in stream 0's POSITION0, cull mode
  * CW or CCW, solid fill) with every grid triangle culled by its snapped winding.  The image bytes are those of the
  * draw without it; the statistics count fewer triangles and vertices (dev_instances_culled counts the skips). */
-void dev_set_patch_cull(is_device *dev, bool on);
+INSTESS_API void dev_set_patch_cull(is_device *dev, bool on);
 
 /* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
-is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
-is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out);
-void *vb_lock(is_vertex_buffer *vb);
-void vb_unlock(is_vertex_buffer *vb);
-size_t vb_size(const is_vertex_buffer *vb);
-void vb_release(is_vertex_buffer *vb);
-void *ib_lock(is_index_buffer *ib);
-void ib_unlock(is_index_buffer *ib);
-size_t ib_size(const is_index_buffer *ib);
-void ib_release(is_index_buffer *ib);
+INSTESS_API is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
+INSTESS_API is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out);
+INSTESS_API void *vb_lock(is_vertex_buffer *vb);
+INSTESS_API void vb_unlock(is_vertex_buffer *vb);
+INSTESS_API size_t vb_size(const is_vertex_buffer *vb);
+INSTESS_API void vb_release(is_vertex_buffer *vb);
+INSTESS_API void *ib_lock(is_index_buffer *ib);
+INSTESS_API void ib_unlock(is_index_buffer *ib);
+INSTESS_API size_t ib_size(const is_index_buffer *ib);
+INSTESS_API void ib_release(is_index_buffer *ib);
 
 /* CreateVertexDeclaration: elements ended by IS_DECL_END; validates types, usages and overlaps. */
-is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
+INSTESS_API is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
                                         is_vertex_declaration **out);
-void decl_release(is_vertex_declaration *decl);
+INSTESS_API void decl_release(is_vertex_declaration *decl);
 
 /* State setters, as IDirect3DDevice9. */
-is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl);
-is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
+INSTESS_API is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl);
+INSTESS_API is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
                                 unsigned stride);
-is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting);
-is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting);
-is_result dev_set_indices(is_device *dev, is_index_buffer *ib);
-is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs);
-is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
-is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
-is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
-is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
-is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
+INSTESS_API is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting);
+INSTESS_API is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting);
+INSTESS_API is_result dev_set_indices(is_device *dev, is_index_buffer *ib);
+INSTESS_API is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs);
+INSTESS_API is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
+INSTESS_API is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
+INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
+INSTESS_API is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
+INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
 /* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
-is_result dev_set_npatch_mode(is_device *dev, float segments);
-float dev_get_npatch_mode(const is_device *dev);
+INSTESS_API is_result dev_set_npatch_mode(is_device *dev, float segments);
+INSTESS_API float dev_get_npatch_mode(const is_device *dev);
 
 /* Clear(flags, color (D3DCOLOR ARGB), z). */
-is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z);
+INSTESS_API is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z);
 /* DrawPrimitive / DrawIndexedPrimitive, with D3D9 instancing (stream frequencies) on indexed draws. */
-is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count);
-is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+INSTESS_API is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count);
+INSTESS_API is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count);
 
@@ -292,12 +292,12 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
  * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,
  * so call it again after clearing and drawing before reading the planes -- a pointer kept across a dev_clear
  * may see tiles that were never drawn to with their old contents. */
-rs_target *dev_render_target(is_device *dev);
-const rs_stats *dev_stats(const is_device *dev);
+INSTESS_API rs_target *dev_render_target(is_device *dev);
+INSTESS_API const rs_stats *dev_stats(const is_device *dev);
 /* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */
-uint64_t dev_vertices_shaded(const is_device *dev);
+INSTESS_API uint64_t dev_vertices_shaded(const is_device *dev);
 /* Instances skipped by the pre-tessellation cull since the last dev_clear (dev_set_patch_cull). */
-uint64_t dev_instances_culled(const is_device *dev);
+INSTESS_API uint64_t dev_instances_culled(const is_device *dev);
 
 /* N-patch mode (SetNPatchMode, POSITIONDEGREE, NORMALDEGREE, PATCHEDGESTYLE).  With segments >= 1, indexed
  * triangle-list draws are tessellated by the device before the vertex shader, as D3D9's tessellator did: each
@@ -309,7 +309,7 @@ uint64_t dev_instances_culled(const is_device *dev);
  * application so that core does not depend on vs/.  b = (b0, b1, b2) weights v[0], v[1], v[2]. */
 typedef void (*is_npatch_eval_fn)(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
                                   uint32_t normal_degree, float3 *pos, float3 *nrm);
-is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
+INSTESS_API is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
 
 /* Adaptive N-patch mode (D3DRS_ENABLEADAPTIVETESSELLATION TRUE, with N-patch mode on as above).  The rule, as the
  * DirectX 9 documentation states it (Microsoft, "Tessellation (Direct3D 9)", section "Adaptive Tessellation",
@@ -339,20 +339,20 @@ is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn);
  * for bit.  (The documentation's sentence that adaptive tessellation also draws triangles as N-patches when
  * SetNPatchMode is below 1 is not followed: below 1, S is below 1 and the mode is off.) */
 /* T_i of one vertex: S * factor / dot(v, mdm) in float, as above (not clamped: that is per edge). */
-float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm);
+INSTESS_API float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm);
 /* T_e of an edge from its ends' T_1, T_2 and the MIN / MAX states, as above. */
-float core_adaptive_edge_level(float t1, float t2, float min_level, float max_level);
+INSTESS_API float core_adaptive_edge_level(float t1, float t2, float min_level, float max_level);
 
 /* The scalar reference path (for tests and teaching): with on, draws shade vertex by vertex through the
  * shader's `main` and the rasterizer walks its simplest per-sample loops; off (the default) takes the fast
  * paths (batched shaders, shared vertex projection, 8-pixel spans), which produce the same bytes. */
-void dev_set_reference_path(is_device *dev, bool on);
-bool dev_reference_path(const is_device *dev);
+INSTESS_API void dev_set_reference_path(is_device *dev, bool on);
+INSTESS_API bool dev_reference_path(const is_device *dev);
 /* The instruction set of the rasterizer's fast paths (raster.h's RS_ISA_*: AVX2, or AVX-512 where the CPU has
  * it, which a new device picks): 0, or -1 (nothing changed) when this CPU lacks it.  Every one writes the same
  * bytes; this exists to compare them and to measure each. */
-int dev_set_isa(is_device *dev, int isa);
-int dev_isa(const is_device *dev);
+INSTESS_API int dev_set_isa(is_device *dev, int isa);
+INSTESS_API int dev_isa(const is_device *dev);
 
 #ifdef __cplusplus
 }

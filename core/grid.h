@@ -25,7 +25,7 @@ extern "C" {
  * core_grid_index(L, i, j) (rows of constant j); triangles wind like the input triangle (v0, v1, v2).
  * Each coordinate is computed as (integer)/L, so mirrored points of an edge hold the same floats swapped.
  * bary gets the points, idx gets 3*L*L indices.  Returns the number of points. */
-size_t core_grid_regular(int level, float3 *bary, uint32_t *idx);
+INSTESS_API size_t core_grid_regular(int level, float3 *bary, uint32_t *idx);
 static inline size_t core_grid_points(int level) { return (size_t)(level + 1) * (size_t)(level + 2) / 2; }
 static inline size_t core_grid_triangles(int level) { return (size_t)level * (size_t)level; }
 static inline uint32_t core_grid_index(int level, int i, int j)
@@ -53,12 +53,12 @@ typedef struct core_grid {
 #define CORE_PG_MAX_LEVEL 64.0f
 /* The level a primitive-generator grid of this spacing uses for `level`: clamped to [1, 63] (fractional_odd),
  * [2, 64] (fractional_even) or [1, 64] (equal), as the D3D11 / GL 4 primitive generator does. */
-float core_grid_pg_clamp(core_grid_kind kind, float level);
+INSTESS_API float core_grid_pg_clamp(core_grid_kind kind, float level);
 /* Primitive-generator grid with an inner level and three outer levels; 0 or -1 (bad level, no memory). */
-int core_grid_pg(core_grid_kind spacing, float inner, const float outer[3], core_grid *out);
+INSTESS_API int core_grid_pg(core_grid_kind spacing, float inner, const float outer[3], core_grid *out);
 /* Any grid at one level: regular (level rounded to the nearest integer >= 1) or pg with inner = outer = level. */
-int core_grid_make(core_grid_kind kind, float level, core_grid *out);
-void core_grid_free(core_grid *g);
+INSTESS_API int core_grid_make(core_grid_kind kind, float level, core_grid *out);
+INSTESS_API void core_grid_free(core_grid *g);
 
 /* --- adaptive tessellation patterns (core/grid_adaptive.c) --- */
 
@@ -75,14 +75,14 @@ void core_grid_free(core_grid *g);
 #define CORE_LOD_MAX_LEVEL 64
 /* The pattern of edge levels l[0..2] (any order); 0, or -1 for a level outside 1..CORE_LOD_MAX_LEVEL or no memory.
  * Free with core_grid_free. */
-int core_grid_adaptive(const int levels[3], core_grid *out);
+INSTESS_API int core_grid_adaptive(const int levels[3], core_grid *out);
 
 /* Patterns are kept for sorted triples a <= b <= c only: a triangle with edge levels e[0..2] is drawn with the
  * pattern of sort(e) after renumbering its vertices.  core_lod_order gives that renumbering: perm[i] is the
  * triangle's vertex that becomes the pattern's vertex i, so that the triangle's edge (perm[k], perm[k+1]) has
  * level sorted[k]; returns true when perm is odd (a reflection: the pattern's triangles must then be drawn with
  * two indices swapped to keep the mesh's winding).  Ties keep the lower edge first (deterministic). */
-bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3]);
+INSTESS_API bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3]);
 
 /* A lazily filled cache of the patterns of sorted triples, bounded in memory: the patterns held take at most
  * max_bytes (counted as 12 bytes per point, 12 per triangle and 64 per entry; CORE_PATTERN_CACHE_DEFAULT_BYTES by
@@ -92,15 +92,15 @@ bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3]);
 #define CORE_PATTERN_CACHE_DEFAULT_BYTES (16u << 20)
 typedef struct core_pattern_cache core_pattern_cache;
 /* A new empty cache (max_bytes 0: the default); NULL when out of memory. */
-core_pattern_cache *core_pattern_cache_create(size_t max_bytes);
-void core_pattern_cache_destroy(core_pattern_cache *c);
+INSTESS_API core_pattern_cache *core_pattern_cache_create(size_t max_bytes);
+INSTESS_API void core_pattern_cache_destroy(core_pattern_cache *c);
 /* The pattern of sorted levels a <= b <= c (built on first use), valid until the next call on this cache; NULL
  * for unsorted or out-of-range levels or when out of memory. */
-const core_grid *core_pattern_get(core_pattern_cache *c, int a, int b, int cl);
+INSTESS_API const core_grid *core_pattern_get(core_pattern_cache *c, int a, int b, int cl);
 /* Bytes held now (by the bound's count), patterns built so far, patterns evicted so far. */
-size_t core_pattern_cache_bytes(const core_pattern_cache *c);
-size_t core_pattern_cache_built(const core_pattern_cache *c);
-size_t core_pattern_cache_evicted(const core_pattern_cache *c);
+INSTESS_API size_t core_pattern_cache_bytes(const core_pattern_cache *c);
+INSTESS_API size_t core_pattern_cache_built(const core_pattern_cache *c);
+INSTESS_API size_t core_pattern_cache_evicted(const core_pattern_cache *c);
 
 #ifdef __cplusplus
 }

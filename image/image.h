@@ -39,30 +39,30 @@ typedef struct is_image_meta {
 /* The file formats image files are written in, chosen by the extension (case-insensitive). */
 typedef enum is_image_format { IS_IMAGE_NONE, IS_IMAGE_PNG, IS_IMAGE_EXR } is_image_format;
 /* The format of path's extension (.png, .exr), or IS_IMAGE_NONE. */
-is_image_format image_format_of(const char *path);
+INSTESS_API is_image_format image_format_of(const char *path);
 /* 0 if path can name an image file (a known extension after a non-empty stem), else -1 with a message. */
-int image_check_path(const char *path, char *err, size_t errlen);
+INSTESS_API int image_check_path(const char *path, char *err, size_t errlen);
 
 /* The OpenImageIO version the codec module was built against (from the build; "unknown" if it was not told),
  * without loading the module. */
-const char *image_codec_build_version(void);
+INSTESS_API const char *image_codec_build_version(void);
 
 /* Allocate an image with the given channel names (comma-separated, e.g. "R,G,B,A,Z"); 0 or -1. */
-int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen);
-void image_free(is_image *img);
+INSTESS_API int image_alloc(is_image *img, int width, int height, const char *channel_names, char *err, size_t errlen);
+INSTESS_API void image_free(is_image *img);
 /* Index of the channel called name, or -1. */
-int image_channel_index(const is_image *img, const char *name);
+INSTESS_API int image_channel_index(const is_image *img, const char *name);
 /* Fill RGBA of img from packed RGBA8 pixels (alpha forced to 1 where opaque is asked). */
-void image_from_rgba8(is_image *img, const uint32_t *rgba);
+INSTESS_API void image_from_rgba8(is_image *img, const uint32_t *rgba);
 /* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit RGBA (other channels dropped),
  * .exr RGBA half and other channels float; label names the file in messages.  0 or -1. */
-int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
+INSTESS_API int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen);
 /* Write one image file: encoded in memory, written to a temporary in the same folder (mkstemp) and renamed onto
  * path, which must be a regular file or absent; nothing is left at path on failure; 0 or -1. */
-int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
+INSTESS_API int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
 /* Read any file OpenImageIO reads into floats; 0 or -1. */
-int image_read(is_image *img, const char *path, char *err, size_t errlen);
+INSTESS_API int image_read(is_image *img, const char *path, char *err, size_t errlen);
 
 typedef struct is_image_diff {
     float max_error;        /* largest per-channel absolute difference */
@@ -73,7 +73,7 @@ typedef struct is_image_diff {
 } is_image_diff;
 /* Compare a and b (same size and channel count) through OpenImageIO; if diff_path is not NULL, also write a
  * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
-int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
+INSTESS_API int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
                   const char *diff_path, char *err, size_t errlen);
 /* Notes on the above (image/image_oiio.cpp): n_fail / n_warn count PIXELS (a pixel counts once however many of its
  * channels exceed the threshold); mean_error is over all values.  The diff image shows the dimmed first image
@@ -86,8 +86,8 @@ int image_compare(const is_image *a, const is_image *b, float fail_thresh, float
 typedef enum is_image_verdict {
     IS_IMAGE_PASS = 0,          /* identical, or within the thresholds */
     IS_IMAGE_DIFFERENT = 1,     /* more than fail_percent % of the pixels differ by more than fail_thresh */
-    IS_IMAGE_SHAPE_DIFFERS = 3, /* width, height or channels (count or names) differ: not compared */
-    IS_IMAGE_IO_ERROR = 4       /* an image cannot be read, or the diff image cannot be written */
+    IS_IMAGE_SHAPE_DIFFERS = 2, /* width, height or channels (count or names) differ: not compared */
+    IS_IMAGE_IO_ERROR = 3       /* an image cannot be read, or the diff image cannot be written */
 } is_image_verdict;
 /* The pixel-diff test of actual against reference, as the golden tests and `instess compare` run it: through
  * image_compare, a pixel fails when one of its channels differs by more than fail_thresh, and the test passes
@@ -95,13 +95,13 @@ typedef enum is_image_verdict {
  * and the largest difference (zeroed when not compared).  On IS_IMAGE_DIFFERENT, if diff_path is not NULL,
  * the amplified diff image (see the notes above) is written there as a run of its own (image_write); nothing
  * is written otherwise.  Anything but IS_IMAGE_PASS / IS_IMAGE_DIFFERENT leaves the reason in err. */
-is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
+INSTESS_API is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
                              float fail_percent, const char *diff_path, is_image_diff *res, char *err, size_t errlen);
 /* The folder the codec module is installed in, as the Makefile compiled it in (LIBDIR/instess; see
  * image/image_codec.c for where the module is looked for). */
-const char *image_codec_install_dir(void);
+INSTESS_API const char *image_codec_install_dir(void);
 /* image_check of the image files a and b (read with image_read); IS_IMAGE_IO_ERROR names the unreadable one. */
-is_image_verdict image_check_files(const char *a, const char *b, float fail_thresh, float fail_percent,
+INSTESS_API is_image_verdict image_check_files(const char *a, const char *b, float fail_thresh, float fail_percent,
                                    const char *diff_path, is_image_diff *res, char *err, size_t errlen);
 
 /* Text for diagrams, in DejaVu Sans (/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf), rendered by
@@ -110,10 +110,10 @@ is_image_verdict image_check_files(const char *a, const char *b, float fail_thre
  * of the first line's baseline; '\n' starts a new line size_px lower; size_px is rounded to whole pixels
  * (1..4096).  Text must be printable ASCII (OpenImageIO 2.4 draws other characters wrongly: write "alpha",
  * "b0").  Pixels outside the image are clipped.  Returns 0, or -1 with a message in err. */
-int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
+INSTESS_API int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
                     size_t errlen);
 /* Width and height in pixels of the box that image_draw_text(text, size_px) covers (0 x 0 for ""); 0 or -1. */
-int image_text_size(const char *text, float size_px, int *w, int *h);
+INSTESS_API int image_text_size(const char *text, float size_px, int *w, int *h);
 
 #ifdef __cplusplus
 }

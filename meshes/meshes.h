@@ -47,6 +47,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../core/api.h"
 #include "../core/core.h"
 
 #ifdef __cplusplus
@@ -132,14 +133,14 @@ typedef struct is_mesh_data {
  * position, normals (the given ones, normalized; zero / non-finite ones replaced by recomputed ones and
  * counted; all computed if normals is NULL or opt->recompute_normals), adjacency.  `label` names the mesh in
  * messages and becomes out->name.  opt may be NULL.  On error *out is left empty (mesh_free-safe). */
-int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const is_mesh_options *opt,
+INSTESS_API int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const is_mesh_options *opt,
                 char *err, size_t errlen);
-void mesh_free(is_mesh *m);
+INSTESS_API void mesh_free(is_mesh *m);
 
 /* Built-ins: "tetrahedron", "cube", "cube-split", "octahedron", "icosahedron", "sphere", "cylinder". */
-int mesh_builtin(const char *name, is_mesh *out, char *err, size_t errlen);
+INSTESS_API int mesh_builtin(const char *name, is_mesh *out, char *err, size_t errlen);
 /* Same, with options (recompute_normals, warnings). */
-int mesh_builtin_ex(const char *name, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+INSTESS_API int mesh_builtin_ex(const char *name, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* The built-in names, NULL-terminated (a const table). */
 const char *const *mesh_builtin_names(void);
 
@@ -159,28 +160,28 @@ const char *const *mesh_builtin_names(void);
  * warned about.  Errors name the path: missing, not a regular file, empty, too large, unknown extension, a
  * refused side file, assimp's message, assimp crashed / timed out / ran out of memory, no triangles, invalid
  * data. */
-int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+INSTESS_API int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* The same from memory (for fuzzers): hint is the format's extension ("obj", may be NULL or "" to let assimp
  * guess), label names the buffer in messages (NULL: "<memory>"). */
-int mesh_load_memory(const void *data, size_t size, const char *hint, const char *label,
+INSTESS_API int mesh_load_memory(const void *data, size_t size, const char *hint, const char *label,
                      const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* --mesh NAME|FILE: a built-in when `spec` is one of the names, a file otherwise. */
-int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
+INSTESS_API int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 
 /* Recompute welded indices, opposite vertices and the edge counts of stats from positions and indices (after
  * a caller changed positions).  0 or IS_MESH_ERR_NOMEM. */
-int mesh_update_topology(is_mesh *m, char *err, size_t errlen);
+INSTESS_API int mesh_update_topology(is_mesh *m, char *err, size_t errlen);
 
 /* The outward face normal of (v0, v1, v2) under the convention above: normalize(cross(v1 - v0, v2 - v0)),
  * computed in double; (0, 0, 0) for a degenerate triangle. */
-float3 mesh_compute_face_normal(float3 v0, float3 v1, float3 v2);
+INSTESS_API float3 mesh_compute_face_normal(float3 v0, float3 v1, float3 v2);
 
 /* The libraries meshes/ runs with, "assimp 5.2.4, meshoptimizer 0.18" (assimp's as the loaded library says,
  * meshoptimizer's from its header: it is linked statically) into buf. */
-void mesh_library_versions(char *buf, size_t len);
+INSTESS_API void mesh_library_versions(char *buf, size_t len);
 
 /* The counts (a copy of m->stats). */
-is_mesh_stats mesh_stats(const is_mesh *m);
+INSTESS_API is_mesh_stats mesh_stats(const is_mesh *m);
 
 /* ---------------------------------------- tessellation through instancing ---------------------------------------- */
 
@@ -194,13 +195,13 @@ typedef struct is_patch_instance {
 } is_patch_instance;
 
 /* Fill out[0 .. m->n_triangles-1]; returns the number written. */
-size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out);
+INSTESS_API size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out);
 
 /* The vertex declaration of Listing 1.1.2: stream 0 offset 0 FLOAT3 POSITION0 (the barycentric grid point);
  * stream 1: v0..v2 TEXCOORD0..2, n0..n2 TEXCOORD3..5, opp0..2 TEXCOORD6..8 (FLOAT3), t0..t2 TEXCOORD9..11
  * (FLOAT2), instance_id TEXCOORD12 (FLOAT1); then IS_DECL_END.  MESH_PATCH_DECLARATION_COUNT entries with END. */
 #define MESH_PATCH_DECLARATION_COUNT 15
-extern const is_vertex_element mesh_patch_declaration[MESH_PATCH_DECLARATION_COUNT];
+extern INSTESS_API const is_vertex_element mesh_patch_declaration[MESH_PATCH_DECLARATION_COUNT];
 
 #ifdef __cplusplus
 }

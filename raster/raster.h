@@ -51,6 +51,8 @@
 #ifndef INSTESS_RASTER_H
 #define INSTESS_RASTER_H
 
+
+#include "../core/api.h"
 #include <stddef.h>
 #include <stdint.h>
 #include <stdbool.h>
@@ -156,60 +158,60 @@ enum { RS_OK = 0, RS_EINVAL = -1, RS_ENOMEM = -2, RS_EWORK = -3 };
 #define RS_MIN_WORK ((uint64_t)1 << 22)
 
 /* Create a rasterizer that uses up to `threads` threads (0: all cores). NULL when out of memory. */
-rs_context *rs_create(int threads);
+INSTESS_API rs_context *rs_create(int threads);
 /* Free the rasterizer and its scratch memory. */
-void rs_destroy(rs_context *rs);
+INSTESS_API void rs_destroy(rs_context *rs);
 /* Change the thread count (0: all cores). */
-void rs_set_threads(rs_context *rs, int threads);
+INSTESS_API void rs_set_threads(rs_context *rs, int threads);
 /* The threads a draw on rs uses (the count set, or the cores for 0); at least 1. */
-int rs_threads(const rs_context *rs);
+INSTESS_API int rs_threads(const rs_context *rs);
 /* The scalar reference path on (every draw takes the simplest per-sample loops: set-up per triangle, tri.c's
  * per-pixel walk, no tile buffers) or off (the default: the fast paths, which write the same bytes). */
-void rs_set_reference_path(rs_context *rs, bool on);
+INSTESS_API void rs_set_reference_path(rs_context *rs, bool on);
 /* Instruction sets of the fast paths: each has its own copy of the fast kernels, and all of them write the same
  * bytes.  rs_create picks the widest one the CPU (and the build) supports. */
 enum { RS_ISA_AVX2 = 0, RS_ISA_AVX512 = 1, RS_ISA_COUNT };
 /* Does this CPU (and this build) run instruction set isa's kernels? */
-bool rs_isa_supported(int isa);
+INSTESS_API bool rs_isa_supported(int isa);
 /* The widest instruction set this CPU runs (what rs_create picks). */
-int rs_isa_best(void);
+INSTESS_API int rs_isa_best(void);
 /* The fast paths of rs use instruction set isa: RS_OK, or RS_EINVAL (nothing changed) when it is unsupported. */
-int rs_set_isa(rs_context *rs, int isa);
+INSTESS_API int rs_set_isa(rs_context *rs, int isa);
 /* The instruction set rs's fast paths use. */
-int rs_isa(const rs_context *rs);
+INSTESS_API int rs_isa(const rs_context *rs);
 /* "avx2", "avx512", or NULL for an unknown value; rs_isa_parse is the inverse (-1: unknown name). */
-const char *rs_isa_name(int isa);
-int rs_isa_parse(const char *name);
+INSTESS_API const char *rs_isa_name(int isa);
+INSTESS_API int rs_isa_parse(const char *name);
 /* Measure each draw's phase times into rs_stats.setup_ms / tile_ms (on) or leave them 0 (off, the default).
  * Timing changes no image byte and no counter; it costs two clock reads per region. */
-void rs_set_timing(rs_context *rs, bool on);
+INSTESS_API void rs_set_timing(rs_context *rs, bool on);
 
 /* Allocate a target of w x h pixels with `samples` (1 or 4) samples; RS_EINVAL for bad sizes. */
-int rs_target_init(rs_target *rt, int width, int height, int samples);
+INSTESS_API int rs_target_init(rs_target *rt, int width, int height, int samples);
 /* Free a target's planes (also its AOV planes). */
-void rs_target_free(rs_target *rt);
+INSTESS_API void rs_target_free(rs_target *rt);
 /* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
-int rs_target_add_aov(rs_target *rt, int slot, int comps);
+INSTESS_API int rs_target_add_aov(rs_target *rt, int slot, int comps);
 /* What a clear writes (D3DCLEAR_TARGET and D3DCLEAR_ZBUFFER have these values). */
 enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2 };
 /* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
-void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
+INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* rs_target_clear deferred, and a new frame on rs (its work count restarts): each 64x64 tile of rt is written
  * (in cache) when a draw on rs first touches it, or by rs_target_flush.  Until rs_target_flush, rt's planes must
  * only be drawn into through rs.  Nothing happens without flags (or without rs, rt or its planes). */
-void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
+INSTESS_API void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* Write every tile of rt whose clear is still deferred on rs (call before anything else reads or writes rt's
  * planes). */
-void rs_target_flush(rs_context *rs, rs_target *rt);
+INSTESS_API void rs_target_flush(rs_context *rs, rs_target *rt);
 /* Average the samples of each pixel into out (width*height packed RGBA8), per channel, rounding to nearest
  * (halves up: (sum + 2) / 4). */
-void rs_target_resolve(const rs_target *rt, uint32_t *out);
+INSTESS_API void rs_target_resolve(const rs_target *rt, uint32_t *out);
 
 /* Draw n_prims primitives of `prim` (points, lines or triangles) whose vertices are verts[idx[k]]
  * (idx == NULL: consecutive).  Triangles obey fill_mode (wireframe draws each triangle's three edges as
  * lines, point fill its three vertices).  Returns RS_OK, or RS_EINVAL / RS_ENOMEM / RS_EWORK with nothing
  * drawn. */
-int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim,
+INSTESS_API int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim,
             const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims,
             rs_stats *stats);
 
@@ -232,10 +234,10 @@ typedef struct rs_source {
     void *ctx;            /* passed to produce */
 } rs_source;
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
-size_t rs_max_pieces(const rs_target *rt);
+INSTESS_API size_t rs_max_pieces(const rs_target *rt);
 /* Draw the triangles of src (rs_stats.prims_in counts those the pieces gave): RS_OK, or RS_EINVAL (bad state,
  * target or source: too many pieces, or pieces whose triangles add up to more than n_prims), RS_ENOMEM or RS_EWORK with nothing drawn. */
-int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
+INSTESS_API int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../core/api.h"
 #include "../core/core.h"
 #include "../meshes/meshes.h"
 
@@ -36,13 +37,13 @@ typedef struct tess_resources {
     is_vertex_declaration *decl;
     unsigned n_vertices, n_prims, n_instances;   /* the draw's NumVertices, PrimitiveCount, instances */
 } tess_resources;
-void tess_resources_free(tess_resources *r);
+INSTESS_API void tess_resources_free(tess_resources *r);
 /* An index buffer of n indices copied from idx: 16-bit when max_index < 65536, else 32-bit; IS_OK or an error. */
-is_result tess_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out);
+INSTESS_API is_result tess_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out);
 /* Tessellation through instancing on dev: the grid g in stream 0 (INDEXEDDATA | n_triangles; 16-bit indices
  * when they fit), one is_patch_instance per triangle of m in stream 1 (INSTANCEDATA | 1), Listing 1.1.2's
  * declaration; created in r and bound.  The shader and constants are the caller's.  IS_OK or an error. */
-is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, tess_resources *r);
+INSTESS_API is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, tess_resources *r);
 
 /* ---------------------------------------- the fetch on the CPU (tess/fetch.c) ---------------------------------------- */
 
@@ -50,16 +51,16 @@ is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid 
  * mesh_patch_declaration lays it out; with nadj, not NULL, also PN-AEN's neighbour normals as
  * tess_bind_adjacent_normals binds them, nadj[k][j] as tess_adjacent_normals gives them): for evaluating a patch
  * shader outside a draw (OBJ export, tests).  Registers the declaration does not fill read (0, 0, 0, 1). */
-void tess_input_from_instance(const is_patch_instance *inst, const float3 (*nadj)[2], float3 b, is_vs_input *in);
+INSTESS_API void tess_input_from_instance(const is_patch_instance *inst, const float3 (*nadj)[2], float3 b, is_vs_input *in);
 
 /* ---------------------------------------- PN-AEN's stream (tess/aen.c) ---------------------------------------- */
 
 /* nadj[t][k][j] = the normal that the triangle across edge k of triangle t has at corner (k + j) % 3 of t; an
  * edge without exactly one neighbour (boundary, non-manifold) gets t's own normals.  nadj has m->n_triangles
  * entries.  0, or -1 when out of memory. */
-int tess_adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2]);
+INSTESS_API int tess_adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2]);
 /* One triangle's neighbour normals in, those of its renumbering by perm (tess_permute_instance) out. */
-void tess_permute_adjacent_normals(const float3 in[3][2], const uint8_t perm[3], float3 out[3][2]);
+INSTESS_API void tess_permute_adjacent_normals(const float3 in[3][2], const uint8_t perm[3], float3 out[3][2]);
 
 /* ---------------------------------------- adaptive level of detail (tess/lod.c, tess/instancing.c) -------------
  *
@@ -92,11 +93,11 @@ typedef struct tess_lod_edges {
     uint32_t *tri_edge;         /* 3 per triangle: the edge index of its edge k */
     uint8_t *level;             /* per edge, after tess_lod_levels */
 } tess_lod_edges;
-int tess_lod_edges_build(const is_mesh *m, tess_lod_edges *e, char *err, size_t errlen);
-void tess_lod_edges_free(tess_lod_edges *e);
+INSTESS_API int tess_lod_edges_build(const is_mesh *m, tess_lod_edges *e, char *err, size_t errlen);
+INSTESS_API void tess_lod_edges_free(tess_lod_edges *e);
 /* Compute every edge's level as p says into e->level; hist[l] (CORE_LOD_MAX_LEVEL + 1 entries, zeroed here)
  * counts edges per level. */
-void tess_lod_levels(const tess_lod_params *p, const is_mesh *m, tess_lod_edges *e, uint64_t *hist);
+INSTESS_API void tess_lod_levels(const tess_lod_params *p, const is_mesh *m, tess_lod_edges *e, uint64_t *hist);
 
 
 /* One bucket: the triangles drawn with one pattern and one winding, in one instanced draw. */
@@ -117,18 +118,18 @@ typedef struct tess_adaptive {
     uint32_t *tri;              /* per instance: the mesh triangle */
     uint8_t (*perm)[3];         /* per instance: the renumbering */
 } tess_adaptive;
-void tess_adaptive_free(tess_adaptive *a);
+INSTESS_API void tess_adaptive_free(tess_adaptive *a);
 /* Bucket m's triangles by the patterns of the levels in e, fill and bind the buffers (stream 0, 1, the index
  * buffer, Listing 1.1.2's declaration) in a; patterns from cache.  IS_OK or an error. */
-is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
+INSTESS_API is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
                               tess_adaptive *a);
 /* PN-AEN's third stream: the neighbours' normals at each edge's ends (INSTANCEDATA | 1) and the declaration with
  * them, replacing r's; with a (an adaptive draw) in a's order and renumbering.  IS_OK or an error. */
-is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *m, tess_resources *r, const tess_adaptive *a);
+INSTESS_API is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *m, tess_resources *r, const tess_adaptive *a);
 /* Set stream 1 (and 2, if bound) to bucket k's instances with INDEXEDDATA | count on stream 0, and draw it. */
-is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k);
+INSTESS_API is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k);
 /* The renumbered instance: perm[i] of in becomes vertex i (positions, normals, texcoords, opposite vertices). */
-void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out);
+INSTESS_API void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out);
 
 #ifdef __cplusplus
 }

@@ -55,6 +55,19 @@ header_alone() {
 for h in core/core.h core/api.h core/math.h core/device.h core/grid.h image/image.h raster/raster.h vs/vs.h \
          meshes/meshes.h tess/tess.h; do check "header alone as C17: $h" header_alone "$h"; done
 
+# Export control: the shared library exports exactly the INSTESS_API names of the installed headers (built with
+# -fvisibility=hidden: a helper shared between the library's files stays inside it).
+exports_equal_api() {
+  local hdrs
+  hdrs=$(cd "$S/include/instess" && find . -name '*.h' | sed 's#^\./##' | sort)
+  (cd "$S/include/instess" && python3 "$root/tests/api_names.py" $hdrs) > "$tmp/api.txt" || return 1
+  nm -D --defined-only "$S/lib/libinstess.so.0.1.0" | awk '$2 ~ /^[TDRBV]$/ {print $3}' | sort > "$tmp/exports.txt"
+  diff "$tmp/api.txt" "$tmp/exports.txt" >"$tmp/exports.diff" ||
+    { echo "< declared INSTESS_API, not exported; > exported, not declared:"; cat "$tmp/exports.diff"; return 1; }
+  [ -s "$tmp/api.txt" ]
+}
+check "exports: nm -D of libinstess.so equals the INSTESS_API names of the installed headers" exports_equal_api
+
 # pkg-config finds the staged copy alone: its .pc through PKG_CONFIG_PATH (the build tree has none), moved
 # to the stage by redefining prefix.
 pc() { PKG_CONFIG_PATH="$S/lib/pkgconfig" PKG_CONFIG_LIBDIR=/usr/lib/x86_64-linux-gnu/pkgconfig:/usr/share/pkgconfig \
@@ -92,6 +105,20 @@ other_reference() {
     [ -f other.png.diff.png ]
 }
 check "example: a different reference fails (exit 1, diff image written)" other_reference
+
+# tess/: a program of the user's draws adaptive LOD the instancing way against the stage: more than one level,
+# more than one bucket (draw), a valid image.
+adaptive_example() {
+  cd "$ex" && cc -std=c17 -Wall -Wextra -Werror "$root/examples/adaptive_lod.c" $(pc --cflags) $(pc --libs) \
+       -Wl,-rpath,"$S/lib" -o adaptive_lod || return 1
+  local out
+  out=$(./adaptive_lod lod.png) || return 1
+  echo "$out"
+  [[ $out =~ levels\ ([0-9]+)\.\.([0-9]+)\;\ draws:\ ([0-9]+)\ buckets\ of\ [0-9]+\ patterns,\ ([0-9]+)\ triangles ]] &&
+    [ "${BASH_REMATCH[1]}" -lt "${BASH_REMATCH[2]}" ] && [ "${BASH_REMATCH[3]}" -gt 1 ] &&
+    [ "${BASH_REMATCH[4]}" -gt 0 ] && "$S/bin/instess" compare lod.png lod.png >/dev/null
+}
+check "example: adaptive LOD through tess/ (per-edge levels, one draw per bucket) built against the stage" adaptive_example
 
 static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \

@@ -97,6 +97,22 @@ static void test_tables_complete(void **state)
         }
 }
 
+/* A figure's view renders as the command does, --cull included (the figures once drew with D3D9's default cull
+ * mode whatever the view said): the cube seen with CW culling shows its inside, other pixels than CCW's. */
+static void test_views_honour_cull(void **state)
+{
+    (void)state;
+    fig_ctx ctx = {.small = true, .threads = 0};
+    const char *specs[] = {"--mesh cube --cull ccw", "--mesh cube --cull cw", "--mesh cube --cull none"};
+    is_image img[3];
+    char err[512];
+    for (int k = 0; k < 3; k++) assert_int_equal(fig_render_spec(&ctx, specs[k], 64, 64, &img[k], err, sizeof err), 0);
+    size_t n = (size_t)64 * 64 * img[0].channels * sizeof(float);
+    assert_true(memcmp(img[0].data, img[1].data, n) != 0);   /* CW culls the faces CCW keeps */
+    assert_true(memcmp(img[0].data, img[2].data, n) == 0);   /* a closed mesh: no culling looks like CCW's */
+    for (int k = 0; k < 3; k++) image_free(&img[k]);
+}
+
 /* Whether figure f is a single rendering: its Reproduce line is one `instess` render (not `instess figures`). */
 static bool single_rendering(const figure *f)
 {
@@ -354,6 +370,7 @@ int main(void)
         cmocka_unit_test(test_only_index),
         cmocka_unit_test(test_gallery_viewer),
         cmocka_unit_test(test_reproduce_lines),
+        cmocka_unit_test(test_views_honour_cull),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),

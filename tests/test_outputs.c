@@ -3,6 +3,7 @@
  * to the filesystem's limit; a full or read-only filesystem, `ulimit -f`, `ulimit -v` and signals in the write
  * window give an error or a clean death, never a partial file or a damaged earlier one; concurrent writers of
  * one target leave one complete image. */
+#define _GNU_SOURCE /* memmem */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -256,6 +257,34 @@ static void test_full_and_read_only_filesystems(void **state)
 }
 
 /* Start `instess ARGS...` with env (NAME=VALUE or NULL) set and core dumps off; its pid. */
+/* True if the file at path holds the bytes of s (a string constant compiled into a program). */
+static bool file_holds(const char *path, const char *s)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    size_t n = strlen(s), have = 0, cap = 1 << 20;
+    char *buf = malloc(cap);
+    assert_non_null(buf);
+    bool found = false;
+    for (size_t r; !found && (r = fread(buf + have, 1, cap - have, f)) > 0;) {
+        have += r;
+        found = memmem(buf, have, s, n) != NULL;
+        if (have > n) memmove(buf, buf + have - n, n), have = n;   /* keep a tail that may start a match */
+    }
+    fclose(f);
+    free(buf);
+    return found;
+}
+
+/* The test hook is in the test build only: the program proper does not even hold the variable's name. */
+static void test_hook_only_in_test_build(void **state)
+{
+    (void)state;
+    assert_false(file_holds(prog_bin(), "INSTESS_TEST_WRITE_DELAY_MS"));
+    assert_true(file_holds(prog_hooks_bin(), "INSTESS_TEST_WRITE_DELAY_MS"));
+}
+
+/* Run the program (with env "NAME=VALUE" set, the test build with the hooks) on args, without waiting. */
 static pid_t spawn(const char *env, const char *const *args)
 {
     pid_t pid = fork();
@@ -268,9 +297,10 @@ static pid_t spawn(const char *env, const char *const *args)
         snprintf(name, sizeof name, "%.*s", (int)(eq - env), env);
         setenv(name, eq + 1, 1);
     }
-    const char *argv[32] = {prog_bin()};
+    const char *bin = env ? prog_hooks_bin() : prog_bin();
+    const char *argv[32] = {bin};
     for (int k = 0; args[k] && k < 30; k++) argv[k + 1] = args[k];
-    execv(prog_bin(), (char *const *)argv);
+    execv(bin, (char *const *)argv);
     _exit(127);
 }
 
@@ -399,6 +429,7 @@ int main(void)
         cmocka_unit_test(test_long_names),
         cmocka_unit_test(test_file_size_limit),
         cmocka_unit_test(test_full_and_read_only_filesystems),
+        cmocka_unit_test(test_hook_only_in_test_build),
         cmocka_unit_test(test_signals_in_write_window),
         cmocka_unit_test(test_concurrent_writers),
         cmocka_unit_test(test_address_space_limit),

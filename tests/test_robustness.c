@@ -524,7 +524,8 @@ static void test_determinism(void **state)
 
 /* ------------------------------------------------ atomic outputs ------------------------------------------------ */
 
-/* Start `instess ARGS...` (NULL-terminated) with the environment variable env (NAME=VALUE, may be NULL). */
+/* Start `instess ARGS...` (NULL-terminated) with the environment variable env (NAME=VALUE, may be NULL: a test
+ * hook, so then the test build with the hooks runs). */
 static pid_t spawn(const char *env, const char *const *args)
 {
     pid_t pid = fork();
@@ -532,9 +533,10 @@ static pid_t spawn(const char *env, const char *const *args)
         if (env) putenv((char *)env);
         int fd = open("/dev/null", O_WRONLY);
         if (fd >= 0) dup2(fd, STDERR_FILENO);
-        const char *argv[32] = {program()};
+        const char *bin = env ? prog_hooks_bin() : program();
+        const char *argv[32] = {bin};
         for (int k = 0; args[k] && k < 30; k++) argv[k + 1] = args[k];
-        execv(program(), (char *const *)argv);
+        execv(bin, (char *const *)argv);
         _exit(127);
     }
     return pid;

@@ -59,6 +59,7 @@
 #ifndef INSTESS_VS_H
 #define INSTESS_VS_H
 
+#include "../core/api.h"
 #include "../core/core.h"
 
 #ifdef __cplusplus
@@ -84,7 +85,7 @@ enum {
 };
 typedef struct vs_reg { uint8_t usage, usage_index; } vs_reg;
 /* Where PN-AEN reads n_adj[k][j] (is_declusage, usage index). */
-extern const vs_reg vs_nadj_regs[3][2];
+extern INSTESS_API const vs_reg vs_nadj_regs[3][2];
 
 /* ---- patches and options ---- */
 typedef enum vs_patch {
@@ -110,15 +111,15 @@ typedef struct vs_options {
 } vs_options;
 
 /* Defaults: linear normals, alpha 3/4, factor 2, shortcut on. */
-vs_options vs_default_options(void);
+INSTESS_API vs_options vs_default_options(void);
 /* Fill c0..c9 (the other registers are left alone); o NULL means defaults. */
-void vs_set_constants(is_vs_constants *c, const float4x4 *world_view_proj, const float4x4 *world, float4 diffuse,
+INSTESS_API void vs_set_constants(is_vs_constants *c, const float4x4 *world_view_proj, const float4x4 *world, float4 diffuse,
                       const vs_options *o);
 /* Read c9 back (what the shaders do). */
-vs_options vs_options_from_constants(const is_vs_constants *c);
+INSTESS_API vs_options vs_options_from_constants(const is_vs_constants *c);
 /* "linear" | "quadratic" | "real" -> 0 and *out, or -1. */
-int vs_normals_from_name(const char *name, vs_normals *out);
-const char *vs_normals_name(vs_normals n);
+INSTESS_API int vs_normals_from_name(const char *name, vs_normals *out);
+INSTESS_API const char *vs_normals_name(vs_normals n);
 /* ---- the patch table: the one list of the patches (adding one: README, "Extending instess") ---- */
 typedef struct vs_patch_info {
     const char *name;                /* --patch NAME, and the shader's name */
@@ -132,27 +133,27 @@ typedef struct vs_patch_info {
 } vs_patch_info;
 /* Row p describes patch p; vs_patch_eval (object space) and the shaders dispatch on p with switches that name
  * every patch.  tests/test_patches.c checks that every row is filled and consistent. */
-extern const vs_patch_info vs_patches[VS_PATCH_COUNT];
+extern INSTESS_API const vs_patch_info vs_patches[VS_PATCH_COUNT];
 /* The table's name -> 0 and *out, or -1. */
-int vs_patch_from_name(const char *name, vs_patch *out);
+INSTESS_API int vs_patch_from_name(const char *name, vs_patch *out);
 /* The table's name of p ("?" out of range). */
-const char *vs_patch_name(vs_patch p);
+INSTESS_API const char *vs_patch_name(vs_patch p);
 /* The names of the table joined by sep into buf ("flat | npatch | ..."), for usage texts; buf. */
-char *vs_patch_names(const char *sep, char *buf, size_t len);
+INSTESS_API char *vs_patch_names(const char *sep, char *buf, size_t len);
 
 /* ---- shaders ---- */
 /* The shader of a name ("flat", "npatch", "smooth-initial", "smooth", "phong", "pn-aen", "fixed"), or NULL. */
-const is_vertex_shader *vs_find_shader(const char *name);
+INSTESS_API const is_vertex_shader *vs_find_shader(const char *name);
 /* The shader of a patch (vs_patches[p].shader), NULL out of range. */
-const is_vertex_shader *vs_patch_shader(vs_patch p);
+INSTESS_API const is_vertex_shader *vs_patch_shader(vs_patch p);
 /* All shaders, ended by a NULL entry. */
-extern const is_vertex_shader *const vs_shaders[];
+extern INSTESS_API const is_vertex_shader *const vs_shaders[];
 /* "fixed": reads POSITION0 (object position), NORMAL0 (normal, used as is), TEXCOORD0 (uv) and writes the
  * outputs above (TEXCOORD2..4 zero).  The vertex shader for the device's N-patch mode: fed by
  * vs_npatch_evaluate it lights exactly as the instanced npatch shader does. */
-extern const is_vertex_shader vs_shader_fixed;
+extern INSTESS_API const is_vertex_shader vs_shader_fixed;
 /* The patch shaders themselves (also in vs_shaders, in vs_patch order). */
-extern const is_vertex_shader vs_shader_flat, vs_shader_npatch, vs_shader_smooth_initial, vs_shader_smooth,
+extern INSTESS_API const is_vertex_shader vs_shader_flat, vs_shader_npatch, vs_shader_smooth_initial, vs_shader_smooth,
     vs_shader_phong, vs_shader_pn_aen;
 
 /* ---- the patches in object space (the CPU path, the tests and the figures use these) ---- */
@@ -167,46 +168,46 @@ typedef struct vs_triangle {
 } vs_triangle;
 
 /* A triangle without neighbours: opp_k = own third vertex, nadj = own normals, t = 0, id = 0. */
-vs_triangle vs_triangle_make(const float3 v[3], const float3 n[3]);
+INSTESS_API vs_triangle vs_triangle_make(const float3 v[3], const float3 n[3]);
 
 /* Object-space position, unit normal (mode of o) and Gregory weights (0 for patches without) of patch p at b;
  * nrm and greg may be NULL.  Watertight on edges as described above.  o NULL means defaults. */
-void vs_patch_eval(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o, float3 *pos, float3 *nrm,
+INSTESS_API void vs_patch_eval(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o, float3 *pos, float3 *nrm,
                    float3 *greg);
 /* The position only. */
-float3 vs_patch_position(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o);
+INSTESS_API float3 vs_patch_position(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o);
 
 /* The N-Patch evaluator for the device's N-patch mode (is_npatch_eval_fn) and the CPU path: position_degree
  * IS_DEGREE_CUBIC (default) or IS_DEGREE_LINEAR; normal_degree IS_DEGREE_LINEAR (default), IS_DEGREE_QUADRATIC
  * or VS_DEGREE_REAL (an extension: derivative normals).  The npatch shader calls exactly this function, so the
  * three paths give the same bits. */
 #define VS_DEGREE_REAL 0x100u
-void vs_npatch_evaluate(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
+INSTESS_API void vs_npatch_evaluate(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
                         uint32_t normal_degree, float3 *pos, float3 *nrm);
 
 /* Building blocks in the listings' form (errata resolved, see docs/errata.md), valid for any b; the patches
  * above add the watertight edge and corner handling on top of them. */
 /* evaluateCurve (Listing 1.1.1): cubic border curve from v0 to v1 with end normals n0, n1 at parameter b,
  * control points without the /3, Bernstein weights without the 3 (same curve). */
-float3 vs_evaluate_curve(float3 v0, float3 v1, float3 n0, float3 n1, float b);
+INSTESS_API float3 vs_evaluate_curve(float3 v0, float3 v1, float3 n0, float3 n1, float b);
 /* evaluateNPatch (Listing 1.1.2): the N-Patch of Eq. 1.1.1-1.1.2 in the listing's form. */
-float3 vs_evaluate_npatch(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1, float3 n2, float3 b);
+INSTESS_API float3 vs_evaluate_npatch(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1, float3 n2, float3 b);
 /* Listing 1.1.1 / 1.1.2 without the edge handling (interior formulas, for tests of the naive evaluation);
  * g gets the Gregory weights (may be NULL).  flags: VS_FLAG_NO_SHORTCUT; *p_evals (may be NULL) gets the
  * number of P_k evaluated (0..3). */
-float3 vs_smooth_initial_formula(const vs_triangle *tri, float3 b, float3 *g);
-float3 vs_smooth_formula(const vs_triangle *tri, float3 b, uint32_t flags, float3 *g, int *p_evals);
+INSTESS_API float3 vs_smooth_initial_formula(const vs_triangle *tri, float3 b, float3 *g);
+INSTESS_API float3 vs_smooth_formula(const vs_triangle *tri, float3 b, uint32_t flags, float3 *g, int *p_evals);
 /* Gregory coordinates (Eq. 1.1.4, the listing's order): g.x = b0 b2 / sum (1 on edge v2-v0), g.y = b0 b1 / sum
  * (1 on edge v0-v1), g.z = b1 b2 / sum (1 on edge v1-v2).  At a corner (sum == 0, erratum 4) the two edges of
  * the corner get 1/2 each. */
-float3 vs_gregory(float3 b);
+INSTESS_API float3 vs_gregory(float3 b);
 /* fn0..fn2 of Listing 1.1.2 (erratum 3): fn_k = |dot(own face normal, face normal across edge k)|, exactly 1 on
  * a boundary edge (opp_k = own third vertex), for degenerate faces and within 2^-20 of 1. */
-float3 vs_smooth_fn(const vs_triangle *tri);
+INSTESS_API float3 vs_smooth_fn(const vs_triangle *tri);
 /* The smooth shader's per-edge shortcut: for n triangles on the regular grid of `level`, the P_k evaluations
  * without the shortcut (*total, may be NULL) and the number saved (returned).  Edge and corner points evaluate
  * no P_k at all (they are the border curve), so only interior points count. */
-uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level, uint64_t *total);
+INSTESS_API uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level, uint64_t *total);
 
 
 
@@ -235,7 +236,7 @@ typedef struct vs_smoothness_result {
  * sample each triangle at the interior points of the level-8 grid for the distance.  opp (3 per triangle, edge
  * order as above) may be NULL: then it is derived from the mesh (edges matched by position bits, which also
  * gives PN-AEN its neighbour normals).  Returns 0, or -1 for bad arguments or when out of memory. */
-int vs_smoothness(vs_patch p, const vs_options *o, const float3 *positions, const float3 *normals,
+INSTESS_API int vs_smoothness(vs_patch p, const vs_options *o, const float3 *positions, const float3 *normals,
                   size_t n_vertices, const uint32_t *idx, size_t n_tri, const float3 *opp, int samples_per_edge,
                   vs_smoothness_result *res);
 

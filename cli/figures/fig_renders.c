@@ -71,29 +71,6 @@ static int load_mesh(const char *spec, bool recompute, is_mesh *m, char *err, si
 
 /* ---------------------------------------- rendering ---------------------------------------- */
 
-/* A device with o's view of m drawn as the instess command draws it: `samples` samples, plus the normal AOV
- * plane when aov (1 sample).  NULL and err on failure. */
-static is_device *draw_view(const fig_view *v, const is_mesh *m, const core_grid *g, int samples, bool aov,
-                            char *err, size_t errlen)
-{
-    const scene_opts *o = &v->o;
-    is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
-    if (!dev) return NULL;
-    dev_set_threads(dev, o->threads);
-    if (aov && rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + 1, 3) != 0) {
-        snprintf(err, errlen, "%s: cannot add the normal AOV plane (out of memory)", m->name);
-        dev_destroy(dev);
-        return NULL;
-    }
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    if (scene_draw(dev, o, m, g, NULL) != 0) {
-        snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev));
-        dev_destroy(dev);
-        return NULL;
-    }
-    return dev;
-}
-
 /* The normal AOV plane of rt into img's N.X, N.Y, N.Z. */
 static void copy_normals(const rs_target *rt, is_image *img)
 {
@@ -111,8 +88,10 @@ static int render_mesh_view(const fig_ctx *ctx, fig_view *v, const is_mesh *m, i
     if (core_grid_make(v->o.grid, v->o.level, &g) != 0)
         return snprintf(err, errlen, "level %g: cannot build the grid", (double)v->o.level), -1;
     int rc = -1;
-    is_device *dev = draw_view(v, m, &g, v->o.msaa, false, err, errlen);
-    is_device *adev = dev ? draw_view(v, m, &g, 1, true, err, errlen) : NULL;
+    /* the colour with the view's samples, then the patch normal's AOV plane with one sample, as the command
+     * renders them (scene_render_view: also --cull, the light and the LOD of the view) */
+    is_device *dev = scene_render_view(&v->o, m, &g, v->o.msaa, 0, NULL, err, errlen);
+    is_device *adev = dev ? scene_render_view(&v->o, m, &g, 1, SCENE_AOV_NORMAL, NULL, err, errlen) : NULL;
     if (adev && image_alloc(img, w, h, FIG_CHANNELS, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc == 0) copy_normals(dev_render_target(adev), img);
@@ -124,8 +103,7 @@ static int render_mesh_view(const fig_ctx *ctx, fig_view *v, const is_mesh *m, i
     return rc;
 }
 
-/* Parse a view, load its mesh and render it at w x h; 0 or -1. */
-static int render_spec(const fig_ctx *ctx, const char *spec, int w, int h, is_image *img, char *err, size_t errlen)
+int fig_render_spec(const fig_ctx *ctx, const char *spec, int w, int h, is_image *img, char *err, size_t errlen)
 {
     fig_view v;
     is_mesh m = {0};
@@ -243,7 +221,7 @@ static int render_grid(const fig_ctx *ctx, const char *title, const fig_panel *p
     int rc = layout_begin(&L, title, out, err, errlen);
     for (int k = 0; rc == 0 && k < rows * cols; k++) {
         is_image p = {0};
-        rc = render_spec(ctx, panels[k].view, pw, ph, &p, err, errlen);
+        rc = fig_render_spec(ctx, panels[k].view, pw, ph, &p, err, errlen);
         if (rc == 0) rc = layout_place(&L, out, k, &p, panels[k].label, err, errlen);
         image_free(&p);
         if (rc != 0) image_free(out);
@@ -257,7 +235,7 @@ static int render_grid(const fig_ctx *ctx, const char *title, const fig_panel *p
 static int render_single(const fig_ctx *ctx, const char *spec, is_image *out, char *err, size_t errlen)
 {
     fig_sizes s = sizes_of(ctx);
-    return render_spec(ctx, spec, s.single, s.single, out, err, errlen);
+    return fig_render_spec(ctx, spec, s.single, s.single, out, err, errlen);
 }
 
 /* The views of the single renderings.  Real normals (seed 001, 3.2.2: the normal of the surface itself) under the
@@ -511,8 +489,8 @@ static int fig_001_fake_vs_real(const fig_ctx *ctx, is_image *out, char *err, si
     fig_sizes s = sizes_of(ctx);
     fig_layout L = layout_of(ctx, 1, 3, s.panel, s.panel);
     is_image fake = {0}, real = {0}, diff = {0};
-    int rc = render_spec(ctx, V_FAKE_REAL " --normals quadratic", s.panel, s.panel, &fake, err, errlen);
-    if (rc == 0) rc = render_spec(ctx, V_FAKE_REAL " --normals real", s.panel, s.panel, &real, err, errlen);
+    int rc = fig_render_spec(ctx, V_FAKE_REAL " --normals quadratic", s.panel, s.panel, &fake, err, errlen);
+    if (rc == 0) rc = fig_render_spec(ctx, V_FAKE_REAL " --normals real", s.panel, s.panel, &real, err, errlen);
     if (rc == 0) rc = image_copy(&diff, &real, err, errlen);
     if (rc == 0) heat_map(&diff, &fake);
     if (rc == 0) rc = layout_begin(&L, "'Fake' vs 'real' normals of PN triangles", out, err, errlen);

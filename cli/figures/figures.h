@@ -22,6 +22,11 @@ typedef struct fig_ctx {
 
 typedef int (*fig_fn)(const fig_ctx *ctx, is_image *out, char *err, size_t errlen);
 
+/* One view of a figure: spec is render options as the command takes them ("--mesh cube --patch npatch ..."),
+ * rendered at w x h through scene_render_view (as the command renders) into img (allocated: R, G, B, A, Z, N.X,
+ * N.Y, N.Z); 0 or -1 with a message. */
+int fig_render_spec(const fig_ctx *ctx, const char *spec, int w, int h, is_image *img, char *err, size_t errlen);
+
 typedef struct figure {
     const char *id;        /* "fig-1.1.1a" (docs/design.md, section 5) */
     const char *group;     /* figures shown side by side share a group ("fig-1.1.1"); NULL: alone */

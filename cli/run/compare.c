@@ -99,6 +99,18 @@ static void print_report(const compare_args *a, const is_image_diff *d, is_image
     else printf("%s\n", d->max_error == 0.0f ? "identical" : "within the thresholds");
 }
 
+/* The exit code of a verdict: 0 pass, 1 different, 3 shapes differ, 4 unreadable (2 is the usage error). */
+static int compare_exit_code(is_image_verdict v)
+{
+    switch (v) {
+    case IS_IMAGE_PASS: return 0;
+    case IS_IMAGE_DIFFERENT: return 1;
+    case IS_IMAGE_SHAPE_DIFFERS: return 3;
+    case IS_IMAGE_IO_ERROR: return 4;
+    }
+    return 4;
+}
+
 int scene_cmd_compare(int argc, char **argv)
 {
     compare_args a;
@@ -109,5 +121,5 @@ int scene_cmd_compare(int argc, char **argv)
     is_image_verdict v = image_check_files(a.a, a.b, a.fail, a.failpercent, a.diff, &d, err, sizeof err);
     if (v == IS_IMAGE_PASS || v == IS_IMAGE_DIFFERENT) print_report(&a, &d, v);
     else fprintf(stderr, "instess compare: %s\n", err);
-    return (int)v;
+    return compare_exit_code(v);
 }

@@ -250,16 +250,19 @@ int outputs_close_stream(is_outputs *o, int k, FILE *s, char *err, size_t errlen
     return ok ? 0 : -1;
 }
 
-/* INSTESS_TEST_WRITE_DELAY_MS=N: sleep N ms (at most 60000) with every temporary complete and none renamed,
- * so that tests can signal the program in that window. */
+/* The test build's hook (build/tests/instess-hooks, compiled with INSTESS_TEST_HOOKS; the program proper has
+ * none): INSTESS_TEST_WRITE_DELAY_MS=N sleeps N ms (at most 60000) with every temporary complete and none
+ * renamed, so that tests can signal the program in that window. */
 static void test_write_delay(void)
 {
+#ifdef INSTESS_TEST_HOOKS
     const char *d = getenv("INSTESS_TEST_WRITE_DELAY_MS");
     long ms = d ? strtol(d, NULL, 10) : 0;
     if (ms <= 0 || ms > 60000) return;
     struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
     while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
     }
+#endif
 }
 
 /* fsync a folder (makes the renames durable; some filesystems cannot, which is harmless here). */

@@ -32,8 +32,9 @@
  * program's handlers of SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU (cli/main.c), which then die of the signal.
  * SIGKILL cannot be caught: a stale ".instess-*.tmp" may then remain.  At most 16 temporaries are tracked at
  * once (beyond that a file is written but not removed by a signal).
- * INSTESS_TEST_WRITE_DELAY_MS=N (at most 60000) makes outputs_commit wait N ms with every temporary complete
- * and none renamed, so that a test can signal the program in that window. */
+ * In the test build only (INSTESS_TEST_HOOKS: build/tests/instess-hooks), INSTESS_TEST_WRITE_DELAY_MS=N (at
+ * most 60000) makes outputs_commit wait N ms with every temporary complete and none renamed, so that a test can
+ * signal the program in that window; the program proper reads no such variable. */
 #define IS_OUTPUTS_MAX 4
 typedef struct is_output_file {
     const char *path;                      /* the target, as given (not copied: keep it alive) */

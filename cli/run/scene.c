@@ -646,9 +646,8 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
     return 0;
 }
 
-/* Render into a new device of `samples` samples with `aov` planes (samples 1 only); the device is returned. */
-static is_device *render_device(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples,
-                                unsigned aovs, scene_stats *st, char *err, size_t errlen)
+is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples, unsigned aovs,
+                             scene_stats *st, char *err, size_t errlen)
 {
     is_device *dev = scene_create_device(o, samples, aovs, err, errlen);
     if (dev && scene_render_on(dev, o, m, g, st, err, errlen) != 0) {
@@ -829,14 +828,14 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_ima
     char names[256];
     channel_list(o->aovs, names, sizeof names);
     int rc = -1;
-    is_device *dev = render_device(o, m, &g, o->msaa, 0, st, err, errlen);
+    is_device *dev = scene_render_view(o, m, &g, o->msaa, 0, st, err, errlen);
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
         if (rc == 0 && o->output && image_format_of(o->output) == IS_IMAGE_EXR)
             exr_colour(dev_render_target(dev), o->background, img);
         if (rc == 0 && o->aovs) {
-            is_device *adev = render_device(o, m, &g, 1, o->aovs, NULL, err, errlen);
+            is_device *adev = scene_render_view(o, m, &g, 1, o->aovs, NULL, err, errlen);
             scene_camera cam = make_camera(o, m);
             cam.radius *= unit;
             if (adev) copy_aovs(dev_render_target(adev), &cam, img, 5);

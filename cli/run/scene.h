@@ -192,6 +192,12 @@ int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g
 is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen);
 int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g, scene_stats *st,
                     char *err, size_t errlen);
+/* The one way a view is rendered (the run, the figures, the viewer's first frame and the tests go through it;
+ * the viewer then redraws its devices with scene_render_on): a new device of o's size with `samples` samples and
+ * the AOV planes `aovs` (samples 1 only), cleared and drawn as o says (cull mode, path, LOD, light).  The device,
+ * or NULL with a message; st gets the counters added. */
+is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples, unsigned aovs,
+                             scene_stats *st, char *err, size_t errlen);
 /* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
  * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);

@@ -16,6 +16,12 @@
 
 char *mkdtemp(char *tmpl);  /* POSIX 2008, declared only with _DEFAULT_SOURCE by glibc's headers */
 
+const char *prog_hooks_bin(void)
+{
+    const char *b = getenv("INSTESS_HOOKS_BIN");
+    return b && *b ? b : "build/tests/instess-hooks";
+}
+
 const char *prog_bin(void)
 {
     const char *b = getenv("INSTESS_BIN");

@@ -11,6 +11,9 @@
 
 /* The program under test. */
 const char *prog_bin(void);
+/* The program built with the test hooks (INSTESS_TEST_HOOKS, e.g. INSTESS_TEST_WRITE_DELAY_MS): $INSTESS_HOOKS_BIN,
+ * or build/tests/instess-hooks.  The program proper has no hooks. */
+const char *prog_hooks_bin(void);
 /* Make a fresh folder /tmp/instess-<tag>-XXXXXX into dir (at least 256 bytes); 0 or -1. */
 int prog_mkdtemp(char *dir, const char *tag);
 /* Remove dir and everything in it. */
