@@ -209,11 +209,11 @@ static void render_figure(const figure *f, const fig_ctx *ctx, const char *dir, 
     res->rc = f->render(ctx, &img, res->err, sizeof res->err);
     if (res->rc == 0) {
         snprintf(path, sizeof path, "%s/%s.png", dir, f->id);
-        res->rc = image_write(&img, path, &meta, res->err, sizeof res->err);
+        res->rc = outputs_write_image(&img, path, &meta, res->err, sizeof res->err);
     }
     if (res->rc == 0 && f->rendering) {
         snprintf(path, sizeof path, "%s/%s.exr", dir, f->id);
-        res->rc = image_write(&img, path, &meta, res->err, sizeof res->err);
+        res->rc = outputs_write_image(&img, path, &meta, res->err, sizeof res->err);
     }
     if (res->rc != 0 && !res->err[0]) snprintf(res->err, sizeof res->err, "failed without a message");
     image_free(&img);

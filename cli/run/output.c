@@ -341,3 +341,15 @@ int image_write_output(is_outputs *o, int k, const is_image *img, const is_image
     free(bytes);
     return rc;
 }
+
+int outputs_write_image(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen)
+{
+    if (image_check_path(path, err, errlen) != 0) return -1;
+    is_outputs o;
+    outputs_init(&o);
+    int k = outputs_add(&o, path, err, errlen);
+    int rc = k < 0 ? -1 : image_write_output(&o, k, img, meta, err, errlen);
+    if (rc == 0) return outputs_commit(&o, err, errlen);
+    outputs_abort(&o);
+    return -1;
+}

@@ -67,6 +67,9 @@ bool outputs_same_target(const char *a, const char *b);
 /* Unlink every temporary of this process that exists now: async-signal-safe. */
 void outputs_remove_temp_files(void);
 
+/* Write one image file as a run of its own (the program's screenshots and figures): through the outputs above, so
+ * a signal leaves no temporary and the target holds its old or its complete new bytes; 0 or -1. */
+int outputs_write_image(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
 /* Encode img in the format of output k's path and write it into that output's temporary; 0 or -1. */
 int image_write_output(is_outputs *o, int k, const is_image *img, const is_image_meta *meta, char *err,
                        size_t errlen);

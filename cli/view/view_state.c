@@ -523,7 +523,7 @@ int view_write_png(const view_state *v, const uint32_t *pixels, bool cli_equal, 
     if (image_alloc(&img, v->o.width, v->o.height, cli_equal ? "R,G,B,A,Z" : "R,G,B,A", err, errlen) != 0) return -1;
     image_from_rgba8(&img, pixels);
     is_image_meta meta = {"instess " INSTESS_VERSION, desc};
-    int rc = image_write(&img, path, &meta, err, errlen);
+    int rc = outputs_write_image(&img, path, &meta, err, errlen);
     image_free(&img);
     return rc;
 }
