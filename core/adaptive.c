@@ -1,4 +1,4 @@
-/* core/adaptive.c -- D3D9's adaptive tessellation rule for the N-patch mode (core.h, "Adaptive N-patch mode"):
+/* core/adaptive.c -- D3D9's adaptive tessellation rule for the N-patch mode (core/device.h, "Adaptive N-patch mode"):
  * per-vertex levels from the eye depth and TESSFACTOR, per-edge levels as their mean, out-of-range and clamping. */
 #include "core.h"
 #include "hlsl.h"

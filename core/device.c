@@ -52,7 +52,7 @@ static void set_default_states(is_device *dev)
     s[IS_RS_PATCHEDGESTYLE] = IS_PATCHEDGE_DISCRETE;
     s[IS_RS_DEPTHBIAS] = float_bits(0.0f);
     s[IS_RS_SLOPESCALEDEPTHBIAS] = float_bits(0.0f);
-    /* adaptive tessellation: the documented defaults (core.h) */
+    /* adaptive tessellation: the documented defaults (core/device.h) */
     s[IS_RS_ENABLEADAPTIVETESSELLATION] = 0;
     s[IS_RS_MINTESSELLATIONLEVEL] = float_bits(1.0f);
     s[IS_RS_MAXTESSELLATIONLEVEL] = float_bits(1.0f);

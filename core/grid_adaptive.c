@@ -1,5 +1,5 @@
 /* core/grid_adaptive.c -- refinement patterns for per-edge tessellation levels (semi-uniform: Dyken, Reimers,
- * Seland 2009) and their bounded cache; core/core.h states the rules.
+ * Seland 2009) and their bounded cache; core/grid.h states the rules.
  *
  * Why no fold: a grid triangle keeps its corners on the lines they lie on (an edge point moves along its edge,
  * a corner and an interior point stay), and the snap is monotone along each edge.  A triangle with two points on

@@ -18,7 +18,7 @@
 extern "C" {
 #endif
 
-/* Two halves: image/image.c holds the pixels and writes one file at a time atomically (image/file.c); the codec (encode into
+/* Two halves: image/image.c holds the pixels and writes one file at a time atomically (image/image.c); the codec (encode into
  * memory, read, compare, text) is image/image_oiio.cpp, the only code that touches OpenImageIO, built as the
  * module libinstess_codec.so that image/image_codec.c opens on the first codec call (so a program that never
  * reads or writes an image never loads OpenImageIO's libraries).  The valgrind stage's build

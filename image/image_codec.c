@@ -1,5 +1,5 @@
 /* image/image_codec.c -- the image codec, loaded on the first image call: image_encode, image_read,
- * image_compare, image_draw_text and image_text_size (core/core.h) forward to libinstess_codec.so
+ * image_compare, image_draw_text and image_text_size (image/image.h) forward to libinstess_codec.so
  * (image/image_oiio.cpp and OpenImageIO), opened with dlopen.
  *
  * Why: OpenImageIO brings in about 260 shared libraries, and loading them took 0.5 s of every start of the
@@ -20,7 +20,7 @@
  * the places tried and dlerror's reason.
  *
  * The function table is filled once (pthread_once) and read-only afterwards: with the signal handler's slots
- * (core/output.c), one of the two process-wide states the project allows. */
+ * (cli/run/output.c), one of the two process-wide states the project allows. */
 #define _GNU_SOURCE  /* dladdr-free /proc/self/exe handling, RTLD_* */
 #include "image_internal.h"
 
@@ -34,7 +34,7 @@
 
 #define CODEC_MODULE "libinstess_codec.so"
 
-/* The module's entry points (the image_* signatures of core.h). */
+/* The module's entry points (the image_* signatures of image/image.h). */
 typedef struct codec_table {
     int (*encode)(const is_image *, is_image_format, const is_image_meta *, const char *, unsigned char **, size_t *,
                   char *, size_t);

@@ -1,12 +1,12 @@
 // image/image_oiio.cpp -- the image codec through OpenImageIO: encode into memory, read, compare, text.  Built as
 // the module libinstess_codec.so, which image/image_codec.c opens on the first image call (the API is
-// core/core.h's image_encode, image_read, ...; here they are codec_*).  The pixels and the writing of files are
-// image/image.c and core/output.c, in C, in the program, which exports them to this module (-rdynamic).
+// image/image.h's image_encode, image_read, ...; here they are codec_*).  The pixels and the writing of files are
+// image/image.c and cli/run/output.c, in C, in the program, which exports them to this module (-rdynamic).
 //
 // The only C++ file of the project.  Every entry point is extern "C", catches every exception and reports
 // failures as -1 with a message in err that names the file and the reason.  Encoding goes into memory, not
 // into the file, because OIIO 2.4's PNG writer ignores failed writes (a full disk would give a truncated
-// file and success): core/output.c writes the bytes with every write(2) checked.
+// file and success): cli/run/output.c writes the bytes with every write(2) checked.
 
 #include "image.h"
 

@@ -1,4 +1,4 @@
-/* tests/test_adaptive_d3d9.c -- D3D9's adaptive tessellation in the device's N-patch mode (core.h, "Adaptive
+/* tests/test_adaptive_d3d9.c -- D3D9's adaptive tessellation in the device's N-patch mode (core/device.h, "Adaptive
  * N-patch mode"): the render states with their documented defaults and their invalid values, TESSFACTOR in
  * declarations, the level rule against hand-computed levels, the edge levels a draw really tessellates with
  * (counted at the evaluator), renders with adaptivity off or uniform equal to the plain mode byte for byte, and

@@ -1,4 +1,4 @@
-/* tests/test_figures.c -- pixel-diff tests of every figure (cli/figures.h): both tables, fig_renders and
+/* tests/test_figures.c -- pixel-diff tests of every figure (cli/figures/figures.h): both tables, fig_renders and
  * fig_diagrams, rendered at the test size (fig_ctx.small) and compared with tests/golden/<id>.png.
  *
  * Thresholds: the renders are deterministic under the fixed build configuration (Makefile: -O2
@@ -65,14 +65,14 @@ static void check_table(const figure *t)
     assert_int_equal(failures, 0);
 }
 
-/* The renderings (cli/fig_renders.c). */
+/* The renderings (cli/figures/fig_renders.c). */
 static void test_render_figures(void **state)
 {
     (void)state;
     check_table(fig_renders);
 }
 
-/* The diagrams (cli/fig_diagrams.c). */
+/* The diagrams (cli/figures/fig_diagrams.c). */
 static void test_diagram_figures(void **state)
 {
     (void)state;

@@ -649,7 +649,7 @@ static void test_odd_obj(void **state)
         expect_image(cases[k].name, k % 2 ? "--patch npatch --normals quadratic --level 2" : "--patch smooth --level 3",
                      &w);
     }
-    /* Denormal coordinates: a finite image.  cli/scene.c draws a mesh whose bounding radius is below 1e-37
+    /* Denormal coordinates: a finite image.  cli/run/scene.c draws a mesh whose bounding radius is below 1e-37
      * unscaled (docs/robustness.md, "Limits"), so it covers no pixel until the scene rescales it too. */
     char p[512], out[512];
     const char *err;

@@ -1,4 +1,4 @@
-/* tests/test_image.c -- the image API of core/core.h (core/image.cpp) and the golden helper (tests/util/golden.c).
+/* tests/test_image.c -- the image API of image/image.h (image/image_oiio.cpp) and the golden helper (tests/util/golden.c).
  * Every test works in its own temporary directory under /tmp, removed afterwards. */
 #include <setjmp.h>
 #include <stdarg.h>

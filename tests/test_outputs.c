@@ -1,4 +1,4 @@
-/* tests/test_outputs.c -- the files a run writes (core/output.c, docs/robustness.md "Outputs"), through the real
+/* tests/test_outputs.c -- the files a run writes (cli/run/output.c, docs/robustness.md "Outputs"), through the real
  * program: all outputs of a run succeed together or none is left; only regular files are replaced; names up
  * to the filesystem's limit; a full or read-only filesystem, `ulimit -f`, `ulimit -v` and signals in the write
  * window give an error or a clean death, never a partial file or a damaged earlier one; concurrent writers of

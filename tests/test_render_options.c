@@ -1,4 +1,4 @@
-/* tests/test_render_options.c -- the options that came out of the figures (cli/options.c, cli/lighting.c):
+/* tests/test_render_options.c -- the options that came out of the figures (cli/run/options.c, cli/run/lighting.c):
  * --light, --fov, --color, --background, --phong-alpha, --n110-factor.  Each changes the pixels it should and
  * only those; its default, given explicitly, changes nothing (the default image keeps its bytes); the names the
  * figures use equal the values they stand for; a bad value is a usage error (exit 2) naming the option, with

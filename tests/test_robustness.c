@@ -114,7 +114,7 @@ static void test_overdraw_bomb(void **state)
     }
 }
 
-/* The memory budget (cli/scene.h SCENE_DEFAULT_MAX_MEMORY_MIB, --max-memory) is checked before anything is
+/* The memory budget (cli/run/scene.h SCENE_DEFAULT_MAX_MEMORY_MIB, --max-memory) is checked before anything is
  * allocated: the CPU path at level 128 (about 270 MiB by the estimate) is refused under a 100 MiB budget with
  * the estimate and the option named, and renders under the default; the instanced path needs no per-vertex
  * memory and renders under the smallest budget; a budget below 16 MiB is a usage error. */

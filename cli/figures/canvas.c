@@ -1,4 +1,4 @@
-/* cli/canvas.c -- the drawing kit of the diagrams (cli/figures.h): primitives are recorded as coloured triangles
+/* cli/figures/canvas.c -- the drawing kit of the diagrams (cli/figures/figures.h): primitives are recorded as coloured triangles
  * in frame coordinates, drawn in one call on a 4x MSAA device of this project (its own pass-through vertex
  * shader, no culling, no depth test, premultiplied "over" blending, so later draws lie on top), resolved, and then
  * labelled with image_draw_text so text stays crisp.

@@ -1,5 +1,5 @@
-/* cli/fig_diagrams.c -- the explanatory drawings of the three source documents (docs/design.md, section 5), drawn with
- * the canvas of cli/canvas.c from the project's own formulas (vs/: vs_evaluate_curve, vs_patch_eval,
+/* cli/figures/fig_diagrams.c -- the explanatory drawings of the three source documents (docs/design.md, section 5), drawn with
+ * the canvas of cli/figures/canvas.c from the project's own formulas (vs/: vs_evaluate_curve, vs_patch_eval,
  * vs_npatch_evaluate; core/: core_grid_regular, core_grid_pg), so every diagram shows what the code computes.
  *
  * Conventions: every diagram is 900x600 (360x240 when ctx->small: geometry and text scaled by 0.4) on a white

@@ -1,9 +1,9 @@
-/* cli/fig_renders.c -- the figures of the source documents that are renderings of surfaces (table fig_renders,
- * cli/figures.h): Gruen's Figs. 1.1.1, 1.1.7, 1.1.8, 1.1.10; van Veen and Baakman's Figs. 1, 5, 12 and the
+/* cli/figures/fig_renders.c -- the figures of the source documents that are renderings of surfaces (table fig_renders,
+ * cli/figures/figures.h): Gruen's Figs. 1.1.1, 1.1.7, 1.1.8, 1.1.10; van Veen and Baakman's Figs. 1, 5, 12 and the
  * 'fake' vs 'real' normals of their section 5.1; Real-Time Rendering's Fig. 3; and the MD2 texture-seam cracks.
  *
  * Every view is written once, as the options of the `instess` command (V_* macros below): the render parses
- * that string with the option table of cli/options.c and draws it through scene_draw, exactly as the command
+ * that string with the option table of cli/run/options.c and draws it through scene_draw, exactly as the command
  * does, and the table's `command` field is built from the same string, so a single rendering is reproduced
  * pixel for pixel by its command (tests/test_figures.c runs each one).  Composites list their panels' commands.
  * A rendering is "R,G,B,A,Z,N.X,N.Y,N.Z": colour with 4x MSAA, then Z (nearest sample) and the unit normal of a

@@ -1,4 +1,4 @@
-/* cli/figures.c -- `instess figures`: every figure of the three source documents (docs/design.md, section 5) into
+/* cli/figures/figures.c -- `instess figures`: every figure of the three source documents (docs/design.md, section 5) into
  * DIR/<id>.png (+ DIR/<id>.exr with Z and N for renderings) and the gallery DIR/index.html (a table of contents and
  * the figures whose images are in DIR: those of this run and of earlier runs into the same folder).
  *

@@ -1,5 +1,5 @@
-/* cli/figures.h -- the figures of the three source documents (docs/design.md, section 5): one table entry per figure,
- * rendered by `instess figures` (cli/figures.c) into out/<id>.png (+ .exr for renderings) and out/index.html, and
+/* cli/figures/figures.h -- the figures of the three source documents (docs/design.md, section 5): one table entry per figure,
+ * rendered by `instess figures` (cli/figures/figures.c) into out/<id>.png (+ .exr for renderings) and out/index.html, and
  * by tests/test_figures.c at a small size against golden images.
  *
  * Conventions: a figure's render function fills an image (allocated by it with image_alloc: "R,G,B,A" for
@@ -47,10 +47,10 @@ typedef struct figure {
 
 /* The two tables, each ended by an entry with id == NULL.  A figure is one row: adding one is a row here and its
  * render function (README, "Extending instess"); the gallery orders them by section, then by id. */
-extern const figure fig_renders[];   /* cli/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
-extern const figure fig_diagrams[];  /* cli/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
+extern const figure fig_renders[];   /* cli/figures/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
+extern const figure fig_diagrams[];  /* cli/figures/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
 
-/* ---- a small drawing kit for diagrams and labels (cli/canvas.c) ---- */
+/* ---- a small drawing kit for diagrams and labels (cli/figures/canvas.c) ---- */
 typedef struct fig_canvas fig_canvas;
 /* A w x h canvas with 4x MSAA, background colour bg (RGBA in [0,1]); a 2D coordinate frame maps
  * [x0, x1] x [y0, y1] (y up) onto the image with equal scale on both axes and a margin. */

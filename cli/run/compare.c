@@ -1,5 +1,5 @@
-/* cli/compare.c -- `instess compare A B [--diff FILE] [--fail T] [--failpercent P]`: the pixel-diff test of
- * the golden tests (image_check, core/core.h) on two image files, for scripts and for a user's own goldens.
+/* cli/run/compare.c -- `instess compare A B [--diff FILE] [--fail T] [--failpercent P]`: the pixel-diff test of
+ * the golden tests (image_check, image/image.h) on two image files, for scripts and for a user's own goldens.
  *
  * Prints the shape, the largest difference with its pixel and channel, the mean, and the count of failing
  * pixels on stdout; exit codes are image_check's verdicts: 0 identical or within the thresholds, 1 different,

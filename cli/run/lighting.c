@@ -1,4 +1,4 @@
-/* cli/lighting.c -- the light and the colours of a scene (--light, --color, --background): parsing, and the
+/* cli/run/lighting.c -- the light and the colours of a scene (--light, --color, --background): parsing, and the
  * wrapper shader that relights a patch when the light is not the listing's headlight.
  *
  * The listing's shaders light with saturate(dot(Normal, (0, 0, -1))) * g_vDiffuse (a headlight: the camera looks

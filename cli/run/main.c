@@ -1,4 +1,4 @@
-/* cli/main.c -- the `instess` program: option parsing and exit codes.  The rendering is in cli/scene.c.
+/* cli/run/main.c -- the `instess` program: option parsing and exit codes.  The rendering is in cli/run/scene.c.
  *
  * Exit codes: render_exit_codes below (0 success, 1 input error, 2 usage error); compare's are its own. */
 #include <omp.h>
@@ -35,7 +35,7 @@ static const scene_subcommand subcommands[] = {
 };
 enum { N_SUBCOMMANDS = sizeof subcommands / sizeof subcommands[0] };
 
-/* Print the usage text to f: the synopses, then every render option from the option table (cli/options.c). */
+/* Print the usage text to f: the synopses, then every render option from the option table (cli/run/options.c). */
 static void print_usage(FILE *f)
 {
     fputs("usage: instess [OPTION]... [MESH] -o FILE.png|FILE.exr\n", f);
@@ -101,7 +101,7 @@ static int cmd_render(int argc, char **argv)
 }
 
 /* SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU: remove the temporary files of the outputs being written
- * (outputs_remove_temp_files is async-signal-safe; the names live in core/output.c's static slots, the one
+ * (outputs_remove_temp_files is async-signal-safe; the names live in cli/run/output.c's static slots, the one
  * accepted exception to "no globals"), then die of the same signal with its default action, so the caller sees
  * how the program ended.  The targets are never partial in any case (rename). */
 static void on_signal(int sig)

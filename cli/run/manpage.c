@@ -1,6 +1,6 @@
-/* cli/manpage.c -- the manual page instess.1, written by `instess --man` from the tables that also make the
- * program's usage texts: the render options (scene_options, cli/options.c, which --help prints), the
- * subcommands with their synopses, options and exit codes (cli/main.c), compare's options (cli/compare.c).
+/* cli/run/manpage.c -- the manual page instess.1, written by `instess --man` from the tables that also make the
+ * program's usage texts: the render options (scene_options, cli/run/options.c, which --help prints), the
+ * subcommands with their synopses, options and exit codes (cli/run/main.c), compare's options (cli/run/compare.c).
  * Nothing here lists an option: a new row of a table is in --help and in the page at once. */
 #include "scene.h"
 

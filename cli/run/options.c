@@ -1,4 +1,4 @@
-/* cli/options.c -- the render options of the command line: one table (scene_options) from which getopt's
+/* cli/run/options.c -- the render options of the command line: one table (scene_options) from which getopt's
  * long options, `--help` and the parsing of every program that renders a scene (instess, instess view, the
  * figures' "Reproduce" lines) are made, so that no list of options is repeated anywhere else. */
 #include "scene.h"

@@ -1,4 +1,4 @@
-/* cli/output.c -- the files one run writes, all or none (the API and its rules are in cli/outputs.h).
+/* cli/run/output.c -- the files one run writes, all or none (the API and its rules are in cli/run/outputs.h).
  *
  * Each output is checked when it is claimed, before any work: a regular file or nothing at the path (never a
  * symbolic link, a directory, a device, a FIFO or a socket), a name within the filesystem's limit, no second

@@ -1,4 +1,4 @@
-/* cli/outputs.h -- the files of one run of the program: all are written or none is left.
+/* cli/run/outputs.h -- the files of one run of the program: all are written or none is left.
  *
  * Conventions: functions return 0 / index >= 0, or -1 with a message naming the file in err.  The signal table
  * (outputs_remove_temp_files) is the program's: the library never installs handlers nor reads test hooks.
@@ -29,7 +29,7 @@
  *
  * Signals: the temporaries' names sit in a fixed table from before each file exists;
  * outputs_remove_temp_files() unlinks them and is async-signal-safe (lock-free atomics and unlink(2)), for a
- * program's handlers of SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU (cli/main.c), which then die of the signal.
+ * program's handlers of SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGXCPU (cli/run/main.c), which then die of the signal.
  * SIGKILL cannot be caught: a stale ".instess-*.tmp" may then remain.  At most 16 temporaries are tracked at
  * once (beyond that a file is written but not removed by a signal).
  * In the test build only (INSTESS_TEST_HOOKS: build/tests/instess-hooks), INSTESS_TEST_WRITE_DELAY_MS=N (at

@@ -1,4 +1,4 @@
-/* cli/progress.c -- the progress line of a long run (pbrt's habit): when stderr is a terminal and the work
+/* cli/run/progress.c -- the progress line of a long run (pbrt's habit): when stderr is a terminal and the work
  * has taken more than SCENE_PROGRESS_DELAY_MS, a thread redraws one line "instess: MESH: PHASE, 2.4 s" on
  * stderr every 0.2 s until the work ends, then erases it, so that the statistics and messages that follow
  * start on a clean line.  Nothing is drawn when stderr is not a terminal (a file, a pipe) or with -q. */

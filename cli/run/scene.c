@@ -1,4 +1,4 @@
-/* cli/scene.c -- render one scene through the device: options, camera, the three paths to a patch
+/* cli/run/scene.c -- render one scene through the device: options, camera, the three paths to a patch
  * (instanced, the device's N-patch mode, CPU tessellation), image assembly (RGBA, Z, AOVs) and output. */
 #include "scene.h"
 

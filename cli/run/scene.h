@@ -1,4 +1,4 @@
-/* cli/scene.h -- one rendered scene: a mesh, a patch, a grid, a path, a camera; the programs' shared layer
+/* cli/run/scene.h -- one rendered scene: a mesh, a patch, a grid, a path, a camera; the programs' shared layer
  * (the instess command, figures, bench and the golden tests all render through it).
  *
  * Conventions: the object is centred on its bounding box and scaled by 1 / bounding radius, then turned so that
@@ -77,7 +77,7 @@ typedef struct scene_opts {
     float diffuse[4];           /* g_vDiffuse (--color) */
     float wire_color[4];        /* g_vDiffuse of the wireframe overlay */
     uint32_t background;        /* D3DCOLOR (ARGB) (--background) */
-    scene_light light;          /* SCENE_LIGHT_HEADLIGHT: the listing's (0, 0, -1) (cli/lighting.c) */
+    scene_light light;          /* SCENE_LIGHT_HEADLIGHT: the listing's (0, 0, -1) (cli/run/lighting.c) */
     float light_dir[3];         /* towards the light, world space (SCENE_LIGHT_DIRECTION; normalised when used) */
     float fov;                  /* vertical field of view, degrees */
     float phong_alpha;          /* Phong tessellation's shape factor (vs_options.phong_alpha) */
@@ -153,7 +153,7 @@ bool scene_parse_int(const char *s, int lo, int hi, int *out);
 bool scene_parse_float(const char *s, float lo, float hi, float *out);
 bool scene_parse_aovs(const char *s, unsigned *out);
 
-/* ------------- light and colours (cli/lighting.c) ------------- */
+/* ------------- light and colours (cli/run/lighting.c) ------------- */
 /* "headlight" | "grazing" | "normals" | "X,Y,Z" (towards the light, world space, not zero) into o; true on success. */
 bool scene_parse_light(const char *s, scene_opts *o);
 /* The --light value of o (a name, or the direction written into buf). */
@@ -179,7 +179,7 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
  * the nearest sample (1 on the background). */
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
-/* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view_state.c).
+/* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view/view_state.c).
  * scene_fit_mesh: the mesh to draw for mesh -- mesh itself, or a copy moved to the origin and scaled to unit
  * radius in *copy when its coordinates are extreme (mesh_free(copy) afterwards in both cases).
  * scene_check_limits: the limits a render of m with g must respect (the vertex limit and the memory budget): 0,
@@ -204,7 +204,7 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 
-/* ------------- the command line (cli/options.c): one table for getopt, --help, the man page ------------- */
+/* ------------- the command line (cli/run/options.c): one table for getopt, --help, the man page ------------- */
 
 /* One render option: `--name METAVAR` (or a flag when metavar is NULL), its help line, its default as shown,
  * the function that applies a value to scene_opts, and for options that take one of a set of names, the names. */
@@ -246,7 +246,7 @@ int scene_lod_max_level(const scene_opts *o);
 extern const char *const scene_lod_names[];
 bool scene_parse_lod(const char *s, tess_lod_mode *out);
 
-/* ------------- the progress line of a long run (cli/progress.c) ------------- */
+/* ------------- the progress line of a long run (cli/run/progress.c) ------------- */
 
 /* After this many milliseconds of work a terminal gets a progress line. */
 #define SCENE_PROGRESS_DELAY_MS 1000
@@ -268,8 +268,8 @@ void scene_progress_print(scene_progress *p, const char *text);
 /* Stop the thread and erase the line (before anything else is printed on stderr). */
 void scene_progress_stop(scene_progress *p);
 
-/* Subcommands: `instess figures` (cli/figures.c), `instess smoothness` (cli/smoothness.c), `instess compare`
- * (cli/compare.c) and `instess view` (cli/view_state.c, which loads the SDL2 window of cli/view.c as the module
+/* Subcommands: `instess figures` (cli/figures/figures.c), `instess smoothness` (cli/run/smoothness.c), `instess compare`
+ * (cli/run/compare.c) and `instess view` (cli/view/view_state.c, which loads the SDL2 window of cli/view/view.c as the module
  * libinstess_view.so).  argv[0] is the subcommand's name; each returns the exit code. */
 int scene_cmd_figures(int argc, char **argv);
 int scene_cmd_smoothness(int argc, char **argv);

@@ -1,4 +1,4 @@
-/* cli/smoothness.c -- `instess smoothness`: for each patch on each built-in mesh (or the meshes given with
+/* cli/run/smoothness.c -- `instess smoothness`: for each patch on each built-in mesh (or the meshes given with
  * --mesh), the largest and mean angle between the surface normals on the two sides of shared edges (from the
  * derivatives) and the largest distance from the flat triangle (relative to the bounding-box diagonal).
  * Prints a Markdown table. */

@@ -1,8 +1,8 @@
-/* cli/view.c -- the window of `instess view` (SDL2, SDL2_ttf), built as the module libinstess_view.so: the
- * event loop (keys through the key table of cli/view_state.c, mouse orbit and zoom, resizing), the HUD drawn
+/* cli/view/view.c -- the window of `instess view` (SDL2, SDL2_ttf), built as the module libinstess_view.so: the
+ * event loop (keys through the key table of cli/view/view_state.c, mouse orbit and zoom, resizing), the HUD drawn
  * with DejaVu Sans Mono over a copy of the frame, the frame shown through a streaming texture, the scripted
  * keys of --keys and the --capture file.  Everything else -- options, renders, files -- is the program's
- * (cli/view_state.c), which this module calls back (the program exports its symbols, -rdynamic). */
+ * (cli/view/view_state.c), which this module calls back (the program exports its symbols, -rdynamic). */
 #include "view_internal.h"
 
 #include <SDL.h>

@@ -1,6 +1,6 @@
-/* cli/view_internal.h -- `instess view`, private to cli/: the viewer's state and its one key table, shared by
- * the SDL-free half (cli/view_state.c: options, keys, frames, HUD text, files; linked into the program) and the
- * window (cli/view.c: SDL2 and SDL2_ttf, built as the module libinstess_view.so and opened only by `instess
+/* cli/view/view_internal.h -- `instess view`, private to cli/: the viewer's state and its one key table, shared by
+ * the SDL-free half (cli/view/view_state.c: options, keys, frames, HUD text, files; linked into the program) and the
+ * window (cli/view/view.c: SDL2 and SDL2_ttf, built as the module libinstess_view.so and opened only by `instess
  * view`, so that no other start of the program loads SDL's fifty libraries).
  *
  * Conventions: a frame is what `instess ... -o` writes for the same options and size (the same render through
@@ -85,7 +85,7 @@ bool view_frame_is_cli(const view_state *v);
 /* The `s` key's work: the frame into the next free instess-view-NNNN.png of the current folder. */
 void view_screenshot(view_state *v);
 
-/* The module's entry point (cli/view.c): run the window until v->quit; the exit code. */
+/* The module's entry point (cli/view/view.c): run the window until v->quit; the exit code. */
 typedef int (*view_module_fn)(view_state *v);
 #define VIEW_MODULE "libinstess_view.so"
 #define VIEW_MODULE_ENTRY "view_module_run"

@@ -1,7 +1,7 @@
-/* cli/view_state.c -- `instess view` without SDL: its options (the render options of scene_parse_args, minus
+/* cli/view/view_state.c -- `instess view` without SDL: its options (the render options of scene_parse_args, minus
  * the outputs, plus the scripting options), the key table and its actions, frames rendered through the scene
- * layer, the HUD's text, screenshots and captures.  The window is cli/view.c, loaded as a module (see
- * cli/view_internal.h). */
+ * layer, the HUD's text, screenshots and captures.  The window is cli/view/view.c, loaded as a module (see
+ * cli/view/view_internal.h). */
 #define _GNU_SOURCE  /* RTLD_* */
 #include "view_internal.h"
 

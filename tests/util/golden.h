@@ -12,7 +12,7 @@
  *  - INSTESS_REGENERATE_GOLDENS=1 (set by `make goldens`): (re)writes the golden and passes; with
  *    INSTESS_GOLDENS_ONLY=NAME[,NAME...] (`make goldens ONLY=...`) only those goldens (names without the
  *    extension, e.g. fig-1.1.2), the others are checked as usual.
- *  - Otherwise the golden is compared with image_check (core.h), the same pixel-diff test as `instess compare
+ *  - Otherwise the golden is compared with image_check (image/image.h), the same pixel-diff test as `instess compare
  *    ACTUAL GOLDEN --fail T --failpercent P`: the check passes when at most fail_percent percent of the pixels
  *    have a channel differing by more than fail_thresh.  A missing golden is a FAILURE.
  *  - On failure it keeps <failures>/<name>.actual.<ext> and writes <failures>/<name>.diff.png (red: failing

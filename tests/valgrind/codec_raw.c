@@ -1,5 +1,5 @@
-/* tests/valgrind/codec_raw.c -- the image codec of the valgrind build: the five codec functions of core/core.h
- * without OpenImageIO, linked in place of core/image_oiio.cpp.
+/* tests/valgrind/codec_raw.c -- the image codec of the valgrind build: the five codec functions of image/image.h
+ * without OpenImageIO, linked in place of image/image_oiio.cpp.
  *
  * Why: OpenImageIO loads libjxl and with it libhwy, whose start-up code executes RDTSCP; valgrind 3.19's
  * emulated CPU claims RDTSCP on machines that lack it (AMD EPYC here), and every process that loads libhwy
