@@ -290,7 +290,7 @@ static int count_in_file(const char *path, const char *needle)
 
 /* `instess figures --only ID --out NEWDIR` writes an index of what is in NEWDIR: that figure alone (no image
  * links, ids or contents entries of figures not rendered there); a second run into the same folder adds its
- * figure to the first. */
+ * figure to the first.  Its Reproduce lines say build/instess, the program a clone has. */
 static void test_only_index(void **state)
 {
     (void)state;
@@ -312,6 +312,11 @@ static void test_only_index(void **state)
     assert_int_equal(count_in_file(index, "<figure id="), 2);
     assert_int_equal(count_in_file(index, "<figure id=\"fig-003-4\""), 1);
     assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 2);
+    /* the Reproduce lines name the program as a clone has it (build/instess), never a bare instess */
+    assert_int_equal(count_in_file(index, "<code>build/instess figures --only fig-1.1.3 --out DIR</code>"), 1);
+    assert_true(count_in_file(index, "build/instess ") >= 2);
+    assert_int_equal(count_in_file(index, "<code>instess "), 0);
+    assert_int_equal(count_in_file(index, ": instess "), 0);
     prog_rmdir(dir);
 }
 

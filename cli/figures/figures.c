@@ -261,6 +261,24 @@ static void html_text(FILE *f, const char *s)
     }
 }
 
+/* A Reproduce command as HTML text, each "instess " that starts a command (at the start, or after "panel K: ")
+ * written as "build/instess ": the program as a clone has it after make (installed, it is plain instess). */
+static void html_command(FILE *f, const char *cmd)
+{
+    for (const char *s = cmd; s && *s;) {
+        const char *line_end = strchr(s, '\n'), *colon = strstr(s, ": instess ");
+        const char *start = strncmp(s, "instess ", 8) == 0 ? s
+                            : strncmp(s, "panel ", 6) == 0 && colon && (!line_end || colon < line_end) ? colon + 2
+                            : NULL;
+        size_t len = line_end ? (size_t)(line_end - s) + 1 : strlen(s);
+        char line[2048];
+        snprintf(line, sizeof line, "%.*s%s%.*s", start ? (int)(start - s) : 0, s, start ? "build/" : "",
+                 (int)(len - (start ? (size_t)(start - s) : 0)), start ? start : s);
+        html_text(f, line);
+        s += len;
+    }
+}
+
 static const char gallery_css[] =
     "body{margin:0;padding:24px 32px;font:15px/1.45 system-ui,-apple-system,'Segoe UI',sans-serif;"
     "background:#f4f4f1;color:#222}\n"
@@ -357,8 +375,8 @@ static void html_figure(FILE *f, const char *dir, const figure *fg, const fig_re
     html_text(f, fg->caption);
     fputs("</blockquote>\n<p>", f);
     html_text(f, fg->shows);
-    fputs("</p>\n<p><b>Reproduce:</b></p><code>", f);
-    html_text(f, fg->command);
+    fputs("</p>\n<p><b>Reproduce</b> (in the repository after <code>make</code>):</p><code>", f);
+    html_command(f, fg->command);
     fputs("</code>\n", f);
     if (r && r->rc != 0) {
         fputs("<p class=\"fail\">Rendering failed in the last run: ", f);
@@ -482,8 +500,9 @@ static const char gallery_lead[] =
     "rendering's command gives the same pixels; a composite lists the command of each panel (the labels are "
     "added by instess figures); a diagram is drawn by instess figures from the project's own formulas and has no "
     "render command of its own. Renderings also come as OpenEXR files with depth (Z) and normal (N.X, N.Y, N.Z) "
-    "channels. This page lists the figures whose images are in its folder; instess figures --out DIR writes "
-    "them all (make figures in the repository).";
+    "channels. The commands are written as run in a clone of the repository after make (build/instess); after "
+    "make install the program is instess. This page lists the figures whose images are in its folder; "
+    "build/instess figures --out DIR writes them all (make figures in the repository).";
 
 /* Write DIR/index.html atomically (temporary file, then rename); 0 or -1 with a message on stderr. */
 static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel, const fig_result *res)
