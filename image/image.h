@@ -52,7 +52,8 @@ INSTESS_API int image_alloc(is_image *img, int width, int height, const char *ch
 INSTESS_API void image_free(is_image *img);
 /* Index of the channel called name, or -1. */
 INSTESS_API int image_channel_index(const is_image *img, const char *name);
-/* Fill RGBA of img from packed RGBA8 pixels (alpha forced to 1 where opaque is asked). */
+/* Fill the channels R, G, B and A of img (those it has) from packed RGBA8 pixels, one per pixel (R in the low
+ * byte, as dev_get_render_target_data gives them), each value k becoming k / 255; other channels are left. */
 INSTESS_API void image_from_rgba8(is_image *img, const uint32_t *rgba);
 /* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit RGBA (other channels dropped),
  * .exr RGBA half and other channels float; label names the file in messages.  0 or -1. */

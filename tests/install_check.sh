@@ -86,7 +86,7 @@ ex=$tmp/example; mkdir -p "$ex"
 cp examples/npatch_diff.png "$ex/ref.png"
 build_example() {
   cd "$ex" && cc -std=c17 -Wall -Wextra -Werror -H "$root/examples/npatch_diff.c" $(pc --cflags) $(pc --libs) \
-       -Wl,-rpath,"$S/lib" -o npatch_diff 2>headers.txt || { cat headers.txt; return 1; }
+       -Wl,-rpath,"$(pc --variable=libdir)" -o npatch_diff 2>headers.txt || { cat headers.txt; return 1; }
   # every instess header it read is the staged one
   local ours
   ours=$(grep -E 'instess|core\.h|raster\.h|vs\.h|meshes\.h' headers.txt | sed 's/^\.* //')
@@ -94,7 +94,7 @@ build_example() {
   [ -n "$ours" ] && ! echo "$ours" | grep -v "^$S/include/instess/" &&
     ldd ./npatch_diff | grep -q "libinstess.so.0 => $S/lib/libinstess.so.0"
 }
-check "example: built with pkg-config against the stage (headers and library from it)" build_example
+check "example: built as the README says (pkg-config, the rpath of --variable=libdir) against the stage" build_example
 
 run_example() { cd "$ex" && ./npatch_diff ref.png && [ ! -e ref.png.diff.png ]; }
 check "example: renders the N-Patch and matches examples/npatch_diff.png (exit 0)" run_example
@@ -110,7 +110,7 @@ check "example: a different reference fails (exit 1, diff image written)" other_
 # more than one bucket (draw), a valid image.
 adaptive_example() {
   cd "$ex" && cc -std=c17 -Wall -Wextra -Werror "$root/examples/adaptive_lod.c" $(pc --cflags) $(pc --libs) \
-       -Wl,-rpath,"$S/lib" -o adaptive_lod || return 1
+       -Wl,-rpath,"$(pc --variable=libdir)" -o adaptive_lod || return 1
   local out
   out=$(./adaptive_lod lod.png) || return 1
   echo "$out"
@@ -119,6 +119,14 @@ adaptive_example() {
     [ "${BASH_REMATCH[4]}" -gt 0 ] && "$S/bin/instess" compare lod.png lod.png >/dev/null
 }
 check "example: adaptive LOD through tess/ (per-edge levels, one draw per bucket) built against the stage" adaptive_example
+
+# docs/api.md's complete program, taken from the page as it is, built and run against the stage.
+api_doc_program() {
+  cd "$ex" && sed -n '/^```c$/,/^```$/p' "$root/docs/api.md" | sed '1d;$d' > api_prog.c && [ -s api_prog.c ] &&
+    cc -std=c17 -Wall -Wextra -Werror api_prog.c $(pc --cflags) $(pc --libs) -Wl,-rpath,"$(pc --variable=libdir)" \
+       -o api_prog && ./api_prog && [ -s cube.png ] && "$S/bin/instess" compare cube.png cube.png >/dev/null
+}
+check "docs/api.md: its complete program builds against the stage and writes its image" api_doc_program
 
 static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \
