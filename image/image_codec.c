@@ -10,8 +10,10 @@
  *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install);
  *  2. instess/ beside the shared library that holds this code (libinstess.so in LIBDIR finds
  *     LIBDIR/instess/libinstess_codec.so, wherever the library was installed or staged: found with dladdr);
- *  3. beside the executable (build/instess), one folder up (build/tests/...), and ../lib/instess beside it
- *     (the installed program, BINDIR = PREFIX/bin);
+ *  3. beside the executable (build/instess; the build puts a link to the module beside the test programs in
+ *     build/tests/ too), and ../lib/instess beside it (the installed program, BINDIR = PREFIX/bin) -- never the
+ *     current folder nor the folder above the program, where anyone might plant a module whose constructor
+ *     would run inside instess;
  *  4. INSTESS_CODEC_DIR as compiled in by the Makefile (LIBDIR/instess of the PREFIX the library was built
  *     for): a program linked with the static archive libinstess.a finds the installed module there.
  * The module calls image_alloc, image_write and the like of the code that opened it: a program that links
@@ -93,7 +95,6 @@ static int candidate_dirs(char dirs[][PATH_MAX + 32])
     if (library_dir(d, sizeof d)) snprintf(dirs[n++], PATH_MAX + 32, "%s/instess", d);
     exe_dir(d, sizeof d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s", d);
-    snprintf(dirs[n++], PATH_MAX + 32, "%s/..", d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s/../lib/instess", d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s", INSTESS_CODEC_DIR);
     return n;
@@ -107,7 +108,7 @@ const char *image_codec_install_dir(void)
 /* Open the module from the places above; its handle or NULL with g_codec.why filled. */
 static void *open_module(void)
 {
-    char dirs[6][PATH_MAX + 32], path[PATH_MAX + 64];
+    char dirs[5][PATH_MAX + 32], path[PATH_MAX + 64];
     int nd = candidate_dirs(dirs);
     size_t n = (size_t)snprintf(g_codec.why, sizeof g_codec.why, "image codec: cannot load " CODEC_MODULE);
     for (int k = 0; k < nd; k++) {

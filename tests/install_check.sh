@@ -37,7 +37,8 @@ $make --no-print-directory install DESTDIR="$stage" PREFIX=$prefix >"$tmp/instal
 S=$stage$prefix
 files_installed() {
   for f in bin/instess share/man/man1/instess.1 lib/libinstess.so.0.1.0 lib/libinstess.a \
-           lib/instess/libinstess_codec.so lib/pkgconfig/instess.pc include/instess/core/core.h \
+           lib/instess/libinstess_codec.so lib/instess/libinstess_view.so lib/pkgconfig/instess.pc \
+           include/instess/core/core.h \
            include/instess/core/api.h include/instess/core/math.h include/instess/core/device.h \
            include/instess/core/grid.h include/instess/image/image.h include/instess/tess/tess.h \
            include/instess/raster/raster.h include/instess/vs/vs.h include/instess/meshes/meshes.h; do
@@ -127,6 +128,28 @@ api_doc_program() {
        -o api_prog && ./api_prog && [ -s cube.png ] && "$S/bin/instess" compare cube.png cube.png >/dev/null
 }
 check "docs/api.md: its complete program builds against the stage and writes its image" api_doc_program
+
+# The installed viewer finds its window module (LIBDIR/instess) and draws a frame headless.
+installed_viewer() {
+  cd "$ex" && SDL_VIDEODRIVER=dummy "$S/bin/instess" view -q --no-hud --size 96x72 --frames 1 --capture view.png &&
+    "$S/bin/instess" --size 96x72 -q -o cli.png && "$S/bin/instess" compare view.png cli.png >/dev/null
+}
+check "the installed instess view loads its window module and draws the frame -o draws (dummy display)" installed_viewer
+
+# A module planted in the folder above the program or in the current folder is never loaded: its constructor
+# would run inside instess.
+planted_modules() {
+  local p="$tmp/plant" marker="$tmp/plant/ran"
+  mkdir -p "$p/bin" "$p/cwd" && cp "$S/bin/instess" "$p/bin/" || return 1
+  printf '#include <stdio.h>\n__attribute__((constructor)) static void c(void) { FILE *f = fopen("%s", "w"); if (f) fclose(f); }\n' \
+    "$marker" > "$p/m.c" && cc -shared -fPIC "$p/m.c" -o "$p/libinstess_codec.so" || return 1
+  cp "$p/libinstess_codec.so" "$p/libinstess_view.so" && cp "$p/libinstess_codec.so" "$p/cwd/" &&
+    cp "$p/libinstess_view.so" "$p/cwd/" || return 1
+  (cd "$p/cwd" && "$p/bin/instess" --size 16x16 -q -o x.png 2>/dev/null; SDL_VIDEODRIVER=dummy "$p/bin/instess" view \
+     -q --frames 1 --size 16x16 2>/dev/null; true)
+  [ ! -e "$marker" ] || { echo "a planted module ran"; return 1; }
+}
+check "modules are never loaded from the folder above the program or the current folder" planted_modules
 
 static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \
