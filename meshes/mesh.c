@@ -3,6 +3,7 @@
 #include "mesh_internal.h"
 
 #include "../core/hlsl.h"
+#include "../vs/vs.h"   /* VS_IN_*: the registers of Listing 1.1.2 the declaration fills */
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -472,14 +473,19 @@ size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out)
     return m->n_triangles;
 }
 
-#define PI_ELEM(off, type, idx) { 1, (off), (type), 0, IS_DECLUSAGE_TEXCOORD, (idx) }
+/* Listing 1.1.2's registers (vs/vs.h's VS_IN_*), each at its field of is_patch_instance. */
+#define PI_ELEM(field, type, idx) \
+    { 1, (uint16_t)offsetof(is_patch_instance, field), (type), 0, IS_DECLUSAGE_TEXCOORD, (idx) }
 
+_Static_assert(sizeof(is_patch_instance) == 136, "is_patch_instance: 136 bytes without padding (meshes.h)");
 const is_vertex_element mesh_patch_declaration[MESH_PATCH_DECLARATION_COUNT] = {
     { 0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0 },
-    PI_ELEM(0, IS_DECLTYPE_FLOAT3, 0),   PI_ELEM(12, IS_DECLTYPE_FLOAT3, 1),  PI_ELEM(24, IS_DECLTYPE_FLOAT3, 2),
-    PI_ELEM(36, IS_DECLTYPE_FLOAT3, 3),  PI_ELEM(48, IS_DECLTYPE_FLOAT3, 4),  PI_ELEM(60, IS_DECLTYPE_FLOAT3, 5),
-    PI_ELEM(72, IS_DECLTYPE_FLOAT3, 6),  PI_ELEM(84, IS_DECLTYPE_FLOAT3, 7),  PI_ELEM(96, IS_DECLTYPE_FLOAT3, 8),
-    PI_ELEM(108, IS_DECLTYPE_FLOAT2, 9), PI_ELEM(116, IS_DECLTYPE_FLOAT2, 10), PI_ELEM(124, IS_DECLTYPE_FLOAT2, 11),
-    PI_ELEM(132, IS_DECLTYPE_FLOAT1, 12),
+    PI_ELEM(v[0], IS_DECLTYPE_FLOAT3, VS_IN_V0),      PI_ELEM(v[1], IS_DECLTYPE_FLOAT3, VS_IN_V0 + 1),
+    PI_ELEM(v[2], IS_DECLTYPE_FLOAT3, VS_IN_V0 + 2),  PI_ELEM(n[0], IS_DECLTYPE_FLOAT3, VS_IN_N0),
+    PI_ELEM(n[1], IS_DECLTYPE_FLOAT3, VS_IN_N0 + 1),  PI_ELEM(n[2], IS_DECLTYPE_FLOAT3, VS_IN_N0 + 2),
+    PI_ELEM(opp[0], IS_DECLTYPE_FLOAT3, VS_IN_OPP0),  PI_ELEM(opp[1], IS_DECLTYPE_FLOAT3, VS_IN_OPP0 + 1),
+    PI_ELEM(opp[2], IS_DECLTYPE_FLOAT3, VS_IN_OPP0 + 2), PI_ELEM(t[0], IS_DECLTYPE_FLOAT2, VS_IN_T0),
+    PI_ELEM(t[1], IS_DECLTYPE_FLOAT2, VS_IN_T0 + 1),  PI_ELEM(t[2], IS_DECLTYPE_FLOAT2, VS_IN_T0 + 2),
+    PI_ELEM(instance_id, IS_DECLTYPE_FLOAT1, VS_IN_ID),
     IS_DECL_END
 };

@@ -83,6 +83,17 @@ enum {
     VS_IN_T0 = 9,    /* TEXCOORD9..11 t0..t2     */
     VS_IN_ID = 12    /* TEXCOORD12.x instance id */
 };
+/* ---- output registers (oT usage indices; oPos and oD0 = COLOR0, the lit colour, besides) ---- */
+enum {
+    VS_OUT_TEX = 0,      /* oT0.xy   the interpolated texture coordinate          */
+    VS_OUT_NORMAL = 1,   /* oT1.xyz  the unit patch normal (object space, as lit)  */
+    VS_OUT_BARY = 2,     /* oT2.xyz  the grid point's barycentrics b               */
+    VS_OUT_INSTANCE = 3, /* oT3.x    the instance (mesh triangle) index            */
+    VS_OUT_GREGORY = 4   /* oT4.xyz  the Gregory coordinates of b                  */
+};
+/* The per-instance record these registers are fetched from is meshes.h's is_patch_instance, declared by
+ * mesh_patch_declaration: both are written in terms of VS_IN_* (meshes/mesh.c checks the layout at compile
+ * time), so the three cannot disagree. */
 typedef struct vs_reg { uint8_t usage, usage_index; } vs_reg;
 /* Where PN-AEN reads n_adj[k][j] (is_declusage, usage index). */
 extern INSTESS_API const vs_reg vs_nadj_regs[3][2];
@@ -211,9 +222,9 @@ INSTESS_API uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t 
 
 
 
-/* The output mask of the shaders: COLOR0 and TEXCOORD0..4. */
-#define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | \
-                    IS_OUT_TEXCOORD(3) | IS_OUT_TEXCOORD(4))
+/* The output mask of the shaders: COLOR0 and the TEXCOORD outputs VS_OUT_* (see "output registers" above). */
+#define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(VS_OUT_TEX) | IS_OUT_TEXCOORD(VS_OUT_NORMAL) | \
+                    IS_OUT_TEXCOORD(VS_OUT_BARY) | IS_OUT_TEXCOORD(VS_OUT_INSTANCE) | IS_OUT_TEXCOORD(VS_OUT_GREGORY))
 
 /* ---- smoothness in numbers ---- */
 typedef struct vs_smoothness_result {

@@ -371,7 +371,6 @@ tess_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
 }
 
 /* The AOV outputs of the patch shaders (vs/vs.h): TEXCOORD1 normal, 2 barycentrics, 3 instance, 4 Gregory. */
-enum { VS_OUT_NORMAL = 1, VS_OUT_BARY = 2, VS_OUT_INSTANCE = 3, VS_OUT_GREGORY = 4 };
 
 /* The listing's constants for the scene's matrices, a diffuse colour and the patch options. */
 static void fill_constants(is_vs_constants *c, const scene_opts *o, const float4x4 *wvp, const float4x4 *world,
