@@ -1114,32 +1114,13 @@ static uint64_t mesh_hash(const is_mesh *m)
 
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
 {
-    char names[64] = "none", light[96];
-    channel_list(o->aovs, names, sizeof names);
-    snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
-             "grid %s, path %s, size %dx%d, up %s, yaw %g, pitch %g, distance %g, fit %s, fill %s, cull %s, msaa %d, "
-             "channels %s",
-             INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
-             vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
-             o->width, o->height, scene_up_names[o->up], (double)o->yaw, (double)o->pitch, (double)o->distance,
-             scene_fit_names[o->fit], scene_fill_names[o->fill],
-             scene_cull_names[o->cull - IS_CULL_NONE], o->msaa, names);
-    size_t n = strlen(buf);
-    if (o->d3d9_adaptive == SCENE_D3D9_DEPTH && n < len) snprintf(buf + n, len - n, ", d3d9-adaptive depth");
-    if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
-        snprintf(buf + n, len - n, ", d3d9-adaptive %g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1],
-                 (double)o->d3d9_mdm[2], (double)o->d3d9_mdm[3]);
-    if (o->lod != TESS_LOD_UNIFORM && (n = strlen(buf)) < len) {
-        snprintf(buf + n, len - n, ", lod %s, lod-target %g, min-level %d, max-level %d, silhouette %s",
-                 scene_lod_names[o->lod], (double)o->lod_target, o->min_level, scene_lod_max_level(o),
-                 o->silhouette ? "on" : "off");
+    int n = snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx)", INSTESS_VERSION,
+                     m->name, m->n_triangles, (unsigned long long)mesh_hash(m));
+    char value[256];
+    for (size_t k = 0; k < scene_option_count && n >= 0 && (size_t)n < len; k++) {
+        const scene_option *opt = &scene_options[k];
+        if (opt->value) n += snprintf(buf + n, len - (size_t)n, ", %s %s", opt->name, opt->value(o, value, sizeof value));
     }
-    n = strlen(buf);
-    if (n + 1 < len)
-        snprintf(buf + n, len - n, ", light %s, fov %g, color %g,%g,%g, background #%06x, phong-alpha %g, "
-                 "n110-factor %g", scene_light_name(o, light, sizeof light), (double)o->fov, (double)o->diffuse[0],
-                 (double)o->diffuse[1], (double)o->diffuse[2], (unsigned)(o->background & 0xffffffu),
-                 (double)o->phong_alpha, (double)o->n110_factor);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
@@ -1164,7 +1145,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     double t1 = now_seconds();
     scene_progress_phase(pr, "writing");
     if (rc == 0) {
-        char desc[1024];
+        char desc[2048];
         scene_describe(o, m, desc, sizeof desc);
         is_image_meta meta = {"instess " INSTESS_VERSION, desc};
         rc = image_write_output(outs, 0, &img, &meta, err, errlen);

@@ -514,7 +514,7 @@ int view_write_png(const view_state *v, const uint32_t *pixels, bool cli_equal, 
                    size_t errlen)
 {
     is_image img = {0};
-    char desc[1200], scene[1024];
+    char desc[2400], scene[2048];
     scene_describe(&v->o, &v->mesh, scene, sizeof scene);
     if (cli_equal) snprintf(desc, sizeof desc, "%s", scene);
     else snprintf(desc, sizeof desc, "instess view frame (%s%s%s%s): %s", show_names[v->show],
