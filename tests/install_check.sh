@@ -151,6 +151,26 @@ planted_modules() {
 }
 check "modules are never loaded from the folder above the program or the current folder" planted_modules
 
+# The library opened with RTLD_LOCAL (Python's ctypes default, plugin hosts): its symbols are not global, and the
+# codec module it loads on the first image call must still work (it gets the library's functions handed over).
+rtld_local() {
+  cd "$ex" && "$S/bin/instess" --size 32x32 -q -o local.png &&
+    python3 - "$S/lib/libinstess.so.0" local.png <<'PY'
+import ctypes, os, sys
+lib = ctypes.CDLL(sys.argv[1], mode=os.RTLD_LOCAL)
+img = ctypes.create_string_buffer(4096)          # an is_image (smaller than this)
+err = ctypes.create_string_buffer(1024)
+rc = lib.image_read(img, sys.argv[2].encode(), err, ctypes.c_size_t(len(err)))
+if rc != 0:
+    sys.exit("image_read: %s" % err.value.decode())
+w, h, ch = ctypes.cast(img, ctypes.POINTER(ctypes.c_int))[0:3]
+lib.image_free(img)
+if (w, h) != (32, 32):
+    sys.exit("read %dx%d" % (w, h))
+PY
+}
+check "the shared library opened with RTLD_LOCAL (Python ctypes) reads an image through its codec module" rtld_local
+
 static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \
        $(pc --static --libs | sed 's/-linstess//') -o npatch_static || return 1
