@@ -1023,14 +1023,25 @@ static void print_stats_text(const scene_opts *o, const is_mesh *m, const run_re
 
 /* s as a JSON string (quoted; control characters, '"' and '\\' escaped, bytes that are not UTF-8 as U+FFFD)
  * into f. */
+/* The length of the well-formed UTF-8 sequence at p (RFC 3629: no overlong forms, no surrogates, nothing above
+ * U+10FFFF), or 0 when the bytes there are not one. */
+static int utf8_len(const unsigned char *p)
+{
+    if (p[0] < 0x80) return 1;
+    int len = p[0] >= 0xc2 && p[0] <= 0xdf ? 2 : p[0] >= 0xe0 && p[0] <= 0xef ? 3 : p[0] >= 0xf0 && p[0] <= 0xf4 ? 4 : 0;
+    for (int k = 1; k < len; k++)
+        if ((p[k] & 0xc0) != 0x80) return 0;
+    if ((p[0] == 0xe0 && p[1] < 0xa0) || (p[0] == 0xed && p[1] > 0x9f) || (p[0] == 0xf0 && p[1] < 0x90) ||
+        (p[0] == 0xf4 && p[1] > 0x8f))
+        return 0;   /* overlong, a surrogate, or beyond U+10FFFF */
+    return len;
+}
+
 static void json_string(FILE *f, const char *s)
 {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p;) {
-        int len = *p < 0x80 ? 1 : (*p & 0xe0) == 0xc0 && *p >= 0xc2 ? 2 : (*p & 0xf0) == 0xe0 ? 3
-                : (*p & 0xf8) == 0xf0 && *p <= 0xf4 ? 4 : 0;
-        for (int k = 1; k < len; k++)
-            if ((p[k] & 0xc0) != 0x80) len = 0;
+        int len = utf8_len(p);
         if (len == 0) fputs("\\ufffd", f), p++;
         else if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p), p++;
         else if (*p < 0x20) fprintf(f, "\\u%04x", *p), p++;
@@ -1127,6 +1138,10 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
 static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_t errlen)
 {
     outputs_init(outs);
+    const char *const names[2] = {o->output, o->export_obj};
+    for (int k = 0; k < 2; k++)
+        if (names[k] && o->mesh && outputs_same_target(names[k], o->mesh))
+            return snprintf(err, errlen, "%s: is the input mesh; instess will not replace its input", names[k]), -1;
     if (image_check_path(o->output, err, errlen) != 0 || outputs_add(outs, o->output, err, errlen) != 0) return -1;
     if (o->export_obj && outputs_add(outs, o->export_obj, err, errlen) != 1) return -1;
     return 0;
