@@ -144,8 +144,9 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 
 # make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
 # UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
+# (+: the nested makes of tests/all.sh share this make's jobserver, so -j passes through without a warning)
 test:
-	@MAKE="$(MAKE)" bash tests/all.sh
+	+@MAKE="$(MAKE)" bash tests/all.sh
 
 test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
