@@ -25,6 +25,9 @@ extern "C" {
  * (tests/valgrind/) links another codec with the same five functions in place of image/image_codec.c. */
 #define IS_IMAGE_MAX_CHANNELS 32
 #define IS_IMAGE_MAX_DIM 65536
+/* The most values (width x height x channels) image_read decodes: 2^28 floats, 1 GiB.  A file declaring more is
+ * refused from its header, before any pixel is decoded (a few hundred bytes of PNG can declare gigapixels). */
+#define IS_IMAGE_MAX_VALUES (1ull << 28)
 typedef struct is_image {
     int width, height, channels;
     char channel_names[IS_IMAGE_MAX_CHANNELS][16];  /* "R", "G", "B", "A", "Z", "N.X", ... */
@@ -62,7 +65,10 @@ INSTESS_API int image_encode(const is_image *img, is_image_format fmt, const is_
 /* Write one image file: encoded in memory, written to a temporary in the same folder (mkstemp) and renamed onto
  * path, which must be a regular file or absent; nothing is left at path on failure; 0 or -1. */
 INSTESS_API int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
-/* Read any file OpenImageIO reads into floats; 0 or -1. */
+/* Read any file OpenImageIO reads into floats; 0 or -1.  Only a regular file is opened (a FIFO, a device such as
+ * /dev/zero or a folder is refused with what it is); the header is checked first (IS_IMAGE_MAX_DIM,
+ * IS_IMAGE_MAX_CHANNELS, IS_IMAGE_MAX_VALUES; deep images, and files of several parts or subimages, are
+ * refused: instess reads one flat image), then the pixels are decoded. */
 INSTESS_API int image_read(is_image *img, const char *path, char *err, size_t errlen);
 
 typedef struct is_image_diff {

@@ -27,6 +27,7 @@
 #include "image_internal.h"
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 #include <limits.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -162,8 +163,21 @@ int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *
     return c ? c->encode(img, fmt, meta, label, bytes, len, err, errlen) : -1;
 }
 
+/* What a file that is not regular is, in words. */
+static const char *kind_of(mode_t m)
+{
+    return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) || S_ISBLK(m) ? "a device"
+           : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
+    struct stat st;   /* a FIFO would block the reader, /dev/zero never ends: refused before opening */
+    if (path && *path && stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        if (img) memset(img, 0, sizeof *img);
+        image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode));
+        return -1;
+    }
     const codec_table *c = codec(err, errlen);
     return c ? c->read(img, path, err, errlen) : -1;
 }

@@ -173,10 +173,31 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
         set_err(err, errlen, "%s: cannot read: %s", path, OIIO::geterror().c_str());
         return -1;
     }
-    const ImageSpec &spec = in->spec();
+    const ImageSpec spec = in->spec();   // the header: checked before any pixel is decoded
     if (!size_ok(spec.width, spec.height, spec.nchannels) || spec.depth > 1) {
         set_err(err, errlen, "%s: unsupported size %dx%dx%d with %d channels (at most %d channels, %d pixels wide)",
                 path, spec.width, spec.height, spec.depth, spec.nchannels, IS_IMAGE_MAX_CHANNELS, kMaxDim);
+        return -1;
+    }
+    unsigned long long values = (unsigned long long)spec.width * (unsigned long long)spec.height *
+                                (unsigned long long)spec.nchannels;
+    if (values > IS_IMAGE_MAX_VALUES) {
+        set_err(err, errlen, "%s: the header declares %dx%d pixels with %d channels (%llu values), more than the limit "
+                "of %llu (1 GiB of floats); nothing decoded", path, spec.width, spec.height, spec.nchannels, values,
+                (unsigned long long)IS_IMAGE_MAX_VALUES);
+        return -1;
+    }
+    if (spec.deep) {
+        set_err(err, errlen, "%s: a deep image (several samples per pixel): instess reads flat images", path);
+        return -1;
+    }
+    if (in->seek_subimage(1, 0)) {
+        set_err(err, errlen, "%s: holds several parts or subimages: instess reads single-part images (compare the "
+                "parts one by one, e.g. split with oiiotool)", path);
+        return -1;
+    }
+    if (!in->seek_subimage(0, 0)) {
+        set_err(err, errlen, "%s: cannot read: %s", path, in->geterror().c_str());
         return -1;
     }
     std::string names;

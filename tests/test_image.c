@@ -670,6 +670,37 @@ static void test_draw_text(void **state)
 /* image_check, the pixel-diff test of the goldens and `instess compare`: identical passes; one failing pixel of
  * 60 fails at 0% and passes at 2% (1.67%); a diff image is written only on a failure; a different size or
  * channel list is SHAPE_DIFFERS naming both shapes; an unreadable file is IO_ERROR naming it. */
+/* image_read opens only regular files, and checks the header before decoding: a FIFO (which would block), a
+ * device that never ends (/dev/zero), a folder, and a 65-byte PNG declaring 60000 x 60000 pixels are refused
+ * with what they are, at once. */
+static void test_read_hostile_files(void **state)
+{
+    fixture *f = *state;
+    char path[PATH_LEN], err[PATH_LEN + 256];
+    is_image img;
+    in_dir(path, f, "fifo.png");
+    assert_int_equal(mkfifo(path, 0644), 0);
+    assert_int_equal(image_read(&img, path, err, sizeof err), -1);
+    assert_non_null(strstr(err, "is a FIFO, not an image file"));
+    assert_int_equal(image_read(&img, "/dev/zero", err, sizeof err), -1);
+    assert_non_null(strstr(err, "is a device, not an image file"));
+    assert_int_equal(image_read(&img, f->dir, err, sizeof err), -1);
+    assert_non_null(strstr(err, "is a directory, not an image file"));
+    static const unsigned char bomb[] = {
+        0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00, 0xea,
+        0x60, 0x00, 0x00, 0xea, 0x60, 0x08, 0x06, 0x00, 0x00, 0x00, 0x80, 0xd2, 0x75, 0x42, 0x00, 0x00, 0x00, 0x08, 0x49,
+        0x44, 0x41, 0x54, 0x78, 0xda, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01, 0x6f, 0xdd, 0xc9, 0x91, 0x00, 0x00, 0x00, 0x00,
+        0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};   /* IHDR 60000 x 60000 RGBA, an empty IDAT */
+    in_dir(path, f, "bomb.png");
+    FILE *fp = fopen(path, "wb");
+    assert_non_null(fp);
+    assert_int_equal(fwrite(bomb, 1, sizeof bomb, fp), sizeof bomb);
+    fclose(fp);
+    assert_int_equal(image_read(&img, path, err, sizeof err), -1);
+    assert_non_null(strstr(err, "the header declares 60000x60000 pixels with 4 channels"));
+    assert_null(img.data);
+}
+
 /* Non-finite values never pass for finite ones: +inf against -inf, NaN against a number (even with generous
  * thresholds), inf against a large number; NaN against NaN and an infinity against the same one do pass.
  * (OpenImageIO's differences of such values are not numbers: +inf vs -inf and NaN channels passed.) */
@@ -751,6 +782,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_golden_exr, setup, teardown),
         cmocka_unit_test_setup_teardown(test_draw_text, setup, teardown),
         cmocka_unit_test(test_image_check_nonfinite),
+        cmocka_unit_test_setup_teardown(test_read_hostile_files, setup, teardown),
         cmocka_unit_test_setup_teardown(test_image_check_verdicts, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
