@@ -107,9 +107,21 @@ void dev_reset(is_device *dev)
 }
 
 /* Destroy the device (buffers and declarations are the caller's to release). */
+void dev_resource_added(is_device *dev) { dev->live_resources++; }
+
+void dev_resource_gone(is_device *dev)
+{
+    if (--dev->live_resources == 0 && dev->destroyed) free(dev);
+}
+
+/* The device's memory goes at once; the small struct itself stays until its last resource is released (the
+ * resources' reference, device_internal.h), so a buffer released after dev_destroy finds it. */
 void dev_destroy(is_device *dev)
 {
-    if (!dev) return;
+    if (!dev || dev->destroyed) return;
+    for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
+    dev->ib = NULL;
+    dev->decl = NULL;
     rs_target_free(&dev->rt);
     rs_destroy(dev->rs);
     free(dev->out_v);
@@ -121,7 +133,8 @@ void dev_destroy(is_device *dev)
     free(dev->in_ready.p);
     free(dev->npatch_lv.p);
     free(dev->culled.p);
-    free(dev);
+    dev->destroyed = true;
+    if (dev->live_resources == 0) free(dev);
 }
 
 const char *dev_last_error(const is_device *dev) { return dev ? dev->err : "no device"; }
@@ -159,6 +172,8 @@ void dev_set_patch_cull(is_device *dev, bool on) { dev->patch_cull = on; }
 
 is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
 {
+    if (decl && decl->dev != dev)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: the declaration belongs to another device");
     dev->decl = decl;
     return IS_OK;
 }
@@ -171,6 +186,8 @@ is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffe
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: stream %u >= %d", stream, IS_MAX_STREAMS);
     if (offset % 4)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: offset %u not DWORD-aligned", offset);
+    if (vb && vb->dev != dev)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: the buffer belongs to another device");
     dev->streams[stream].vb = vb;
     dev->streams[stream].offset = offset;
     dev->streams[stream].stride = stride;
@@ -209,6 +226,8 @@ is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint
 
 is_result dev_set_indices(is_device *dev, is_index_buffer *ib)
 {
+    if (ib && ib->dev != dev)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetIndices: the buffer belongs to another device");
     dev->ib = ib;
     return IS_OK;
 }

@@ -225,6 +225,9 @@ typedef struct is_vertex_declaration is_vertex_declaration;
 /* Create a device with a w x h back buffer with `samples` (1 or 4) samples and a float depth buffer.
  * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
 INSTESS_API is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
+/* Release the device.  Resources (buffers, declarations) belong to their device and hold a reference to it, as in
+ * D3D9: releasing one after dev_destroy is safe (the device's memory is freed at once, its last few bytes with its
+ * last resource), and a resource of another device is refused by the setters (IS_ERR_INVALIDCALL). */
 INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
  * declaration, shader, constants, viewport, N-patch mode and evaluator); the target, its contents, the thread

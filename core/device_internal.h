@@ -11,6 +11,11 @@
 #include <omp.h>
 #include <stdarg.h>
 
+/* A resource of dev was created / released (the device's reference count, above); the release of its last
+ * resource frees a destroyed device. */
+void dev_resource_added(is_device *dev);
+void dev_resource_gone(is_device *dev);
+
 /* printf into err (when err and errlen are given), always NUL-terminated: the message of a failed call. */
 void core_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
@@ -57,6 +62,11 @@ typedef struct scratch_buf {
 } scratch_buf;
 
 struct is_device {
+    /* Resources hold a reference to their device, as D3D9's do: dev_destroy frees the device's memory only when
+     * no buffer or declaration of it is left (the last release frees it then), so releasing a resource after
+     * dev_destroy is safe. */
+    size_t live_resources;
+    bool destroyed;
     rs_context *rs;
     rs_target rt;
     int threads;

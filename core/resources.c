@@ -9,6 +9,7 @@
 /* CreateVertexBuffer: zeroed memory of `bytes` bytes. */
 is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out)
 {
+    if (!dev) return IS_ERR_INVALIDCALL;
     if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: NULL output pointer");
     if (bytes == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: size 0");
     is_vertex_buffer *vb = calloc(1, sizeof *vb);
@@ -18,6 +19,7 @@ is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffe
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexBuffer: out of memory for %zu bytes", bytes);
     }
     *vb = (is_vertex_buffer){dev, data, bytes};
+    dev_resource_added(dev);
     *out = vb;
     return IS_OK;
 }
@@ -25,6 +27,7 @@ is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffe
 /* CreateIndexBuffer: 16- or 32-bit indices. */
 is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out)
 {
+    if (!dev) return IS_ERR_INVALIDCALL;
     if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: NULL output pointer");
     if (fmt != IS_FMT_INDEX16 && fmt != IS_FMT_INDEX32)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: format %d is not INDEX16 or INDEX32", fmt);
@@ -36,6 +39,7 @@ is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, i
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateIndexBuffer: out of memory for %zu bytes", bytes);
     }
     *ib = (is_index_buffer){dev, data, bytes, fmt};
+    dev_resource_added(dev);
     *out = ib;
     return IS_OK;
 }
@@ -53,18 +57,22 @@ void vb_release(is_vertex_buffer *vb)
 {
     if (!vb) return;
     for (int s = 0; s < IS_MAX_STREAMS; s++)
-        if (vb->dev && vb->dev->streams[s].vb == vb) vb->dev->streams[s].vb = NULL;
+        if (vb->dev->streams[s].vb == vb) vb->dev->streams[s].vb = NULL;
+    is_device *dev = vb->dev;
     free(vb->data);
     free(vb);
+    dev_resource_gone(dev);
 }
 
 /* Release an index buffer; unbinds it. */
 void ib_release(is_index_buffer *ib)
 {
     if (!ib) return;
-    if (ib->dev && ib->dev->ib == ib) ib->dev->ib = NULL;
+    if (ib->dev->ib == ib) ib->dev->ib = NULL;
+    is_device *dev = ib->dev;
     free(ib->data);
     free(ib);
+    dev_resource_gone(dev);
 }
 
 /* Bytes an element of `type` reads, or 0 for an unknown type. */
@@ -141,6 +149,7 @@ static is_result check_element(is_device *dev, const is_vertex_declaration *d, u
 is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
                                         is_vertex_declaration **out)
 {
+    if (!dev) return IS_ERR_INVALIDCALL;
     if (!elements || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: NULL argument");
     is_vertex_declaration *d = calloc(1, sizeof *d);
     if (!d) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexDeclaration: out of memory");
@@ -163,6 +172,7 @@ is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element 
         free(d);
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: no elements before the end marker");
     }
+    dev_resource_added(dev);
     *out = d;
     return IS_OK;
 }
@@ -171,8 +181,10 @@ is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element 
 void decl_release(is_vertex_declaration *decl)
 {
     if (!decl) return;
-    if (decl->dev && decl->dev->decl == decl) decl->dev->decl = NULL;
+    if (decl->dev->decl == decl) decl->dev->decl = NULL;
+    is_device *dev = decl->dev;
     free(decl);
+    dev_resource_gone(dev);
 }
 
 /* Read a little-endian value of a type at p without alignment assumptions. */

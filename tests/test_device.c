@@ -477,13 +477,43 @@ static void test_get_render_target_data(void **state)
     dev_destroy(dev);
 }
 
+/* Resources belong to their device: another device's buffers and declarations are refused by the setters; a
+ * resource released after dev_destroy is no use-after-free (the sanitizer stage runs this under ASan). */
+static void test_resource_ownership(void **state)
+{
+    (void)state;
+    is_device *a = dev_create(8, 8, 1, NULL, 0), *b = dev_create(8, 8, 1, NULL, 0);
+    assert_non_null(a);
+    assert_non_null(b);
+    is_vertex_buffer *vb;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_buffer(a, 64, &vb), IS_OK);
+    assert_int_equal(dev_create_index_buffer(a, 64, IS_FMT_INDEX16, &ib), IS_OK);
+    assert_int_equal(dev_create_vertex_declaration(a, el, &decl), IS_OK);
+    assert_int_equal(dev_set_stream_source(b, 0, vb, 0, 12), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_indices(b, ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_declaration(b, decl), IS_ERR_INVALIDCALL);
+    assert_non_null(strstr(dev_last_error(b), "belongs to another device"));
+    assert_int_equal(dev_set_stream_source(a, 0, vb, 0, 12), IS_OK);
+    assert_int_equal(dev_set_indices(a, ib), IS_OK);
+    dev_destroy(a);          /* with its resources still alive and bound */
+    vb_release(vb);          /* then the resources: no use-after-free */
+    ib_release(ib);
+    decl_release(decl);
+    assert_int_equal(dev_create_vertex_buffer(NULL, 64, &vb), IS_ERR_INVALIDCALL);
+    dev_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_freq_valid),          cmocka_unit_test(test_freq_invalid),
         cmocka_unit_test(test_declaration_validation), cmocka_unit_test(test_fetch_formats),
         cmocka_unit_test(test_render_states),
-        cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
+        cmocka_unit_test(test_resource_ownership),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
