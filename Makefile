@@ -15,8 +15,8 @@
 #   into FMA behind our back, so the scalar reference path and the SIMD path round identically and images are
 #   the same bytes on every machine of this kind.
 
-# All cores unless the caller chose a -j.
-ifeq ($(filter -j%,$(MAKEFLAGS)),)
+# All cores unless the caller chose a -j (or a parent make's jobserver is shared with this one).
+ifeq ($(filter -j%,$(MAKEFLAGS))$(findstring jobserver,$(MAKEFLAGS)),)
 MAKEFLAGS += -j$(shell nproc)
 endif
 
