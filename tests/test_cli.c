@@ -682,6 +682,30 @@ static void test_stats_json_utf8(void **state)
     }
 }
 
+/* --light X,Y,Z is a direction at every scale: 1e30,1e30,0 and 1e-30,1e-30,0 light as 1,1,0 does (the squares
+ * once overflowed to a zero light, or fell under the "not 0,0,0" test); 0,0,0 and values beyond float are usage
+ * errors naming what --light takes. */
+static void test_light_any_scale(void **state)
+{
+    (void)state;
+    const char *err;
+    const char *const dirs[] = {"1,1,0", "1e30,1e30,0", "1e-30,1e-30,0"};
+    for (int k = 0; k < 3; k++) {
+        char args[600];
+        snprintf(args, sizeof args, "--light %s --size 48x48 --level 3 -q -o %s/light%d.png", dirs[k], dir, k);
+        assert_int_equal(run(args, &err), 0);
+    }
+    assert_true(same_pixels("light0.png", "light1.png"));
+    assert_true(same_pixels("light0.png", "light2.png"));
+    const char *const bad[] = {"0,0,0", "0,0,1e-50", "1e39,0,0", "nan,1,0"};
+    for (int k = 0; k < 4; k++) {
+        char args[600];
+        snprintf(args, sizeof args, "--light %s -q -o %s/bad.png", bad[k], dir);
+        assert_int_equal(run(args, &err), 2);
+        assert_non_null(strstr(err, "a direction X,Y,Z of finite numbers, not all zero"));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -701,6 +725,7 @@ int main(void)
         cmocka_unit_test(test_stdout_write_failure),
         cmocka_unit_test(test_output_names_input),
         cmocka_unit_test(test_stats_json_utf8),
+        cmocka_unit_test(test_light_any_scale),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }

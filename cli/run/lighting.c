@@ -67,7 +67,7 @@ static bool parse_triple(const char *s, float v[3])
     char *end;
     for (int k = 0; k < 3; k++) {
         double x = strtod(s, &end);
-        if (end == s || !isfinite(x)) return false;
+        if (end == s || !isfinite(x) || !isfinite((float)x)) return false;
         v[k] = (float)x;
         if (k < 2 && *end != ',') return false;
         s = end + 1;
@@ -83,7 +83,14 @@ bool scene_parse_light(const char *s, scene_opts *o)
     if (!strcmp(s, "headlight")) return o->light = SCENE_LIGHT_HEADLIGHT, true;
     if (!strcmp(s, "normals")) return o->light = SCENE_LIGHT_NORMALS, true;
     if (!strcmp(s, "grazing")) memcpy(v, grazing, sizeof v);
-    else if (!parse_triple(s, v) || v[0] * v[0] + v[1] * v[1] + v[2] * v[2] < 1e-12f) return false;
+    else if (!parse_triple(s, v)) return false;
+    float m = fmaxf(fabsf(v[0]), fmaxf(fabsf(v[1]), fabsf(v[2])));
+    if (!(m > 0.0f)) return false;   /* 0,0,0 (also after rounding to float) */
+    /* A direction at any scale: scaled by the power of two that brings its largest component to [1, 2), which is
+     * exact, so that its square sums neither overflow (1e30,0,0) nor vanish (1e-30,0,0) and a direction already of
+     * ordinary size keeps its bits (and the image its pixels). */
+    if (m < 0x1p-20f || m > 0x1p20f)
+        for (int k = 0; k < 3; k++) v[k] = ldexpf(v[k], -ilogbf(m));
     o->light = SCENE_LIGHT_DIRECTION;
     memcpy(o->light_dir, v, sizeof v);
     return true;

@@ -130,7 +130,8 @@ static const char *opt_fov(scene_opts *o, const char *a)
 }
 static const char *opt_light(scene_opts *o, const char *a)
 {
-    static const char msg[] = "--light takes headlight, grazing, normals or a direction X,Y,Z (not 0,0,0)";
+    static const char msg[] = "--light takes headlight, grazing, normals or a direction X,Y,Z of finite numbers, not "
+                              "all zero";
     return scene_parse_light(a, o) ? NULL : msg;
 }
 static const char *opt_color(scene_opts *o, const char *a)
