@@ -706,6 +706,21 @@ static void test_light_any_scale(void **state)
     }
 }
 
+/* --lod's pattern cache is inside --max-memory: a budget the uniform render fits in refuses the adaptive one
+ * (its cache may take 16 MiB and an index of 1 MiB), before anything is allocated or written. */
+static void test_lod_memory_budget(void **state)
+{
+    (void)state;
+    const char *err;
+    char args[600];
+    snprintf(args, sizeof args, "--max-memory 20 -q -o %s/uniform.png", dir);
+    assert_int_equal(run(args, &err), 0);
+    snprintf(args, sizeof args, "--lod screen --max-memory 20 -q -o %s/lod.png", dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "more than the memory budget of 20 MiB"));
+    assert_false(exists("lod.png"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -726,6 +741,7 @@ int main(void)
         cmocka_unit_test(test_output_names_input),
         cmocka_unit_test(test_stats_json_utf8),
         cmocka_unit_test(test_light_any_scale),
+        cmocka_unit_test(test_lod_memory_budget),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }

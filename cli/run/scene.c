@@ -788,6 +788,9 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
     bytes += (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 64);
     if (o->path == SCENE_PATH_CPU)
         bytes += SCENE_CPU_BYTES_PER_VERTEX * (unsigned long long)mesh_triangles * grid_points;
+    if (o->lod != TESS_LOD_UNIFORM)   /* the pattern cache's bound and index, the renumbered instances and keys */
+        bytes += CORE_PATTERN_CACHE_DEFAULT_BYTES + 4ull * CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL +
+                 (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 16);
     return bytes;
 }
 

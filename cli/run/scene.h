@@ -34,7 +34,8 @@
  * estimate of scene_memory_estimate, which counts the target (samples x 8 bytes per pixel, plus the image's
  * floats), the instances, and on the CPU path SCENE_CPU_BYTES_PER_VERTEX per tessellated vertex (its vertex
  * buffer, indices and the device's shaded vertices: measured 397-400 bytes as peak RSS over the instanced path
- * on the sphere at levels 128 and 256).  The instanced and N-patch-mode paths shade in bounded chunks. */
+ * on the sphere at levels 128 and 256), and with --lod the pattern cache's bound (CORE_PATTERN_CACHE_DEFAULT_BYTES
+ * plus its 1 MiB index) and the renumbered instances.  The instanced and N-patch-mode paths shade in bounded chunks. */
 #define SCENE_DEFAULT_MAX_MEMORY_MIB 4096
 #define SCENE_CPU_BYTES_PER_VERTEX 400ull
 
