@@ -380,6 +380,21 @@ static void test_dev_reset(void **state)
     mesh_free(&m);
 }
 
+/* A scripted run always ends: --frames 5 on a scene that stands still stops after its one frame and says so
+ * (it waited for ever), and the viewer honours --import-timeout (a PLY that hangs assimp stops at 1 s). */
+static void test_scripted_runs_end(void **state)
+{
+    (void)state;
+    clean();
+    const char *err;
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --frames 5"), 0);
+    assert_non_null(strstr(err, "--frames 5: the scene stood still after 1 frame(s)"));
+    char mesh[PATH_MAX];
+    snprintf(mesh, sizeof mesh, "%s/tests/data/meshes/truncated_header.ply", getenv("PWD") ? getenv("PWD") : ".");
+    assert_int_equal(run_in_dir(&err, "view -q --size 48x48 --frames 1 --import-timeout 1 '%s'", mesh), 1);
+    assert_non_null(strstr(err, "did not finish within the import time limit of 1 s"));   /* not the default 60 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -392,6 +407,7 @@ int main(void)
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_close),
         cmocka_unit_test(test_sigterm),
+        cmocka_unit_test(test_scripted_runs_end),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);
 }

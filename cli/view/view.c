@@ -207,12 +207,13 @@ static int show_frame(view_state *v, view_window *w, double *ms_frame, char *err
     return 0;
 }
 
-/* Whether the scripted run is over: keys were scripted (or a capture asked) without --frames, all keys were fed
- * and nothing waits to be drawn. */
+/* Whether the scripted run is over: a script was given (keys, a capture or --frames), all keys were fed and
+ * nothing waits to be drawn.  With --frames N a scene that stands still ends the run too: a frame is drawn only
+ * when something changed, so waiting for the N-th could last for ever. */
 static bool script_done(const view_state *v, int next_key)
 {
     const view_script *s = &v->script;
-    return !s->frames && (s->n_keys || s->capture) && next_key >= s->n_keys && !v->dirty;
+    return (s->frames || s->n_keys || s->capture) && next_key >= s->n_keys && !v->dirty;
 }
 
 /* The event loop until v->quit, the frame limit or the end of the script; 0 or 1 (the first frame failed). */
@@ -231,7 +232,12 @@ static int loop(view_state *v, view_window *w)
             if (++frames == v->script.frames) break;
         }
         if (frames >= 1 && next_key < v->script.n_keys) push_key(w, v->script.keys[next_key++]);
-        else if (script_done(v, next_key)) break;
+        else if (script_done(v, next_key)) {
+            if (v->script.frames && frames < v->script.frames)
+                fprintf(stderr, "instess view: --frames %d: the scene stood still after %d frame(s) (a frame is drawn "
+                        "only when something changed): stopping\n", v->script.frames, frames);
+            break;
+        }
         SDL_Event e;
         bool busy = v->dirty || next_key < v->script.n_keys;
         int got = busy ? SDL_PollEvent(&e) : SDL_WaitEventTimeout(&e, 250);

@@ -700,7 +700,8 @@ static int view_load(view_state *v)
     char err[1024];
     is_mesh_options mo = {.recompute_normals = v->o.recompute_normals, .warn = warn_stderr,
                           .warn_user = (void *)&v->o.quiet, .max_file_bytes = (uint64_t)v->o.max_file_mib << 20,
-                          .max_import_memory_bytes = (uint64_t)v->o.max_import_memory_mib << 20};
+                          .max_import_memory_bytes = (uint64_t)v->o.max_import_memory_mib << 20,
+                          .import_timeout_ms = v->o.import_timeout_s * 1000};
     is_outputs outs;
     outputs_init(&outs);
     int rc = 0;
