@@ -768,25 +768,36 @@ static int check_file(const char *path, const char *label, uint64_t max_bytes, u
     return IS_MESH_OK;
 }
 
-/* Check the PLY / OFF header at the start of the file (mesh_check_header). */
-static int check_file_header(const char *path, const char *label, uint64_t size, char *err, size_t errlen)
+/* The first `max` bytes of the file at path (fewer when it is shorter) into a malloc'd buffer (*n bytes), or NULL
+ * with a message naming label (*rc the error). */
+static unsigned char *read_prefix(const char *path, const char *label, size_t max, size_t *n, int *rc, char *err,
+                                  size_t errlen)
 {
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         mesh_set_err(err, errlen, "%s: cannot open: %s", label, strerror(errno));
-        return IS_MESH_ERR_IO;
+        return *rc = IS_MESH_ERR_IO, NULL;
     }
-    unsigned char *head = malloc(MESH_HEADER_BYTES);
-    size_t n = 0;
-    while (head && n < MESH_HEADER_BYTES) {
-        ssize_t got = read(fd, head + n, MESH_HEADER_BYTES - n);
+    unsigned char *data = malloc(max ? max : 1);
+    *n = 0;
+    while (data && *n < max) {
+        ssize_t got = read(fd, data + *n, max - *n);
         if (got < 0 && errno == EINTR) continue;
         if (got <= 0) break;
-        n += (size_t)got;
+        *n += (size_t)got;
     }
     close(fd);
-    int rc = head ? mesh_check_header(head, n, size, label, err, errlen) : IS_MESH_ERR_NOMEM;
-    if (!head) mesh_set_err(err, errlen, "%s: out of memory", label);
+    if (!data) mesh_set_err(err, errlen, "%s: out of memory", label), *rc = IS_MESH_ERR_NOMEM;
+    return data;
+}
+
+/* Check the PLY / OFF header at the start of the file (mesh_check_header). */
+static int check_file_header(const char *path, const char *label, uint64_t size, char *err, size_t errlen)
+{
+    size_t n;
+    int rc = IS_MESH_OK;
+    unsigned char *head = read_prefix(path, label, MESH_HEADER_BYTES, &n, &rc, err, errlen);
+    if (head) rc = mesh_check_header(head, n, size, label, err, errlen);
     free(head);
     return rc;
 }
@@ -804,22 +815,10 @@ static int check_file_indices(const char *path, const char *label, uint64_t size
 {
     const char *ext = ext_of(path);
     if (strcasecmp(ext, "off") != 0 && strcasecmp(ext, "obj") != 0) return IS_MESH_OK;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        mesh_set_err(err, errlen, "%s: cannot open: %s", label, strerror(errno));
-        return IS_MESH_ERR_IO;
-    }
-    unsigned char *data = malloc(size ? (size_t)size : 1);
-    size_t n = 0;
-    while (data && n < size) {
-        ssize_t got = read(fd, data + n, (size_t)size - n);
-        if (got < 0 && errno == EINTR) continue;
-        if (got <= 0) break;
-        n += (size_t)got;
-    }
-    close(fd);
-    int rc = data ? mesh_check_face_indices(data, n, ext, label, err, errlen) : IS_MESH_ERR_NOMEM;
-    if (!data) mesh_set_err(err, errlen, "%s: out of memory", label);
+    size_t n;
+    int rc = IS_MESH_OK;
+    unsigned char *data = read_prefix(path, label, (size_t)size, &n, &rc, err, errlen);
+    if (data) rc = mesh_check_face_indices(data, n, ext, label, err, errlen);
     free(data);
     return rc;
 }
