@@ -393,6 +393,11 @@ static void test_scripted_runs_end(void **state)
     snprintf(mesh, sizeof mesh, "%s/tests/data/meshes/truncated_header.ply", getenv("PWD") ? getenv("PWD") : ".");
     assert_int_equal(run_in_dir(&err, "view -q --size 48x48 --frames 1 --import-timeout 1 '%s'", mesh), 1);
     assert_non_null(strstr(err, "did not finish within the import time limit of 1 s"));   /* not the default 60 */
+    /* the key names the help prints are the names --keys takes: PgUp, PgDn and Esc too */
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,pgup,Esc"), 0);
+    assert_int_equal(run_in_dir(&err, "-q --size 48x48 -o cli.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,s"), 0);
+    assert_true(same_file("instess-view-0001.png", "cli.png"));   /* closer, then farther: back where it was */
 }
 
 int main(void)

@@ -227,8 +227,8 @@ const view_key view_keys[] = {
     {"H", "h", "HUD, HUD with these keys, nothing", act_hud},
     {"Left Right", "arrows", "orbit (also: drag with the mouse)", NULL},
     {"Up Down", "", "", NULL},
-    {"PageUp PageDown", "PgUp PgDn", "zoom (also: the wheel)", NULL},
-    {"Q Escape", "q / Esc", "quit", act_quit},
+    {"PageUp PageDown PgUp PgDn", "PgUp PgDn", "zoom (also: the wheel)", NULL},
+    {"Q Escape Esc", "q / Esc", "quit", act_quit},
 };
 const size_t view_key_count = sizeof view_keys / sizeof view_keys[0];
 
@@ -237,7 +237,7 @@ static void (*pair_action(const char *name))(view_state *)
 {
     static const struct { const char *name; void (*fn)(view_state *); } pairs[] = {
         {"Left", act_left}, {"Right", act_right}, {"Up", act_up}, {"Down", act_down},
-        {"PageUp", act_closer}, {"PageDown", act_farther}};
+        {"PageUp", act_closer}, {"PageDown", act_farther}, {"PgUp", act_closer}, {"PgDn", act_farther}};
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++)
         if (strcasecmp(name, pairs[k].name) == 0) return pairs[k].fn;
     return NULL;
