@@ -88,6 +88,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
         return NULL;
     }
     set_default_states(dev);
+    dev_samplers_default(dev);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
@@ -102,14 +103,16 @@ void dev_reset(is_device *dev)
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->ib = NULL, dev->decl = NULL, dev->vs = NULL;
     memset(&dev->consts, 0, sizeof dev->consts);
+    dev_samplers_default(dev); /* no texture bound; the textures themselves stay the device's */
     dev->npatch_segments = 0, dev->npatch_eval = NULL;
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
 }
 
-/* Destroy the device (buffers and declarations are the caller's to release). */
+/* Destroy the device and the textures it still owns (buffers and declarations are the caller's to release). */
 void dev_destroy(is_device *dev)
 {
     if (!dev) return;
+    dev_release_textures(dev);
     rs_target_free(&dev->rt);
     rs_destroy(dev->rs);
     free(dev->out_v);
