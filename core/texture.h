@@ -135,6 +135,7 @@ INSTESS_API float tex_lod_from_gradients(unsigned width, unsigned height, float2
 INSTESS_API float tex_log2(float x);
 
 /* --- images (D3DXCreateTextureFromFileEx) --- */
+struct is_image; /* image/image.h */
 /* A texture of `format` with `levels` levels (0: the whole chain) made from an image file that OpenImageIO reads
  * (PNG, BMP, TGA, EXR, ...), its level 0 the image (top row first), the other levels by tex_filter_texture.
  * Channels: R, G, B, A by name; an image of one channel is grey (r = g = b = that channel); missing alpha is 1.
@@ -142,6 +143,9 @@ INSTESS_API float tex_log2(float x);
  * formats store the values as read (EXR's linear values).  A failure's message names the file. */
 INSTESS_API is_result dev_create_texture_from_file(is_device *dev, const char *path, is_format format, unsigned levels,
                                                    is_texture **out);
+/* The same from an image in memory (image/image.h's is_image, as image_read gives it). */
+INSTESS_API is_result dev_create_texture_from_image(is_device *dev, const struct is_image *img, is_format format,
+                                                    unsigned levels, is_texture **out);
 
 #ifdef __cplusplus
 }

@@ -42,6 +42,19 @@ static void fill_level0(is_texture *t, const is_image *img)
     }
 }
 
+is_result dev_create_texture_from_image(is_device *dev, const is_image *img, is_format format, unsigned levels,
+                                        is_texture **out)
+{
+    if (!img || !img->data || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTextureFromImage: NULL argument");
+    is_texture *t = NULL;
+    is_result r = dev_create_texture(dev, (unsigned)img->width, (unsigned)img->height, levels, 0, format, &t);
+    if (r != IS_OK) return r;
+    fill_level0(t, img);
+    tex_filter_texture(t);
+    *out = t;
+    return IS_OK;
+}
+
 is_result dev_create_texture_from_file(is_device *dev, const char *path, is_format format, unsigned levels,
                                        is_texture **out)
 {
@@ -50,17 +63,12 @@ is_result dev_create_texture_from_file(is_device *dev, const char *path, is_form
     is_image img = {0};
     char err[512];
     if (image_read(&img, path, err, sizeof err) != 0) return dev_fail(dev, IS_ERR_NOTAVAILABLE, "%s", err);
-    is_texture *t = NULL;
-    is_result r = dev_create_texture(dev, (unsigned)img.width, (unsigned)img.height, levels, 0, format, &t);
+    is_result r = dev_create_texture_from_image(dev, &img, format, levels, out);
+    image_free(&img);
     if (r != IS_OK) {
         char why[sizeof dev->err];
         snprintf(why, sizeof why, "%s", dev->err);
-        image_free(&img);
         return dev_fail(dev, r, "%s: %s", path, why);
     }
-    fill_level0(t, &img);
-    image_free(&img);
-    tex_filter_texture(t);
-    *out = t;
     return IS_OK;
 }

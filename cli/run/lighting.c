@@ -48,6 +48,20 @@ static int shader_index(const is_vertex_shader *s)
     return -1;
 }
 
+/* The shaders a wrapper may wrap: vs_shaders, then the light's wrapper (its index is vs_shaders' count). */
+int scene_shader_index(const is_vertex_shader *s)
+{
+    int k = shader_index(s), n = 0;
+    if (k >= 0 || s != &relit_shader) return k;
+    while (vs_shaders[n]) n++;
+    return n;
+}
+
+const is_vertex_shader *scene_shader_at(int k)
+{
+    return vs_shaders[k] ? vs_shaders[k] : &relit_shader;
+}
+
 const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader)
 {
     return o->light == SCENE_LIGHT_HEADLIGHT || shader_index(path_shader) < 0 ? path_shader : &relit_shader;
