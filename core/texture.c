@@ -146,29 +146,39 @@ is_result tex_lock_rect(is_texture *t, unsigned level, is_locked_rect *out, cons
     return IS_OK;
 }
 
+/* Texel (x, y) of level l (its bytes). */
+static const unsigned char *texel_at(const tex_level *l, unsigned x, unsigned y, unsigned bpp)
+{
+    return l->bits + ((size_t)y * l->w + x) * bpp;
+}
+
+/* One destination texel q from the four source texels p[0..3] by the box filter (bytes or floats). */
+static void box_texel(const unsigned char *const p[4], unsigned char *q, unsigned bpp, bool bytes)
+{
+    if (bytes) {
+        for (unsigned c = 0; c < bpp; c++) q[c] = (unsigned char)((p[0][c] + p[1][c] + p[2][c] + p[3][c] + 2u) / 4u);
+        return;
+    }
+    for (unsigned c = 0; c < bpp / 4; c++) {
+        float v[4], m;
+        for (int k = 0; k < 4; k++) memcpy(&v[k], p[k] + 4 * c, 4);
+        m = ((v[0] + v[1]) + (v[2] + v[3])) * 0.25f;
+        memcpy(q + 4 * c, &m, 4);
+    }
+}
+
 /* Level l + 1 of t from level l by the box filter of tex_filter_texture (texture.h). */
 static void box_level(const is_texture *t, unsigned l)
 {
     const tex_level *s = &t->lv[l], *d = &t->lv[l + 1];
-    const unsigned bpp = t->bpp;
     const bool bytes = t->format == IS_FMT_A8R8G8B8 || t->format == IS_FMT_X8R8G8B8;
     for (unsigned j = 0; j < d->h; j++)
         for (unsigned i = 0; i < d->w; i++) {
             unsigned x0 = 2 * i < s->w ? 2 * i : s->w - 1, x1 = 2 * i + 1 < s->w ? 2 * i + 1 : s->w - 1;
             unsigned y0 = 2 * j < s->h ? 2 * j : s->h - 1, y1 = 2 * j + 1 < s->h ? 2 * j + 1 : s->h - 1;
-            const unsigned char *p00 = s->bits + ((size_t)y0 * s->w + x0) * bpp, *p10 = s->bits + ((size_t)y0 * s->w + x1) * bpp;
-            const unsigned char *p01 = s->bits + ((size_t)y1 * s->w + x0) * bpp, *p11 = s->bits + ((size_t)y1 * s->w + x1) * bpp;
-            unsigned char *q = d->bits + ((size_t)j * d->w + i) * bpp;
-            if (bytes) {
-                for (unsigned c = 0; c < bpp; c++) q[c] = (unsigned char)((p00[c] + p10[c] + p01[c] + p11[c] + 2u) / 4u);
-                continue;
-            }
-            for (unsigned c = 0; c < bpp / 4; c++) {
-                float a, b, e, f, v;
-                memcpy(&a, p00 + 4 * c, 4), memcpy(&b, p10 + 4 * c, 4), memcpy(&e, p01 + 4 * c, 4), memcpy(&f, p11 + 4 * c, 4);
-                v = ((a + b) + (e + f)) * 0.25f;
-                memcpy(q + 4 * c, &v, 4);
-            }
+            const unsigned char *p[4] = {texel_at(s, x0, y0, t->bpp), texel_at(s, x1, y0, t->bpp),
+                                         texel_at(s, x0, y1, t->bpp), texel_at(s, x1, y1, t->bpp)};
+            box_texel(p, d->bits + ((size_t)j * d->w + i) * t->bpp, t->bpp, bytes);
         }
 }
 

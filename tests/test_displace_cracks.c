@@ -31,6 +31,7 @@
 #include "../core/hlsl.h"
 enum { SIZE = 96 };
 enum { PLAIN = 0, JITTER = 1, BATCH = 2 };
+#define PI_D 3.14159265358979323846
 
 /* The shader under the displacement: patch c10.x (VS_PATCH_COUNT: the fixed shader of the other paths). */
 static const is_vertex_shader *inner(const is_vs_constants *c)
@@ -69,8 +70,8 @@ static void make_map(is_image *img, bool u_free)
     assert_int_equal(image_alloc(img, 32, 32, "Y", err, sizeof err), 0);
     for (int y = 0; y < 32; y++)
         for (int x = 0; x < 32; x++)
-            img->data[y * 32 + x] = 0.5f + 0.5f * (float)(sin(2.0 * 3.14159265358979323846 * y / 8.0) *
-                                                         (u_free ? 1.0 : sin(2.0 * 3.14159265358979323846 * x / 8.0 + 0.4)));
+            img->data[y * 32 + x] = 0.5f + 0.5f * (float)(sin(2.0 * PI_D * y / 8.0) *
+                                                         (u_free ? 1.0 : sin(2.0 * PI_D * x / 8.0 + 0.4)));
 }
 
 typedef struct view {
@@ -284,10 +285,126 @@ static void test_real_normals_crack(void **state)
     image_free(&map);
 }
 
+/* The wrapper by hand: the flat patch of the triangle (0,0,0), (1,0,0), (0,1,0) with normals (0, 0, -1) and texture
+ * coordinates (x, y), a height ramp h(u) = 2u - 1/2 (a 2x1 R32F texture 0, 1, linear, clamped), S = 0.5, a
+ * bounding radius r = 2 (the scene's WVP scales by 1 / r; World and View * Proj are identities): at b = (0.4, 0.4,
+ * 0.2), the point (0.4, 0.2, 0), h = 0.3, so oPos = P / r + S h (0, 0, -1) = (0.2, 0.1, -0.15, 1); in object space
+ * the displaced surface is z = -S r h = -(2x - 1/2), whose normal (-2 S r, 0, -1) / |.| = (-2, 0, -1) / sqrt 5,
+ * and the headlight term saturate(dot(N, (0, 0, -1))) = 1 / sqrt 5 scales g_vDiffuse. */
+static void test_displaced_wrapper_by_hand(void **state)
+{
+    is_device *dev = dev_create(8, 8, 1, NULL, 0);
+    is_texture *t;
+    is_locked_rect lr;
+    assert_int_equal(dev_create_texture(dev, 2, 1, 1, 0, IS_FMT_R32F, &t), IS_OK);
+    assert_int_equal(tex_lock_rect(t, 0, &lr, NULL, 0), IS_OK);
+    ((float *)lr.bits)[0] = 0.0f, ((float *)lr.bits)[1] = 1.0f;
+    tex_unlock_rect(t, 0);
+    static is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    float4x4 id = mat_identity();
+    vs_options vo = vs_default_options();
+    float4x4 wvp = mat_scaling(0.5f, 0.5f, 0.5f);
+    vs_set_constants(&c, &wvp, &id, f4(0.8f, 0.6f, 0.4f, 1.0f), &vo);
+    c.c[12] = f4((float)scene_shader_index(vs_patch_shader(VS_PATCH_FLAT)), 0.5f, 2.0f, 0.0f);
+    for (int i = 0; i < 4; i++) c.c[13 + i] = f4(id.m[i][0], id.m[i][1], id.m[i][2], id.m[i][3]);
+    c.s[0] = tex_sampler_default(t);
+    c.s[0].state[IS_SAMP_MAGFILTER] = c.s[0].state[IS_SAMP_MINFILTER] = IS_TEXF_LINEAR;
+    c.s[0].state[IS_SAMP_ADDRESSU] = IS_TADDRESS_CLAMP;
+    is_vs_input in;
+    for (size_t r = 0; r < sizeof in / sizeof(float4); r++) ((float4 *)&in)[r] = f4(0, 0, 0, 1);
+    const float3 v[3] = {f3(0, 0, 0), f3(1, 0, 0), f3(0, 1, 0)};
+    in.position[0] = f4(0.4f, 0.4f, 0.2f, 1.0f);
+    for (int k = 0; k < 3; k++) {
+        in.texcoord[VS_IN_V0 + k] = f4_of(v[k], 1.0f);
+        in.texcoord[VS_IN_N0 + k] = f4(0, 0, -1, 1);
+        in.texcoord[VS_IN_OPP0 + k] = f4_of(v[(k + 2) % 3], 1.0f);
+        in.texcoord[VS_IN_T0 + k] = f4(v[k].x, v[k].y, 0, 1);
+    }
+    in.texcoord[VS_IN_ID] = f4(0, 0, 0, 1);
+    is_vs_output out;
+    memset(&out, 0, sizeof out);
+    scene_displaced_shader.main(&c, &in, &out);
+    const float r5 = 0.4472136f; /* 1 / sqrt 5 */
+    assert_true(fabsf(out.pos.x - 0.2f) < 1e-6f && fabsf(out.pos.y - 0.1f) < 1e-6f);
+    assert_true(fabsf(out.pos.z + 0.15f) < 1e-6f && out.pos.w == 1.0f);
+    float4 n = out.attr[RS_ATTR_TEXCOORD0 + 1];
+    if (!(fabsf(n.x + 2 * r5) < 1e-3f && fabsf(n.y) < 1e-3f && fabsf(n.z + r5) < 1e-3f))
+        fail_msg("displaced normal (%g, %g, %g), want (-0.8944, 0, -0.4472)", n.x, n.y, n.z);
+    float4 col = out.attr[RS_ATTR_COLOR0];
+    assert_true(fabsf(col.x - 0.8f * r5) < 1e-3f && fabsf(col.y - 0.6f * r5) < 1e-3f && col.w == 1.0f);
+    dev_destroy(dev);
+}
+
+/* The angle in degrees between two (interpolated, so not quite unit) normals. */
+static double angle_deg(const float *a, const float *b)
+{
+    double d = (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+    double la = sqrt((double)a[0] * a[0] + (double)a[1] * a[1] + (double)a[2] * a[2]);
+    double lb = sqrt((double)b[0] * b[0] + (double)b[1] * b[1] + (double)b[2] * b[2]);
+    d /= la * lb;
+    return acos(d > 1 ? 1 : d < -1 ? -1 : d) * 180.0 / PI_D;
+}
+
+/* The shading normal of a displaced patch (the displaced surface's own, cli/run/displace.c) is, with no height,
+ * the patch's real normal: the normal AOVs of the two renders agree within a degree wherever both cover a pixel
+ * (two different finite differences for the Gruen patches), and the displaced one differs once the map moves the
+ * surface. */
+static void test_displaced_normal(void **state)
+{
+    is_image flat = {0}, map = {0};
+    char err[256];
+    assert_int_equal(image_alloc(&flat, 4, 4, "Y", err, sizeof err), 0);   /* zero everywhere */
+    make_map(&map, false);
+    is_mesh m = {0};
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);
+    for (int p = VS_PATCH_NPATCH; p <= VS_PATCH_SMOOTH; p++) {
+        rs_target *rt[3];
+        is_device *dev[3];
+        for (int k = 0; k < 3; k++) {
+            scene_opts o;
+            scene_opts_default(&o);
+            o.patch = (vs_patch)p, o.level = 16, o.width = o.height = 64, o.msaa = 1;
+            o.normals = k == 0 ? VS_NORMALS_REAL : VS_NORMALS_LINEAR;
+            if (k > 0) o.displace = "map", o.displace_map = k == 1 ? &flat : &map;
+            core_grid g;
+            assert_int_equal(core_grid_make(o.grid, o.level, &g), 0);
+            dev[k] = scene_render_view(&o, &m, &g, 1, SCENE_AOV_NORMAL, NULL, err, sizeof err);
+            assert_non_null(dev[k]);
+            rt[k] = dev_render_target(dev[k]);
+            core_grid_free(&g);
+        }
+        double worst = 0, moved = 0;
+        int both = 0, off = 0, off2 = 0;
+        for (int q = 0; q < 64 * 64; q++) {
+            const float *a = &rt[0]->aov[0].data[3 * q], *b = &rt[1]->aov[0].data[3 * q], *c = &rt[2]->aov[0].data[3 * q];
+            if (rt[0]->depth[q] >= 1.0f || rt[1]->depth[q] >= 1.0f) continue;
+            double deg = angle_deg(a, b);
+            worst = deg > worst ? deg : worst, both++, off += deg > 1.0, off2 += deg > 2.0;
+            if (rt[2]->depth[q] < 1.0f) {
+                double dm = angle_deg(a, c);
+                moved = dm > moved ? dm : moved;
+            }
+        }
+        print_message("%s: displaced-surface normal at height 0 against the real normal: %d of %d pixels more than "
+                      "1 degree off, %d more than 2, at most %.2f; with the bumps up to %.1f degrees off\n",
+                      vs_patch_name((vs_patch)p), off, both, off2, worst, moved);
+        assert_true(both > 1000);
+        assert_true(worst < 1.0);
+        assert_true(moved > 20.0);
+        for (int k = 0; k < 3; k++) dev_destroy(dev[k]);
+    }
+    mesh_free(&m);
+    image_free(&flat);
+    image_free(&map);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_displacement_moves),
+        cmocka_unit_test(test_displaced_normal),
+        cmocka_unit_test(test_displaced_wrapper_by_hand),
         cmocka_unit_test(test_texture_seam_cracks),
         cmocka_unit_test(test_real_normals_crack),
         cmocka_unit_test(test_no_cracks_continuous_texcoords),

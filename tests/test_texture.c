@@ -29,7 +29,8 @@ static uint32_t fbits(float f)
 }
 
 /* An R32F texture w x h with `levels` levels, texel (i, j) of level l = val(l, i, j). */
-static is_texture *r32f(is_device *dev, unsigned w, unsigned h, unsigned levels, float (*val)(unsigned, unsigned, unsigned))
+static is_texture *r32f(is_device *dev, unsigned w, unsigned h, unsigned levels,
+                        float (*val)(unsigned, unsigned, unsigned))
 {
     is_texture *t = NULL;
     assert_int_equal(dev_create_texture(dev, w, h, levels, 0, IS_FMT_R32F, &t), IS_OK);
@@ -281,7 +282,8 @@ static void test_address_modes_u(void **state)
         s.state[IS_SAMP_ADDRESSU] = rows[r].mode;
         for (int k = 0; k < 6; k++) {
             float got = red(&s, us[k], 0.5f, 0);
-            if (got != rows[r].want[k]) fail_msg("mode %u, u %g: %g, want %g", rows[r].mode, us[k], got, rows[r].want[k]);
+            if (got != rows[r].want[k])
+                fail_msg("mode %u, u %g: %g, want %g", rows[r].mode, us[k], got, rows[r].want[k]);
         }
         for (int i = 0; i < 4; i++) assert_true(red(&s, (i + 0.5f) / 4, 0.5f, 0) == 10 * (i + 1)); /* inside: as is */
     }
@@ -376,14 +378,16 @@ static void test_mip_filter(void **state)
         s.state[IS_SAMP_MIPFILTER] = IS_TEXF_NONE;
         assert_true(red(&s, 0.3f, 0.6f, lods[k]) == none[k]);
         s.state[IS_SAMP_MIPFILTER] = IS_TEXF_POINT;
-        if (red(&s, 0.3f, 0.6f, lods[k]) != point[k]) fail_msg("POINT lod %g: %g", lods[k], red(&s, 0.3f, 0.6f, lods[k]));
+        float got = red(&s, 0.3f, 0.6f, lods[k]);
+        if (got != point[k]) fail_msg("POINT lod %g: %g", lods[k], got);
         s.state[IS_SAMP_MIPFILTER] = IS_TEXF_LINEAR;
         float want = 1 + (2 - 1) * (lods[k] - 0); /* the blend of levels floor and floor + 1, as computed here */
         if (lods[k] >= 1 && lods[k] < 2) want = 2 + (3 - 2) * (lods[k] - 1);
         if (!(lods[k] > 0) || lods[k] != lods[k]) want = 1;
         if (lods[k] >= 2) want = 3;
         assert_true(want == linear[k] || fabsf(want - linear[k]) < 1e-6f);
-        if (red(&s, 0.3f, 0.6f, lods[k]) != want) fail_msg("LINEAR lod %g: %g, want %g", lods[k], red(&s, 0.3f, 0.6f, lods[k]), want);
+        got = red(&s, 0.3f, 0.6f, lods[k]);
+        if (got != want) fail_msg("LINEAR lod %g: %g, want %g", lods[k], got, want);
     }
     dev_destroy(dev);
 }
@@ -556,7 +560,8 @@ static int teardown(void **state)
     struct dirent *e;
     char p[400];
     while (d && (e = readdir(d)) != NULL)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) snprintf(p, sizeof p, "%s/%s", f->dir, e->d_name), unlink(p);
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+            snprintf(p, sizeof p, "%s/%s", f->dir, e->d_name), unlink(p);
     if (d) closedir(d);
     rmdir(f->dir);
     free(f);

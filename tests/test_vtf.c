@@ -48,7 +48,10 @@ static is_texture *colour_texture(is_device *dev, unsigned w, unsigned h, unsign
     }
     return t;
 }
-static uint32_t distinct(unsigned l, unsigned i, unsigned j) { return IS_COLOR_ARGB(255, 10 + 40 * i, 20 + 50 * j, 30 + 100 * l); }
+static uint32_t distinct(unsigned l, unsigned i, unsigned j)
+{
+    return IS_COLOR_ARGB(255, 10 + 40 * i, 20 + 50 * j, 30 + 100 * l);
+}
 static uint32_t other(unsigned l, unsigned i, unsigned j) { return IS_COLOR_ARGB(255, 200, 7 * i + 1, 9 * j + 2); }
 
 /* Draw the points on dev and return the target. */
@@ -167,7 +170,10 @@ static void render_grid(int threads, bool reference, int isa, uint32_t *color, f
     assert_int_equal(dev_create_index_buffer(dev, GRID * GRID * 6 * 4, IS_FMT_INDEX32, &ib), IS_OK);
     float *v = vb_lock(vb);
     for (int j = 0; j <= GRID; j++)
-        for (int i = 0; i <= GRID; i++) v[2 * (j * (GRID + 1) + i)] = (float)i / GRID, v[2 * (j * (GRID + 1) + i) + 1] = (float)j / GRID;
+        for (int i = 0; i <= GRID; i++) {
+            v[2 * (j * (GRID + 1) + i)] = (float)i / GRID;
+            v[2 * (j * (GRID + 1) + i) + 1] = (float)j / GRID;
+        }
     uint32_t *idx = ib_lock(ib);
     for (int j = 0, n = 0; j < GRID; j++)
         for (int i = 0; i < GRID; i++) {

@@ -576,12 +576,15 @@ static void set_d3d9_adaptive(is_device *dev, const scene_opts *o, const scene_c
 static is_result set_scene_shader(is_device *dev, const scene_opts *o, const scene_camera *cam,
                                   const is_vertex_shader *path, const is_vertex_shader *shader, is_texture **dmap)
 {
-    const is_vertex_shader *s = shader ? shader : scene_light_shader(o, path);
-    if (!shader) scene_light_constants(dev, o, path);
+    const is_vertex_shader *s = shader ? shader : path;
     if (o->displace) {
-        is_result e = scene_displace_bind(dev, o, &cam->view_proj, s, dmap);
+        is_result e = scene_displace_bind(dev, o, &cam->view_proj, cam->radius, s, dmap);
         if (e != IS_OK) return e;
         if (!shader) s = scene_displace_shader(o, s);
+    }
+    if (!shader) {
+        scene_light_constants(dev, o, s);
+        s = scene_light_shader(o, s);
     }
     return dev_set_vertex_shader(dev, s);
 }

@@ -171,21 +171,22 @@ bool scene_parse_color(const char *s, float rgb[3]);
 const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader);
 void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_shader *path_shader);
 /* The shaders a wrapper (the light's, the displacement's) may wrap, by number: vs_shaders, then the light's
- * wrapper.  scene_shader_index: s's number, or -1; scene_shader_at: the shader of a number
- * scene_shader_index gave. */
+ * wrapper, then the displacement's (scene_displaced_shader).  scene_shader_index: s's number, or -1;
+ * scene_shader_at: the shader of a number scene_shader_index gave. */
 int scene_shader_index(const is_vertex_shader *s);
 const is_vertex_shader *scene_shader_at(int k);
 
 /* ------------- displacement by a vertex texture fetch (cli/run/displace.c) ------------- */
 /* Read the height map of --displace into img: 0, or -1 with a message naming the file. */
 int scene_load_displacement(const char *path, is_image *img, char *err, size_t errlen);
-/* The shader that draws o's scene displaced: a wrapper around inner when o->displace (inner a shader of
- * scene_shader_index), else inner itself. */
+/* The shader that draws o's scene displaced: the wrapper scene_displaced_shader around inner (the path's shader,
+ * a shader of scene_shader_index) when o->displace, else inner itself; the light's wrapper goes around it. */
+extern const is_vertex_shader scene_displaced_shader;
 const is_vertex_shader *scene_displace_shader(const scene_opts *o, const is_vertex_shader *inner);
 /* The map of o (o->displace_map, or the file o->displace) as a texture of dev in vertex sampler 0 with its states,
- * and the wrapper's constants c12..c16 (inner, the scale, view_proj = View * Proj); *tex is the caller's to
- * release.  IS_OK, or the device's error (its message names the file). */
-is_result scene_displace_bind(is_device *dev, const scene_opts *o, const float4x4 *view_proj,
+ * and the wrapper's constants c12..c16 (inner, the scale, radius = the mesh's bounding radius, view_proj = View *
+ * Proj); *tex is the caller's to release.  IS_OK, or the device's error (its message names the file). */
+is_result scene_displace_bind(is_device *dev, const scene_opts *o, const float4x4 *view_proj, float radius,
                               const is_vertex_shader *inner, is_texture **tex);
 /* The displacement itself, applied to outputs a patch shader wrote (oPos, from TEXCOORD0 and TEXCOORD1): what the
  * wrapper does after its inner shader, for shaders of the caller's (the crack tests) that wrap a patch shader. */
