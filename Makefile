@@ -118,23 +118,35 @@ $(B)/libinstess_app.a: $(APP_OBJ)
 $(B)/instess: $(B)/cli/run/main.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
 
+# The test programs in $(B)/tests/ find the modules beside themselves, as every program does (never one
+# folder up): links to the build's modules.
+$(B)/tests/libinstess_codec.so: | $(CODEC_SO)
+	@mkdir -p $(dir $@)
+	ln -sf ../libinstess_codec.so $@
+$(B)/tests/libinstess_view.so: | $(VIEW_SO)
+	@mkdir -p $(dir $@)
+	ln -sf ../libinstess_view.so $@
+TEST_MODULES = $(B)/tests/libinstess_codec.so $(B)/tests/libinstess_view.so
+
 # The program with the test hooks (cli/run/output.c, INSTESS_TEST_HOOKS): only tests run it; its output.o is
 # linked ahead of the archive, whose own output.o is then never pulled in.
 HOOKS_BIN = $(B)/tests/instess-hooks
 $(B)/cli/run/output.hooks.o: cli/run/output.c $(SETUP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -DINSTESS_TEST_HOOKS -MMD -MP -c $< -o $@
-$(HOOKS_BIN): $(B)/cli/run/main.o $(B)/cli/run/output.hooks.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO)
+$(HOOKS_BIN): $(B)/cli/run/main.o $(B)/cli/run/output.hooks.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(VIEW_SO) \
+              $(TEST_MODULES)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO)
+$(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(TEST_MODULES)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
 # make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
 # UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
+# (+: the nested makes of tests/all.sh share this make's jobserver, so -j passes through without a warning)
 test:
-	@MAKE="$(MAKE)" bash tests/all.sh
+	+@MAKE="$(MAKE)" bash tests/all.sh
 
 test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
@@ -176,6 +188,7 @@ valgrind: $(VG_BIN)
 # make install / make uninstall.  The version is core.h's INSTESS_VERSION; the soname carries its major number.
 #   $(LIBDIR)/libinstess.so.X.Y.Z (soname libinstess.so.X), libinstess.so -> it, libinstess.a
 #   $(LIBDIR)/instess/libinstess_codec.so   the OpenImageIO codec module the library opens on its first image call
+#   $(LIBDIR)/instess/libinstess_view.so    the SDL2 window of `instess view`, opened only by that command
 #   $(INCLUDEDIR)/instess/{core/core.h,raster/raster.h,vs/vs.h,meshes/meshes.h}: the folders' public headers
 #     as they are in the tree (their relative includes, "../core/core.h", hold there too)
 #   $(PKGCONFIGDIR)/instess.pc, $(BINDIR)/instess, $(MANDIR)/man1/instess.1 (written by `instess --man`)
@@ -199,7 +212,7 @@ PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
 PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h raster/raster.h vs/vs.h \
               meshes/meshes.h image/image.h tess/tess.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
-              $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so \
+              $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so $(CODECDIR)/libinstess_view.so \
               $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)
 
 # The module's folder as compiled in: the stamp changes (and image_codec.o is rebuilt) only when it does.
@@ -207,7 +220,7 @@ $(B)/.codecdir: FORCE
 	@mkdir -p $(B)
 	@echo '$(CODECDIR)' | cmp -s - $@ || echo '$(CODECDIR)' > $@
 FORCE:
-$(B)/image/image_codec.o $(B)/pic/image/image_codec.o: $(B)/.codecdir
+$(B)/image/image_codec.o $(B)/pic/image/image_codec.o $(B)/cli/view/view_state.o: $(B)/.codecdir
 $(B)/image/image_codec.o $(B)/pic/image/image_codec.o: DEFS = -DINSTESS_CODEC_DIR='"$(CODECDIR)"'
 
 $(B)/pic/%.avx512.o: %.c $(SETUP)
@@ -237,7 +250,7 @@ $(B)/instess.pc: Makefile core/api.h $(B)/.codecdir
 	  'Version: $(VERSION)' 'Requires.private: assimp' 'Cflags: -I$${includedir}' \
 	  'Libs: -L$${libdir} -linstess' 'Libs.private: -rdynamic -lmeshoptimizer -fopenmp -lstdc++ -ldl -lpthread -lm' > $@
 
-install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(B)/instess.pc
+install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(VIEW_SO) $(B)/instess.pc
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(CODECDIR) $(DESTDIR)$(PKGCONFIGDIR) \
 	    $(DESTDIR)$(MANDIR)/man1 $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR)))
 	install -m 755 $(B)/instess $(DESTDIR)$(BINDIR)/instess
@@ -247,6 +260,7 @@ install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_S
 	ln -sf $(SO_NAME) $(DESTDIR)$(LIBDIR)/libinstess.so
 	install -m 644 $(B)/libinstess.a $(DESTDIR)$(LIBDIR)/libinstess.a
 	install -m 755 $(CODEC_SO) $(DESTDIR)$(CODECDIR)/libinstess_codec.so
+	install -m 755 $(VIEW_SO) $(DESTDIR)$(CODECDIR)/libinstess_view.so
 	install -m 644 $(B)/instess.pc $(DESTDIR)$(PKGCONFIGDIR)/instess.pc
 	for h in $(PUB_HDR); do install -m 644 $$h $(DESTDIR)$(INCLUDEDIR)/instess/$$h || exit 1; done
 

@@ -886,7 +886,7 @@ typedef struct case_summary {
     double gl_ms;   /* llvmpipe at its best (NAN: not run) */
 } case_summary;
 
-/* The ratio target for a scene and patch (issue 14): B npatch 5x, B smooth 4x, A 4x, C 2x. */
+/* The ratio target for a scene and patch (the targets of the second performance round, stated in bench/README.md): B npatch 5x, B smooth 4x, A 4x, C 2x. */
 static double ratio_target(char scene, int pk)
 {
     if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 5.0 : 4.0;

@@ -342,6 +342,19 @@ rs_target *dev_render_target(is_device *dev)
     if (dev) rs_target_flush(dev->rs, &dev->rt);
     return &dev->rt;
 }
+is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count)
+{
+    if (!dev || !rgba) return IS_ERR_INVALIDCALL;
+    rs_target *rt = dev_render_target(dev);
+    if (count < (size_t)rt->width * (size_t)rt->height) {
+        snprintf(dev->err, sizeof dev->err, "GetRenderTargetData: a buffer of %zu pixels for a %dx%d target", count,
+                 rt->width, rt->height);
+        return IS_ERR_INVALIDCALL;
+    }
+    rs_target_resolve(rt, rgba);
+    return IS_OK;
+}
+
 const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
 uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
 uint64_t dev_instances_culled(const is_device *dev) { return dev->instances_culled; }

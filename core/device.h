@@ -304,6 +304,34 @@ INSTESS_API is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shad
 INSTESS_API is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
 INSTESS_API is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
 INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
+/* The render states' defaults, as D3D9 sets them on a new device (with an automatic depth buffer) and as
+ * dev_create and dev_reset set them (tests/test_device.c reads this table and checks a new device against it):
+ *
+ *   | state                            | default                  |
+ *   |----------------------------------|--------------------------|
+ *   | IS_RS_ZENABLE                    | IS_ZB_TRUE               |
+ *   | IS_RS_FILLMODE                   | IS_FILL_SOLID            |
+ *   | IS_RS_SHADEMODE                  | IS_SHADE_GOURAUD         |
+ *   | IS_RS_ZWRITEENABLE               | 1                        |
+ *   | IS_RS_SRCBLEND                   | IS_BLEND_ONE             |
+ *   | IS_RS_DESTBLEND                  | IS_BLEND_ZERO            |
+ *   | IS_RS_CULLMODE                   | IS_CULL_CCW              |
+ *   | IS_RS_ZFUNC                      | IS_CMP_LESSEQUAL         |
+ *   | IS_RS_ALPHABLENDENABLE           | 0                        |
+ *   | IS_RS_MULTISAMPLEANTIALIAS       | 1                        |
+ *   | IS_RS_POSITIONDEGREE             | IS_DEGREE_CUBIC          |
+ *   | IS_RS_NORMALDEGREE               | IS_DEGREE_LINEAR         |
+ *   | IS_RS_PATCHEDGESTYLE             | IS_PATCHEDGE_DISCRETE    |
+ *   | IS_RS_DEPTHBIAS                  | 0.0f (as its bits)       |
+ *   | IS_RS_SLOPESCALEDEPTHBIAS        | 0.0f (as its bits)       |
+ *   | IS_RS_ENABLEADAPTIVETESSELLATION | 0                        |
+ *   | IS_RS_MINTESSELLATIONLEVEL       | 1.0f (as its bits)       |
+ *   | IS_RS_MAXTESSELLATIONLEVEL       | 1.0f (as its bits)       |
+ *   | IS_RS_ADAPTIVETESS_X             | 0.0f (as its bits)       |
+ *   | IS_RS_ADAPTIVETESS_Y             | 0.0f (as its bits)       |
+ *   | IS_RS_ADAPTIVETESS_Z             | 1.0f (as its bits)       |
+ *   | IS_RS_ADAPTIVETESS_W             | 0.0f (as its bits)       |
+ */
 INSTESS_API is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
 INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
 /* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
@@ -323,6 +351,10 @@ INSTESS_API is_result dev_draw_indexed_primitive(is_device *dev, is_primtype typ
  * so call it again after clearing and drawing before reading the planes -- a pointer kept across a dev_clear
  * may see tiles that were never drawn to with their old contents. */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
+/* The image the device has drawn, in one call (D3D9's GetRenderTargetData): the target resolved to one packed
+ * RGBA8 value per pixel (R in the low byte, rows top to bottom) into rgba, which holds `count` values (at least
+ * width x height of the target).  IS_OK, or IS_ERR_INVALIDCALL for a NULL pointer or a buffer too small. */
+INSTESS_API is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count);
 INSTESS_API const rs_stats *dev_stats(const is_device *dev);
 /* Vertices shaded since the last dev_clear (a post-transform cache shades each one once per instance). */
 INSTESS_API uint64_t dev_vertices_shaded(const is_device *dev);

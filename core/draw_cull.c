@@ -33,8 +33,6 @@
  * of its triangle tried before giving up. */
 #define CULL_F_SLACK 0x1p-16
 #define CULL_SUBDIVISIONS 6
-/* Screen positions snap to 1/256 pixel (raster/raster.h's fixed point). */
-#define CULL_SUB 256.0
 /* Slack of the difference quotients Xh over the widened domain (IS_HULL_DOMAIN_SLACK), relative to their size. */
 #define CULL_DER_SLACK 0x1p-14
 
@@ -134,9 +132,9 @@ void cull_prepare(const is_device *dev, const fetch_plan *fp, const float4 *cach
         return;
     analyse_grid(fp, cache, list, n_prims, cv);
     const rs_viewport *vp = &st.viewport;
-    cv->sx = (double)vp->width * (CULL_SUB / 2), cv->sy = (double)vp->height * (CULL_SUB / 2);
+    cv->sx = (double)vp->width * ((double)RS_SUB / 2), cv->sy = (double)vp->height * ((double)RS_SUB / 2);
     cv->gx = ((double)RS_GUARD_BAND - 1.0) / (vp->width * 0.5), cv->gy = ((double)RS_GUARD_BAND - 1.0) / (vp->height * 0.5);
-    cv->mux = CULL_SUB / cv->sx, cv->muy = CULL_SUB / cv->sy; /* one pixel beyond the viewport's edge */
+    cv->mux = (double)RS_SUB / cv->sx, cv->muy = (double)RS_SUB / cv->sy; /* one pixel beyond the viewport's edge */
     /* A = sx sy det3 / (wa wb wc) with sy < 0: CULL_CCW drops A < 0, i.e. det3 > 0 */
     int cm = st.cull_mode;
     if (cm != RS_CULL_CCW && cm != RS_CULL_CW) cv->backface = false;

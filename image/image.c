@@ -5,6 +5,7 @@
 #include "image_internal.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -207,6 +208,34 @@ static bool same_shape(const is_image *a, const is_image *b, char *err, size_t e
     return same;
 }
 
+/* Whether values x and y differ for the test: NaN against a number, infinities not equal, or finite and more
+ * than thresh apart; *nonfinite is set when a non-finite value is why. */
+static bool values_differ(float x, float y, float thresh, bool *nonfinite)
+{
+    if (isnan(x) || isnan(y)) return (*nonfinite = isnan(x) != isnan(y));
+    if (isinf(x) || isinf(y)) return (*nonfinite = x != y);
+    return fabsf(x - y) > thresh;
+}
+
+/* The failing pixels of a and b (same shape) at thresh into res->n_fail, those failing by a non-finite value
+ * into res->n_nonfinite; a non-finite mismatch also makes max_error infinite. */
+static void count_failing(const is_image *a, const is_image *b, float thresh, is_image_diff *res)
+{
+    size_t n = (size_t)a->width * (size_t)a->height, ch = (size_t)a->channels;
+    res->n_fail = res->n_nonfinite = 0;
+    for (size_t p = 0; p < n; p++) {
+        bool fail = false, nonfinite = false;
+        for (size_t c = 0; c < ch; c++) {
+            bool nf = false;
+            if (values_differ(a->data[p * ch + c], b->data[p * ch + c], thresh, &nf)) fail = true;
+            nonfinite |= nf;
+        }
+        res->n_fail += fail;
+        res->n_nonfinite += nonfinite;
+    }
+    if (res->n_nonfinite) res->max_error = INFINITY;
+}
+
 is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
                              float fail_percent, const char *diff_path, is_image_diff *res, char *err, size_t errlen)
 {
@@ -214,6 +243,7 @@ is_image_verdict image_check(const is_image *actual, const is_image *reference, 
     if (!same_shape(actual, reference, err, errlen)) return IS_IMAGE_SHAPE_DIFFERS;
     if (image_compare(actual, reference, fail_thresh, fail_thresh, res, NULL, err, errlen) != 0)
         return IS_IMAGE_IO_ERROR;
+    count_failing(actual, reference, fail_thresh, res);
     if (100.0 * (double)res->n_fail <= (double)fail_percent * (double)res->n_pixels) return IS_IMAGE_PASS;
     is_image_diff again;
     if (diff_path && image_compare(actual, reference, fail_thresh, fail_thresh, &again, diff_path, err, errlen) != 0)

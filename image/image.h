@@ -52,7 +52,8 @@ INSTESS_API int image_alloc(is_image *img, int width, int height, const char *ch
 INSTESS_API void image_free(is_image *img);
 /* Index of the channel called name, or -1. */
 INSTESS_API int image_channel_index(const is_image *img, const char *name);
-/* Fill RGBA of img from packed RGBA8 pixels (alpha forced to 1 where opaque is asked). */
+/* Fill the channels R, G, B and A of img (those it has) from packed RGBA8 pixels, one per pixel (R in the low
+ * byte, as dev_get_render_target_data gives them), each value k becoming k / 255; other channels are left. */
 INSTESS_API void image_from_rgba8(is_image *img, const uint32_t *rgba);
 /* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit RGBA (other channels dropped),
  * .exr RGBA half and other channels float; label names the file in messages.  0 or -1. */
@@ -70,6 +71,8 @@ typedef struct is_image_diff {
     long n_fail, n_warn;    /* values above the fail / warn thresholds */
     long n_pixels;
     int max_x, max_y, max_channel;  /* where max_error is (the first such value) */
+    long n_nonfinite;       /* image_check: failing pixels with a non-finite mismatch (NaN in one image only, or an
+                               infinity the other image does not hold) */
 } is_image_diff;
 /* Compare a and b (same size and channel count) through OpenImageIO; if diff_path is not NULL, also write a
  * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
@@ -89,8 +92,10 @@ typedef enum is_image_verdict {
     IS_IMAGE_SHAPE_DIFFERS = 2, /* width, height or channels (count or names) differ: not compared */
     IS_IMAGE_IO_ERROR = 3       /* an image cannot be read, or the diff image cannot be written */
 } is_image_verdict;
-/* The pixel-diff test of actual against reference, as the golden tests and `instess compare` run it: through
- * image_compare, a pixel fails when one of its channels differs by more than fail_thresh, and the test passes
+/* The pixel-diff test of actual against reference, as the golden tests and `instess compare` run it: a pixel
+ * fails when one of its channels differs by more than fail_thresh, is NaN in one image and not in the other, or
+ * is infinite and not the same infinity in the other (counted here value by value, not by OpenImageIO, whose
+ * differences of non-finite values are not numbers; n_nonfinite counts those pixels), and the test passes
  * when at most fail_percent percent of the pixels fail (0 and 0: any difference fails).  *res gets the counts
  * and the largest difference (zeroed when not compared).  On IS_IMAGE_DIFFERENT, if diff_path is not NULL,
  * the amplified diff image (see the notes above) is written there as a run of its own (image_write); nothing

@@ -10,13 +10,15 @@
  *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install);
  *  2. instess/ beside the shared library that holds this code (libinstess.so in LIBDIR finds
  *     LIBDIR/instess/libinstess_codec.so, wherever the library was installed or staged: found with dladdr);
- *  3. beside the executable (build/instess), one folder up (build/tests/...), and ../lib/instess beside it
- *     (the installed program, BINDIR = PREFIX/bin);
+ *  3. beside the executable (build/instess; the build puts a link to the module beside the test programs in
+ *     build/tests/ too), and ../lib/instess beside it (the installed program, BINDIR = PREFIX/bin) -- never the
+ *     current folder nor the folder above the program, where anyone might plant a module whose constructor
+ *     would run inside instess;
  *  4. INSTESS_CODEC_DIR as compiled in by the Makefile (LIBDIR/instess of the PREFIX the library was built
  *     for): a program linked with the static archive libinstess.a finds the installed module there.
- * The module calls image_alloc, image_write and the like of the code that opened it: a program that links
- * libinstess.so gets them from the library, one that links libinstess.a must export them (-rdynamic, which
- * instess.pc's Libs.private carries).  When no module can be loaded, every call fails with a message naming
+ * The module calls image_alloc, image_write and the like of the code that opened it through the table it is
+ * handed when loaded (codec_set_host, image_internal.h): it has no undefined symbol of the library, so it loads
+ * in a static program, and beside a libinstess.so opened with RTLD_LOCAL (Python's ctypes) alike.  When no module can be loaded, every call fails with a message naming
  * the places tried and dlerror's reason.
  *
  * The function table is filled once (pthread_once) and read-only afterwards: with the signal handler's slots
@@ -93,7 +95,6 @@ static int candidate_dirs(char dirs[][PATH_MAX + 32])
     if (library_dir(d, sizeof d)) snprintf(dirs[n++], PATH_MAX + 32, "%s/instess", d);
     exe_dir(d, sizeof d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s", d);
-    snprintf(dirs[n++], PATH_MAX + 32, "%s/..", d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s/../lib/instess", d);
     snprintf(dirs[n++], PATH_MAX + 32, "%s", INSTESS_CODEC_DIR);
     return n;
@@ -107,7 +108,7 @@ const char *image_codec_install_dir(void)
 /* Open the module from the places above; its handle or NULL with g_codec.why filled. */
 static void *open_module(void)
 {
-    char dirs[6][PATH_MAX + 32], path[PATH_MAX + 64];
+    char dirs[5][PATH_MAX + 32], path[PATH_MAX + 64];
     int nd = candidate_dirs(dirs);
     size_t n = (size_t)snprintf(g_codec.why, sizeof g_codec.why, "image codec: cannot load " CODEC_MODULE);
     for (int k = 0; k < nd; k++) {
@@ -134,10 +135,14 @@ static void load_codec(void)
     *(void **)&t.compare = dlsym(h, "codec_compare");
     *(void **)&t.draw_text = dlsym(h, "codec_draw_text");
     *(void **)&t.text_size = dlsym(h, "codec_text_size");
-    if (!t.encode || !t.read || !t.compare || !t.draw_text || !t.text_size) {
+    void (*set_host)(const image_codec_host *);
+    *(void **)&set_host = dlsym(h, "codec_set_host");
+    if (!t.encode || !t.read || !t.compare || !t.draw_text || !t.text_size || !set_host) {
         snprintf(g_codec.why, sizeof g_codec.why, "image codec: " CODEC_MODULE " lacks an entry point");
         return;
     }
+    static const image_codec_host host = {image_alloc, image_channel_index, image_free, image_write};
+    set_host(&host);
     memcpy(&g_codec, &t, offsetof(codec_table, why));
 }
 

@@ -8,7 +8,7 @@
 // into the file, because OIIO 2.4's PNG writer ignores failed writes (a full disk would give a truncated
 // file and success): cli/run/output.c writes the bytes with every write(2) checked.
 
-#include "image.h"
+#include "image_internal.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -25,6 +25,10 @@
 #include <ctime>
 #include <string>
 #include <vector>
+
+// The library's functions, handed over by the loader (codec_set_host) before any other entry point is called.
+static const image_codec_host *g_host;
+static const image_codec_host &H() { return *g_host; }
 
 
 using namespace OIIO;
@@ -103,7 +107,7 @@ ImageSpec make_spec(const is_image *img, is_image_format fmt, const is_image_met
     for (int c = 0; c < nch; c++)
         if (!strcmp(img->channel_names[c], "A"))
             spec.alpha_channel = c;
-    int z = image_channel_index(img, "Z");
+    int z = H().channel_index(img, "Z");
     spec.z_channel = z < nch ? z : -1;
     spec.attribute("oiio:UnassociatedAlpha", 1);  // store colour as given: no (un)premultiplication
     if (meta && meta->software)
@@ -182,14 +186,14 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
             n = "channel" + std::to_string(c);  // unnamed or unrepresentable: name it by position
         names += (c ? "," : "") + n;
     }
-    if (image_alloc(img, spec.width, spec.height, names.c_str(), err, errlen) != 0) {
+    if (H().alloc(img, spec.width, spec.height, names.c_str(), err, errlen) != 0) {
         set_err(err, errlen, "%s: unsupported channel names \"%s\" (at most 15 characters each)", path,
                 names.c_str());
         return -1;
     }
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, img->data)) {
         set_err(err, errlen, "%s: cannot read pixels: %s", path, in->geterror().c_str());
-        image_free(img);
+        H().free(img);
         return -1;
     }
     return 0;
@@ -241,12 +245,12 @@ int write_diff(const is_image *a, const is_image *b, float fail_thresh, float wa
                const char *path, char *err, size_t errlen)
 {
     is_image d;
-    if (image_alloc(&d, a->width, a->height, "R,G,B,A", err, errlen) != 0)
+    if (H().alloc(&d, a->width, a->height, "R,G,B,A", err, errlen) != 0)
         return -1;
     fill_diff(a, b, fail_thresh, warn_thresh, max_err, &d);
     is_image_meta meta = {"instess " INSTESS_VERSION, "image_compare visual diff (red: fail, yellow: warn)"};
-    int r = image_write(&d, path, &meta, err, errlen);
-    image_free(&d);
+    int r = H().write(&d, path, &meta, err, errlen);
+    H().free(&d);
     return r;
 }
 
@@ -307,8 +311,8 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
                 text ? "set" : "NULL", rgba ? "set" : "NULL", (double)size_px);
         return -1;
     }
-    int r = image_channel_index(img, "R"), g = image_channel_index(img, "G"), b = image_channel_index(img, "B");
-    int a = image_channel_index(img, "A");
+    int r = H().channel_index(img, "R"), g = H().channel_index(img, "G"), b = H().channel_index(img, "B");
+    int a = H().channel_index(img, "A");
     if (r < 0 || g < 0 || b < 0) {
         set_err(err, errlen, "image_draw_text: the image has no R, G, B channels");
         return -1;
@@ -354,6 +358,11 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
 
 extern "C" {
 
+void codec_set_host(const image_codec_host *host)
+{
+    g_host = host;
+}
+
 // Encode img as a PNG or EXR file in a malloc'd buffer.
 int codec_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
@@ -395,7 +404,7 @@ int codec_read(is_image *img, const char *path, char *err, size_t errlen)
     } catch (...) {
         set_err(err, errlen, "%s: unknown error while reading", path);
     }
-    image_free(img);
+    H().free(img);
     return -1;
 }
 

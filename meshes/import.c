@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -790,6 +791,39 @@ static int check_file_header(const char *path, const char *label, uint64_t size,
     return rc;
 }
 
+/* path's extension without the dot ("" when none). */
+static const char *ext_of(const char *path)
+{
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    return dot && (!slash || dot > slash) ? dot + 1 : "";
+}
+
+/* The face indices of a text OFF or OBJ file of `size` bytes (mesh_check_face_indices); other formats pass
+ * unread. */
+static int check_file_indices(const char *path, const char *label, uint64_t size, char *err, size_t errlen)
+{
+    const char *ext = ext_of(path);
+    if (strcasecmp(ext, "off") != 0 && strcasecmp(ext, "obj") != 0) return IS_MESH_OK;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        mesh_set_err(err, errlen, "%s: cannot open: %s", label, strerror(errno));
+        return IS_MESH_ERR_IO;
+    }
+    unsigned char *data = malloc(size ? (size_t)size : 1);
+    size_t n = 0;
+    while (data && n < size) {
+        ssize_t got = read(fd, data + n, (size_t)size - n);
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) break;
+        n += (size_t)got;
+    }
+    close(fd);
+    int rc = data ? mesh_check_face_indices(data, n, ext, label, err, errlen) : IS_MESH_ERR_NOMEM;
+    if (!data) mesh_set_err(err, errlen, "%s: out of memory", label);
+    free(data);
+    return rc;
+}
+
 /* mesh_load_file: see meshes.h. */
 int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen)
 {
@@ -804,6 +838,7 @@ int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, c
     uint64_t size = 0;
     int rc = check_file(path, label, src.lim.max_file_bytes, &size, err, errlen);
     if (rc == IS_MESH_OK) rc = check_file_header(path, label, size, err, errlen);
+    if (rc == IS_MESH_OK) rc = check_file_indices(path, label, size, err, errlen);
     if (rc != IS_MESH_OK) return rc;
     return import_mesh(&src, label, opt, out, err, errlen);
 }
@@ -829,6 +864,7 @@ int mesh_load_memory(const void *data, size_t size, const char *hint, const char
         return IS_MESH_ERR_INVALID;
     }
     int rc = mesh_check_header(data, size < MESH_HEADER_BYTES ? size : MESH_HEADER_BYTES, size, label, err, errlen);
+    if (rc == IS_MESH_OK) rc = mesh_check_face_indices(data, size, hint, label, err, errlen);
     if (rc != IS_MESH_OK) return rc;
     return import_mesh(&src, label, opt, out, err, errlen);
 }

@@ -7,7 +7,9 @@
 
 #include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* One parsed header: the body's least size, and the first element over a limit. */
 typedef struct header_sum {
@@ -219,4 +221,114 @@ int mesh_check_header(const unsigned char *head, size_t n, uint64_t file_size, c
         return IS_MESH_ERR_INVALID;
     }
     return IS_MESH_OK;
+}
+
+/* ------------------------------ face indices of text formats ------------------------------ */
+
+/* The next line of data[*pos..n) as [*b, *e) (without its \r\n); false at the end. */
+static bool line_span(const unsigned char *data, size_t n, size_t *pos, const char **b, const char **e)
+{
+    if (*pos >= n) return false;
+    const unsigned char *s = data + *pos, *nl = memchr(s, '\n', n - *pos);
+    size_t len = nl ? (size_t)(nl - s) : n - *pos;
+    *pos += len + (nl != NULL);
+    *b = (const char *)s;
+    *e = (const char *)s + len;
+    if (*e > *b && (*e)[-1] == '\r') (*e)--;
+    return true;
+}
+
+/* The integer at *p (before e), advancing past it and the spaces around; false when none is there. */
+static bool read_int(const char **p, const char *e, long long *out)
+{
+    while (*p < e && isspace((unsigned char)**p)) (*p)++;
+    char buf[32];
+    size_t k = 0;
+    while (*p + k < e && k + 1 < sizeof buf && (isdigit((unsigned char)(*p)[k]) || ((*p)[k] == '-' && k == 0)))
+        buf[k] = (*p)[k], k++;
+    if (k == 0 || (k == 1 && buf[0] == '-')) return false;
+    buf[k] = '\0';
+    *out = strtoll(buf, NULL, 10);
+    *p += k;
+    return true;
+}
+
+/* OFF (text): every face's vertex indices in 0..nv-1; assimp 5.2 clamps an index past the end to the last
+ * vertex without a word.  The keyword ("OFF", "COFF", ...), then the vertex and face counts (on its line or
+ * the next), nv vertex lines and nf face lines "k i1 .. ik [colour]"; blank and '#' lines are skipped, lines are
+ * counted from 1.  A file this cannot follow passes (assimp reads it and says what is wrong). */
+static int check_off_faces(const unsigned char *data, size_t n, const char *label, char *err, size_t errlen)
+{
+    size_t pos = 0;
+    const char *b, *e;
+    long long counts[2] = {-1, -1}, v = 0, f = 0;
+    int stage = 0;   /* 0: keyword, 1: counts, 2: vertices and faces */
+    for (long line_no = 1; line_span(data, n, &pos, &b, &e); line_no++) {
+        const char *p = b;
+        while (p < e && isspace((unsigned char)*p)) p++;
+        if (p == e || *p == '#') continue;
+        if (stage == 0) {
+            const char *k = p;
+            while (p < e && !isspace((unsigned char)*p)) p++;
+            if (p - k < 3 || memcmp(p - 3, "OFF", 3) != 0) return IS_MESH_OK;
+            stage = 1;
+        }
+        if (stage == 1) {
+            for (int c = 0; c < 2 && counts[c] < 0;)
+                if (!read_int(&p, e, &counts[c++])) break;
+            if (counts[1] >= 0) stage = 2;   /* (sizes were checked by mesh_check_header) */
+            continue;
+        }
+        if (v < counts[0]) { v++; continue; }
+        if (f >= counts[1]) break;
+        long long k, idx;
+        if (!read_int(&p, e, &k) || k < 0) return IS_MESH_OK;   /* a malformed face: assimp says so */
+        for (long long c = 0; c < k && read_int(&p, e, &idx); c++)
+            if (idx < 0 || idx >= counts[0]) {
+                mesh_set_err(err, errlen, "%s: line %ld: face %lld names vertex %lld, but the file has %lld vertices "
+                             "(0..%lld)", label, line_no, f, idx, counts[0], counts[0] ? counts[0] - 1 : 0);
+                return IS_MESH_ERR_INVALID;
+            }
+        f++;
+    }
+    return IS_MESH_OK;
+}
+
+/* OBJ: every 'f' corner's vertex index names a vertex ('v' line) of the file: 1..count, or -1..-(count so far) as
+ * a reference back.  Lines are counted from 1. */
+static int check_obj_faces(const unsigned char *data, size_t n, const char *label, char *err, size_t errlen)
+{
+    uint64_t total = 0, so_far = 0, f = 0;
+    size_t pos = 0;
+    const char *b, *e;
+    while (line_span(data, n, &pos, &b, &e)) total += e - b > 1 && b[0] == 'v' && isspace((unsigned char)b[1]);
+    pos = 0;
+    for (long line_no = 1; line_span(data, n, &pos, &b, &e); line_no++) {
+        if (e - b < 2 || !isspace((unsigned char)b[1])) continue;
+        if (b[0] == 'v') so_far++;
+        if (b[0] != 'f') continue;
+        const char *p = b + 1;
+        long long idx;
+        for (int c = 0; read_int(&p, e, &idx); c++) {
+            bool ok = idx > 0 ? (uint64_t)idx <= total : idx < 0 && (uint64_t)(-idx) <= so_far;
+            if (!ok) {
+                mesh_set_err(err, errlen, "%s: line %ld: face %llu, corner %d names vertex %lld, but the file has %llu "
+                             "vertices (1..%llu, or -1..-%llu back from that line)", label, line_no,
+                             (unsigned long long)f, c, idx, (unsigned long long)total, (unsigned long long)total,
+                             (unsigned long long)so_far);
+                return IS_MESH_ERR_INVALID;
+            }
+            while (p < e && !isspace((unsigned char)*p)) p++;   /* the corner's /texcoord/normal */
+        }
+        f++;
+    }
+    return IS_MESH_OK;
+}
+
+/* mesh_check_face_indices: see mesh_internal.h. */
+int mesh_check_face_indices(const unsigned char *data, size_t n, const char *ext, const char *label, char *err,
+                            size_t errlen)
+{
+    if (ext && strcasecmp(ext, "obj") == 0) return check_obj_faces(data, n, label, err, errlen);
+    return check_off_faces(data, n, label, err, errlen);
 }

@@ -3,6 +3,7 @@
 #include "mesh_internal.h"
 
 #include "../core/hlsl.h"
+#include "../vs/vs.h"   /* VS_IN_*: the registers of Listing 1.1.2 the declaration fills */
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -87,6 +88,8 @@ void mesh_free(is_mesh *m)
     free(m->indices);
     free(m->welded);
     free(m->opposite);
+    free(m->edges);
+    free(m->tri_edge);
     memset(m, 0, sizeof *m);
 }
 
@@ -324,35 +327,44 @@ static int edge_cmp(const void *pa, const void *pb)
     return (int)x->k - (int)y->k;
 }
 
-/* The vertex of triangle r->tri not on its edge r->k. */
-static uint32_t third_vertex(const is_mesh *m, const edge_rec *r)
+/* One run r[0..n) of records sharing a welded edge into the table (edge index e), counting the edge's kind. */
+static void add_edge(is_mesh *m, const edge_rec *r, size_t n, uint32_t e)
 {
-    return m->indices[3 * (size_t)r->tri + (r->k + 2) % 3];
+    is_mesh_edge *E = &m->edges[e];
+    *E = (is_mesh_edge){{r[0].a, r[0].b}, {r[0].tri, n > 1 ? r[1].tri : UINT32_MAX}, (uint32_t)n};
+    for (size_t i = 0; i < n; i++) m->tri_edge[3 * (size_t)r[i].tri + r[i].k] = e;
+    if (n == 2 && r[0].forward == r[1].forward) m->stats.inconsistent_edges++;
+    if (n == 1) m->stats.boundary_edges++;
+    else if (n > 2) m->stats.nonmanifold_edges++;
 }
 
-/* Set opposite vertices of one run of records sharing an edge, counting the edge's kind. */
-static void resolve_edge(is_mesh *m, const edge_rec *r, size_t n)
+/* The opposite vertex of edge k of triangle t from the edge table: the third vertex of the one neighbour across
+ * it, or t's own third vertex on a boundary or non-manifold edge. */
+static uint32_t opposite_of(const is_mesh *m, size_t t, int k)
 {
-    m->stats.edges++;
-    if (n == 2) {
-        m->opposite[3 * (size_t)r[0].tri + r[0].k] = third_vertex(m, &r[1]);
-        m->opposite[3 * (size_t)r[1].tri + r[1].k] = third_vertex(m, &r[0]);
-        if (r[0].forward == r[1].forward) m->stats.inconsistent_edges++;
-        return;
-    }
-    if (n == 1) m->stats.boundary_edges++; else m->stats.nonmanifold_edges++;
-    for (size_t i = 0; i < n; i++) m->opposite[3 * (size_t)r[i].tri + r[i].k] = third_vertex(m, &r[i]);
+    const is_mesh_edge *E = &m->edges[m->tri_edge[3 * t + k]];
+    size_t other = E->n_faces == 2 ? (E->faces[0] == t ? E->faces[1] : E->faces[0]) : t;
+    int ok = k;
+    if (other != t)
+        for (int j = 2; j >= 0; j--)   /* the first corner of `other` on the edge */
+            if (m->tri_edge[3 * other + j] == m->tri_edge[3 * t + k]) ok = j;
+    return m->indices[3 * other + (ok + 2) % 3];
 }
 
-/* Opposite vertices from a sorted edge list.  meshopt_generateAdjacencyIndexBuffer (0.18) is not used: for a
- * boundary edge it returns the edge's first vertex (not the third one we want), it finds neighbours only
- * through the reversed directed edge (so inconsistently wound neighbours look like boundaries), and on
- * non-manifold edges it picks whichever triangle its hash table saw first, without telling us. */
+/* The welded-edge table (edges, tri_edge) and the opposite vertices from a sorted edge list.
+ * meshopt_generateAdjacencyIndexBuffer (0.18) is not used: for a boundary edge it returns the edge's first
+ * vertex (not the third one we want), it finds neighbours only through the reversed directed edge (so
+ * inconsistently wound neighbours look like boundaries), and on non-manifold edges it picks whichever triangle
+ * its hash table saw first, without telling us. */
 static int build_adjacency(is_mesh *m)
 {
     size_t ne = 3 * m->n_triangles;
-    edge_rec *e = malloc(ne * sizeof(edge_rec));
-    if (!e) return IS_MESH_ERR_NOMEM;
+    edge_rec *e = malloc((ne ? ne : 1) * sizeof(edge_rec));
+    free(m->edges), free(m->tri_edge);
+    m->edges = malloc((ne ? ne : 1) * sizeof *m->edges);
+    m->tri_edge = malloc((ne ? ne : 1) * sizeof *m->tri_edge);
+    m->n_edges = 0;
+    if (!e || !m->edges || !m->tri_edge) return free(e), IS_MESH_ERR_NOMEM;
     for (size_t t = 0; t < m->n_triangles; t++) {
         for (int k = 0; k < 3; k++) {
             uint32_t a = m->welded[3 * t + k], b = m->welded[3 * t + (k + 1) % 3];
@@ -363,9 +375,12 @@ static int build_adjacency(is_mesh *m)
     m->stats.edges = m->stats.boundary_edges = m->stats.nonmanifold_edges = m->stats.inconsistent_edges = 0;
     for (size_t i = 0, j; i < ne; i = j) {
         for (j = i + 1; j < ne && e[j].a == e[i].a && e[j].b == e[i].b; j++) {}
-        resolve_edge(m, e + i, j - i);
+        add_edge(m, e + i, j - i, (uint32_t)m->n_edges++);
     }
+    m->stats.edges = m->n_edges;
     free(e);
+    for (size_t t = 0; t < m->n_triangles; t++)
+        for (int k = 0; k < 3; k++) m->opposite[3 * t + k] = opposite_of(m, t, k);
     return IS_MESH_OK;
 }
 
@@ -472,14 +487,19 @@ size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out)
     return m->n_triangles;
 }
 
-#define PI_ELEM(off, type, idx) { 1, (off), (type), 0, IS_DECLUSAGE_TEXCOORD, (idx) }
+/* Listing 1.1.2's registers (vs/vs.h's VS_IN_*), each at its field of is_patch_instance. */
+#define PI_ELEM(field, type, idx) \
+    { 1, (uint16_t)offsetof(is_patch_instance, field), (type), 0, IS_DECLUSAGE_TEXCOORD, (idx) }
 
+_Static_assert(sizeof(is_patch_instance) == 136, "is_patch_instance: 136 bytes without padding (meshes.h)");
 const is_vertex_element mesh_patch_declaration[MESH_PATCH_DECLARATION_COUNT] = {
     { 0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0 },
-    PI_ELEM(0, IS_DECLTYPE_FLOAT3, 0),   PI_ELEM(12, IS_DECLTYPE_FLOAT3, 1),  PI_ELEM(24, IS_DECLTYPE_FLOAT3, 2),
-    PI_ELEM(36, IS_DECLTYPE_FLOAT3, 3),  PI_ELEM(48, IS_DECLTYPE_FLOAT3, 4),  PI_ELEM(60, IS_DECLTYPE_FLOAT3, 5),
-    PI_ELEM(72, IS_DECLTYPE_FLOAT3, 6),  PI_ELEM(84, IS_DECLTYPE_FLOAT3, 7),  PI_ELEM(96, IS_DECLTYPE_FLOAT3, 8),
-    PI_ELEM(108, IS_DECLTYPE_FLOAT2, 9), PI_ELEM(116, IS_DECLTYPE_FLOAT2, 10), PI_ELEM(124, IS_DECLTYPE_FLOAT2, 11),
-    PI_ELEM(132, IS_DECLTYPE_FLOAT1, 12),
+    PI_ELEM(v[0], IS_DECLTYPE_FLOAT3, VS_IN_V0),      PI_ELEM(v[1], IS_DECLTYPE_FLOAT3, VS_IN_V0 + 1),
+    PI_ELEM(v[2], IS_DECLTYPE_FLOAT3, VS_IN_V0 + 2),  PI_ELEM(n[0], IS_DECLTYPE_FLOAT3, VS_IN_N0),
+    PI_ELEM(n[1], IS_DECLTYPE_FLOAT3, VS_IN_N0 + 1),  PI_ELEM(n[2], IS_DECLTYPE_FLOAT3, VS_IN_N0 + 2),
+    PI_ELEM(opp[0], IS_DECLTYPE_FLOAT3, VS_IN_OPP0),  PI_ELEM(opp[1], IS_DECLTYPE_FLOAT3, VS_IN_OPP0 + 1),
+    PI_ELEM(opp[2], IS_DECLTYPE_FLOAT3, VS_IN_OPP0 + 2), PI_ELEM(t[0], IS_DECLTYPE_FLOAT2, VS_IN_T0),
+    PI_ELEM(t[1], IS_DECLTYPE_FLOAT2, VS_IN_T0 + 1),  PI_ELEM(t[2], IS_DECLTYPE_FLOAT2, VS_IN_T0 + 2),
+    PI_ELEM(instance_id, IS_DECLTYPE_FLOAT1, VS_IN_ID),
     IS_DECL_END
 };

@@ -82,6 +82,16 @@ typedef struct is_mesh_stats {
     size_t normals_against_faces;/* corners whose normal points against their face's outward normal */
 } is_mesh_stats;
 
+/* One welded edge: the welded vertices it joins (ends[0] < ends[1]) and the triangles that hold it: faces[0] <
+ * faces[1] are the first two by index (UINT32_MAX when there are fewer), n_faces all of them (1: a boundary edge,
+ * 2: shared, 3+: non-manifold).  The one table of the mesh's edges: adjacency (opposite), PN-AEN's neighbour
+ * normals, the per-edge levels of detail and the smoothness measurement all read it. */
+typedef struct is_mesh_edge {
+    uint32_t ends[2];
+    uint32_t faces[2];
+    uint32_t n_faces;
+} is_mesh_edge;
+
 typedef struct is_mesh {
     char name[256];              /* built-in name or the file's path (truncated) */
     size_t n_vertices;
@@ -92,6 +102,9 @@ typedef struct is_mesh {
     uint32_t *indices;           /* 3 * n_triangles, clockwise from outside */
     uint32_t *welded;            /* 3 * n_triangles: indices[i] -> the first vertex (in index order) at its position */
     uint32_t *opposite;          /* 3 * n_triangles: [3t+k] = opposite vertex of edge k of triangle t */
+    size_t n_edges;              /* the welded edges (= stats.edges), ordered by (ends[0], ends[1]) */
+    is_mesh_edge *edges;         /* n_edges */
+    uint32_t *tri_edge;          /* 3 * n_triangles: [3t+k] = the edge (index into edges) of edge k of triangle t */
     is_mesh_stats stats;
 } is_mesh;
 

@@ -11,7 +11,7 @@
  *    (horizontal, interior below it) or a left edge.  Abutting triangles therefore cover every sample once.
  *  - Winding: screen-space clockwise triangles are front faces.  RS_CULL_CCW (the D3D9 default) drops
  *    counter-clockwise ones, RS_CULL_CW drops clockwise ones.
- *  - Fixed point: screen positions snap to 1/256 pixel (8 sub-pixel bits).  Primitives are clipped to the guard
+ *  - Fixed point: screen positions snap to 1/RS_SUB = 1/256 pixel (RS_SUB_BITS = 8 sub-pixel bits).  Primitives are clipped to the guard
  *    band |X - cx|, |Y - cy| < RS_GUARD_BAND pixels around the viewport centre (cx, cy) (so there is always at
  *    least 8192 px of band around a viewport); edge functions are evaluated in int64 (budget in
  *    raster/setup.c).  Triangles outside the guard band are clipped against it, never overflowed.  Rendering is
@@ -91,6 +91,8 @@ enum {
 };
 enum { RS_PRIM_POINTS = 1, RS_PRIM_LINES = 2, RS_PRIM_TRIANGLES = 4 };
 
+#define RS_SUB_BITS 8          /* the fixed point of snapped screen positions: sub-pixel bits ... */
+#define RS_SUB (1 << RS_SUB_BITS) /* ... and steps per pixel (256); the device's culling snaps as the rasterizer */
 #define RS_GUARD_BAND 16384.0f /* pixels from the viewport centre; see setup.c for the bit budget */
 #define RS_MAX_SIZE 16384      /* largest render target side */
 

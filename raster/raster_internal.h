@@ -50,8 +50,6 @@
 /* |v| <= 2^n: the bit budgets' claims (setup.c), for RS_ASSERT. */
 static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) && v <= (int64_t)1 << n; }
 
-#define RS_SUB_BITS 8                 /* sub-pixel bits of snapped positions */
-#define RS_SUB (1 << RS_SUB_BITS)     /* 256 */
 #define RS_TILE_BITS 6
 #define RS_TILE (1 << RS_TILE_BITS)   /* tile side in pixels (64) */
 /* Planes of at least this many bytes (rows of whole cache lines) get the tile copy-out's streaming stores (a

@@ -4,17 +4,6 @@
 
 #include <stdlib.h>
 
-/* One triangle edge keyed by its welded end points (a < b). */
-typedef struct edge_rec { uint32_t a, b, tri, k; } edge_rec;
-
-static int edge_cmp(const void *x, const void *y)
-{
-    const edge_rec *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    return p->tri < q->tri ? -1 : (p->tri > q->tri);
-}
-
 /* The normal triangle u has at the vertex welded to w (fallback: `own`). */
 static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
 {
@@ -27,30 +16,16 @@ static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
  * edge without exactly one neighbour (boundary, non-manifold) gets t's own normals.  Returns 0 or -1. */
 int tess_adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
 {
-    const size_t ne = 3 * m->n_triangles;
-    edge_rec *e = malloc(ne * sizeof *e);
-    if (!e) return -1;
-    for (size_t i = 0; i < ne; i++) {
-        uint32_t t = (uint32_t)(i / 3), k = (uint32_t)(i % 3);
-        uint32_t a = m->welded[i], b = m->welded[3 * (size_t)t + (k + 1) % 3];
-        e[i] = (edge_rec){a < b ? a : b, a < b ? b : a, t, k};
-    }
-    qsort(e, ne, sizeof *e, edge_cmp);
-    for (size_t i = 0; i < ne;) {
-        size_t j = i;
-        while (j < ne && e[j].a == e[i].a && e[j].b == e[i].b) j++;
-        for (size_t r = i; r < j; r++) {
-            uint32_t t = e[r].tri, k = e[r].k;
+    for (size_t t = 0; t < m->n_triangles; t++)
+        for (uint32_t k = 0; k < 3; k++) {
+            const is_mesh_edge *E = &m->edges[m->tri_edge[3 * t + k]];
+            uint32_t other = E->n_faces == 2 ? (E->faces[0] == t ? E->faces[1] : E->faces[0]) : (uint32_t)t;
             for (int c = 0; c < 2; c++) {
-                size_t corner = 3 * (size_t)t + (k + (uint32_t)c) % 3;
+                size_t corner = 3 * t + (k + (uint32_t)c) % 3;
                 float3 own = m->normals[m->indices[corner]];
-                uint32_t other = j - i == 2 ? e[r == i ? i + 1 : i].tri : t;
                 nadj[t][k][c] = other == t ? own : normal_at(m, other, m->welded[corner], own);
             }
         }
-        i = j;
-    }
-    free(e);
     return 0;
 }
 

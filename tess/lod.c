@@ -1,23 +1,11 @@
-/* tess/lod.c -- per-edge levels of detail (tess/tess.h, "adaptive level of detail"): the mesh's edges keyed by their
- * welded end points, and one level per edge from that edge alone, so both of its triangles agree. */
+/* tess/lod.c -- per-edge levels of detail (tess/tess.h, "adaptive level of detail"): the mesh's welded edges
+ * (meshes.h's edge table), and one level per edge from that edge alone, so both of its triangles agree. */
 #include "tess_internal.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* One triangle corner's edge: welded ends a < b, the triangle and the edge's index k in it. */
-typedef struct corner_edge { uint32_t a, b, tri, k; } corner_edge;
-
-static int corner_edge_cmp(const void *x, const void *y)
-{
-    const corner_edge *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    if (p->b != q->b) return p->b < q->b ? -1 : 1;
-    if (p->tri != q->tri) return p->tri < q->tri ? -1 : 1;
-    return p->k < q->k ? -1 : (p->k > q->k);
-}
 
 void tess_lod_edges_free(tess_lod_edges *e)
 {
@@ -33,46 +21,26 @@ static float3 corner_normal(const is_mesh *m, uint32_t t, uint32_t w)
     return f3(0, 0, 0);
 }
 
-/* Sorted corner edges c[0..n) in; the unique edges written to e (arrays allocated by the caller). */
-static void fill_edges(const is_mesh *m, const corner_edge *c, size_t n, tess_lod_edges *e)
-{
-    size_t k = 0;
-    for (size_t i = 0; i < n; k++) {
-        size_t j = i;
-        e->ends[k][0] = c[i].a, e->ends[k][1] = c[i].b;
-        e->nrm[k][0] = corner_normal(m, c[i].tri, c[i].a), e->nrm[k][1] = corner_normal(m, c[i].tri, c[i].b);
-        e->faces[k][0] = e->faces[k][1] = UINT32_MAX;
-        for (; j < n && c[j].a == c[i].a && c[j].b == c[i].b; j++) {
-            if (j - i < 2) e->faces[k][j - i] = c[j].tri;
-            e->tri_edge[3 * (size_t)c[j].tri + c[j].k] = (uint32_t)k;
-        }
-        e->n_faces[k] = (uint32_t)(j - i);
-        i = j;
-    }
-    e->n_edges = k;
-}
-
 int tess_lod_edges_build(const is_mesh *m, tess_lod_edges *e, char *err, size_t errlen)
 {
     memset(e, 0, sizeof *e);
-    const size_t n = 3 * m->n_triangles;
-    corner_edge *c = malloc(n * sizeof *c);
-    e->ends = malloc(n * sizeof *e->ends), e->nrm = malloc(n * sizeof *e->nrm);
-    e->faces = malloc(n * sizeof *e->faces), e->n_faces = malloc(n * sizeof *e->n_faces);
-    e->tri_edge = malloc(n * sizeof *e->tri_edge), e->level = malloc(n ? n : 1);
-    if (!c || !e->ends || !e->nrm || !e->faces || !e->n_faces || !e->tri_edge || !e->level) {
-        free(c);
+    const size_t ne = m->n_edges, nt3 = 3 * m->n_triangles;
+    e->ends = malloc((ne ? ne : 1) * sizeof *e->ends), e->nrm = malloc((ne ? ne : 1) * sizeof *e->nrm);
+    e->faces = malloc((ne ? ne : 1) * sizeof *e->faces), e->n_faces = malloc((ne ? ne : 1) * sizeof *e->n_faces);
+    e->tri_edge = malloc((nt3 ? nt3 : 1) * sizeof *e->tri_edge), e->level = malloc(ne ? ne : 1);
+    if (!e->ends || !e->nrm || !e->faces || !e->n_faces || !e->tri_edge || !e->level) {
         tess_lod_edges_free(e);
         return snprintf(err, errlen, "%s: out of memory for the edges of %zu triangles", m->name, m->n_triangles), -1;
     }
-    for (size_t i = 0; i < n; i++) {
-        uint32_t t = (uint32_t)(i / 3), k = (uint32_t)(i % 3);
-        uint32_t a = m->welded[i], b = m->welded[3 * (size_t)t + (k + 1) % 3];
-        c[i] = (corner_edge){a < b ? a : b, a < b ? b : a, t, k};
+    for (size_t k = 0; k < ne; k++) {   /* the mesh's welded edges, with the normals of their first triangle */
+        const is_mesh_edge *E = &m->edges[k];
+        e->ends[k][0] = E->ends[0], e->ends[k][1] = E->ends[1];
+        e->faces[k][0] = E->faces[0], e->faces[k][1] = E->faces[1];
+        e->n_faces[k] = E->n_faces;
+        e->nrm[k][0] = corner_normal(m, E->faces[0], E->ends[0]), e->nrm[k][1] = corner_normal(m, E->faces[0], E->ends[1]);
     }
-    qsort(c, n, sizeof *c, corner_edge_cmp);
-    fill_edges(m, c, n, e);
-    free(c);
+    memcpy(e->tri_edge, m->tri_edge, nt3 * sizeof *e->tri_edge);
+    e->n_edges = ne;
     return 0;
 }
 

@@ -23,6 +23,7 @@
 #include "../core/api.h"
 #include "../core/core.h"
 #include "../meshes/meshes.h"
+#include "../vs/vs.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -130,6 +131,31 @@ INSTESS_API is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *
 INSTESS_API is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k);
 /* The renumbered instance: perm[i] of in becomes vertex i (positions, normals, texcoords, opposite vertices). */
 INSTESS_API void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out);
+
+/* ---------------------------------------- smoothness in numbers (tess/smoothness.c) ---------------------------------------- */
+typedef struct vs_smoothness_result {
+    double max_angle_deg;   /* largest angle between the real normals of the two sides of a shared edge */
+    double mean_angle_deg;  /* mean of those angles over all samples */
+    double max_angle_coplanar_deg; /* the largest angle on edges between coplanar faces (|dot of face normals|
+                                      within 1e-6 of 1, e.g. the cube's face diagonals): ripples show here */
+    double max_angle_feature_deg;  /* the largest angle on the other shared edges (where the faces meet at an
+                                      angle): creases show here */
+    double max_distance;    /* largest distance of a patch point from its flat triangle's plane, relative to
+                               the bounding-box diagonal of the mesh */
+    size_t shared_edges;    /* edges with exactly two triangles (sampled) */
+    size_t boundary_edges;  /* edges with one triangle */
+    size_t nonmanifold_edges; /* edges with more than two triangles (not sampled) */
+    size_t samples;         /* edge samples taken */
+} vs_smoothness_result;
+
+/* Sample every shared edge of m (the mesh's welded-edge table: edges with exactly two triangles) at
+ * `samples_per_edge` points (i + 1/2) / samples_per_edge and compare the derivative normals of the two sides
+ * (patch p with options o, real normals); sample each triangle at the interior points of the level-8 grid for
+ * the distance.  The neighbours (opposite vertices, PN-AEN's normals) come from the same table.  Returns 0, or
+ * -1 for bad arguments or when out of memory. */
+INSTESS_API int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int samples_per_edge,
+                                vs_smoothness_result *res);
+
 
 #ifdef __cplusplus
 }

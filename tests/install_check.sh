@@ -37,7 +37,8 @@ $make --no-print-directory install DESTDIR="$stage" PREFIX=$prefix >"$tmp/instal
 S=$stage$prefix
 files_installed() {
   for f in bin/instess share/man/man1/instess.1 lib/libinstess.so.0.1.0 lib/libinstess.a \
-           lib/instess/libinstess_codec.so lib/pkgconfig/instess.pc include/instess/core/core.h \
+           lib/instess/libinstess_codec.so lib/instess/libinstess_view.so lib/pkgconfig/instess.pc \
+           include/instess/core/core.h \
            include/instess/core/api.h include/instess/core/math.h include/instess/core/device.h \
            include/instess/core/texture.h \
            include/instess/core/grid.h include/instess/image/image.h include/instess/tess/tess.h \
@@ -87,7 +88,7 @@ ex=$tmp/example; mkdir -p "$ex"
 cp examples/npatch_diff.png "$ex/ref.png"
 build_example() {
   cd "$ex" && cc -std=c17 -Wall -Wextra -Werror -H "$root/examples/npatch_diff.c" $(pc --cflags) $(pc --libs) \
-       -Wl,-rpath,"$S/lib" -o npatch_diff 2>headers.txt || { cat headers.txt; return 1; }
+       -Wl,-rpath,"$(pc --variable=libdir)" -o npatch_diff 2>headers.txt || { cat headers.txt; return 1; }
   # every instess header it read is the staged one
   local ours
   ours=$(grep -E 'instess|core\.h|raster\.h|vs\.h|meshes\.h' headers.txt | sed 's/^\.* //')
@@ -95,7 +96,7 @@ build_example() {
   [ -n "$ours" ] && ! echo "$ours" | grep -v "^$S/include/instess/" &&
     ldd ./npatch_diff | grep -q "libinstess.so.0 => $S/lib/libinstess.so.0"
 }
-check "example: built with pkg-config against the stage (headers and library from it)" build_example
+check "example: built as the README says (pkg-config, the rpath of --variable=libdir) against the stage" build_example
 
 run_example() { cd "$ex" && ./npatch_diff ref.png && [ ! -e ref.png.diff.png ]; }
 check "example: renders the N-Patch and matches examples/npatch_diff.png (exit 0)" run_example
@@ -111,7 +112,7 @@ check "example: a different reference fails (exit 1, diff image written)" other_
 # more than one bucket (draw), a valid image.
 adaptive_example() {
   cd "$ex" && cc -std=c17 -Wall -Wextra -Werror "$root/examples/adaptive_lod.c" $(pc --cflags) $(pc --libs) \
-       -Wl,-rpath,"$S/lib" -o adaptive_lod || return 1
+       -Wl,-rpath,"$(pc --variable=libdir)" -o adaptive_lod || return 1
   local out
   out=$(./adaptive_lod lod.png) || return 1
   echo "$out"
@@ -120,6 +121,56 @@ adaptive_example() {
     [ "${BASH_REMATCH[4]}" -gt 0 ] && "$S/bin/instess" compare lod.png lod.png >/dev/null
 }
 check "example: adaptive LOD through tess/ (per-edge levels, one draw per bucket) built against the stage" adaptive_example
+
+# docs/api.md's complete program, taken from the page as it is, built and run against the stage.
+api_doc_program() {
+  cd "$ex" && sed -n '/^```c$/,/^```$/p' "$root/docs/api.md" | sed '1d;$d' > api_prog.c && [ -s api_prog.c ] &&
+    cc -std=c17 -Wall -Wextra -Werror api_prog.c $(pc --cflags) $(pc --libs) -Wl,-rpath,"$(pc --variable=libdir)" \
+       -o api_prog && ./api_prog && [ -s cube.png ] && "$S/bin/instess" compare cube.png cube.png >/dev/null
+}
+check "docs/api.md: its complete program builds against the stage and writes its image" api_doc_program
+
+# The installed viewer finds its window module (LIBDIR/instess) and draws a frame headless.
+installed_viewer() {
+  cd "$ex" && SDL_VIDEODRIVER=dummy "$S/bin/instess" view -q --no-hud --size 96x72 --frames 1 --capture view.png &&
+    "$S/bin/instess" --size 96x72 -q -o cli.png && "$S/bin/instess" compare view.png cli.png >/dev/null
+}
+check "the installed instess view loads its window module and draws the frame -o draws (dummy display)" installed_viewer
+
+# A module planted in the folder above the program or in the current folder is never loaded: its constructor
+# would run inside instess.
+planted_modules() {
+  local p="$tmp/plant" marker="$tmp/plant/ran"
+  mkdir -p "$p/bin" "$p/cwd" && cp "$S/bin/instess" "$p/bin/" || return 1
+  printf '#include <stdio.h>\n__attribute__((constructor)) static void c(void) { FILE *f = fopen("%s", "w"); if (f) fclose(f); }\n' \
+    "$marker" > "$p/m.c" && cc -shared -fPIC "$p/m.c" -o "$p/libinstess_codec.so" || return 1
+  cp "$p/libinstess_codec.so" "$p/libinstess_view.so" && cp "$p/libinstess_codec.so" "$p/cwd/" &&
+    cp "$p/libinstess_view.so" "$p/cwd/" || return 1
+  (cd "$p/cwd" && "$p/bin/instess" --size 16x16 -q -o x.png 2>/dev/null; SDL_VIDEODRIVER=dummy "$p/bin/instess" view \
+     -q --frames 1 --size 16x16 2>/dev/null; true)
+  [ ! -e "$marker" ] || { echo "a planted module ran"; return 1; }
+}
+check "modules are never loaded from the folder above the program or the current folder" planted_modules
+
+# The library opened with RTLD_LOCAL (Python's ctypes default, plugin hosts): its symbols are not global, and the
+# codec module it loads on the first image call must still work (it gets the library's functions handed over).
+rtld_local() {
+  cd "$ex" && "$S/bin/instess" --size 32x32 -q -o local.png &&
+    python3 - "$S/lib/libinstess.so.0" local.png <<'PY'
+import ctypes, os, sys
+lib = ctypes.CDLL(sys.argv[1], mode=os.RTLD_LOCAL)
+img = ctypes.create_string_buffer(4096)          # an is_image (smaller than this)
+err = ctypes.create_string_buffer(1024)
+rc = lib.image_read(img, sys.argv[2].encode(), err, ctypes.c_size_t(len(err)))
+if rc != 0:
+    sys.exit("image_read: %s" % err.value.decode())
+w, h, ch = ctypes.cast(img, ctypes.POINTER(ctypes.c_int))[0:3]
+lib.image_free(img)
+if (w, h) != (32, 32):
+    sys.exit("read %dx%d" % (w, h))
+PY
+}
+check "the shared library opened with RTLD_LOCAL (Python ctypes) reads an image through its codec module" rtld_local
 
 static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \

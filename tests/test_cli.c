@@ -164,6 +164,14 @@ static void test_displace(void **state)
     assert_int_equal(run(args, &err), 1);
     assert_non_null(strstr(err, "no-such-map.png"));
     assert_non_null(strstr(err, "--displace"));
+    /* -o naming the map: refused, the map kept */
+    snprintf(args, sizeof args, "%s --displace %s -o %s", base, map, map);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "height map"));
+    is_image back = {0};
+    assert_int_equal(image_read(&back, map, e, sizeof e), 0);
+    assert_int_equal(back.width, 16);
+    image_free(&back);
     assert_true(prog_write_text(dir, "junk.png", "this is not a PNG"));
     snprintf(args, sizeof args, "%s --displace %s/junk.png -o %s/x.png", base, dir, dir);
     assert_int_equal(run(args, &err), 1);
@@ -665,6 +673,80 @@ static void test_quiet_and_import_timeout(void **state)
     unlink(prog_path(dir, "w.png", p, sizeof p));
 }
 
+/* Output lost is a failure: --help, --version and --stats json into a full device exit 1 and say so. */
+static void test_stdout_write_failure(void **state)
+{
+    (void)state;
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    char render[600];
+    snprintf(render, sizeof render, "--mesh octahedron --size 16x16 --level 1 --stats json -o %s/full.png", dir);
+    const char *const cmds[] = {"--help", "--version", render};
+    for (int k = 0; k < 3; k++) {
+        char cmd[1200], errfile[300];
+        snprintf(errfile, sizeof errfile, "%s/stderr.txt", dir);
+        snprintf(cmd, sizeof cmd, "%s %s >/dev/full 2>%s", bin, cmds[k], errfile);
+        int st = system(cmd);
+        assert_true(WIFEXITED(st));
+        char err[1024] = "";
+        FILE *f = fopen(errfile, "r");
+        size_t n = f ? fread(err, 1, sizeof err - 1, f) : 0;
+        if (f) fclose(f);
+        err[n] = 0;
+        if (WEXITSTATUS(st) != 1 || !strstr(err, "cannot write to standard output"))
+            fail_msg("%s > /dev/full: exit %d: %s", cmds[k], WEXITSTATUS(st), err);
+    }
+}
+
+/* -o or --export-obj naming the input mesh is refused: the mesh is never replaced. */
+static void test_output_names_input(void **state)
+{
+    (void)state;
+    char mesh[400], args[1200];
+    snprintf(mesh, sizeof mesh, "%s/in.obj", dir);
+    FILE *f = fopen(mesh, "w");
+    assert_non_null(f);
+    fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", f);
+    fclose(f);
+    const char *err;
+    snprintf(args, sizeof args, "'%s' -q -o '%s/a.png' --export-obj '%s/./in.obj'", mesh, dir, dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "is the input mesh; instess will not replace its input"));
+    struct stat st;
+    assert_int_equal(stat(mesh, &st), 0);
+    assert_int_equal((int)st.st_size, 32);   /* unchanged */
+    assert_false(exists("a.png"));
+}
+
+/* --stats json is valid UTF-8 JSON whatever the mesh file's name: bytes that are not well-formed UTF-8
+ * (an overlong form, a surrogate, a lone continuation byte) become U+FFFD. */
+static void test_stats_json_utf8(void **state)
+{
+    (void)state;
+    const char *bad[] = {"\xed\xa0\x80", "\xe0\x80\xaf", "\x80x", "\xf4\x90\x80\x80"};
+    const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
+    for (int k = 0; k < 4; k++) {
+        char mesh[400], cmd[1400], out[400];
+        snprintf(mesh, sizeof mesh, "%s/%s.obj", dir, bad[k]);
+        FILE *f = fopen(mesh, "w");
+        assert_non_null(f);
+        fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", f);
+        fclose(f);
+        snprintf(out, sizeof out, "%s/stats.json", dir);
+        snprintf(cmd, sizeof cmd, "%s '%s' --size 16x16 --level 1 --stats json -o '%s/s.png' >'%s' 2>/dev/null", bin,
+                 mesh, dir, out);
+        assert_int_equal(system(cmd), 0);
+        char text[8192];
+        f = fopen(out, "rb");
+        assert_non_null(f);
+        size_t n = fread(text, 1, sizeof text - 1, f);
+        fclose(f);
+        text[n] = 0;
+        assert_null(strstr(text, bad[k]));          /* the malformed bytes are not passed through */
+        assert_non_null(strstr(text, "\\ufffd"));   /* they are replaced, escaped */
+        unlink(mesh);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -682,6 +764,9 @@ int main(void)
         cmocka_unit_test(test_exr_channels),
         cmocka_unit_test(test_export_obj_frame),
         cmocka_unit_test(test_quiet_and_import_timeout),
+        cmocka_unit_test(test_stdout_write_failure),
+        cmocka_unit_test(test_output_names_input),
+        cmocka_unit_test(test_stats_json_utf8),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }

@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -403,12 +404,86 @@ static void test_grid(void **state)
     }
 }
 
+/* The render-state defaults table of core/device.h (its comment, the one place they are written for users) is
+ * what a new device holds: every row is read from the header and checked with GetRenderState; the table names
+ * every state set_default_states sets (22 rows). */
+static void test_render_state_defaults_documented(void **state)
+{
+    (void)state;
+    static const struct { const char *name; uint32_t value; } known[] = {
+        {"IS_ZB_TRUE", IS_ZB_TRUE}, {"IS_FILL_SOLID", IS_FILL_SOLID}, {"IS_SHADE_GOURAUD", IS_SHADE_GOURAUD},
+        {"IS_BLEND_ONE", IS_BLEND_ONE}, {"IS_BLEND_ZERO", IS_BLEND_ZERO}, {"IS_CULL_CCW", IS_CULL_CCW},
+        {"IS_CMP_LESSEQUAL", IS_CMP_LESSEQUAL}, {"IS_DEGREE_CUBIC", IS_DEGREE_CUBIC},
+        {"IS_DEGREE_LINEAR", IS_DEGREE_LINEAR}, {"IS_PATCHEDGE_DISCRETE", IS_PATCHEDGE_DISCRETE}};
+    static const struct { const char *name; is_rs rs; } states[] = {
+        {"IS_RS_ZENABLE", IS_RS_ZENABLE}, {"IS_RS_FILLMODE", IS_RS_FILLMODE}, {"IS_RS_SHADEMODE", IS_RS_SHADEMODE},
+        {"IS_RS_ZWRITEENABLE", IS_RS_ZWRITEENABLE}, {"IS_RS_SRCBLEND", IS_RS_SRCBLEND},
+        {"IS_RS_DESTBLEND", IS_RS_DESTBLEND}, {"IS_RS_CULLMODE", IS_RS_CULLMODE}, {"IS_RS_ZFUNC", IS_RS_ZFUNC},
+        {"IS_RS_ALPHABLENDENABLE", IS_RS_ALPHABLENDENABLE}, {"IS_RS_MULTISAMPLEANTIALIAS", IS_RS_MULTISAMPLEANTIALIAS},
+        {"IS_RS_POSITIONDEGREE", IS_RS_POSITIONDEGREE}, {"IS_RS_NORMALDEGREE", IS_RS_NORMALDEGREE},
+        {"IS_RS_PATCHEDGESTYLE", IS_RS_PATCHEDGESTYLE}, {"IS_RS_DEPTHBIAS", IS_RS_DEPTHBIAS},
+        {"IS_RS_SLOPESCALEDEPTHBIAS", IS_RS_SLOPESCALEDEPTHBIAS},
+        {"IS_RS_ENABLEADAPTIVETESSELLATION", IS_RS_ENABLEADAPTIVETESSELLATION},
+        {"IS_RS_MINTESSELLATIONLEVEL", IS_RS_MINTESSELLATIONLEVEL},
+        {"IS_RS_MAXTESSELLATIONLEVEL", IS_RS_MAXTESSELLATIONLEVEL}, {"IS_RS_ADAPTIVETESS_X", IS_RS_ADAPTIVETESS_X},
+        {"IS_RS_ADAPTIVETESS_Y", IS_RS_ADAPTIVETESS_Y}, {"IS_RS_ADAPTIVETESS_Z", IS_RS_ADAPTIVETESS_Z},
+        {"IS_RS_ADAPTIVETESS_W", IS_RS_ADAPTIVETESS_W}};
+    FILE *f = fopen("core/device.h", "r");
+    assert_non_null(f);
+    is_device *dev = dev_create(8, 8, 1, NULL, 0);
+    assert_non_null(dev);
+    char line[256];
+    int rows = 0;
+    while (fgets(line, sizeof line, f)) {
+        char st[64], val[64];
+        if (sscanf(line, " * | %63s | %63[^|]|", st, val) != 2 || strncmp(st, "IS_RS_", 6) != 0) continue;
+        is_rs rs = (is_rs)-1;
+        for (size_t k = 0; k < sizeof states / sizeof states[0]; k++)
+            if (!strcmp(states[k].name, st)) rs = states[k].rs;
+        if ((int)rs < 0) fail_msg("core/device.h's defaults table names %s, which this test does not know", st);
+        uint32_t want = 0, got = 0;
+        float fv;
+        bool found = false;
+        for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
+            if (!strncmp(val, known[k].name, strlen(known[k].name))) want = known[k].value, found = true;
+        if (!found && strstr(val, "as its bits") && sscanf(val, "%ff", &fv) == 1) memcpy(&want, &fv, 4), found = true;
+        if (!found && sscanf(val, "%u", &want) == 1) found = true;
+        if (!found) fail_msg("%s: cannot read the default '%s'", st, val);
+        assert_int_equal(dev_get_render_state(dev, rs, &got), IS_OK);
+        if (got != want) fail_msg("%s: the header says %s (0x%x), a new device holds 0x%x", st, val, want, got);
+        rows++;
+    }
+    fclose(f);
+    dev_destroy(dev);
+    assert_int_equal(rows, (int)(sizeof states / sizeof states[0]));
+}
+
+/* GetRenderTargetData in one call: the resolved pixels of a cleared target; a NULL buffer or one too small is
+ * refused. */
+static void test_get_render_target_data(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(5, 3, 4, NULL, 0);
+    assert_non_null(dev);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 10, 20, 30), 1.0f), IS_OK);
+    uint32_t px[15];
+    memset(px, 0, sizeof px);
+    assert_int_equal(dev_get_render_target_data(dev, px, 14), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_data(dev, NULL, 15), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_data(NULL, px, 15), IS_ERR_INVALIDCALL);
+    assert_int_equal(px[0], 0u);
+    assert_int_equal(dev_get_render_target_data(dev, px, 15), IS_OK);
+    for (int k = 0; k < 15; k++) assert_int_equal(px[k], 0xff1e140au);   /* R 10, G 20, B 30, A 255 */
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_freq_valid),          cmocka_unit_test(test_freq_invalid),
         cmocka_unit_test(test_declaration_validation), cmocka_unit_test(test_fetch_formats),
-        cmocka_unit_test(test_render_states),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_render_states),
+        cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };

@@ -19,6 +19,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
 
 #include "../cli/figures/figures.h"
 #include "util/golden.h"
@@ -290,7 +292,7 @@ static int count_in_file(const char *path, const char *needle)
 
 /* `instess figures --only ID --out NEWDIR` writes an index of what is in NEWDIR: that figure alone (no image
  * links, ids or contents entries of figures not rendered there); a second run into the same folder adds its
- * figure to the first. */
+ * figure to the first.  Its Reproduce lines say build/instess, the program a clone has. */
 static void test_only_index(void **state)
 {
     (void)state;
@@ -312,6 +314,40 @@ static void test_only_index(void **state)
     assert_int_equal(count_in_file(index, "<figure id="), 2);
     assert_int_equal(count_in_file(index, "<figure id=\"fig-003-4\""), 1);
     assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 2);
+    /* the Reproduce lines name the program as a clone has it (build/instess), never a bare instess */
+    assert_int_equal(count_in_file(index, "<code>build/instess figures --only fig-1.1.3 --out DIR</code>"), 1);
+    assert_true(count_in_file(index, "build/instess ") >= 2);
+    assert_int_equal(count_in_file(index, "<code>instess "), 0);
+    assert_int_equal(count_in_file(index, ": instess "), 0);
+    prog_rmdir(dir);
+}
+
+/* index.html is an output of the run: a FIFO or a symbolic link at its place is refused before anything is
+ * rendered (exit 1, the reason named), and left as it was; the old writer renamed a predictable temporary over
+ * whatever was there. */
+static void test_index_odd_targets(void **state)
+{
+    (void)state;
+    char dir[256], out[512], index[600], target[600];
+    assert_int_equal(prog_mkdtemp(dir, "index"), 0);
+    const char *err;
+    for (int k = 0; k < 2; k++) {
+        snprintf(out, sizeof out, "%s/g%d", dir, k);
+        assert_int_equal(mkdir(out, 0755), 0);
+        snprintf(index, sizeof index, "%s/index.html", out);
+        snprintf(target, sizeof target, "%s/keep.txt", dir);
+        assert_true(prog_write_text(dir, "keep.txt", "keep\n"));
+        if (k == 0) assert_int_equal(mkfifo(index, 0644), 0);
+        else assert_int_equal(symlink(target, index), 0);
+        int rc = prog_run(dir, &err, "", "figures --only fig-1.1.3 --out '%s'", out);
+        assert_int_equal(rc, 1);
+        assert_non_null(strstr(err, k == 0 ? "is a FIFO" : "is a symbolic link"));
+        assert_int_equal(prog_entries_with(out, NULL), 1);   /* index.html alone: no figure rendered */
+        size_t n = 0;
+        unsigned char *bytes = prog_slurp(target, &n);
+        assert_true(bytes && n == 5 && memcmp(bytes, "keep\n", 5) == 0);
+        free(bytes);
+    }
     prog_rmdir(dir);
 }
 
@@ -371,6 +407,7 @@ int main(void)
         cmocka_unit_test(test_gallery_viewer),
         cmocka_unit_test(test_reproduce_lines),
         cmocka_unit_test(test_views_honour_cull),
+        cmocka_unit_test(test_index_odd_targets),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),

@@ -355,6 +355,30 @@ static void test_declared_sizes(void **state)
     unlink(p);
 }
 
+/* A face naming a vertex the file does not have: refused with the file, line, face and index (assimp 5.2 clamps
+ * an OFF index past the end to the last vertex and renders without a word; its OBJ message names neither). */
+static void test_face_indices(void **state)
+{
+    (void)state;
+    write_text("m/far.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 9\n3 0 2 3\n");
+    expect_error("m/far.off", "", "line 7: face 0 names vertex 9, but the file has 4 vertices (0..3)", NULL);
+    write_text("m/neg.off", "OFF\n# a comment\n4 2 0\n0 0 0\n1 0 0\n\n0 1 0\n0 0 1\n3 0 1 2\n3 0 2 -1\n");
+    expect_error("m/neg.off", "", "line 10: face 1 names vertex -1", NULL);
+    write_text("m/far.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1/1/1 3//2 9\n");
+    expect_error("m/far.obj", "", "line 6: face 1, corner 2 names vertex 9, but the file has 4 vertices", NULL);
+    write_text("m/back.obj", "v 0 0 0\nv 1 0 0\nf 1 2 -3\nv 0 1 0\n");
+    expect_error("m/back.obj", "", "line 3: face 0, corner 2 names vertex -3", NULL);
+    write_text("m/zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
+    expect_error("m/zero.obj", "", "line 4: face 0, corner 0 names vertex 0", NULL);
+    /* in range, relative and absolute: renders */
+    write_text("m/fine.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf -4 -3 -1\nf 1 2 4\nf 2 3 4\n");
+    write_text("m/fine.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
+    const char *err;
+    char p[512];
+    assert_int_equal(shell(&err, NULL, "'%s' '%s' -q -o '%s/fine.png'", program(), path_of("m/fine.obj", p, sizeof p), dir), 0);
+    assert_int_equal(shell(&err, NULL, "'%s' '%s' -q -o '%s/fine2.png'", program(), path_of("m/fine.off", p, sizeof p), dir), 0);
+}
+
 /* A 2 KB glTF whose 23 nodes each use the next one twice: assimp expands the graph into 2^23 nodes (several
  * GB).  The import child's memory limit (256 MiB + 32 bytes per byte of the files) stops it within seconds,
  * with a clear message.  The same graph 12 deep (2^12 uses of the mesh, 16384 triangles) renders. */
@@ -701,6 +725,7 @@ int main(void)
         cmocka_unit_test(test_gltf_buffers),
         cmocka_unit_test(test_obj_material_libraries),
         cmocka_unit_test(test_declared_sizes),
+        cmocka_unit_test(test_face_indices),
         cmocka_unit_test(test_node_graph_bomb),
         cmocka_unit_test(test_few_descriptors),
         cmocka_unit_test(test_scale_invariance),

@@ -670,6 +670,35 @@ static void test_draw_text(void **state)
 /* image_check, the pixel-diff test of the goldens and `instess compare`: identical passes; one failing pixel of
  * 60 fails at 0% and passes at 2% (1.67%); a diff image is written only on a failure; a different size or
  * channel list is SHAPE_DIFFERS naming both shapes; an unreadable file is IO_ERROR naming it. */
+/* Non-finite values never pass for finite ones: +inf against -inf, NaN against a number (even with generous
+ * thresholds), inf against a large number; NaN against NaN and an infinity against the same one do pass.
+ * (OpenImageIO's differences of such values are not numbers: +inf vs -inf and NaN channels passed.) */
+static void test_image_check_nonfinite(void **state)
+{
+    (void)state;
+    char err[256];
+    is_image a, b;
+    is_image_diff d;
+    make_pattern(&a, 4, 3, "R,G,B,A");
+    make_pattern(&b, 4, 3, "R,G,B,A");
+    *px(&a, 1, 1, 0) = INFINITY, *px(&b, 1, 1, 0) = -INFINITY;
+    assert_int_equal(image_check(&a, &b, 0.0f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_DIFFERENT);
+    assert_true(d.n_fail == 1 && d.n_nonfinite == 1 && isinf(d.max_error));
+    *px(&b, 1, 1, 0) = INFINITY;
+    assert_int_equal(image_check(&a, &b, 0.0f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_PASS);
+    *px(&a, 2, 0, 3) = NAN;   /* NaN against a number, with thresholds that allow everything finite */
+    assert_int_equal(image_check(&a, &b, 1e30f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_DIFFERENT);
+    assert_true(d.n_fail == 1 && d.n_nonfinite == 1);
+    *px(&b, 2, 0, 3) = NAN;
+    assert_int_equal(image_check(&a, &b, 0.0f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_PASS);
+    *px(&b, 3, 2, 1) = INFINITY;   /* an infinity against 3e38 */
+    *px(&a, 3, 2, 1) = 3e38f;
+    assert_int_equal(image_check(&a, &b, 1e30f, 0.0f, NULL, &d, err, sizeof err), IS_IMAGE_DIFFERENT);
+    assert_true(d.n_nonfinite == 1);
+    image_free(&a);
+    image_free(&b);
+}
+
 static void test_image_check_verdicts(void **state)
 {
     fixture *f = *state;
@@ -721,6 +750,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_golden_missing_then_regenerated, setup, teardown),
         cmocka_unit_test_setup_teardown(test_golden_exr, setup, teardown),
         cmocka_unit_test_setup_teardown(test_draw_text, setup, teardown),
+        cmocka_unit_test(test_image_check_nonfinite),
         cmocka_unit_test_setup_teardown(test_image_check_verdicts, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

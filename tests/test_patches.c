@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "../vs/vs.h"
+#include "../tess/tess.h"
 #include "util/patch_util.h"
 #include "util/pn_ref.h"
 
@@ -480,7 +481,7 @@ static void test_quadratic_normals(void **state)
     assert_true(angle_deg(a, up) < 1e-4);
 }
 
-/* The welded cube as arrays (for vs_smoothness). */
+/* The welded cube as arrays (for tess_smoothness, through mesh_create). */
 static void cube_arrays(float3 pos[8], float3 nrm[8], uint32_t idx[36])
 {
     for (int i = 0; i < 8; i++) {
@@ -505,9 +506,13 @@ static void test_smoothness_cube(void **state)
     float3 pos[8], nrm[8];
     uint32_t idx[36];
     cube_arrays(pos, nrm, idx);
+    is_mesh m;
+    char err[256];
+    is_mesh_data d = {.n_vertices = 8, .n_triangles = 12, .positions = pos, .normals = nrm, .indices = idx};
+    assert_int_equal(mesh_create(&m, "cube arrays", &d, NULL, err, sizeof err), 0);
     vs_smoothness_result r[VS_PATCH_COUNT];
     for (int p = 0; p < VS_PATCH_COUNT; p++) {
-        assert_int_equal(vs_smoothness((vs_patch)p, NULL, pos, nrm, 8, idx, 12, NULL, 16, &r[p]), 0);
+        assert_int_equal(tess_smoothness(&m, (vs_patch)p, NULL, 16, &r[p]), 0);
         assert_int_equal(r[p].shared_edges, 18);
         assert_int_equal(r[p].boundary_edges, 0);
         assert_int_equal(r[p].samples, 18 * 16);
@@ -522,9 +527,11 @@ static void test_smoothness_cube(void **state)
     assert_true(r[VS_PATCH_SMOOTH_INITIAL].mean_angle_deg < r[VS_PATCH_NPATCH].mean_angle_deg);
     /* bad arguments */
     vs_smoothness_result bad;
-    uint32_t wrong[3] = {0, 1, 9};
-    assert_int_equal(vs_smoothness(VS_PATCH_NPATCH, NULL, pos, nrm, 8, wrong, 1, NULL, 16, &bad), -1);
-    assert_int_equal(vs_smoothness(VS_PATCH_NPATCH, NULL, pos, nrm, 8, idx, 12, NULL, 0, &bad), -1);
+    is_mesh empty = {0};
+    assert_int_equal(tess_smoothness(&empty, VS_PATCH_NPATCH, NULL, 16, &bad), -1);
+    assert_int_equal(tess_smoothness(&m, VS_PATCH_NPATCH, NULL, 0, &bad), -1);
+    assert_int_equal(tess_smoothness(NULL, VS_PATCH_NPATCH, NULL, 16, &bad), -1);
+    mesh_free(&m);
 }
 
 /* The patch table (vs/vs.h) is complete and agrees with what the patches do: every row has a name, a source and

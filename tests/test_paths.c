@@ -155,7 +155,7 @@ static void golden(const char *name, const char *mesh, vs_patch p, scene_fill fi
     scene_opts o;
     scene_opts_default(&o);
     o.width = o.height = 160, o.level = 8, o.patch = p, o.fill = fill;
-    o.normals = VS_NORMALS_LINEAR;   /* the goldens were rendered with D3D9's normals, the default until issue 19 */
+    o.normals = VS_NORMALS_LINEAR;   /* the goldens were rendered with D3D9's normals, the default until real normals became it */
     is_image img;
     render(&o, mesh, &img);
     assert_int_equal(golden_check(&img, name, 1.0f / 255.0f, 0.1f), 0);

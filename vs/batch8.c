@@ -193,8 +193,8 @@ static void outputs8(const vs_batch_consts *k, const lanes8 *L, f3x8 pos, f3x8 n
     for (int c = 0; c < 4; c++)
         px[c] = pos.x * bf(W->m[0][c]) + pos.y * bf(W->m[1][c]) + pos.z * bf(W->m[2][c]) + one * bf(W->m[3][c]);
     store4(L, -1, px[0], px[1], px[2], px[3]);
-    if (!(live & (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | IS_OUT_TEXCOORD(3) |
-                  IS_OUT_TEXCOORD(4))))
+    if (!(live & (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(VS_OUT_TEX) | IS_OUT_TEXCOORD(VS_OUT_NORMAL) | IS_OUT_TEXCOORD(VS_OUT_BARY) | IS_OUT_TEXCOORD(VS_OUT_INSTANCE) |
+                  IS_OUT_TEXCOORD(VS_OUT_GREGORY))))
         return;
     f3x8 N = {normal.x * bf(M->m[0][0]) + normal.y * bf(M->m[1][0]) + normal.z * bf(M->m[2][0]),
               normal.x * bf(M->m[0][1]) + normal.y * bf(M->m[1][1]) + normal.z * bf(M->m[2][1]),
@@ -205,18 +205,18 @@ static void outputs8(const vs_batch_consts *k, const lanes8 *L, f3x8 pos, f3x8 n
         d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
         store4(L, RS_ATTR_COLOR0, bf(k->diffuse.x) * d, bf(k->diffuse.y) * d, bf(k->diffuse.z) * d, one);
     }
-    if (live & IS_OUT_TEXCOORD(0)) {
+    if (live & IS_OUT_TEXCOORD(VS_OUT_TEX)) {
         v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
         v8f ty = bf(t[0].y) * L->b.x + bf(t[1].y) * L->b.y + bf(t[2].y) * L->b.z;
-        store4(L, RS_ATTR_TEXCOORD0 + 0, tx, ty, zero, one);
+        store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_TEX, tx, ty, zero, one);
     }
-    if (live & IS_OUT_TEXCOORD(1)) {
+    if (live & IS_OUT_TEXCOORD(VS_OUT_NORMAL)) {
         f3x8 nn = normalize(N);
-        store4(L, RS_ATTR_TEXCOORD0 + 1, nn.x, nn.y, nn.z, zero);
+        store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL, nn.x, nn.y, nn.z, zero);
     }
-    if (live & IS_OUT_TEXCOORD(2)) store4(L, RS_ATTR_TEXCOORD0 + 2, L->b.x, L->b.y, L->b.z, one);
-    if (live & IS_OUT_TEXCOORD(3)) store4(L, RS_ATTR_TEXCOORD0 + 3, bf(id), zero, zero, one);
-    if (live & IS_OUT_TEXCOORD(4)) store4(L, RS_ATTR_TEXCOORD0 + 4, g.x, g.y, g.z, zero);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_BARY)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_BARY, L->b.x, L->b.y, L->b.z, one);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_INSTANCE)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE, bf(id), zero, zero, one);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_GREGORY)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_GREGORY, g.x, g.y, g.z, zero);
 }
 
 /* ---------------------------------------------------------------- the batch walk */
@@ -384,8 +384,9 @@ static void inst_read(vs_patch p, const vs_batch_consts *k, const is_vs_input *r
 {
     I->p = p;
     if (p == VS_PATCH_NPATCH) { /* VSInstancedNPatch: vs_triangle_make, default options but the normal mode */
-        float3 v[3] = {f3_of(r->texcoord[0]), f3_of(r->texcoord[1]), f3_of(r->texcoord[2])};
-        float3 nn[3] = {f3_of(r->texcoord[3]), f3_of(r->texcoord[4]), f3_of(r->texcoord[5])};
+        const float4 *T = r->texcoord;
+        float3 v[3] = {f3_of(T[VS_IN_V0]), f3_of(T[VS_IN_V0 + 1]), f3_of(T[VS_IN_V0 + 2])};
+        float3 nn[3] = {f3_of(T[VS_IN_N0]), f3_of(T[VS_IN_N0 + 1]), f3_of(T[VS_IN_N0 + 2])};
         I->T = vs_triangle_make(v, nn);
         for (int i = 0; i < 3; i++) I->T.t[i] = f2_of(r->texcoord[VS_IN_T0 + i]);
         I->T.id = r->texcoord[VS_IN_ID].x;

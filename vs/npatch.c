@@ -55,9 +55,10 @@ void vs_npatch_evaluate(const float3 v[3], const float3 n[3], float3 b, uint32_t
 static void VSInstancedNPatch(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
     float3 b = f3_of(in->position[0]); // barycentric coords
-    float3 v[3] = {f3_of(in->texcoord[0]), f3_of(in->texcoord[1]), f3_of(in->texcoord[2])};
-    float3 n[3] = {f3_of(in->texcoord[3]), f3_of(in->texcoord[4]), f3_of(in->texcoord[5])};
-    float2 t0 = f2_of(in->texcoord[9]), t1 = f2_of(in->texcoord[10]), t2 = f2_of(in->texcoord[11]);
+    const float4 *T = in->texcoord;
+    float3 v[3] = {f3_of(T[VS_IN_V0]), f3_of(T[VS_IN_V0 + 1]), f3_of(T[VS_IN_V0 + 2])};
+    float3 n[3] = {f3_of(T[VS_IN_N0]), f3_of(T[VS_IN_N0 + 1]), f3_of(T[VS_IN_N0 + 2])};
+    float2 t0 = f2_of(T[VS_IN_T0]), t1 = f2_of(T[VS_IN_T0 + 1]), t2 = f2_of(T[VS_IN_T0 + 2]);
     vs_options o = vs_options_from_constants(c);
     float3 posN, normal;
     npatch_eval(v, n, b, IS_DEGREE_CUBIC, o.normals, o.quad_factor, &posN, &normal);

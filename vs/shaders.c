@@ -99,11 +99,11 @@ void vs_write_outputs_k(const vs_batch_consts *k, float3 pos, float3 normal, flo
     float4 Diffuse = scale4(k->diffuse, saturate(isnan(d) ? 0.0f : d));
     Diffuse.w = 1.0f;
     out->attr[RS_ATTR_COLOR0] = Diffuse;
-    out->attr[RS_ATTR_TEXCOORD0 + 0] = f4(oTex.x, oTex.y, 0.0f, 1.0f);
-    out->attr[RS_ATTR_TEXCOORD0 + 1] = f4_of(normalize3(Normal), 0.0f);
-    out->attr[RS_ATTR_TEXCOORD0 + 2] = f4_of(b, 1.0f);
-    out->attr[RS_ATTR_TEXCOORD0 + 3] = f4(id, 0.0f, 0.0f, 1.0f);
-    out->attr[RS_ATTR_TEXCOORD0 + 4] = f4_of(g, 0.0f);
+    out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_TEX] = f4(oTex.x, oTex.y, 0.0f, 1.0f);
+    out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL] = f4_of(normalize3(Normal), 0.0f);
+    out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_BARY] = f4_of(b, 1.0f);
+    out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE] = f4(id, 0.0f, 0.0f, 1.0f);
+    out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_GREGORY] = f4_of(g, 0.0f);
 }
 
 void vs_batch_consts_read(const is_vs_constants *c, vs_batch_consts *k)

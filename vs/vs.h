@@ -49,7 +49,7 @@
  *    the vertex itself.  Two triangles sharing an edge (same vertex bits, same normal bits) therefore give
  *    bitwise identical positions, and bitwise identical linear / quadratic normals, whatever their vertex order.
  *    Real normals on an edge are the one-sided derivative normals of each side (a genuine crease for the
- *    N-Patch; vs_smoothness measures it); at a corner the curved patches return the vertex normal.
+ *    N-Patch; tess_smoothness measures it); at a corner the curved patches return the vertex normal.
  *  - Errors: none at run time.  From finite input the shaders never produce NaN: every division is guarded
  *    (Gregory 0/0, curve parameters, zero-length edges), normalize of a zero vector stays zero and a zero
  *    normal falls back to the linear normal, then the face normal.  Non-finite results fall back to the flat
@@ -83,6 +83,17 @@ enum {
     VS_IN_T0 = 9,    /* TEXCOORD9..11 t0..t2     */
     VS_IN_ID = 12    /* TEXCOORD12.x instance id */
 };
+/* ---- output registers (oT usage indices; oPos and oD0 = COLOR0, the lit colour, besides) ---- */
+enum {
+    VS_OUT_TEX = 0,      /* oT0.xy   the interpolated texture coordinate          */
+    VS_OUT_NORMAL = 1,   /* oT1.xyz  the unit patch normal (object space, as lit)  */
+    VS_OUT_BARY = 2,     /* oT2.xyz  the grid point's barycentrics b               */
+    VS_OUT_INSTANCE = 3, /* oT3.x    the instance (mesh triangle) index            */
+    VS_OUT_GREGORY = 4   /* oT4.xyz  the Gregory coordinates of b                  */
+};
+/* The per-instance record these registers are fetched from is meshes.h's is_patch_instance, declared by
+ * mesh_patch_declaration: both are written in terms of VS_IN_* (meshes/mesh.c checks the layout at compile
+ * time), so the three cannot disagree. */
 typedef struct vs_reg { uint8_t usage, usage_index; } vs_reg;
 /* Where PN-AEN reads n_adj[k][j] (is_declusage, usage index). */
 extern INSTESS_API const vs_reg vs_nadj_regs[3][2];
@@ -214,34 +225,9 @@ INSTESS_API uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t 
 
 
 
-/* The output mask of the shaders: COLOR0 and TEXCOORD0..4. */
-#define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(0) | IS_OUT_TEXCOORD(1) | IS_OUT_TEXCOORD(2) | \
-                    IS_OUT_TEXCOORD(3) | IS_OUT_TEXCOORD(4))
-
-/* ---- smoothness in numbers ---- */
-typedef struct vs_smoothness_result {
-    double max_angle_deg;   /* largest angle between the real normals of the two sides of a shared edge */
-    double mean_angle_deg;  /* mean of those angles over all samples */
-    double max_angle_coplanar_deg; /* the largest angle on edges between coplanar faces (|dot of face normals|
-                                      within 1e-6 of 1, e.g. the cube's face diagonals): ripples show here */
-    double max_angle_feature_deg;  /* the largest angle on the other shared edges (where the faces meet at an
-                                      angle): creases show here */
-    double max_distance;    /* largest distance of a patch point from its flat triangle's plane, relative to
-                               the bounding-box diagonal of the mesh */
-    size_t shared_edges;    /* edges with exactly two triangles (sampled) */
-    size_t boundary_edges;  /* edges with one triangle */
-    size_t nonmanifold_edges; /* edges with more than two triangles (not sampled) */
-    size_t samples;         /* edge samples taken */
-} vs_smoothness_result;
-
-/* Sample every shared edge of the mesh (positions[n_vertices], normals[n_vertices], idx[3 * n_tri]) at
- * `samples_per_edge` points (i + 1/2) / samples_per_edge and compare the derivative normals of the two sides;
- * sample each triangle at the interior points of the level-8 grid for the distance.  opp (3 per triangle, edge
- * order as above) may be NULL: then it is derived from the mesh (edges matched by position bits, which also
- * gives PN-AEN its neighbour normals).  Returns 0, or -1 for bad arguments or when out of memory. */
-INSTESS_API int vs_smoothness(vs_patch p, const vs_options *o, const float3 *positions, const float3 *normals,
-                  size_t n_vertices, const uint32_t *idx, size_t n_tri, const float3 *opp, int samples_per_edge,
-                  vs_smoothness_result *res);
+/* The output mask of the shaders: COLOR0 and the TEXCOORD outputs VS_OUT_* (see "output registers" above). */
+#define VS_OUTPUTS (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(VS_OUT_TEX) | IS_OUT_TEXCOORD(VS_OUT_NORMAL) | \
+                    IS_OUT_TEXCOORD(VS_OUT_BARY) | IS_OUT_TEXCOORD(VS_OUT_INSTANCE) | IS_OUT_TEXCOORD(VS_OUT_GREGORY))
 
 #ifdef __cplusplus
 }

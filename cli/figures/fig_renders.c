@@ -276,7 +276,7 @@ SINGLE_FN(fig_1_1_10a, V_1_1_10A)
 SINGLE_FN(fig_1_1_10b, V_1_1_10B)
 
 /* The patches side by side on the cube of fig-1.1.1c/d, each labelled with its largest crease across an edge
- * as vs_smoothness measures it (16 samples per edge, as instess smoothness). */
+ * as tess_smoothness measures it (16 samples per edge, as instess smoothness). */
 #define V_PATCHES V_CUBE
 static const char *const patch_panel_views[6] = {
     V_PATCHES " --patch flat", V_PATCHES " --patch npatch", V_PATCHES " --patch smooth-initial",
@@ -294,9 +294,8 @@ static int fig_patches(const fig_ctx *ctx, is_image *out, char *err, size_t errl
         rc = view_parse(&v, patch_panel_views[k], err, errlen);
         if (rc == 0) rc = load_mesh(v.mesh, false, &m, err, errlen);
         vs_options vo = vs_default_options();
-        if (rc == 0 && vs_smoothness(v.o.patch, &vo, m.positions, m.normals, m.n_vertices, m.indices, m.n_triangles,
-                                     NULL, 16, &r) != 0)
-            rc = -1, snprintf(err, errlen, "vs_smoothness failed");
+        if (rc == 0 && tess_smoothness(&m, v.o.patch, &vo, 16, &r) != 0)
+            rc = -1, snprintf(err, errlen, "tess_smoothness failed");
         if (rc == 0) rc = render_mesh_view(ctx, &v, &m, s.panel, s.panel, &p, err, errlen);
         char text[96];
         snprintf(text, sizeof text, "%s: crease %.1f deg", vs_patch_name(v.o.patch), r.max_angle_deg);
@@ -671,7 +670,7 @@ const figure fig_renders[] = {
     {"fig-patches", NULL, "Comparison added by instess (no figure of the documents): every patch on one mesh",
      "Flat, N-Patch, intermediate and final smoothed patch, Phong tessellation and PN-AEN on the same cube.",
      "Six panels of 320x320 on the view of fig-1.1.1c, each labelled with its largest crease across an edge as "
-     "vs_smoothness measures it. Phong tessellation (Boubekeur and Alexa 2008, alpha 0.75) bulges most and "
+     "tess_smoothness measures it. Phong tessellation (Boubekeur and Alexa 2008, alpha 0.75) bulges most and "
      "creases like the N-Patch across the cube's edges, and it is the only patch besides the intermediate one "
      "that also folds across the face diagonals (19.6 degrees). PN-AEN equals the N-Patch here: the welded "
      "cube's neighbours already agree on their normals.",

@@ -261,6 +261,24 @@ static void html_text(FILE *f, const char *s)
     }
 }
 
+/* A Reproduce command as HTML text, each "instess " that starts a command (at the start, or after "panel K: ")
+ * written as "build/instess ": the program as a clone has it after make (installed, it is plain instess). */
+static void html_command(FILE *f, const char *cmd)
+{
+    for (const char *s = cmd; s && *s;) {
+        const char *line_end = strchr(s, '\n'), *colon = strstr(s, ": instess ");
+        const char *start = strncmp(s, "instess ", 8) == 0 ? s
+                            : strncmp(s, "panel ", 6) == 0 && colon && (!line_end || colon < line_end) ? colon + 2
+                            : NULL;
+        size_t len = line_end ? (size_t)(line_end - s) + 1 : strlen(s);
+        char line[2048];
+        snprintf(line, sizeof line, "%.*s%s%.*s", start ? (int)(start - s) : 0, s, start ? "build/" : "",
+                 (int)(len - (start ? (size_t)(start - s) : 0)), start ? start : s);
+        html_text(f, line);
+        s += len;
+    }
+}
+
 static const char gallery_css[] =
     "body{margin:0;padding:24px 32px;font:15px/1.45 system-ui,-apple-system,'Segoe UI',sans-serif;"
     "background:#f4f4f1;color:#222}\n"
@@ -357,8 +375,8 @@ static void html_figure(FILE *f, const char *dir, const figure *fg, const fig_re
     html_text(f, fg->caption);
     fputs("</blockquote>\n<p>", f);
     html_text(f, fg->shows);
-    fputs("</p>\n<p><b>Reproduce:</b></p><code>", f);
-    html_text(f, fg->command);
+    fputs("</p>\n<p><b>Reproduce</b> (in the repository after <code>make</code>):</p><code>", f);
+    html_command(f, fg->command);
     fputs("</code>\n", f);
     if (r && r->rc != 0) {
         fputs("<p class=\"fail\">Rendering failed in the last run: ", f);
@@ -482,10 +500,12 @@ static const char gallery_lead[] =
     "rendering's command gives the same pixels; a composite lists the command of each panel (the labels are "
     "added by instess figures); a diagram is drawn by instess figures from the project's own formulas and has no "
     "render command of its own. Renderings also come as OpenEXR files with depth (Z) and normal (N.X, N.Y, N.Z) "
-    "channels. This page lists the figures whose images are in its folder; instess figures --out DIR writes "
-    "them all (make figures in the repository).";
+    "channels. The commands are written as run in a clone of the repository after make (build/instess); after "
+    "make install the program is instess. This page lists the figures whose images are in its folder; "
+    "build/instess figures --out DIR writes them all (make figures in the repository).";
 
-/* Write DIR/index.html atomically (temporary file, then rename); 0 or -1 with a message on stderr. */
+/* Write DIR/index.html as an output of the run (cli/run/outputs.h: never through a link or onto a FIFO, a random
+ * temporary renamed when complete); 0 or -1 with a message on stderr. */
 static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel, const fig_result *res)
 {
     const figure *all[MAX_FIGURES];
@@ -493,11 +513,16 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
     for (size_t k = 0; k < n_all; k++)
         if (shown(dir, all[k], result_of(all[k], sel, n_sel, res))) all[n++] = all[k];
     gallery_sort(all, n);
-    char path[4096], tmp[4200];
+    char path[4096], err[1024];
     snprintf(path, sizeof path, "%s/index.html", dir);
-    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    if (!f) return fprintf(stderr, "instess: figures: %s: cannot write: %s\n", path, strerror(errno)), -1;
+    is_outputs outs;   /* the run's output rules: a regular file or nothing there, a random temporary, rename */
+    outputs_init(&outs);
+    int k = outputs_add(&outs, path, err, sizeof err);
+    FILE *f = k < 0 ? NULL : outputs_stream(&outs, k, err, sizeof err);
+    if (!f) {
+        outputs_abort(&outs);
+        return fprintf(stderr, "instess: figures: %s\n", err), -1;
+    }
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
                "<title>instess: the figures of the source documents</title>\n<style>\n%s</style>\n</head>\n<body>\n"
@@ -508,17 +533,27 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
     html_body(f, dir, all, n, sel, n_sel, res);
     html_viewer(f, dir);
     fputs("</body>\n</html>\n", f);
-    bool ok = fflush(f) == 0 && !ferror(f);
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        fprintf(stderr, "instess: figures: %s: cannot write: %s\n", path, strerror(errno));
-        remove(tmp);
-        return -1;
+    if (outputs_close_stream(&outs, k, f, err, sizeof err) != 0 || outputs_commit(&outs, err, sizeof err) != 0) {
+        outputs_abort(&outs);
+        return fprintf(stderr, "instess: figures: %s\n", err), -1;
     }
     return 0;
 }
 
 /* ---------------------------------------- the command ---------------------------------------- */
+
+/* DIR/index.html can be written by the run's rules (a regular file or nothing there); 0, or -1 said on stderr. */
+static int check_index(const char *dir)
+{
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    is_outputs outs;
+    outputs_init(&outs);
+    int k = outputs_add(&outs, path, err, sizeof err);
+    outputs_abort(&outs);
+    if (k < 0) fprintf(stderr, "instess: figures: %s\n", err);
+    return k < 0 ? -1 : 0;
+}
 
 int scene_cmd_figures(int argc, char **argv)
 {
@@ -534,6 +569,7 @@ int scene_cmd_figures(int argc, char **argv)
     long n = select_figures(list, n_all, o.only);
     if (n < 0) return 2;
     if (make_dirs(o.out) != 0) return 1;
+    if (check_index(o.out) != 0) return 1;   /* before any figure is rendered */
     int threads = o.threads > 0 ? o.threads : omp_get_num_procs();
     fig_result *res = calloc((size_t)n + 1, sizeof *res);
     if (!res) return fprintf(stderr, "instess: figures: out of memory\n"), 1;
@@ -541,8 +577,8 @@ int scene_cmd_figures(int argc, char **argv)
     int failed = render_all(list, (size_t)n, &o, threads, res);
     if (!o.only || wants_viewer(o.only)) capture_viewer(o.out);   /* the whole gallery shows the viewer too */
     int html = write_gallery(o.out, list, (size_t)n, res);
-    fprintf(stderr, "instess: figures: %ld figure(s) in %.2f s on %d thread(s), %d failed -> %s/index.html\n", n,
-            now_s() - t0, threads, failed, o.out);
+    fprintf(stderr, "instess: figures: %ld figure(s) in %.2f s on %d thread(s), %d failed -> %s/%s\n", n,
+            now_s() - t0, threads, failed, o.out, html ? "(no index.html)" : "index.html");
     for (long k = 0; k < n; k++)
         if (res[k].rc != 0) fprintf(stderr, "instess: figures: %s: %s\n", list[k]->id, res[k].err);
     free(res);

@@ -95,6 +95,9 @@ static void print_report(const compare_args *a, const is_image_diff *d, is_image
            d->max_y, d->max_channel, d->mean_error);
     printf("failing pixels: %ld (%.4f%%) differ by more than %g; allowed: %g%%\n", d->n_fail, pct, (double)a->fail,
            (double)a->failpercent);
+    if (d->n_nonfinite)
+        printf("non-finite mismatches: %ld pixels (NaN in one image only, or an infinity the other does not hold)\n",
+               d->n_nonfinite);
     if (v == IS_IMAGE_DIFFERENT) printf("DIFFERENT%s%s\n", a->diff ? "; diff image: " : "", a->diff ? a->diff : "");
     else printf("%s\n", d->max_error == 0.0f ? "identical" : "within the thresholds");
 }

@@ -28,7 +28,7 @@ static void vs_relit(const is_vs_constants *c, const is_vs_input *in, is_vs_outp
     scene_shader_at((int)c->c[C_LIGHT_MODE].x)->main(c, in, out);
     int light = (int)c->c[C_LIGHT_MODE].y;
     if (light == SCENE_LIGHT_HEADLIGHT) return;
-    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + 1]);
+    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]);
     float4 d = c->c[VS_C_DIFFUSE];
     float3 k;
     if (light == SCENE_LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);

@@ -9,6 +9,8 @@
 
 #include "scene.h"
 
+#include <errno.h>
+
 /* The exit codes of a render (--help and the man page print this sentence; '\n' breaks the usage's line). */
 static const char render_exit_codes[] =
     "0 success (the image written atomically),\n1 input error (the message names the input; nothing is written), "
@@ -127,7 +129,25 @@ static void install_signal_handlers(void)
     signal(SIGXFSZ, SIG_IGN);
 }
 
+/* rc, or 1 (said on stderr) when what was written to stdout did not all reach it (a full disk, a closed pipe):
+ * output lost is a failure, not a success. */
+static int stdout_checked(int rc)
+{
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout)) return rc;
+    fprintf(stderr, "instess: cannot write to standard output: %s\n", errno ? strerror(errno) : "write error");
+    return rc ? rc : 1;
+}
+
+static int run_command(int argc, char **argv);
+
 int main(int argc, char **argv)
+{
+    return stdout_checked(run_command(argc, argv));
+}
+
+/* The program: the subcommands, or a render. */
+static int run_command(int argc, char **argv)
 {
     install_signal_handlers();
     if (argc < 2) {   /* no arguments: the usage, as a usage error */

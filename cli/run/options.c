@@ -3,6 +3,8 @@
  * figures' "Reproduce" lines) are made, so that no list of options is repeated anywhere else. */
 #include "scene.h"
 
+#include <stdarg.h>
+
 #include "../../core/hlsl.h"
 #include <getopt.h>
 #include <math.h>
@@ -250,86 +252,175 @@ static const char *opt_stats(scene_opts *o, const char *a)
     return o->stats_json = strcmp(a, "json") == 0, NULL;
 }
 
+/* ------------------------------------ values (the description) ------------------------------------ */
+
+/* printf into buf; buf. */
+static const char *val_printf(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static const char *val_printf(char *buf, size_t len, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, len, fmt, ap);
+    va_end(ap);
+    return buf;
+}
+/* A value printer of a float field, a name from a table, or a flag (on / off). */
+#define VALUE_FLOAT(fn, field) \
+    static const char *fn(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%g", (double)o->field); }
+#define VALUE_NAME(fn, expr) \
+    static const char *fn(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%s", (expr)); }
+#define VALUE_FLAG(fn, field) \
+    static const char *fn(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%s", o->field ? "on" : "off"); }
+VALUE_NAME(val_patch, vs_patch_name(o->patch))
+VALUE_NAME(val_normals, vs_normals_name(o->normals))
+VALUE_FLOAT(val_phong_alpha, phong_alpha)
+VALUE_FLOAT(val_n110, n110_factor)
+VALUE_FLOAT(val_level, level)
+VALUE_NAME(val_grid, scene_grid_name(o->grid))
+VALUE_NAME(val_path, scene_path_names[o->path])
+VALUE_NAME(val_up, scene_up_names[o->up])
+VALUE_FLOAT(val_yaw, yaw)
+VALUE_FLOAT(val_pitch, pitch)
+VALUE_FLOAT(val_distance, distance)
+VALUE_FLOAT(val_fov, fov)
+VALUE_NAME(val_fill, scene_fill_names[o->fill])
+VALUE_NAME(val_fit, scene_fit_names[o->fit])
+VALUE_NAME(val_cull, scene_cull_names[o->cull - IS_CULL_NONE])
+VALUE_NAME(val_lod, scene_lod_names[o->lod])
+VALUE_FLOAT(val_lod_target, lod_target)
+VALUE_FLAG(val_silhouette, silhouette)
+VALUE_FLAG(val_wire_levels, wire_by_level)
+VALUE_FLAG(val_recompute, recompute_normals)
+static const char *val_size(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%dx%d", o->width, o->height); }
+static const char *val_msaa(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%d", o->msaa); }
+static const char *val_min_level(const scene_opts *o, char *b, size_t n) { return val_printf(b, n, "%d", o->min_level); }
+static const char *val_max_level(const scene_opts *o, char *b, size_t n)
+{
+    return val_printf(b, n, "%d", scene_lod_max_level(o));
+}
+static const char *val_light(const scene_opts *o, char *b, size_t n) { return scene_light_name(o, b, n); }
+static const char *val_color(const scene_opts *o, char *b, size_t n)
+{
+    return val_printf(b, n, "%g,%g,%g", (double)o->diffuse[0], (double)o->diffuse[1], (double)o->diffuse[2]);
+}
+static const char *val_background(const scene_opts *o, char *b, size_t n)
+{
+    return val_printf(b, n, "#%06x", (unsigned)(o->background & 0xffffffu));
+}
+static const char *val_aov(const scene_opts *o, char *b, size_t n)
+{
+    static const char *const names[] = {"normal", "bary", "instance", "gregory", "depth"};
+    size_t k = 0;
+    b[0] = '\0';
+    for (int i = 0; i < 5; i++)
+        if (o->aovs & (1u << i)) k += (size_t)snprintf(b + k, k < n ? n - k : 0, "%s%s", k ? "," : "", names[i]);
+    return k ? b : val_printf(b, n, "none");
+}
+static const char *val_d3d9_adaptive(const scene_opts *o, char *b, size_t n)
+{
+    if (o->d3d9_adaptive == SCENE_D3D9_DEPTH) return val_printf(b, n, "depth");
+    if (o->d3d9_adaptive == SCENE_D3D9_OFF) return val_printf(b, n, "off");
+    return val_printf(b, n, "%g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1], (double)o->d3d9_mdm[2],
+                      (double)o->d3d9_mdm[3]);
+}
+/* --displace: the map's name and, once read, the FNV-1a hash of its pixels (the pixels depend on them); NULL
+ * (not in the description) without a map, as --displace-scale then. */
+static const char *val_displace(const scene_opts *o, char *b, size_t n)
+{
+    if (!o->displace) return NULL;
+    if (!o->displace_map) return val_printf(b, n, "%s", o->displace);
+    uint64_t h = 0xcbf29ce484222325ull;
+    const is_image *m = o->displace_map;
+    const unsigned char *p = (const unsigned char *)m->data;
+    for (size_t k = 0; k < (size_t)m->width * m->height * m->channels * sizeof(float); k++)
+        h = (h ^ p[k]) * 0x100000001b3ull;
+    return val_printf(b, n, "%s (%dx%d, FNV-1a 0x%016llx)", o->displace, m->width, m->height, (unsigned long long)h);
+}
+static const char *val_displace_scale(const scene_opts *o, char *b, size_t n)
+{
+    return o->displace ? val_printf(b, n, "%g", (double)o->displace_scale) : NULL;
+}
+
 /* ------------------------------------ the table ------------------------------------ */
 
 const scene_option scene_options[] = {
     {"mesh", 0, "NAME|FILE", "the mesh: a built-in (tetrahedron, cube, cube-split, octahedron, icosahedron, sphere, "
      "cylinder) or a file assimp reads (OBJ, PLY, OFF, STL, MD2, glTF...); also the positional MESH", "cube",
-     opt_mesh, NULL},
-    {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices},
+     opt_mesh, NULL, NULL},
+    {"patch", 0, "P", "the curved patch", "smooth", opt_patch, patch_choices, val_patch},
     {"normals", 0, "N", "the normals the patch shades with: real (the patch's own, from its derivatives) shows how "
      "the patches differ; D3D9 and the listings used linear (D3DRS_NORMALDEGREE's default), under which every curved "
-     "patch shades alike", "real; linear on --path npatch-mode and cpu", opt_normals, normals_choices},
+     "patch shades alike", "real; linear on --path npatch-mode and cpu", opt_normals, normals_choices, val_normals},
     {"phong-alpha", 0, "A", "Phong tessellation's shape factor: 0 flat, 1 the full projection (Boubekeur and Alexa "
-     "2008)", "0.75", opt_phong_alpha, NULL},
+     "2008)", "0.75", opt_phong_alpha, NULL, val_phong_alpha},
     {"n110-factor", 0, "F", "the quadratic normals' mid-edge normal n110 = normalize(n0 + n1 - v (p1 - p0)), v = F "
      "dot(p1 - p0, n0 + n1) / |p1 - p0|^2: 2 reflects the average normal (Vlachos et al.), 1.5 is van Overveld and "
-     "Wyvill's factor (Real-Time Rendering)", "2", opt_n110_factor, NULL},
-    {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL},
-    {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices},
+     "Wyvill's factor (Real-Time Rendering)", "2", opt_n110_factor, NULL, val_n110},
+    {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL, val_level},
+    {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices, val_grid},
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
-     path_choices},
-    {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL},
+     path_choices, val_path},
+    {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL, val_size},
     {"up", 0, "AXIS", "the mesh's axis drawn upwards, in the file's own frame (Blender and many CAD files: z)", "y",
-     opt_up, up_choices},
-    {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL},
-    {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL},
-    {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL},
-    {"fov", 0, "DEG", "vertical field of view", "45", opt_fov, NULL},
-    {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices},
+     opt_up, up_choices, val_up},
+    {"yaw", 0, "DEG", "rotation of the object about the vertical axis", "30", opt_yaw, NULL, val_yaw},
+    {"pitch", 0, "DEG", "rotation of the object about the horizontal axis", "20", opt_pitch, NULL, val_pitch},
+    {"distance", 0, "D", "camera distance in units of the mesh's bounding radius", "3.2", opt_distance, NULL, val_distance},
+    {"fov", 0, "DEG", "vertical field of view", "45", opt_fov, NULL, val_fov},
+    {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices, val_fill},
     {"light", 0, "L", "headlight: the listing's saturate(dot(N, (0,0,-1))); X,Y,Z: a light from that world-space "
      "direction (x right, y up, -z towards the camera) with 0.08 ambient; grazing: 0.62,0.62,-0.48 (ridges show); "
-     "normals: colour by the unit normal", "headlight", opt_light, NULL},
-    {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL},
-    {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL},
+     "normals: colour by the unit normal", "headlight", opt_light, NULL, val_light},
+    {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL, val_color},
+    {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL, val_background},
     {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "
-     "which the turned bounding box fills the image (for long or flat models; --distance is then not used)", "sphere", opt_fit, fit_choices},
+     "which the turned bounding box fills the image (for long or flat models; --distance is then not used)", "sphere", opt_fit, fit_choices, val_fit},
     {"cull", 0, "C", "the faces not drawn (D3DRS_CULLMODE): ccw culls the back faces (fronts run clockwise), cw "
      "culls the fronts (shows a mesh wound the other way), none draws both sides (inside-out or open meshes)",
-     "ccw, D3D9's default", opt_cull, cull_choices},
-    {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL},
-    {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL},
+     "ccw, D3D9's default", opt_cull, cull_choices, val_cull},
+    {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL, val_msaa},
+    {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL, NULL},
     {"lod", 0, "MODE", "level of detail: one --level for all (uniform), or a level per mesh edge from its "
      "midpoint's view depth (distance) or its projected length (screen), drawn with one instanced call per "
-     "pattern", "uniform", opt_lod, lod_choices},
+     "pattern", "uniform", opt_lod, lod_choices, val_lod},
     {"lod-target", 0, "PIXELS", "--lod screen: pixels per segment of an edge's projected control polygon", "8",
-     opt_lod_target, NULL},
-    {"min-level", 0, "N", "--lod distance|screen: the coarsest edge level, 1..64", "1", opt_min_level, NULL},
-    {"max-level", 0, "N", "--lod distance|screen: the finest edge level, 1..64", "--level", opt_max_level, NULL},
+     opt_lod_target, NULL, val_lod_target},
+    {"min-level", 0, "N", "--lod distance|screen: the coarsest edge level, 1..64", "1", opt_min_level, NULL, val_min_level},
+    {"max-level", 0, "N", "--lod distance|screen: the finest edge level, 1..64", "--level", opt_max_level, NULL, val_max_level},
     {"silhouette", 0, NULL, "--lod distance|screen: edges between a front and a back face get --max-level", NULL,
-     opt_silhouette, NULL},
+     opt_silhouette, NULL, val_silhouette},
     {"wire-levels", 0, "on|off", "--lod with a wireframe: each pattern's wire in the colour of its finest level "
-     "(blue 1, green 8, red 64)", "off", opt_wire_levels, NULL},
+     "(blue 1, green 8, red 64)", "off", opt_wire_levels, NULL, val_wire_levels},
     {"recompute-normals", 0, NULL, "ignore the file's normals and recompute them (angle-weighted)", NULL,
-     opt_recompute, NULL},
+     opt_recompute, NULL, val_recompute},
     {"import-timeout", 0, "S", "seconds the mesh import (assimp, run in a child process) may take before it is "
-     "stopped and reported", "60", opt_import_timeout, NULL},
-    {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL},
+     "stopped and reported", "60", opt_import_timeout, NULL, NULL},
+    {"max-memory", 0, "MIB", "the memory a render may take, checked before it starts", "4096", opt_max_memory, NULL, NULL},
     {"max-file-size", 0, "MIB", "the largest mesh file (with the files it refers to) read", "256",
-     opt_max_file_size, NULL},
-    {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL},
+     opt_max_file_size, NULL, NULL},
+    {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL, NULL},
     {"aov", 0, "LIST", "EXR only: extra float channels (one sample per pixel), comma-separated: normal (N.X,N.Y,N.Z, "
      "the patch's unit normal), bary (bary.X,Y,Z), instance (the triangle's index; -1 on the background, which no "
      "triangle has), gregory (gregory.X,Y,Z), depth (view-space depth in the mesh's units; +inf on the background); "
-     "the others are 0 on the background", NULL, opt_aov, NULL},
+     "the others are 0 on the background", NULL, opt_aov, NULL, val_aov},
     {"d3d9-adaptive", 0, "MDM", "npatch-mode: D3D9's adaptive tessellation, per vertex level * ref / depth, per edge "
      "the mean, clamped to 1..--level; MDM is depth (the view depth over the nearest point's) or X,Y,Z,W (D3DRS_"
-     "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL},
+     "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL, val_d3d9_adaptive},
     {"displace", 0, "FILE", "move every patch along its normal (--normals) by --displace-scale times the height "
      "that the vertex shader fetches from this image (PNG, BMP, TGA, EXR; its red channel, or grey) at the patch's "
-     "texture coordinates, linear filtered, wrapping (vertex texture fetch)", NULL, opt_displace, NULL},
+     "texture coordinates, linear filtered, wrapping (vertex texture fetch)", NULL, opt_displace, NULL, val_displace},
     {"displace-scale", 0, "S", "--displace: bounding radii per unit of height, -10..10 (negative: inwards)", "0.1",
-     opt_displace_scale, NULL},
+     opt_displace_scale, NULL, val_displace_scale},
     {"export-obj", 0, "FILE.obj", "also write the tessellated surface as OBJ (positions, texture coordinates, normals) "
      "in the input's own frame: right-handed, counter-clockwise fronts, as assimp reads it", NULL, opt_export_obj,
-     NULL},
+     NULL, NULL},
     {"output", 'o', "FILE", "the image: .png (8-bit sRGB over the background colour, A = 1) or .exr (R, G, B linear "
      "and premultiplied by A = the pixel's coverage, the background transparent; half floats; Z = D3D9's depth z/w "
-     "in [MinZ, MaxZ] = [0, 1], 1 on the background, float; then the AOVs)", NULL, opt_output, NULL},
+     "in [MinZ, MaxZ] = [0, 1], 1 on the background, float; then the AOVs)", NULL, opt_output, NULL, NULL},
     {"quiet", 'q', NULL, "no statistics and no progress line on stderr (warnings are still printed); the progress "
-     "line is drawn only on a terminal, for runs longer than a second", NULL, opt_quiet, NULL},
+     "line is drawn only on a terminal, for runs longer than a second", NULL, opt_quiet, NULL, NULL},
     {"stats", 0, "FORMAT", "the statistics of a render: text on stderr, or json, one object on stdout for scripts "
-     "(with the same figures, printed also with -q)", "text", opt_stats, stats_choices},
+     "(with the same figures, printed also with -q)", "text", opt_stats, stats_choices, NULL},
 };
 const size_t scene_option_count = sizeof scene_options / sizeof scene_options[0];
 

@@ -376,7 +376,6 @@ tess_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
 }
 
 /* The AOV outputs of the patch shaders (vs/vs.h): TEXCOORD1 normal, 2 barycentrics, 3 instance, 4 Gregory. */
-enum { VS_OUT_NORMAL = 1, VS_OUT_BARY = 2, VS_OUT_INSTANCE = 3, VS_OUT_GREGORY = 4 };
 
 /* The listing's constants for the scene's matrices, a diffuse colour and the patch options. */
 static void fill_constants(is_vs_constants *c, const scene_opts *o, const float4x4 *wvp, const float4x4 *world,
@@ -1050,14 +1049,25 @@ static void print_stats_text(const scene_opts *o, const is_mesh *m, const run_re
 
 /* s as a JSON string (quoted; control characters, '"' and '\\' escaped, bytes that are not UTF-8 as U+FFFD)
  * into f. */
+/* The length of the well-formed UTF-8 sequence at p (RFC 3629: no overlong forms, no surrogates, nothing above
+ * U+10FFFF), or 0 when the bytes there are not one. */
+static int utf8_len(const unsigned char *p)
+{
+    if (p[0] < 0x80) return 1;
+    int len = p[0] >= 0xc2 && p[0] <= 0xdf ? 2 : p[0] >= 0xe0 && p[0] <= 0xef ? 3 : p[0] >= 0xf0 && p[0] <= 0xf4 ? 4 : 0;
+    for (int k = 1; k < len; k++)
+        if ((p[k] & 0xc0) != 0x80) return 0;
+    if ((p[0] == 0xe0 && p[1] < 0xa0) || (p[0] == 0xed && p[1] > 0x9f) || (p[0] == 0xf0 && p[1] < 0x90) ||
+        (p[0] == 0xf4 && p[1] > 0x8f))
+        return 0;   /* overlong, a surrogate, or beyond U+10FFFF */
+    return len;
+}
+
 static void json_string(FILE *f, const char *s)
 {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p;) {
-        int len = *p < 0x80 ? 1 : (*p & 0xe0) == 0xc0 && *p >= 0xc2 ? 2 : (*p & 0xf0) == 0xe0 ? 3
-                : (*p & 0xf8) == 0xf0 && *p <= 0xf4 ? 4 : 0;
-        for (int k = 1; k < len; k++)
-            if ((p[k] & 0xc0) != 0x80) len = 0;
+        int len = utf8_len(p);
         if (len == 0) fputs("\\ufffd", f), p++;
         else if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p), p++;
         else if (*p < 0x20) fprintf(f, "\\u%04x", *p), p++;
@@ -1141,41 +1151,28 @@ static uint64_t mesh_hash(const is_mesh *m)
 
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
 {
-    char names[64] = "none", light[96];
-    channel_list(o->aovs, names, sizeof names);
-    snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx), patch %s, normals %s, level %g, "
-             "grid %s, path %s, size %dx%d, up %s, yaw %g, pitch %g, distance %g, fit %s, fill %s, cull %s, msaa %d, "
-             "channels %s",
-             INSTESS_VERSION, m->name, m->n_triangles, (unsigned long long)mesh_hash(m), vs_patch_name(o->patch),
-             vs_normals_name(o->normals), (double)o->level, scene_grid_name(o->grid), scene_path_names[o->path],
-             o->width, o->height, scene_up_names[o->up], (double)o->yaw, (double)o->pitch, (double)o->distance,
-             scene_fit_names[o->fit], scene_fill_names[o->fill],
-             scene_cull_names[o->cull - IS_CULL_NONE], o->msaa, names);
-    size_t n = strlen(buf);
-    if (o->d3d9_adaptive == SCENE_D3D9_DEPTH && n < len) snprintf(buf + n, len - n, ", d3d9-adaptive depth");
-    if (o->d3d9_adaptive == SCENE_D3D9_MDM && n < len)
-        snprintf(buf + n, len - n, ", d3d9-adaptive %g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1],
-                 (double)o->d3d9_mdm[2], (double)o->d3d9_mdm[3]);
-    if (o->lod != TESS_LOD_UNIFORM && (n = strlen(buf)) < len) {
-        snprintf(buf + n, len - n, ", lod %s, lod-target %g, min-level %d, max-level %d, silhouette %s",
-                 scene_lod_names[o->lod], (double)o->lod_target, o->min_level, scene_lod_max_level(o),
-                 o->silhouette ? "on" : "off");
+    int n = snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx)", INSTESS_VERSION,
+                     m->name, m->n_triangles, (unsigned long long)mesh_hash(m));
+    char value[256];
+    for (size_t k = 0; k < scene_option_count && n >= 0 && (size_t)n < len; k++) {
+        const scene_option *opt = &scene_options[k];
+        const char *v = opt->value ? opt->value(o, value, sizeof value) : NULL;
+        if (v) n += snprintf(buf + n, len - (size_t)n, ", %s %s", opt->name, v);
     }
-    n = strlen(buf);
-    if (o->displace && n < len)
-        snprintf(buf + n, len - n, ", displace %s, displace-scale %g", o->displace, (double)o->displace_scale);
-    n = strlen(buf);
-    if (n + 1 < len)
-        snprintf(buf + n, len - n, ", light %s, fov %g, color %g,%g,%g, background #%06x, phong-alpha %g, "
-                 "n110-factor %g", scene_light_name(o, light, sizeof light), (double)o->fov, (double)o->diffuse[0],
-                 (double)o->diffuse[1], (double)o->diffuse[2], (unsigned)(o->background & 0xffffffu),
-                 (double)o->phong_alpha, (double)o->n110_factor);
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
 static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_t errlen)
 {
     outputs_init(outs);
+    const char *const names[2] = {o->output, o->export_obj};
+    for (int k = 0; k < 2; k++) {
+        if (names[k] && o->mesh && outputs_same_target(names[k], o->mesh))
+            return snprintf(err, errlen, "%s: is the input mesh; instess will not replace its input", names[k]), -1;
+        if (names[k] && o->displace && outputs_same_target(names[k], o->displace))
+            return snprintf(err, errlen, "%s: is the height map of --displace; instess will not replace its input",
+                            names[k]), -1;
+    }
     if (image_check_path(o->output, err, errlen) != 0 || outputs_add(outs, o->output, err, errlen) != 0) return -1;
     if (o->export_obj && outputs_add(outs, o->export_obj, err, errlen) != 1) return -1;
     return 0;
@@ -1194,7 +1191,7 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     double t1 = now_seconds();
     scene_progress_phase(pr, "writing");
     if (rc == 0) {
-        char desc[1024];
+        char desc[2048];
         scene_describe(o, m, desc, sizeof desc);
         is_image_meta meta = {"instess " INSTESS_VERSION, desc};
         rc = image_write_output(outs, 0, &img, &meta, err, errlen);

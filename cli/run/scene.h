@@ -110,8 +110,9 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
 
 
 /* The canonical description of a render of mesh m, stored in its image (ImageDescription): the mesh's name,
- * size and hash, and every option that changes pixels -- not the thread count, the output's name or the time,
- * so that two runs of one render write the same bytes. */
+ * size and hash, then every option of the table (cli/run/options.c) that changes pixels with its value ("patch
+ * smooth, level 8, ..."): not the thread count, the output's name or the time, so that two runs of one render
+ * write the same bytes, and two renders with the same description have the same pixels. */
 void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len);
 
 /* What a render did (for statistics and the benchmark).  Adaptive renders also count their edges per level
@@ -245,6 +246,11 @@ typedef struct scene_option {
     const char *(*apply)(scene_opts *o, const char *arg);
     /* The names the option takes joined by sep into buf (buf), or NULL for options without a set of names. */
     const char *(*choices)(const char *sep, char *buf, size_t len);
+    /* For an option that changes pixels: o's value written as the option takes it into buf (buf); the image's
+     * embedded description (scene_describe) is made of these, so two renders with the same description have
+     * the same pixels.  NULL for the options that do not change pixels (threads, limits, file names, quiet); a
+     * printer returns NULL for a setting it leaves out of the description (--displace without a map). */
+    const char *(*value)(const scene_opts *o, char *buf, size_t len);
 } scene_option;
 extern const scene_option scene_options[];
 extern const size_t scene_option_count;

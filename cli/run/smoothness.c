@@ -27,8 +27,7 @@ static int print_mesh_rows(const char *spec, bool recompute, int samples, FILE *
         vs_smoothness_result r;
         vs_options o = vs_default_options();
         o.normals = VS_NORMALS_REAL;
-        if (vs_smoothness((vs_patch)p, &o, m.positions, m.normals, m.n_vertices, m.indices, m.n_triangles, NULL,
-                          samples, &r) != 0) {
+        if (tess_smoothness(&m, (vs_patch)p, &o, samples, &r) != 0) {
             fprintf(stderr, "instess: smoothness of %s on %s failed\n", vs_patch_name((vs_patch)p), spec);
             mesh_free(&m);
             return 1;

@@ -514,7 +514,7 @@ int view_write_png(const view_state *v, const uint32_t *pixels, bool cli_equal, 
                    size_t errlen)
 {
     is_image img = {0};
-    char desc[1200], scene[1024];
+    char desc[2400], scene[2048];
     scene_describe(&v->o, &v->mesh, scene, sizeof scene);
     if (cli_equal) snprintf(desc, sizeof desc, "%s", scene);
     else snprintf(desc, sizeof desc, "instess view frame (%s%s%s%s): %s", show_names[v->show],
@@ -730,16 +730,20 @@ static void exe_dir(char *dir, size_t len)
     if (slash) *slash = 0;
 }
 
-/* The window module's entry point (beside the executable, one folder up, or in ../lib/instess), or NULL with
- * the reason in err. */
+/* The window module's entry point, or NULL with the reason in err.  Looked for by absolute path beside the
+ * executable (the build tree), in ../lib/instess beside it and in the folder compiled in (LIBDIR/instess, where
+ * make install puts it) -- never in the current folder or the folder above the program. */
 static view_module_fn load_module(char *err, size_t errlen)
 {
     char dir[PATH_MAX], path[PATH_MAX + 64];
     exe_dir(dir, sizeof dir);
-    const char *const rel[] = {"", "/..", "/../lib/instess"};
+    char dirs[3][PATH_MAX + 32];
+    snprintf(dirs[0], sizeof dirs[0], "%.*s", PATH_MAX, dir);
+    snprintf(dirs[1], sizeof dirs[1], "%.*s/../lib/instess", PATH_MAX, dir);
+    snprintf(dirs[2], sizeof dirs[2], "%.*s", PATH_MAX, image_codec_install_dir());
     size_t n = (size_t)snprintf(err, errlen, "cannot load the window module " VIEW_MODULE);
     for (int k = 0; k < 3; k++) {
-        snprintf(path, sizeof path, "%s%s/" VIEW_MODULE, dir, rel[k]);
+        snprintf(path, sizeof path, "%.*s/" VIEW_MODULE, PATH_MAX, dirs[k]);
         if (access(path, R_OK) != 0) continue;
         void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
         view_module_fn fn;
@@ -747,7 +751,8 @@ static view_module_fn load_module(char *err, size_t errlen)
         if (fn) return fn;
         if (n < errlen) n += (size_t)snprintf(err + n, errlen - n, "; %s", dlerror());
     }
-    if (n < errlen) snprintf(err + n, errlen - n, " (looked beside %.900s, in .. and ../lib/instess)", dir);
+    if (n < errlen)
+        snprintf(err + n, errlen - n, " (looked in %.300s, %.300s and %.300s)", dirs[0], dirs[1], dirs[2]);
     return NULL;
 }
 
