@@ -211,8 +211,8 @@ CODECDIR    = $(LIBDIR)/instess
 SO_NAME     = libinstess.so.$(SOVERSION)
 SO_REAL     = libinstess.so.$(VERSION)
 PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
-PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/grid.h raster/raster.h vs/vs.h meshes/meshes.h \
-              image/image.h tess/tess.h
+PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h raster/raster.h vs/vs.h \
+              meshes/meshes.h image/image.h tess/tess.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so $(CODECDIR)/libinstess_view.so \
               $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)

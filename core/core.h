@@ -1,6 +1,6 @@
 /* core/core.h -- the core of instess, one include: the HLSL-like math (core/math.h), the Direct3D 9-style
- * device (core/device.h) and the tessellation grids (core/grid.h).  Each of those headers states its own
- * conventions; images are the module image/ (image/image.h).
+ * device (core/device.h), its textures and samplers (core/texture.h) and the tessellation grids (core/grid.h).
+ * Each of those headers states its own conventions; images are the module image/ (image/image.h).
  */
 #ifndef INSTESS_CORE_H
 #define INSTESS_CORE_H
@@ -8,6 +8,7 @@
 #include "api.h"
 #include "math.h"
 #include "device.h"
+#include "texture.h"
 #include "grid.h"
 
 #endif

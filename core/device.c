@@ -88,6 +88,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
         return NULL;
     }
     set_default_states(dev);
+    dev_samplers_default(dev);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
@@ -102,11 +103,11 @@ void dev_reset(is_device *dev)
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->ib = NULL, dev->decl = NULL, dev->vs = NULL;
     memset(&dev->consts, 0, sizeof dev->consts);
+    dev_samplers_default(dev); /* no texture bound; the textures themselves stay the device's */
     dev->npatch_segments = 0, dev->npatch_eval = NULL;
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
 }
 
-/* Destroy the device (buffers and declarations are the caller's to release). */
 void dev_resource_added(is_device *dev) { dev->live_resources++; }
 
 void dev_resource_gone(is_device *dev)
@@ -114,11 +115,13 @@ void dev_resource_gone(is_device *dev)
     if (--dev->live_resources == 0 && dev->destroyed) free(dev);
 }
 
-/* The device's memory goes at once; the small struct itself stays until its last resource is released (the
- * resources' reference, device_internal.h), so a buffer released after dev_destroy finds it. */
+/* Destroy the device and the textures it still owns.  Its memory goes at once; the small struct itself stays
+ * until its last buffer or declaration is released (the resources' reference, device_internal.h), so a buffer
+ * released after dev_destroy finds it. */
 void dev_destroy(is_device *dev)
 {
     if (!dev || dev->destroyed) return;
+    dev_release_textures(dev);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
     dev->ib = NULL;
     dev->decl = NULL;

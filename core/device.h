@@ -77,7 +77,11 @@ typedef enum is_primtype {
     IS_PT_TRIANGLELIST = 4, IS_PT_TRIANGLESTRIP = 5, IS_PT_TRIANGLEFAN = 6
 } is_primtype;
 
-typedef enum is_format { IS_FMT_INDEX16 = 101, IS_FMT_INDEX32 = 102 } is_format;
+/* D3DFORMAT: index formats, and the texture formats of core/texture.h. */
+typedef enum is_format {
+    IS_FMT_A8R8G8B8 = 21, IS_FMT_X8R8G8B8 = 22, IS_FMT_INDEX16 = 101, IS_FMT_INDEX32 = 102, IS_FMT_R32F = 114,
+    IS_FMT_A32B32G32R32F = 116
+} is_format;
 
 typedef enum is_rs {
     IS_RS_ZENABLE = 7, IS_RS_FILLMODE = 8, IS_RS_SHADEMODE = 9, IS_RS_ZWRITEENABLE = 14,
@@ -140,8 +144,31 @@ typedef rs_vertex is_vs_output;
 #define IS_OUT_COLOR1 (1u << RS_ATTR_COLOR1)
 #define IS_OUT_TEXCOORD(k) (1u << (RS_ATTR_TEXCOORD0 + (k)))
 
-/* Shader constants c0..c255 (SetVertexShaderConstantF). */
-typedef struct is_vs_constants { float4 c[IS_MAX_VS_CONSTANTS]; } is_vs_constants;
+/* Samplers (core/texture.h has textures, the states' values and the sampling functions): a bound sampler is
+ * its texture and its states, indexed by IS_SAMP_* (D3DSAMPLERSTATETYPE; MIPMAPLODBIAS holds a float's bits). */
+typedef struct is_texture is_texture;
+typedef enum is_samp {
+    IS_SAMP_ADDRESSU = 1, IS_SAMP_ADDRESSV = 2, IS_SAMP_ADDRESSW = 3, IS_SAMP_BORDERCOLOR = 4,
+    IS_SAMP_MAGFILTER = 5, IS_SAMP_MINFILTER = 6, IS_SAMP_MIPFILTER = 7, IS_SAMP_MIPMAPLODBIAS = 8,
+    IS_SAMP_MAXMIPLEVEL = 9, IS_SAMP_MAXANISOTROPY = 10, IS_SAMP_SRGBTEXTURE = 11, IS_SAMP_ELEMENTINDEX = 12,
+    IS_SAMP_DMAPOFFSET = 13
+} is_samp;
+#define IS_SAMP_COUNT 14
+#define IS_MAX_VS_SAMPLERS 4 /* the vertex shader's s0..s3: D3DVERTEXTEXTURESAMPLER0..3 */
+typedef struct is_sampler {
+    const is_texture *tex;          /* NULL: sampling returns (0, 0, 0, 1) */
+    uint32_t state[IS_SAMP_COUNT];
+} is_sampler;
+
+/* What a vertex shader reads besides its inputs: the constants c0..c255 (SetVertexShaderConstantF) and the
+ * vertex texture samplers s0..s3 (SetTexture / SetSamplerState on IS_VERTEXTEXTURESAMPLER0..3), for
+ * tex2Dlod(&c->s[k], t) (tex_sample_lod in core/texture.h): vertex texture fetch.  A shader that samples
+ * nothing ignores s; a caller that fills is_vs_constants itself to call a shader outside a device leaves s zero
+ * (empty samplers) or fills it with tex_sampler_default. */
+typedef struct is_vs_constants {
+    float4 c[IS_MAX_VS_CONSTANTS];
+    is_sampler s[IS_MAX_VS_SAMPLERS];
+} is_vs_constants;
 
 /* A shader's function: reads constants and one vertex's inputs, writes its outputs.  The shader must write
  * oPos and every output named in its `outputs` mask; the others read zero in the rasterizer (the device zeroes
@@ -225,13 +252,15 @@ typedef struct is_vertex_declaration is_vertex_declaration;
 /* Create a device with a w x h back buffer with `samples` (1 or 4) samples and a float depth buffer.
  * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
 INSTESS_API is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
-/* Release the device.  Resources (buffers, declarations) belong to their device and hold a reference to it, as in
- * D3D9: releasing one after dev_destroy is safe (the device's memory is freed at once, its last few bytes with its
- * last resource), and a resource of another device is refused by the setters (IS_ERR_INVALIDCALL). */
+/* Release the device and the textures it still owns (core/texture.h).  Buffers and declarations belong to their
+ * device and hold a reference to it, as in D3D9: releasing one after dev_destroy is safe (the device's memory is
+ * freed at once, its last few bytes with its last resource), and a resource of another device is refused by the
+ * setters (IS_ERR_INVALIDCALL). */
 INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
- * declaration, shader, constants, viewport, N-patch mode and evaluator); the target, its contents, the thread
- * count, timing, reference path and scratch memory are kept.  For programs that draw frame after frame on one
+ * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator);
+ * the target, its contents, the textures it created, the thread count, timing, reference path and scratch memory
+ * are kept.  For programs that draw frame after frame on one
  * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
 INSTESS_API void dev_reset(is_device *dev);
 /* The message of the last failed call ("" if none). */

@@ -55,6 +55,35 @@ typedef struct stream_source {
     uint32_t freq;          /* as given to SetStreamSourceFreq; 1 by default */
 } stream_source;
 
+/* One level of a texture: w x h texels at bits, rows tightly packed. */
+typedef struct tex_level {
+    unsigned w, h;
+    unsigned char *bits;
+} tex_level;
+
+/* A texture (core/texture.c): every level in one allocation, in the device's list of live textures. */
+struct is_texture {
+    is_device *dev;
+    is_texture *prev, *next;   /* the device's live textures (dev->textures) */
+    is_format format;
+    uint32_t usage;
+    unsigned bpp;              /* bytes per texel */
+    unsigned levels;           /* levels kept (the whole chain of an AUTOGENMIPMAP texture) */
+    uint32_t locked;           /* bit l: level l is locked */
+    bool lock0_readonly;       /* level 0 is locked with IS_LOCK_READONLY */
+    tex_level lv[IS_MAX_TEXTURE_LEVELS];
+    unsigned char *mem;
+};
+
+/* The samplers a device keeps besides the vertex shader's (which are dev->consts.s): pixel samplers 0..15 and
+ * the displacement-map sampler. */
+#define DEV_PS_SAMPLERS (IS_MAX_PS_SAMPLERS + 1)
+
+/* Every sampler of dev back to D3D9's defaults, without a texture (core/texture.c). */
+void dev_samplers_default(is_device *dev);
+/* Release every texture dev still owns (dev_destroy). */
+void dev_release_textures(is_device *dev);
+
 /* A buffer of a device's draw scratch: kept between draws and grown only (scratch_get). */
 typedef struct scratch_buf {
     void *p;
@@ -79,7 +108,9 @@ struct is_device {
     is_index_buffer *ib;
     is_vertex_declaration *decl;
     const is_vertex_shader *vs;
-    is_vs_constants consts;
+    is_vs_constants consts;    /* c0..c255 and the vertex samplers s0..s3 */
+    is_sampler ps_samplers[DEV_PS_SAMPLERS]; /* pixel samplers 0..15, then D3DDMAPSAMPLER */
+    is_texture *textures;      /* the live textures this device created (a list through next) */
     float npatch_segments;
     is_npatch_eval_fn npatch_eval;
     rs_stats stats;

@@ -1,5 +1,5 @@
 /* core/hlsl.h -- short HLSL-style helpers on the types of core/math.h: f3(x, y, z), add3, sub3, scale3, dot3,
- * cross3, normalize3, lerp3, saturate, mul4 (row vector times matrix), ...
+ * cross3, normalize3, lerp3, saturate, mul4 (row vector times matrix), tex2Dlod, ...
  *
  * Conventions: as core/math.h.  Used by the library, the program and the tests so that shaders read like their
  * HLSL listings; not installed (the names are short and unprefixed: in a user's program they would collide).
@@ -11,6 +11,7 @@
 #include <math.h>
 
 #include "math.h"
+#include "texture.h"
 
 static inline float2 f2(float x, float y) { return (float2){x, y}; }
 static inline float3 f3(float x, float y, float z) { return (float3){x, y, z}; }
@@ -40,6 +41,18 @@ static inline float saturate(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0
 static inline float2 add2(float2 a, float2 b) { return f2(a.x + b.x, a.y + b.y); }
 static inline float2 scale2(float2 a, float s) { return f2(a.x * s, a.y * s); }
 static inline float4 scale4(float4 a, float s) { return f4(a.x * s, a.y * s, a.z * s, a.w * s); }
+
+/* HLSL's texture functions (core/texture.h has the rules): tex2Dlod(&c->s[k], float4(u, v, 0, lod)) in a vertex
+ * shader reads vertex texture sampler k. */
+static inline float4 tex2Dlod(const is_sampler *s, float4 t) { return tex_sample_lod(s, t); }
+static inline float4 tex2Dgrad(const is_sampler *s, float2 uv, float2 ddx, float2 ddy)
+{
+    return tex_sample_grad(s, uv, ddx, ddy);
+}
+static inline float4 tex2Dbias(const is_sampler *s, float4 t, float2 ddx, float2 ddy)
+{
+    return tex_sample_bias(s, t, ddx, ddy);
+}
 
 /* mul(v, M) for a row vector v. */
 static inline float4 mul4(float4 v, const float4x4 *M)

@@ -40,6 +40,7 @@ files_installed() {
            lib/instess/libinstess_codec.so lib/instess/libinstess_view.so lib/pkgconfig/instess.pc \
            include/instess/core/core.h \
            include/instess/core/api.h include/instess/core/math.h include/instess/core/device.h \
+           include/instess/core/texture.h \
            include/instess/core/grid.h include/instess/image/image.h include/instess/tess/tess.h \
            include/instess/raster/raster.h include/instess/vs/vs.h include/instess/meshes/meshes.h; do
     [ -f "$S/$f" ] || { echo "missing $S/$f"; return 1; }
@@ -53,8 +54,8 @@ header_alone() {
   printf '#include <instess/%s>\nint main(void) { return 0; }\n' "$1" |
     cc -std=c17 -Wall -Wextra -Wpedantic -Werror -I"$S/include" -x c - -c -o /dev/null
 }
-for h in core/core.h core/api.h core/math.h core/device.h core/grid.h image/image.h raster/raster.h vs/vs.h \
-         meshes/meshes.h tess/tess.h; do check "header alone as C17: $h" header_alone "$h"; done
+for h in core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h image/image.h raster/raster.h \
+         vs/vs.h meshes/meshes.h tess/tess.h; do check "header alone as C17: $h" header_alone "$h"; done
 
 # Export control: the shared library exports exactly the INSTESS_API names of the installed headers (built with
 # -fvisibility=hidden: a helper shared between the library's files stays inside it).

@@ -25,7 +25,7 @@ static char dir[256];
 /* Run `build/instess ARGS` with stderr captured into *err_out (static buffer); returns the exit code. */
 static int run(const char *args, const char **err_out)
 {
-    static char errbuf[8192];
+    static char errbuf[32768];
     char cmd[2400], errfile[300];
     snprintf(errfile, sizeof errfile, "%s/stderr.txt", dir);
     const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
@@ -132,6 +132,71 @@ static void test_input_errors(void **state)
     image_free(&before), image_free(&after);
     snprintf(args, sizeof args, "rm -f %s/keep.png", dir);
     assert_int_equal(system(args), 0);
+}
+
+/* --displace: a height map moves the surface (the same bytes on 1 and 2 threads); a missing or unreadable map is an
+ * input error naming the file, a bad --displace-scale, --displace-scale alone and --displace with --export-obj are
+ * usage errors; nothing is written on failure. */
+static void test_displace(void **state)
+{
+    const char *err;
+    char args[2048], map[300], a[300], b[300];
+    is_image img = {0};
+    char e[256];
+    assert_int_equal(image_alloc(&img, 16, 16, "Y", e, sizeof e), 0);
+    for (int k = 0; k < 256; k++) img.data[k] = (float)((k * 37) % 16) / 15.0f;
+    snprintf(map, sizeof map, "%s/map.png", dir);
+    assert_int_equal(image_write(&img, map, NULL, e, sizeof e), 0);
+    image_free(&img);
+    const char *base = "--mesh sphere --level 6 --size 96x96 --normals linear -q";
+    snprintf(args, sizeof args, "%s --displace %s --displace-scale 0.2 --threads 2 -o %s/d2.png", base, map, dir);
+    assert_int_equal(run(args, &err), 0);
+    snprintf(args, sizeof args, "%s --displace %s --displace-scale 0.2 --threads 1 -o %s/d1.png", base, map, dir);
+    assert_int_equal(run(args, &err), 0);
+    snprintf(args, sizeof args, "%s -o %s/u.png", base, dir);
+    assert_int_equal(run(args, &err), 0);
+    assert_true(prog_same_bytes(prog_path(dir, "d1.png", a, sizeof a), prog_path(dir, "d2.png", b, sizeof b)));
+    assert_false(prog_same_pixels(prog_path(dir, "d1.png", a, sizeof a), prog_path(dir, "u.png", b, sizeof b)));
+    snprintf(args, sizeof args, "rm -f %s/d1.png %s/d2.png %s/u.png", dir, dir, dir);
+    assert_int_equal(system(args), 0);
+    /* input errors: the map's name in the message, no image */
+    snprintf(args, sizeof args, "%s --displace %s/no-such-map.png -o %s/x.png", base, dir, dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "no-such-map.png"));
+    assert_non_null(strstr(err, "--displace"));
+    /* -o naming the map: refused, the map kept */
+    snprintf(args, sizeof args, "%s --displace %s -o %s", base, map, map);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "height map"));
+    is_image back = {0};
+    assert_int_equal(image_read(&back, map, e, sizeof e), 0);
+    assert_int_equal(back.width, 16);
+    image_free(&back);
+    assert_true(prog_write_text(dir, "junk.png", "this is not a PNG"));
+    snprintf(args, sizeof args, "%s --displace %s/junk.png -o %s/x.png", base, dir, dir);
+    assert_int_equal(run(args, &err), 1);
+    assert_non_null(strstr(err, "junk.png"));
+    assert_false(exists("x.png"));
+    snprintf(args, sizeof args, "rm -f %s/junk.png", dir);
+    assert_int_equal(system(args), 0);
+    /* usage errors */
+    const char *bad[] = {"--displace-scale abc", "--displace-scale nan", "--displace-scale inf", "--displace-scale 11",
+                         "--displace-scale -10.5", "--displace-scale ''", "--displace-scale"};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(args, sizeof args, "%s --displace %s -o %s/x.png %s", base, map, dir, bad[k]);
+        assert_int_equal(run(args, &err), 2);
+        assert_non_null(strstr(err, "--displace-scale"));
+    }
+    snprintf(args, sizeof args, "%s --displace-scale 0.3 -o %s/x.png", base, dir);
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "--displace-scale needs --displace"));
+    snprintf(args, sizeof args, "%s --displace %s --export-obj %s/x.obj -o %s/x.png", base, map, dir, dir);
+    assert_int_equal(run(args, &err), 2);
+    assert_non_null(strstr(err, "--export-obj"));
+    snprintf(args, sizeof args, "rm -f %s", map);
+    assert_int_equal(system(args), 0);
+    assert_int_equal(prog_entries_with(dir, "x."), 0);         /* no x.png, x.obj */
+    assert_int_equal(prog_entries_with(dir, ".instess-"), 0);  /* nor a temporary of them */
 }
 
 static void test_png_and_exr(void **state)
@@ -727,6 +792,7 @@ int main(void)
         cmocka_unit_test(test_usage_errors),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_png_and_exr),
+        cmocka_unit_test(test_displace),
         cmocka_unit_test(test_clamped_level_is_said),
         cmocka_unit_test(test_command_line_conventions),
         cmocka_unit_test(test_codec_loaded_on_demand),

@@ -30,7 +30,9 @@ static const struct { const char *name, *arg, *context; } samples[] = {
     {"wire-levels", "on", "lod=screen,fill=solid+wire"}, {"recompute-normals", NULL, ""},
     {"import-timeout", "5", ""}, {"max-memory", "100", ""}, {"max-file-size", "10", ""},
     {"max-import-memory", "300", ""}, {"aov", "normal,depth", "output=x.exr"},
-    {"d3d9-adaptive", "depth", "path=npatch-mode"}, {"export-obj", "x.obj", ""}, {"output", "x.exr", ""},
+    {"d3d9-adaptive", "depth", "path=npatch-mode"}, {"displace", "tests/data/textures/bumps.png", ""},
+    {"displace-scale", "0.3", "displace=tests/data/textures/bumps.png"}, {"export-obj", "x.obj", ""},
+    {"output", "x.exr", ""},
     {"quiet", NULL, ""}, {"stats", "json", ""},
 };
 

@@ -289,6 +289,35 @@ static void test_errors(void **state)
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 1);
 }
 
+/* --displace in the viewer: the map is read once, the capture is the CLI's image byte for byte (also after a key
+ * that redraws), and a missing map is the CLI's input error naming it. */
+static void test_displace(void **state)
+{
+    const char *err;
+    clean();
+    is_image img = {0};
+    char e[256], p[600];
+    assert_int_equal(image_alloc(&img, 16, 16, "Y", e, sizeof e), 0);
+    for (int k = 0; k < 256; k++) img.data[k] = (float)((k * 37) % 16) / 15.0f;
+    assert_int_equal(image_write(&img, prog_path(dir, "map.png", p, sizeof p), NULL, e, sizeof e), 0);
+    image_free(&img);
+    const char *opts = "-q --size 96x96 --mesh sphere --normals linear --displace map.png --displace-scale 0.2";
+    assert_int_equal(run_in_dir(&err, "%s -o cli.png", opts), 0);
+    assert_int_equal(run_in_dir(&err, "view --no-hud %s --capture cap.png", opts), 0);
+    assert_true(same_file("cap.png", "cli.png"));
+    assert_int_equal(run_in_dir(&err, "view --no-hud -q --size 96x96 --mesh sphere --normals linear --capture flat.png"),
+                     0);
+    char pa[600], pb[600];
+    assert_false(prog_same_pixels(prog_path(dir, "cap.png", pa, sizeof pa), prog_path(dir, "flat.png", pb, sizeof pb)));
+                                                    /* the map moved the surface */
+    assert_int_equal(run_in_dir(&err, "%s --level 9 -o cli9.png", opts), 0);
+    assert_int_equal(run_in_dir(&err, "view --no-hud %s --keys ] --capture cap9.png", opts), 0);
+    assert_true(same_file("cap9.png", "cli9.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --displace gone.png --capture x.png"), 1);
+    assert_non_null(strstr(err, "gone.png"));
+    assert_false(prog_exists(dir, "x.png"));
+}
+
 /* Closing the window in the middle of a script: what was asked before is complete (the screenshot, the
  * capture of the state at the close), the keys after it are not applied, and no temporary file stays.  Keys
  * pressed together (a+b: before the next frame) are in the screenshot and the capture: s and the end of the run
@@ -410,6 +439,7 @@ int main(void)
         cmocka_unit_test(test_views),
         cmocka_unit_test(test_every_key_acts),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_displace),
         cmocka_unit_test(test_close),
         cmocka_unit_test(test_sigterm),
         cmocka_unit_test(test_scripted_runs_end),

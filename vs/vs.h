@@ -180,6 +180,9 @@ typedef struct vs_triangle {
 
 /* A triangle without neighbours: opp_k = own third vertex, nadj = own normals, t = 0, id = 0. */
 INSTESS_API vs_triangle vs_triangle_make(const float3 v[3], const float3 n[3]);
+/* One instance's triangle read from a patch shader's input registers (above; zero n_adj registers become the
+ * triangle's own normals): what the shaders evaluate, for code that wraps them. */
+INSTESS_API void vs_triangle_from_input(const is_vs_input *in, vs_triangle *tri);
 
 /* Object-space position, unit normal (mode of o) and Gregory weights (0 for patches without) of patch p at b;
  * nrm and greg may be NULL.  Watertight on edges as described above.  o NULL means defaults. */

@@ -7,9 +7,6 @@
 #include "vs.h"
 #include "../core/hlsl.h"
 
-/* Read the input registers (zero n_adj registers become the own normals). */
-void vs_triangle_from_input(const is_vs_input *in, vs_triangle *tri);
-
 /* Partial derivatives of P along the parameter directions (-1, 1, 0) (du) and (-1, 0, 1) (dv), analytic or by
  * finite differences (see "real" above); cross(du, dv) is the unoriented real normal. */
 void vs_patch_derivatives(vs_patch p, const vs_triangle *tri, float3 b, const vs_options *o, float3 *du,

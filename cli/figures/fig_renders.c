@@ -26,17 +26,20 @@
 typedef struct fig_view {
     scene_opts o;
     char mesh[512];
+    char displace[512]; /* --displace's file (the view keeps its own copy, as of the mesh's name) */
     bool recompute;  /* --recompute-normals: angle-weighted normals per welded position */
 } fig_view;
 
 /* ---------------------------------------- views ---------------------------------------- */
 
-/* Apply one option of a view string (--mesh here: the view keeps its own copy of the name; the rest by the
- * option table); NULL or the problem (in buf when it is built). */
+/* Apply one option of a view string (--mesh and --displace here: the view keeps its own copy of the name; the
+ * rest by the option table); NULL or the problem (in buf when it is built). */
 static const char *view_option(fig_view *v, const char *key, const char *val, char *buf, size_t len)
 {
     scene_opts *o = &v->o;
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
+    if (!strcmp(key, "--displace"))
+        return snprintf(v->displace, sizeof v->displace, "%s", val), o->displace = v->displace, NULL;
     const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
     return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
 }
@@ -583,6 +586,27 @@ static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t er
     return rc;
 }
 
+/* ---------------------------------------- displacement by vertex texture fetch ---------------------------------------- */
+
+/* The height map, a file of the repository (tests/data/textures/make_bumps.py writes it): the figures run in the
+ * repository's root, as `make figures` and the tests do. */
+#define BUMPS "tests/data/textures/bumps.png"
+#define V_DISPLACE "--mesh cube --level 32 --yaw 35 --pitch 25 --light grazing"
+#define V_UNDISPLACED " --normals real"
+#define V_DISPLACE_MAP " --normals linear --displace " BUMPS " --displace-scale 0.1"
+/* The N-Patch and the smoothed patch, as they are and displaced by the same map. */
+static int fig_displace(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_DISPLACE " --patch npatch" V_UNDISPLACED, "N-Patch"},
+        {V_DISPLACE " --patch smooth" V_UNDISPLACED, "smoothed patch"},
+        {V_DISPLACE " --patch npatch" V_DISPLACE_MAP, "N-Patch, displaced"},
+        {V_DISPLACE " --patch smooth" V_DISPLACE_MAP, "smoothed patch, displaced"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Displacement by a vertex texture fetch", p, 2, 2, s.panel,
+                       s.panel, out, err, errlen);
+}
+
 /* ---------------------------------------- the table ---------------------------------------- */
 
 #define GRUEN "H. Gruen, Smoothed N-Patches, Figure "
@@ -752,4 +776,24 @@ const figure fig_renders[] = {
                    PANEL(2, V_LOD V_LOD_NEAR V_LOD_SCREEN, "320x320") PANEL(3, V_LOD V_LOD_FAR V_LOD_UNIFORM, "320x320")
                    PANEL(4, V_LOD V_LOD_FAR V_LOD_SCREEN, "320x320")),
      true, fig_lod, 3},
+    {"fig-displace", NULL, "instess: displacement mapping on the patches by vertex texture fetch (Shader Model 3's "
+     "tex2Dlod in the vertex shader, D3DVERTEXTEXTURESAMPLER0)",
+     "The N-Patch and Gruen's smoothed patch on the same mesh, each displaced along its normal by a height that the "
+     "vertex shader fetches from a texture at the patch's texture coordinates.",
+     "The welded cube (planar texture coordinates u = (x + 1) / 2, v = (1 - y) / 2: one per vertex, continuous "
+     "across every edge) at level 32, yaw 35, pitch 25, lit from the upper right (--light grazing). Top: the "
+     "patches as they are, shaded with their real normals: the N-Patch's creases along the cube's edges, the "
+     "smoothed patch's soft ones. Bottom: displaced by " BUMPS " (64x64 grey, a 4x4 lattice of round bumps; "
+     "tests/data/textures/make_bumps.py writes it) with --displace-scale 0.1: every vertex moves 0.1 bounding "
+     "radii times the fetched height (0..1, linear filtered, wrapping) along its linear normal, and the panel is "
+     "shaded with the normal of the displaced surface (the displaced patch at three nearby points of the "
+     "triangle, cli/run/displace.c; with no height it is the real normal of the top row). The front face (z = "
+     "-1) holds the whole map; the side faces see one row or column of it, stretched. Texture coordinates and "
+     "linear normals agree bitwise on every shared edge, so the displaced surface has no crack "
+     "(tests/test_displace_cracks.c).",
+     CMD_COMPOSITE("fig-displace", PANEL(1, V_DISPLACE " --patch npatch" V_UNDISPLACED, "320x320")
+                   PANEL(2, V_DISPLACE " --patch smooth" V_UNDISPLACED, "320x320")
+                   PANEL(3, V_DISPLACE " --patch npatch" V_DISPLACE_MAP, "320x320")
+                   PANEL(4, V_DISPLACE " --patch smooth" V_DISPLACE_MAP, "320x320")),
+     true, fig_displace, 3},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0}};

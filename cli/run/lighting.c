@@ -25,7 +25,7 @@ enum { C_LIGHT_MODE = VS_C_COUNT, C_LIGHT_DIR = VS_C_COUNT + 1 };
 /* The wrapped shader (c10.x), then the light of c10.y applied to COLOR0. */
 static void vs_relit(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
-    vs_shaders[(int)c->c[C_LIGHT_MODE].x]->main(c, in, out);
+    scene_shader_at((int)c->c[C_LIGHT_MODE].x)->main(c, in, out);
     int light = (int)c->c[C_LIGHT_MODE].y;
     if (light == SCENE_LIGHT_HEADLIGHT) return;
     float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]);
@@ -48,16 +48,32 @@ static int shader_index(const is_vertex_shader *s)
     return -1;
 }
 
+/* The shaders a wrapper may wrap: vs_shaders, then the light's wrapper and the displacement's (scene.h). */
+int scene_shader_index(const is_vertex_shader *s)
+{
+    int k = shader_index(s), n = 0;
+    if (k >= 0 || (s != &relit_shader && s != &scene_displaced_shader)) return k;
+    while (vs_shaders[n]) n++;
+    return s == &relit_shader ? n : n + 1;
+}
+
+const is_vertex_shader *scene_shader_at(int k)
+{
+    int n = 0;
+    while (vs_shaders[n]) n++;
+    return k < n ? vs_shaders[k] : k == n ? &relit_shader : &scene_displaced_shader;
+}
+
 const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader)
 {
-    return o->light == SCENE_LIGHT_HEADLIGHT || shader_index(path_shader) < 0 ? path_shader : &relit_shader;
+    return o->light == SCENE_LIGHT_HEADLIGHT || scene_shader_index(path_shader) < 0 ? path_shader : &relit_shader;
 }
 
 void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_shader *path_shader)
 {
     if (o->light == SCENE_LIGHT_HEADLIGHT) return;
     float3 l = normalize3(f3(o->light_dir[0], o->light_dir[1], o->light_dir[2]));
-    float c[8] = {(float)shader_index(path_shader), (float)o->light, 0, 0, l.x, l.y, l.z, 0};
+    float c[8] = {(float)scene_shader_index(path_shader), (float)o->light, 0, 0, l.x, l.y, l.z, 0};
     dev_set_vertex_shader_constant_f(dev, C_LIGHT_MODE, c, 2);
 }
 

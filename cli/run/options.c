@@ -239,6 +239,11 @@ static const char *opt_wire_levels(scene_opts *o, const char *a)
     if (strcmp(a, "on") != 0 && strcmp(a, "off") != 0) return "--wire-levels takes on or off";
     return o->wire_by_level = strcmp(a, "on") == 0, NULL;
 }
+static const char *opt_displace(scene_opts *o, const char *a) { return o->displace = a, NULL; }
+static const char *opt_displace_scale(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, -10.0f, 10.0f, &o->displace_scale) ? NULL : SCENE_DISPLACE_SCALE_MSG;
+}
 static const char *opt_export_obj(scene_opts *o, const char *a) { return o->export_obj = a, NULL; }
 static const char *opt_output(scene_opts *o, const char *a) { return o->output = a, NULL; }
 static const char *opt_quiet(scene_opts *o, const char *a) { return o->quiet = true, NULL; }
@@ -319,6 +324,23 @@ static const char *val_d3d9_adaptive(const scene_opts *o, char *b, size_t n)
     return val_printf(b, n, "%g,%g,%g,%g", (double)o->d3d9_mdm[0], (double)o->d3d9_mdm[1], (double)o->d3d9_mdm[2],
                       (double)o->d3d9_mdm[3]);
 }
+/* --displace: the map's name and, once read, the FNV-1a hash of its pixels (the pixels depend on them); NULL
+ * (not in the description) without a map, as --displace-scale then. */
+static const char *val_displace(const scene_opts *o, char *b, size_t n)
+{
+    if (!o->displace) return NULL;
+    if (!o->displace_map) return val_printf(b, n, "%s", o->displace);
+    uint64_t h = 0xcbf29ce484222325ull;
+    const is_image *m = o->displace_map;
+    const unsigned char *p = (const unsigned char *)m->data;
+    for (size_t k = 0; k < (size_t)m->width * m->height * m->channels * sizeof(float); k++)
+        h = (h ^ p[k]) * 0x100000001b3ull;
+    return val_printf(b, n, "%s (%dx%d, FNV-1a 0x%016llx)", o->displace, m->width, m->height, (unsigned long long)h);
+}
+static const char *val_displace_scale(const scene_opts *o, char *b, size_t n)
+{
+    return o->displace ? val_printf(b, n, "%g", (double)o->displace_scale) : NULL;
+}
 
 /* ------------------------------------ the table ------------------------------------ */
 
@@ -385,6 +407,11 @@ const scene_option scene_options[] = {
     {"d3d9-adaptive", 0, "MDM", "npatch-mode: D3D9's adaptive tessellation, per vertex level * ref / depth, per edge "
      "the mean, clamped to 1..--level; MDM is depth (the view depth over the nearest point's) or X,Y,Z,W (D3DRS_"
      "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL, val_d3d9_adaptive},
+    {"displace", 0, "FILE", "move every patch along its normal (--normals) by --displace-scale times the height "
+     "that the vertex shader fetches from this image (PNG, BMP, TGA, EXR; its red channel, or grey) at the patch's "
+     "texture coordinates, linear filtered, wrapping (vertex texture fetch)", NULL, opt_displace, NULL, val_displace},
+    {"displace-scale", 0, "S", "--displace: bounding radii per unit of height, -10..10 (negative: inwards)", "0.1",
+     opt_displace_scale, NULL, val_displace_scale},
     {"export-obj", 0, "FILE.obj", "also write the tessellated surface as OBJ (positions, texture coordinates, normals) "
      "in the input's own frame: right-handed, counter-clockwise fronts, as assimp reads it", NULL, opt_export_obj,
      NULL, NULL},

@@ -26,7 +26,7 @@ void scene_opts_default(scene_opts *o)
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
         .lod = TESS_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
         .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
-        .cull = IS_CULL_CCW, .up = SCENE_UP_Y,
+        .cull = IS_CULL_CCW, .up = SCENE_UP_Y, .displace_scale = SCENE_DISPLACE_SCALE,
     };
     vs_options vo = vs_default_options();
     o->phong_alpha = vo.phong_alpha, o->n110_factor = vo.quad_factor;
@@ -217,6 +217,9 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->lod == TESS_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette || o->wire_by_level))
         return "--min-level, --max-level, --silhouette and --wire-levels need --lod distance or screen";
     if (o->lod != TESS_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
+    if (!o->displace && o->displace_scale != SCENE_DISPLACE_SCALE) return "--displace-scale needs --displace FILE";
+    if (o->displace && o->export_obj)
+        return "--export-obj writes the patch without its displacement: it cannot be combined with --displace";
     return o->lod == TESS_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
 
@@ -291,6 +294,7 @@ static void mesh_bounds(const is_mesh *m, float3 *centre, float *radius)
  * scaled to a unit bounding radius. */
 typedef struct scene_camera {
     float4x4 world, wvp, world_view;
+    float4x4 view_proj;     /* View * Proj (the displacement's direction transform, cli/run/displace.c) */
     float ref_depth;        /* the nearest depth of the unit bounding sphere (the LOD rules' reference) */
     float zn, zf, radius;   /* the projection's near and far planes (bounding radii), the mesh's bounding radius */
 } scene_camera;
@@ -355,6 +359,7 @@ static scene_camera make_camera(const scene_opts *o, const is_mesh *m)
     t = mat_mul(&t, &view);
     cam.wvp = mat_mul(&t, &proj);
     cam.world_view = t;
+    cam.view_proj = mat_mul(&view, &proj);
     cam.ref_depth = dist - 1.0f; /* the nearest depth of the unit bounding sphere */
     return cam;
 }
@@ -564,6 +569,25 @@ static void set_d3d9_adaptive(is_device *dev, const scene_opts *o, const scene_c
     dev_set_render_state(dev, IS_RS_ENABLEADAPTIVETESSELLATION, 1);
 }
 
+/* Set the shader that draws o's scene (path: the path's shader; shader: the caller's, or NULL) with its
+ * constants: the light's wrapper, and with --displace the displacement's wrapper and its map, bound in vertex
+ * sampler 0 as *dmap (the caller releases it after the draw).  IS_OK or the device's error. */
+static is_result set_scene_shader(is_device *dev, const scene_opts *o, const scene_camera *cam,
+                                  const is_vertex_shader *path, const is_vertex_shader *shader, is_texture **dmap)
+{
+    const is_vertex_shader *s = shader ? shader : path;
+    if (o->displace) {
+        is_result e = scene_displace_bind(dev, o, &cam->view_proj, cam->radius, s, dmap);
+        if (e != IS_OK) return e;
+        if (!shader) s = scene_displace_shader(o, s);
+    }
+    if (!shader) {
+        scene_light_constants(dev, o, s);
+        s = scene_light_shader(o, s);
+    }
+    return dev_set_vertex_shader(dev, s);
+}
+
 /* The adaptive draw of scene_draw (o->lod distance or screen): per-edge levels, buckets of patterns, one instanced
  * draw per bucket and pass; the levels' histogram and counts into st if not NULL.  0 or -1. */
 static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, const is_vertex_shader *shader,
@@ -578,9 +602,9 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
     core_pattern_cache *cache = core_pattern_cache_create(0);
     if (!cache || tess_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
     tess_lod_levels(&p, m, &e, hist);
-    dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, vs_patch_shader(o->patch)));
-    if (!shader) scene_light_constants(dev, o, vs_patch_shader(o->patch));
-    is_result r = tess_bind_adaptive(dev, m, &e, cache, &a);
+    is_texture *dmap = NULL;
+    is_result r = set_scene_shader(dev, o, &cam, vs_patch_shader(o->patch), shader, &dmap);
+    if (r == IS_OK) r = tess_bind_adaptive(dev, m, &e, cache, &a);
     if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = tess_bind_adjacent_normals(dev, m, &a.r, &a);
     if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
     if (st) {
@@ -590,6 +614,7 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
     tess_adaptive_free(&a);
     tess_lod_edges_free(&e);
     core_pattern_cache_destroy(cache);
+    tex_release(dmap);
     return r == IS_OK ? 0 : -1;
 }
 
@@ -607,12 +632,13 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
     scene_camera cam = make_camera(o, m);
     tess_resources r = {0};
-    dev_set_vertex_shader(dev, shader ? shader : scene_light_shader(o, path_shader(o)));
-    if (!shader) scene_light_constants(dev, o, path_shader(o));
-    is_result e = build_path(dev, o, m, g, &r);
+    is_texture *dmap = NULL;
+    is_result e = set_scene_shader(dev, o, &cam, path_shader(o), shader, &dmap);
+    if (e == IS_OK) e = build_path(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
     tess_resources_free(&r);
+    tex_release(dmap);
     return e == IS_OK ? 0 : -1;
 }
 
@@ -1133,7 +1159,8 @@ void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len
     char value[256];
     for (size_t k = 0; k < scene_option_count && n >= 0 && (size_t)n < len; k++) {
         const scene_option *opt = &scene_options[k];
-        if (opt->value) n += snprintf(buf + n, len - (size_t)n, ", %s %s", opt->name, opt->value(o, value, sizeof value));
+        const char *v = opt->value ? opt->value(o, value, sizeof value) : NULL;
+        if (v) n += snprintf(buf + n, len - (size_t)n, ", %s %s", opt->name, v);
     }
 }
 
@@ -1142,9 +1169,13 @@ static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_
 {
     outputs_init(outs);
     const char *const names[2] = {o->output, o->export_obj};
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 2; k++) {
         if (names[k] && o->mesh && outputs_same_target(names[k], o->mesh))
             return snprintf(err, errlen, "%s: is the input mesh; instess will not replace its input", names[k]), -1;
+        if (names[k] && o->displace && outputs_same_target(names[k], o->displace))
+            return snprintf(err, errlen, "%s: is the height map of --displace; instess will not replace its input",
+                            names[k]), -1;
+    }
     if (image_check_path(o->output, err, errlen) != 0 || outputs_add(outs, o->output, err, errlen) != 0) return -1;
     if (o->export_obj && outputs_add(outs, o->export_obj, err, errlen) != 1) return -1;
     return 0;
@@ -1192,13 +1223,18 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
                           .import_timeout_ms = o->import_timeout_s * 1000,
                           .max_file_bytes = (uint64_t)o->max_file_mib << 20,
                           .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
+    is_image map = {0};
+    scene_opts od = *o;   /* with the displacement map read once, before the mesh */
     int rc = claim_outputs(o, &outs, err, errlen);
+    if (rc == 0 && o->displace && (rc = scene_load_displacement(o->displace, &map, err, errlen)) == 0)
+        od.displace_map = &map;
     scene_progress_start(&pr, o->mesh, o->quiet);
     scene_progress_phase(&pr, "reading the mesh");
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
-    if (rc == 0) rc = render_outputs(o, &m, &outs, &pr, err, errlen);
+    if (rc == 0) rc = render_outputs(&od, &m, &outs, &pr, err, errlen);
     scene_progress_stop(&pr);
     outputs_abort(&outs);
     mesh_free(&m);
+    image_free(&map);
     return rc;
 }

@@ -98,7 +98,12 @@ typedef struct scene_opts {
     int min_level, max_level;   /* per-edge levels are clamped to these (1..CORE_LOD_MAX_LEVEL); max 0: --level */
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
     bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */
+    const char *displace;       /* --displace: the height map (cli/run/displace.c), or NULL */
+    float displace_scale;       /* --displace-scale: bounding radii per unit of height (SCENE_DISPLACE_SCALE) */
+    const is_image *displace_map; /* the map already read (scene_load_displacement), or NULL: read per draw */
 } scene_opts;
+#define SCENE_DISPLACE_SCALE 0.1f
+#define SCENE_DISPLACE_SCALE_MSG "--displace-scale must be a number of bounding radii, -10..10"
 
 /* Bytes a render of mesh_triangles triangles with grid_points points per triangle takes at most, by the
  * estimate stated at SCENE_DEFAULT_MAX_MEMORY_MIB. */
@@ -167,9 +172,31 @@ bool scene_parse_color(const char *s, float rgb[3]);
  * scene_light_constants (nothing for the headlight). */
 const is_vertex_shader *scene_light_shader(const scene_opts *o, const is_vertex_shader *path_shader);
 void scene_light_constants(is_device *dev, const scene_opts *o, const is_vertex_shader *path_shader);
+/* The shaders a wrapper (the light's, the displacement's) may wrap, by number: vs_shaders, then the light's
+ * wrapper, then the displacement's (scene_displaced_shader).  scene_shader_index: s's number, or -1;
+ * scene_shader_at: the shader of a number scene_shader_index gave. */
+int scene_shader_index(const is_vertex_shader *s);
+const is_vertex_shader *scene_shader_at(int k);
+
+/* ------------- displacement by a vertex texture fetch (cli/run/displace.c) ------------- */
+/* Read the height map of --displace into img: 0, or -1 with a message naming the file. */
+int scene_load_displacement(const char *path, is_image *img, char *err, size_t errlen);
+/* The shader that draws o's scene displaced: the wrapper scene_displaced_shader around inner (the path's shader,
+ * a shader of scene_shader_index) when o->displace, else inner itself; the light's wrapper goes around it. */
+extern const is_vertex_shader scene_displaced_shader;
+const is_vertex_shader *scene_displace_shader(const scene_opts *o, const is_vertex_shader *inner);
+/* The map of o (o->displace_map, or the file o->displace) as a texture of dev in vertex sampler 0 with its states,
+ * and the wrapper's constants c12..c16 (inner, the scale, radius = the mesh's bounding radius, view_proj = View *
+ * Proj); *tex is the caller's to release.  IS_OK, or the device's error (its message names the file). */
+is_result scene_displace_bind(is_device *dev, const scene_opts *o, const float4x4 *view_proj, float radius,
+                              const is_vertex_shader *inner, is_texture **tex);
+/* The displacement itself, applied to outputs a patch shader wrote (oPos, from TEXCOORD0 and TEXCOORD1): what the
+ * wrapper does after its inner shader, for shaders of the caller's (the crack tests) that wrap a patch shader. */
+void scene_displace_apply(const is_vs_constants *c, is_vs_output *out);
 
 /* Draw mesh m with grid g on dev as o says (path, fill, camera, constants c0..c9), with o's shader or, if
- * shader is not NULL, that one (tests wrap the patch shaders).  The device's other states are left as the
+ * shader is not NULL, that one (tests wrap the patch shaders; with --displace the map and its constants are bound
+ * for it, and it calls scene_displace_apply itself).  The device's other states are left as the
  * caller set them, apart from FILLMODE, DEPTHBIAS, SLOPESCALEDEPTHBIAS and the N-patch states.  0 or -1
  * (dev_last_error tells why). */
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
@@ -222,7 +249,8 @@ typedef struct scene_option {
     const char *(*choices)(const char *sep, char *buf, size_t len);
     /* For an option that changes pixels: o's value written as the option takes it into buf (buf); the image's
      * embedded description (scene_describe) is made of these, so two renders with the same description have
-     * the same pixels.  NULL for the options that do not change pixels (threads, limits, file names, quiet). */
+     * the same pixels.  NULL for the options that do not change pixels (threads, limits, file names, quiet); a
+     * printer returns NULL for a setting it leaves out of the description (--displace without a map). */
     const char *(*value)(const scene_opts *o, char *buf, size_t len);
 } scene_option;
 extern const scene_option scene_options[];

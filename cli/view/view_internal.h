@@ -37,6 +37,7 @@ typedef struct view_state {
     is_mesh mesh;           /* as loaded (its name and hash describe a screenshot) */
     is_mesh fit_copy;       /* scene_fit_mesh's copy, when it made one */
     const is_mesh *draw;    /* the mesh drawn: &mesh or &fit_copy */
+    is_image displace_map;  /* --displace's height map, read once (o.displace_map points at it) */
     uint32_t *frame;        /* o.width x o.height: the render, without overlay */
     is_device *dev[2];      /* the devices of the frame's parts (left / whole, right), kept between frames */
     int dev_key[2][4];      /* what each was made for: width, height, samples, view */

@@ -707,6 +707,8 @@ static int view_load(view_state *v)
     int rc = 0;
     if (v->script.capture && outputs_add(&outs, v->script.capture, err, sizeof err) != 0) rc = -1;
     outputs_abort(&outs);
+    if (rc == 0 && v->o.displace && (rc = scene_load_displacement(v->o.displace, &v->displace_map, err, sizeof err)) == 0)
+        v->o.displace_map = &v->displace_map;
     if (rc == 0) rc = mesh_open(v->o.mesh, &mo, &v->mesh, err, sizeof err);
     if (rc == 0) v->draw = scene_fit_mesh(&v->mesh, &v->fit_copy);
     if (rc == 0 && !within_limits(v, &v->o, err, sizeof err)) rc = -1;
@@ -761,6 +763,7 @@ void view_free(view_state *v)
     free(v->frame);
     mesh_free(&v->fit_copy);
     mesh_free(&v->mesh);
+    image_free(&v->displace_map);
     v->frame = NULL;
 }
 

@@ -1,0 +1,156 @@
+/* core/sample.c -- sampling a texture through a sampler: texel formats, address modes, point and linear
+ * filtering with D3D9's texel centres, level selection and the level of detail (tex2Dlod, tex2Dgrad, tex2Dbias).
+ * The rules are core/texture.h's; everything is scalar float (and double in tex_log2) in a fixed order. */
+#include "device_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* A texel (i, j) inside level l of t as float4 (r, g, b, a), by the format table of texture.h. */
+static float4 texel(const is_texture *t, const tex_level *l, size_t i, size_t j)
+{
+    const unsigned char *p = l->bits + (j * l->w + i) * t->bpp;
+    float v[4];
+    switch (t->format) {
+    case IS_FMT_A8R8G8B8: return f4(p[2] / 255.0f, p[1] / 255.0f, p[0] / 255.0f, p[3] / 255.0f);
+    case IS_FMT_X8R8G8B8: return f4(p[2] / 255.0f, p[1] / 255.0f, p[0] / 255.0f, 1.0f);
+    case IS_FMT_R32F: memcpy(v, p, 4); return f4(v[0], 1.0f, 1.0f, 1.0f);
+    case IS_FMT_A32B32G32R32F: memcpy(v, p, 16); return f4(v[0], v[1], v[2], v[3]);
+    default: return f4(0, 0, 0, 1);
+    }
+}
+
+/* A coordinate in texel units made safe for integers: NaN as 0, beyond +-2^30 as +-2^30. */
+static float clamp_coord(float x)
+{
+    if (x != x) return 0.0f;
+    return x > 0x1p30f ? 0x1p30f : x < -0x1p30f ? -0x1p30f : x;
+}
+
+/* Texel index i of a side of n texels under address mode `mode`; *outside set when BORDER finds it outside. */
+static int64_t address(uint32_t mode, int64_t i, int64_t n, bool *outside)
+{
+    int64_t m;
+    switch (mode) {
+    case IS_TADDRESS_MIRROR:
+        m = i % (2 * n);
+        if (m < 0) m += 2 * n;
+        return m < n ? m : 2 * n - 1 - m;
+    case IS_TADDRESS_CLAMP: return i < 0 ? 0 : i >= n ? n - 1 : i;
+    case IS_TADDRESS_BORDER:
+        if (i < 0 || i >= n) *outside = true;
+        return i < 0 ? 0 : i >= n ? n - 1 : i;
+    case IS_TADDRESS_MIRRORONCE:
+        m = i < 0 ? -1 - i : i;
+        return m >= n ? n - 1 : m;
+    default: /* WRAP, and any value D3D9 does not define (DXVK decodes those as wrap too) */
+        m = i % n;
+        return m < 0 ? m + n : m;
+    }
+}
+
+/* The texel at indices (i, j) of level l after s's address modes, or the border colour. */
+static float4 fetch(const is_sampler *s, const tex_level *l, int64_t i, int64_t j, float4 border)
+{
+    bool outside = false;
+    int64_t x = address(s->state[IS_SAMP_ADDRESSU], i, l->w, &outside);
+    int64_t y = address(s->state[IS_SAMP_ADDRESSV], j, l->h, &outside);
+    return outside ? border : texel(s->tex, l, (size_t)x, (size_t)y);
+}
+
+/* a + (b - a) t per channel (exactly a at t = 0 and wherever a == b). */
+static float4 lerp4(float4 a, float4 b, float t)
+{
+    return f4(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t, a.w + (b.w - a.w) * t);
+}
+
+/* One level's sample at (u, v): point or bilinear with D3D9's texel centres. */
+static float4 sample_level(const is_sampler *s, unsigned level, float u, float v, bool linear, float4 border)
+{
+    const tex_level *l = &s->tex->lv[level];
+    float x = clamp_coord(u * (float)l->w), y = clamp_coord(v * (float)l->h);
+    if (!linear) return fetch(s, l, (int64_t)floorf(x), (int64_t)floorf(y), border);
+    x = clamp_coord(x - 0.5f), y = clamp_coord(y - 0.5f);
+    float fx = floorf(x), fy = floorf(y), a = x - fx, b = y - fy;
+    int64_t i = (int64_t)fx, j = (int64_t)fy;
+    float4 t00 = fetch(s, l, i, j, border), t10 = fetch(s, l, i + 1, j, border);
+    float4 t01 = fetch(s, l, i, j + 1, border), t11 = fetch(s, l, i + 1, j + 1, border);
+    return lerp4(lerp4(t00, t10, a), lerp4(t01, t11, a), b);
+}
+
+/* A float from its bits (MIPMAPLODBIAS). */
+static float state_float(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* The sample of s at (u, v) for level of detail lod (before the bias): texture.h's level selection. */
+static float4 sample(const is_sampler *s, float u, float v, float lod)
+{
+    const is_texture *t = s->tex;
+    if (!t) return f4(0, 0, 0, 1);
+    float lambda = lod + state_float(s->state[IS_SAMP_MIPMAPLODBIAS]);
+    if (lambda != lambda) lambda = 0.0f;
+    uint32_t c = s->state[IS_SAMP_BORDERCOLOR];
+    float4 border = f4((float)((c >> 16) & 0xff) / 255.0f, (float)((c >> 8) & 0xff) / 255.0f,
+                       (float)(c & 0xff) / 255.0f, (float)(c >> 24) / 255.0f);
+    bool linear = (lambda > 0.0f ? s->state[IS_SAMP_MINFILTER] : s->state[IS_SAMP_MAGFILTER]) > IS_TEXF_POINT;
+    uint32_t mip = s->state[IS_SAMP_MIPFILTER];
+    unsigned last = t->levels - 1;
+    if (mip == IS_TEXF_NONE || last == 0) return sample_level(s, 0, u, v, linear, border);
+    float lo = (float)(s->state[IS_SAMP_MAXMIPLEVEL] < last ? s->state[IS_SAMP_MAXMIPLEVEL] : last);
+    float lc = lambda < lo ? lo : lambda > (float)last ? (float)last : lambda;
+    if (mip == IS_TEXF_POINT) return sample_level(s, (unsigned)(ceilf(lc + 0.5f) - 1.0f), u, v, linear, border);
+    unsigned l0 = (unsigned)lc;   /* lc >= 0: truncation is floor */
+    float f = lc - (float)l0;
+    float4 a = sample_level(s, l0, u, v, linear, border);
+    return l0 >= last || f == 0.0f ? a : lerp4(a, sample_level(s, l0 + 1, u, v, linear, border), f);
+}
+
+float4 tex_sample_lod(const is_sampler *s, float4 t)
+{
+    return sample(s, t.x, t.y, t.w);
+}
+
+float tex_log2(float x)
+{
+    if (x != x || x < 0.0f) return NAN;
+    if (x == 0.0f) return -INFINITY;
+    if (isinf(x)) return INFINITY;
+    int e;
+    double m = frexp((double)x, &e); /* x = m 2^e, m in [1/2, 1) */
+    if (m < 0.70710678118654752) m *= 2.0, e--;
+    /* ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716: the series to s^13 is exact in double */
+    double s = (m - 1.0) / (m + 1.0), s2 = s * s;
+    double p = 1.0 / 13.0;
+    p = 1.0 / 11.0 + s2 * p;
+    p = 1.0 / 9.0 + s2 * p;
+    p = 1.0 / 7.0 + s2 * p;
+    p = 1.0 / 5.0 + s2 * p;
+    p = 1.0 / 3.0 + s2 * p;
+    p = 1.0 + s2 * p;
+    return (float)((double)e + 2.0 * s * p * 1.4426950408889634);
+}
+
+float tex_lod_from_gradients(unsigned width, unsigned height, float2 ddx, float2 ddy)
+{
+    float ax = ddx.x * (float)width, ay = ddx.y * (float)height;
+    float bx = ddy.x * (float)width, by = ddy.y * (float)height;
+    float px = ax * ax + ay * ay, py = bx * bx + by * by;
+    float rho2 = px > py || py != py ? px : py;
+    return 0.5f * tex_log2(rho2); /* log2 of the longer footprint, sqrt(rho2) */
+}
+
+float4 tex_sample_grad(const is_sampler *s, float2 uv, float2 ddx, float2 ddy)
+{
+    if (!s->tex) return f4(0, 0, 0, 1);
+    return sample(s, uv.x, uv.y, tex_lod_from_gradients(s->tex->lv[0].w, s->tex->lv[0].h, ddx, ddy));
+}
+
+float4 tex_sample_bias(const is_sampler *s, float4 t, float2 ddx, float2 ddy)
+{
+    if (!s->tex) return f4(0, 0, 0, 1);
+    return sample(s, t.x, t.y, tex_lod_from_gradients(s->tex->lv[0].w, s->tex->lv[0].h, ddx, ddy) + t.w);
+}
