@@ -199,23 +199,20 @@ is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffe
 
 /* SetStreamSourceFreq with D3D9's rules: INDEXEDDATA|n (n >= 1) only on stream 0, INSTANCEDATA|d (d >= 1) only
  * on other streams, never both flags, a plain divider >= 1 anywhere.  An invalid call changes nothing. */
+/* SetStreamSourceFreq as the runtime answers it (docs/design.md: the documentation refuses more): a stream beyond
+ * the last, INSTANCEDATA on stream 0, both flags, and a setting of 0 are refused; everything else is stored
+ * (INDEXEDDATA | n on any stream, INDEXEDDATA | 0, INSTANCEDATA | 0), and the draw interprets it. */
 is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting)
 {
     const uint32_t flags = setting & (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA);
-    const uint32_t value = setting & ~flags;
     if (stream >= IS_MAX_STREAMS)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u >= %d", stream, IS_MAX_STREAMS);
     if (flags == (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: INDEXEDDATA and INSTANCEDATA together",
                         stream);
-    if (flags == IS_STREAMSOURCE_INSTANCEDATA && stream == 0)
+    if ((flags & IS_STREAMSOURCE_INSTANCEDATA) && stream == 0)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INSTANCEDATA on stream 0");
-    if (flags == IS_STREAMSOURCE_INDEXEDDATA && stream != 0)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INDEXEDDATA on stream %u (only stream 0)",
-                        stream);
-    if (value == 0)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: %s of 0", stream,
-                        flags == IS_STREAMSOURCE_INDEXEDDATA ? "instance count" : "divider");
+    if (setting == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: a setting of 0", stream);
     dev->streams[stream].freq = setting;
     return IS_OK;
 }

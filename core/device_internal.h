@@ -148,9 +148,11 @@ float4 decl_fetch(uint8_t type, const unsigned char *src);
 
 /* D3D9's fetch address, in bytes from an element's first byte in its stream: vertex (or instance) `index` of a
  * stream with frequency divider `divider` and stride `stride` is read at index / divider * stride (per-vertex data
- * has divider 1: index * stride).  A 32-bit index takes a 32-bit division, as D3D9's DWORD indices do. */
+ * has divider 1: index * stride; INSTANCEDATA | 0, divider 0: element 0 for all, as the runtime reads it).  A 32-bit
+ * index takes a 32-bit division, as D3D9's DWORD indices do. */
 static inline uint64_t fetch_offset(uint64_t index, uint32_t divider, uint64_t stride)
 {
+    if (divider == 0) return 0;   /* INSTANCEDATA | 0: every instance reads the stream's first element */
     return (index <= UINT32_MAX ? (uint32_t)index / divider : index / divider) * stride;
 }
 

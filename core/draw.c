@@ -357,21 +357,33 @@ static is_result check_prims(is_device *dev, const char *call, is_primtype type,
 {
     if (!prim_index_count(type, 1))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: unknown primitive type %d", call, type);
-    if (prim_count == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: PrimitiveCount is 0", call);
     return IS_OK;
 }
 
 static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
                              uint32_t first);
 
-/* DrawPrimitive: non-indexed, never instanced. */
+/* The instances of an indexed draw, as the runtime counts them: stream 0's count (its setting without the flags,
+ * at least 1) when a stream the declaration reads has INSTANCEDATA, else 1 (INDEXEDDATA | n alone, or | 0, draws
+ * once). */
+static unsigned instance_count(const is_device *dev)
+{
+    const uint32_t flags = IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA;
+    bool instanced = false;
+    for (unsigned k = 0; dev->decl && k < dev->decl->n; k++)
+        instanced |= (dev->streams[dev->decl->el[k].e.stream].freq & IS_STREAMSOURCE_INSTANCEDATA) != 0;
+    uint32_t n = dev->streams[0].freq & ~flags;
+    return instanced && n > 1 ? n : 1;
+}
+
+/* DrawPrimitive: non-indexed, one instance whatever the stream frequencies say (the runtime does not instance
+ * non-indexed draws; it draws the one instance and succeeds). */
 is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
 {
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: no vertex declaration set");
+    if (prim_count == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
     if (r != IS_OK) return r;
-    if (dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: instancing (INDEXEDDATA on stream 0) needs "
-                                                 "DrawIndexedPrimitive");
     size_t n_idx = prim_index_count(type, prim_count);
     if (n_idx > DRAW_MAX_VERTICES)
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: %zu vertices exceed %u", n_idx, DRAW_MAX_VERTICES);
@@ -412,6 +424,8 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                                      unsigned prim_count)
 {
     const char *call = "DrawIndexedPrimitive";
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    if (prim_count == 0 || num_vertices == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, call, type, prim_count);
     if (r != IS_OK) return r;
     if (!dev->ib) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no index buffer set", call);
@@ -422,8 +436,7 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
     if (first < 0 || first + num_vertices - 1 > UINT32_MAX)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: BaseVertexIndex %d + MinVertexIndex %u out of range", call,
                         base_vertex_index, min_vertex_index);
-    uint32_t f0 = dev->streams[0].freq;
-    unsigned n_inst = (f0 & IS_STREAMSOURCE_INDEXEDDATA) ? (f0 & ~IS_STREAMSOURCE_INDEXEDDATA) : 1;
+    unsigned n_inst = instance_count(dev);
     size_t n_idx = prim_index_count(type, prim_count);
     uint32_t *idx = scratch_get(&dev->idx, n_idx, sizeof *idx);
     if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);

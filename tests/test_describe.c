@@ -36,11 +36,12 @@ static const struct { const char *name, *arg, *context; } samples[] = {
     {"quiet", NULL, ""}, {"stats", "json", ""},
 };
 
-/* Apply "name=value,name=value" (render options without their dashes) to o. */
-static void apply_context(scene_opts *o, const char *context)
+/* Apply "name=value,name=value" (render options without their dashes) to o.  Options keep pointers to their
+ * values (file names), so the values are cut in `copy` (len bytes), which must live as long as o is used. */
+static void apply_context(scene_opts *o, const char *context, char *copy, size_t len)
 {
-    char copy[256], buf[512];
-    snprintf(copy, sizeof copy, "%s", context);
+    char buf[512];
+    snprintf(copy, len, "%s", context);
     for (char *save = NULL, *kv = strtok_r(copy, ",", &save); kv; kv = strtok_r(NULL, ",", &save)) {
         char *eq = strchr(kv, '=');
         assert_non_null(eq);
@@ -87,7 +88,8 @@ static void test_every_pixel_option_is_described(void **state)
             if (!strcmp(samples[i].name, opt->name)) arg = samples[i].arg, context = samples[i].context, found = true;
         if (!found) fail_msg("--%s: no sample value in tests/test_describe.c (add one)", opt->name);
         scene_opts ctx = def;   /* the options this one acts with (e.g. --lod for --lod-target) */
-        apply_context(&ctx, context);
+        char ctxbuf[256];
+        apply_context(&ctx, context, ctxbuf, sizeof ctxbuf);
         describe(&ctx, &m, base, sizeof base);
         scene_opts o = ctx;
         const char *msg = scene_apply_option(&o, opt, arg, errbuf, sizeof errbuf);

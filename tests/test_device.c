@@ -32,6 +32,15 @@ static void test_freq_valid(void **state)
     assert_int_equal(f, IS_STREAMSOURCE_INDEXEDDATA | 12);
     dev_get_stream_source_freq(dev, 2, &f);
     assert_int_equal(f, IS_STREAMSOURCE_INSTANCEDATA | 3);
+    /* stored as the runtime stores them (the documentation would refuse these): read back unchanged */
+    const struct { unsigned stream; uint32_t setting; } stored[] = {
+        {1, IS_STREAMSOURCE_INDEXEDDATA | 4}, {5, IS_STREAMSOURCE_INDEXEDDATA | 0},
+        {0, IS_STREAMSOURCE_INDEXEDDATA | 0}, {3, IS_STREAMSOURCE_INSTANCEDATA | 0}};
+    for (size_t k = 0; k < sizeof stored / sizeof stored[0]; k++) {
+        assert_int_equal(dev_set_stream_source_freq(dev, stored[k].stream, stored[k].setting), IS_OK);
+        assert_int_equal(dev_get_stream_source_freq(dev, stored[k].stream, &f), IS_OK);
+        assert_int_equal(f, stored[k].setting);
+    }
     dev_destroy(dev);
 }
 
@@ -39,14 +48,12 @@ static void test_freq_valid(void **state)
 static void test_freq_invalid(void **state)
 {
     is_device *dev = dev_create(W, H, 1, NULL, 0);
-    const struct { unsigned stream; uint32_t setting; } bad[] = {
+    const struct { unsigned stream; uint32_t setting; } bad[] = {   /* what the runtime refuses, no more */
         {0, IS_STREAMSOURCE_INSTANCEDATA | 1},                                /* INSTANCEDATA on stream 0 */
-        {1, IS_STREAMSOURCE_INDEXEDDATA | 4},                                 /* INDEXEDDATA off stream 0 */
+        {0, IS_STREAMSOURCE_INSTANCEDATA | 0},
         {0, IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA | 1},  /* both flags */
         {1, IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA | 1},
-        {1, IS_STREAMSOURCE_INSTANCEDATA | 0},                                /* divider 0 */
-        {0, IS_STREAMSOURCE_INDEXEDDATA | 0},                                 /* zero instances */
-        {2, 0},                                                               /* plain divider 0 */
+        {2, 0},                                                               /* a setting of 0 */
         {IS_MAX_STREAMS, 1},                                                  /* no such stream */
     };
     assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 5), IS_OK);
@@ -181,6 +188,65 @@ static void vs_point_at(const is_vs_constants *c, const is_vs_input *in, is_vs_o
 }
 static const is_vertex_shader vs_point = {.name = "point_at", .main = vs_point_at, .outputs = IS_OUT_COLOR0};
 
+/* Vertices shaded by a draw of 4 points with stream 0 at f0 and stream 1 (instance tags, read by the shader) at
+ * f1, indexed or not; *distinct gets the number of lit pixels (each (vertex, instance tag) lights its own). */
+static uint64_t shaded_with(uint32_t f0, uint32_t f1, bool indexed, int *distinct)
+{
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    is_vertex_buffer *vb0, *vb1;
+    is_index_buffer *ib;
+    assert_int_equal(dev_create_vertex_buffer(dev, 16 * 8, &vb0), IS_OK);
+    assert_int_equal(dev_create_vertex_buffer(dev, 8 * 16, &vb1), IS_OK);
+    assert_int_equal(dev_create_index_buffer(dev, 4 * 2, IS_FMT_INDEX16, &ib), IS_OK);
+    float (*v0)[2] = vb_lock(vb0), (*v1)[2] = vb_lock(vb1);
+    for (int k = 0; k < 16; k++) v0[k][0] = (float)(3 * k), v0[k][1] = (float)(100 + k);
+    for (int i = 0; i < 16; i++) v1[i][0] = (float)(2 + 3 * i), v1[i][1] = (float)(10 + i);
+    const uint16_t list[4] = {2, 0, 3, 1};
+    memcpy(ib_lock(ib), list, sizeof list);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_point);
+    dev_set_stream_source(dev, 0, vb0, 0, 8);
+    dev_set_stream_source(dev, 1, vb1, 0, 8);
+    dev_set_indices(dev, ib);
+    assert_int_equal(dev_set_stream_source_freq(dev, 0, f0), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 1, f1), IS_OK);
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    if (indexed) assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 4, 0, 4), IS_OK);
+    else assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 4), IS_OK);
+    uint64_t shaded = dev_vertices_shaded(dev);
+    const rs_target *rt = dev_render_target(dev);
+    *distinct = 0;
+    for (int p = 0; p < W * H; p++) *distinct += (rt->color[p] & 0xffffff) != 0;
+    decl_release(decl);
+    vb_release(vb0);
+    vb_release(vb1);
+    ib_release(ib);
+    dev_destroy(dev);
+    return shaded;
+}
+
+/* The runtime's instance count: stream 0's count when a stream the declaration reads is INSTANCEDATA (at least
+ * 1: INDEXEDDATA | 0 draws once), 1 when none is; INSTANCEDATA | 0 gives every instance the first element; a
+ * non-indexed draw draws its one instance. */
+static void test_instance_count_rules(void **state)
+{
+    (void)state;
+    const uint32_t IDX = IS_STREAMSOURCE_INDEXEDDATA, INST = IS_STREAMSOURCE_INSTANCEDATA;
+    int lit;
+    assert_int_equal(shaded_with(IDX | 3, INST | 1, true, &lit), 12);
+    assert_int_equal(lit, 12);
+    assert_int_equal(shaded_with(IDX | 0, INST | 1, true, &lit), 4);   /* at least one instance */
+    assert_int_equal(lit, 4);
+    assert_int_equal(shaded_with(IDX | 3, 1, true, &lit), 4);          /* no instanced stream: one */
+    assert_int_equal(shaded_with(IDX | 3, INST | 0, true, &lit), 12);  /* three instances ... */
+    assert_int_equal(lit, 4);                                           /* ... all reading element 0 */
+    assert_int_equal(shaded_with(IDX | 3, INST | 1, false, &lit), 4);  /* non-indexed: one instance */
+}
+
 /* Draw `n_inst` instances (divider `div`) of an index list over 8 per-vertex records, with base vertex `base`;
  * check that exactly the expected (vertex, instance) combinations appear. */
 static void check_instanced_fetch(unsigned n_inst, unsigned div, int base)
@@ -275,13 +341,18 @@ static void test_draw_errors(void **state)
     assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 2, 0, 4, 0, 1), IS_ERR_INVALIDCALL);
     /* beyond the index buffer, zero primitives, unknown type */
     assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 3, 2), IS_ERR_INVALIDCALL);
-    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 0), IS_ERR_INVALIDCALL);
+    /* zero primitives or vertices: the runtime draws nothing and succeeds (whatever else is wrong then) */
+    uint64_t drawn = dev_stats(dev)->prims_drawn;
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 0), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 0, 0, 1), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, (is_primtype)9, 0, 0), IS_OK);
+    assert_true(dev_stats(dev)->prims_drawn == drawn);
     assert_int_equal(dev_draw_primitive(dev, (is_primtype)9, 0, 1), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
     assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 2, 1), IS_ERR_INVALIDCALL);
-    /* instancing needs an indexed draw */
+    /* a non-indexed draw with instancing set draws its one instance and succeeds, as the runtime does */
     dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 2);
-    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
     assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 4, 0, 1), IS_OK);
     /* a released buffer is unbound */
     vb_release(vb);
@@ -513,7 +584,7 @@ int main(void)
         cmocka_unit_test(test_declaration_validation), cmocka_unit_test(test_fetch_formats),
         cmocka_unit_test(test_render_states),
         cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
-        cmocka_unit_test(test_resource_ownership),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
