@@ -17,17 +17,6 @@
 #include "../core/hlsl.h"
 #define FAERIE "/usr/share/assimp/models/MD2/faerie.md2"
 
-/* Whether this is the AddressSanitizer build (make sanitize): clang's __has_feature, gcc's macro. */
-#if defined(__SANITIZE_ADDRESS__)
-#define UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define UNDER_ASAN 1
-#endif
-#endif
-#ifndef UNDER_ASAN
-#define UNDER_ASAN 0
-#endif
 
 /* Path of a test data file: tests/data/meshes/<name>, found next to this source file. */
 static const char *data_path(const char *name)

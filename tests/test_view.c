@@ -421,7 +421,10 @@ static void test_scripted_runs_end(void **state)
     char mesh[PATH_MAX];
     snprintf(mesh, sizeof mesh, "%s/tests/data/meshes/truncated_header.ply", getenv("PWD") ? getenv("PWD") : ".");
     assert_int_equal(run_in_dir(&err, "view -q --size 48x48 --frames 1 --import-timeout 1 '%s'", mesh), 1);
-    assert_non_null(strstr(err, "did not finish within the import time limit of 1 s"));   /* not the default 60 */
+    /* not the default 60 s (under AddressSanitizer, whose quarantine keeps freed memory, the hanging reader reaches
+     * the import's memory limit first, as in test_meshes) */
+    assert_true(strstr(err, "did not finish within the import time limit of 1 s") ||
+                (UNDER_ASAN && strstr(err, "ran out of the import memory limit")));
     /* the key names the help prints are the names --keys takes: PgUp, PgDn and Esc too */
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,pgup,Esc"), 0);
     assert_int_equal(run_in_dir(&err, "-q --size 48x48 -o cli.png"), 0);

@@ -42,4 +42,16 @@ void prog_base64(const unsigned char *in, size_t n, char *out);
 /* Whether two files hold the same bytes (false if either is missing). */
 bool prog_same_bytes(const char *a, const char *b);
 
+/* Whether this is the AddressSanitizer build (make sanitize): clang's __has_feature, gcc's macro. */
+#if defined(__SANITIZE_ADDRESS__)
+#define UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define UNDER_ASAN 1
+#endif
+#endif
+#ifndef UNDER_ASAN
+#define UNDER_ASAN 0
+#endif
+
 #endif
