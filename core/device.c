@@ -250,6 +250,45 @@ is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const
     return IS_OK;
 }
 
+is_result dev_get_vertex_declaration(const is_device *dev, is_vertex_declaration **decl)
+{
+    if (!dev || !decl) return IS_ERR_INVALIDCALL;
+    *decl = dev->decl;
+    return IS_OK;
+}
+
+is_result dev_get_stream_source(const is_device *dev, unsigned stream, is_vertex_buffer **vb, unsigned *offset,
+                                unsigned *stride)
+{
+    if (!dev || !vb || !offset || !stride || stream >= IS_MAX_STREAMS) return IS_ERR_INVALIDCALL;
+    *vb = dev->streams[stream].vb;
+    *offset = dev->streams[stream].offset;
+    *stride = dev->streams[stream].stride;
+    return IS_OK;
+}
+
+is_result dev_get_indices(const is_device *dev, is_index_buffer **ib)
+{
+    if (!dev || !ib) return IS_ERR_INVALIDCALL;
+    *ib = dev->ib;
+    return IS_OK;
+}
+
+is_result dev_get_vertex_shader(const is_device *dev, const is_vertex_shader **vs)
+{
+    if (!dev || !vs) return IS_ERR_INVALIDCALL;
+    *vs = dev->vs;
+    return IS_OK;
+}
+
+is_result dev_get_vertex_shader_constant_f(const is_device *dev, unsigned start, float *data, unsigned count4)
+{
+    if (!dev || !data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
+        return IS_ERR_INVALIDCALL;
+    memcpy(data, &dev->consts.c[start], count4 * sizeof(float4));
+    return IS_OK;
+}
+
 /* Whether render state `state` takes `value`: STATE_OK, STATE_BAD_VALUE, or STATE_UNKNOWN for a state this
  * device does not implement. */
 enum { STATE_UNKNOWN = -1, STATE_BAD_VALUE = 0, STATE_OK = 1 };

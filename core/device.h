@@ -304,6 +304,17 @@ INSTESS_API is_result dev_get_stream_source_freq(const is_device *dev, unsigned 
 INSTESS_API is_result dev_set_indices(is_device *dev, is_index_buffer *ib);
 INSTESS_API is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs);
 INSTESS_API is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4);
+/* The getters of the setters above (GetVertexDeclaration, GetStreamSource, GetIndices, GetVertexShader,
+ * GetVertexShaderConstantF): what was set, or NULL / zeros where nothing is; IS_ERR_INVALIDCALL for a NULL output,
+ * a stream beyond the last or registers beyond c255, changing nothing.  (D3D9's getters add a reference to the
+ * objects they return; these hand out the device's own pointers, which stay the caller's to release.) */
+INSTESS_API is_result dev_get_vertex_declaration(const is_device *dev, is_vertex_declaration **decl);
+INSTESS_API is_result dev_get_stream_source(const is_device *dev, unsigned stream, is_vertex_buffer **vb,
+                                            unsigned *offset, unsigned *stride);
+INSTESS_API is_result dev_get_indices(const is_device *dev, is_index_buffer **ib);
+INSTESS_API is_result dev_get_vertex_shader(const is_device *dev, const is_vertex_shader **vs);
+INSTESS_API is_result dev_get_vertex_shader_constant_f(const is_device *dev, unsigned start, float *data,
+                                                       unsigned count4);
 INSTESS_API is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value);
 INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value);
 /* The render states' defaults, as D3D9 sets them on a new device (with an automatic depth buffer) and as

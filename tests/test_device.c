@@ -577,6 +577,61 @@ static void test_resource_ownership(void **state)
     dev_destroy(b);
 }
 
+/* The getter of every setter reads back what was set (and NULL / zeros before), refusing NULL outputs and
+ * streams or registers out of range. */
+static void test_getters(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(8, 8, 1, NULL, 0);
+    is_vertex_buffer *vb, *gvb = (is_vertex_buffer *)1;
+    is_index_buffer *ib, *gib = (is_index_buffer *)1;
+    is_vertex_declaration *decl, *gdecl = (is_vertex_declaration *)1;
+    const is_vertex_shader *gvs = (const is_vertex_shader *)1;
+    unsigned off = 1, stride = 1;
+    assert_int_equal(dev_get_stream_source(dev, 3, &gvb, &off, &stride), IS_OK);
+    assert_true(gvb == NULL && off == 0 && stride == 0);
+    assert_int_equal(dev_get_indices(dev, &gib), IS_OK);
+    assert_null(gib);
+    assert_int_equal(dev_get_vertex_declaration(dev, &gdecl), IS_OK);
+    assert_null(gdecl);
+    assert_int_equal(dev_get_vertex_shader(dev, &gvs), IS_OK);
+    assert_null(gvs);
+    static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_buffer(dev, 64, &vb), IS_OK);
+    assert_int_equal(dev_create_index_buffer(dev, 64, IS_FMT_INDEX32, &ib), IS_OK);
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 3, vb, 8, 12), IS_OK);
+    assert_int_equal(dev_set_indices(dev, ib), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_point), IS_OK);
+    const float c[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 254, c, 2), IS_OK);
+    assert_int_equal(dev_get_stream_source(dev, 3, &gvb, &off, &stride), IS_OK);
+    assert_true(gvb == vb && off == 8 && stride == 12);
+    assert_int_equal(dev_get_indices(dev, &gib), IS_OK);
+    assert_ptr_equal(gib, ib);
+    assert_int_equal(dev_get_vertex_declaration(dev, &gdecl), IS_OK);
+    assert_ptr_equal(gdecl, decl);
+    assert_int_equal(dev_get_vertex_shader(dev, &gvs), IS_OK);
+    assert_ptr_equal(gvs, &vs_point);
+    float got[8] = {0};
+    assert_int_equal(dev_get_vertex_shader_constant_f(dev, 254, got, 2), IS_OK);
+    assert_memory_equal(got, c, sizeof c);
+    /* refused, nothing written */
+    assert_int_equal(dev_get_vertex_shader_constant_f(dev, 255, got, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source(dev, IS_MAX_STREAMS, &gvb, &off, &stride), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source(dev, 0, NULL, &off, &stride), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_indices(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_declaration(NULL, &gdecl), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader(dev, NULL), IS_ERR_INVALIDCALL);
+    vb_release(vb);   /* releasing unbinds: the getters say so */
+    assert_int_equal(dev_get_stream_source(dev, 3, &gvb, &off, &stride), IS_OK);
+    assert_null(gvb);
+    ib_release(ib);
+    decl_release(decl);
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -584,7 +639,8 @@ int main(void)
         cmocka_unit_test(test_declaration_validation), cmocka_unit_test(test_fetch_formats),
         cmocka_unit_test(test_render_states),
         cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
-        cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),
+        cmocka_unit_test(test_getters),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
