@@ -379,16 +379,48 @@ is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn)
 }
 
 /* Clear: D3DCOLOR (ARGB) into packed RGBA8; z must be in [0, 1].  Resets the statistics. */
-is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
+/* Clear the pixels of rectangle r (already within the target) with the packed colour and z as flags say. */
+static void clear_rect(is_device *dev, is_rect r, unsigned flags, uint32_t rgba, float z)
 {
+    if (r.left < r.right && r.top < r.bottom)
+        rs_target_clear_rect(&dev->rt, r.left, r.top, r.right, r.bottom, flags, rgba, z);
+}
+
+is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, unsigned flags, uint32_t argb, float z)
+{
+    if (!dev) return IS_ERR_INVALIDCALL;
     if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER)) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
+    if (count == 0 && rects) return IS_OK;   /* the runtime: nothing cleared */
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
-    rs_target_clear_deferred(dev->rs, &dev->rt, flags, r | g << 8 | b << 16 | a << 24, z); /* per tile, on first use */
+    uint32_t rgba = r | g << 8 | b << 16 | a << 24;
+    const is_viewport *vp = &dev->viewport;   /* the area: the viewport, within the target */
+    is_rect area = {(int32_t)vp->x, (int32_t)vp->y, (int32_t)(vp->x + vp->width), (int32_t)(vp->y + vp->height)};
+    area.right = area.right > dev->rt.width ? dev->rt.width : area.right;
+    area.bottom = area.bottom > dev->rt.height ? dev->rt.height : area.bottom;
+    bool whole = area.left == 0 && area.top == 0 && area.right == dev->rt.width && area.bottom == dev->rt.height;
+    if (!rects) count = 0;
+    if (whole && count == 0) {   /* the whole target: deferred per tile, and a new frame */
+        rs_target_clear_deferred(dev->rs, &dev->rt, flags, rgba, z);
+    } else {
+        rs_target_flush(dev->rs, &dev->rt);
+        if (count == 0) clear_rect(dev, area, flags, rgba, z);
+        for (unsigned k = 0; k < count; k++) {
+            const is_rect *q = &rects[k];   /* its part of the area */
+            is_rect c = {q->left > area.left ? q->left : area.left, q->top > area.top ? q->top : area.top,
+                         q->right < area.right ? q->right : area.right, q->bottom < area.bottom ? q->bottom : area.bottom};
+            clear_rect(dev, c, flags, rgba, z);
+        }
+    }
     memset(&dev->stats, 0, sizeof dev->stats);
     dev->shaded = 0;
     dev->instances_culled = 0;
     return IS_OK;
+}
+
+is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
+{
+    return dev_clear_rects(dev, 0, NULL, flags, argb, z);
 }
 
 /* The target, with any deferred clear written (so its planes may be read directly). */

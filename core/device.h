@@ -351,7 +351,15 @@ INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
 INSTESS_API is_result dev_set_npatch_mode(is_device *dev, float segments);
 INSTESS_API float dev_get_npatch_mode(const is_device *dev);
 
-/* Clear(flags, color (D3DCOLOR ARGB), z). */
+/* RECT (and D3DRECT, the same four numbers): the pixels left <= x < right, top <= y < bottom. */
+typedef struct is_rect { int32_t left, top, right, bottom; } is_rect;
+/* Clear(Count, pRects, Flags, Color (D3DCOLOR ARGB), Z), as the runtime does it: the viewport is cleared, not the
+ * whole target (the two are the same after dev_create or a full-target viewport), and with count rects (and
+ * rects not NULL) only each rect's part of the viewport; count 0 with rects not NULL clears nothing and succeeds;
+ * count > 0 with NULL rects clears the viewport.  Flags IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER; z in [0, 1]. */
+INSTESS_API is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, unsigned flags,
+                                      uint32_t argb, float z);
+/* dev_clear_rects(dev, 0, NULL, flags, argb, z): the viewport. */
 INSTESS_API is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z);
 /* DrawPrimitive / DrawIndexedPrimitive, with D3D9 instancing (stream frequencies) on indexed draws. */
 INSTESS_API is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count);

@@ -79,7 +79,6 @@ enum { IS_TEXF_NONE = 0, IS_TEXF_POINT = 1, IS_TEXF_LINEAR = 2, IS_TEXF_ANISOTRO
 #define IS_MAX_TEXTURE_LEVELS 15         /* a 16384-texel side has 15 levels */
 
 typedef struct is_locked_rect { int pitch; void *bits; } is_locked_rect; /* D3DLOCKED_RECT */
-typedef struct is_rect { int32_t left, top, right, bottom; } is_rect;     /* RECT */
 typedef struct is_texture_desc {                                         /* D3DSURFACE_DESC, the fields kept */
     is_format format;
     uint32_t usage;

@@ -198,6 +198,10 @@ INSTESS_API int rs_target_add_aov(rs_target *rt, int slot, int comps);
 enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2 };
 /* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
 INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
+/* The same for the pixels x0 <= x < x1, y0 <= y < y1 only (clipped to the target); no deferred clear of rt may be
+ * pending (rs_target_flush first). */
+INSTESS_API void rs_target_clear_rect(rs_target *rt, int x0, int y0, int x1, int y1, unsigned flags, uint32_t rgba,
+                                      float z);
 /* rs_target_clear deferred, and a new frame on rs (its work count restarts): each 64x64 tile of rt is written
  * (in cache) when a draw on rs first touches it, or by rs_target_flush.  Until rs_target_flush, rt's planes must
  * only be drawn into through rs.  Nothing happens without flags (or without rs, rt or its planes). */

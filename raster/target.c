@@ -142,6 +142,24 @@ void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float
         clear_rows(rt, flags, rgba, z, (int)((int64_t)rt->height * k / nt), (int)((int64_t)rt->height * (k + 1) / nt));
 }
 
+void rs_target_clear_rect(rs_target *rt, int x0, int y0, int x1, int y1, unsigned flags, uint32_t rgba, float z)
+{
+    if (!rt || !rt->color) return;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > rt->width ? rt->width : x1, y1 = y1 > rt->height ? rt->height : y1;
+    size_t ns = (size_t)rt->samples;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t p = (size_t)y * (size_t)rt->width + (size_t)x;
+            for (size_t s = 0; s < ns; s++) {
+                if (flags & RS_CLEAR_COLOR) rt->color[p * ns + s] = rgba;
+                if (flags & RS_CLEAR_DEPTH) rt->depth[p * ns + s] = z;
+            }
+            for (int k = 0; (flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++)
+                memset(rt->aov[k].data + p * (size_t)rt->aov[k].comps, 0, (size_t)rt->aov[k].comps * sizeof(float));
+        }
+}
+
 void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
     if (!rt || !rt->color) return;

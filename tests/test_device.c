@@ -632,6 +632,39 @@ static void test_getters(void **state)
     dev_destroy(dev);
 }
 
+/* Clear clears the viewport, not the whole target, and with rectangles only their part of the viewport; count 0
+ * with rectangles clears nothing (as the runtime does). */
+static void test_clear_viewport_and_rects(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(16, 8, 4, NULL, 0);
+    uint32_t px[16 * 8];
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 0, 0, 255), 1.0f), IS_OK);   /* blue */
+    is_viewport vp = {4, 2, 8, 4, 0.0f, 1.0f};
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_OK);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 255, 0, 0), 1.0f), IS_OK);   /* red */
+    assert_int_equal(dev_get_render_target_data(dev, px, 16 * 8), IS_OK);
+    for (int y = 0; y < 8; y++)
+        for (int x = 0; x < 16; x++) {
+            bool in = x >= 4 && x < 12 && y >= 2 && y < 6;
+            assert_int_equal(px[y * 16 + x], in ? 0xff0000ffu : 0xffff0000u);
+        }
+    /* two rectangles, one partly outside the viewport: only their parts inside it turn green */
+    const is_rect r[2] = {{0, 0, 6, 3}, {10, 5, 40, 40}};
+    assert_int_equal(dev_clear_rects(dev, 2, r, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 0, 255, 0), 1.0f), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, px, 16 * 8), IS_OK);
+    assert_int_equal(px[2 * 16 + 4], 0xff00ff00u);    /* (4, 2): in rect 0 and the viewport */
+    assert_int_equal(px[2 * 16 + 6], 0xff0000ffu);    /* (6, 2): viewport, not rect 0 */
+    assert_int_equal(px[0 * 16 + 0], 0xffff0000u);    /* (0, 0): rect 0, outside the viewport */
+    assert_int_equal(px[5 * 16 + 11], 0xff00ff00u);   /* (11, 5): rect 1 inside the viewport */
+    assert_int_equal(px[6 * 16 + 11], 0xffff0000u);   /* (11, 6): below the viewport */
+    assert_int_equal(dev_clear_rects(dev, 0, r, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 9, 9, 9), 1.0f), IS_OK);
+    uint32_t again[16 * 8];
+    assert_int_equal(dev_get_render_target_data(dev, again, 16 * 8), IS_OK);
+    assert_memory_equal(again, px, sizeof px);   /* nothing cleared */
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -640,7 +673,7 @@ int main(void)
         cmocka_unit_test(test_render_states),
         cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
         cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),
-        cmocka_unit_test(test_getters),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_getters), cmocka_unit_test(test_clear_viewport_and_rects),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
