@@ -296,9 +296,9 @@ static int state_check(is_rs state, uint32_t v)
 {
     bool ok;
     switch (state) {
-    case IS_RS_ZENABLE: ok = v <= 1; break;
+    case IS_RS_ZENABLE: ok = v <= IS_ZB_USEW; break;
     case IS_RS_FILLMODE: ok = v >= IS_FILL_POINT && v <= IS_FILL_SOLID; break;
-    case IS_RS_SHADEMODE: ok = v == IS_SHADE_FLAT || v == IS_SHADE_GOURAUD; break;
+    case IS_RS_SHADEMODE: ok = v >= IS_SHADE_FLAT && v <= IS_SHADE_PHONG; break;
     case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: ok = v <= 1; break;
     case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR; break;
     case IS_RS_CULLMODE: ok = v >= IS_CULL_NONE && v <= IS_CULL_CCW; break;
@@ -478,7 +478,7 @@ rs_state dev_rs_state(const is_device *dev)
     rs_state st = {
         .cull_mode = (int)s[IS_RS_CULLMODE],
         .fill_mode = (int)s[IS_RS_FILLMODE],
-        .shade_mode = (int)s[IS_RS_SHADEMODE],
+        .shade_mode = s[IS_RS_SHADEMODE] == IS_SHADE_FLAT ? RS_SHADE_FLAT : RS_SHADE_GOURAUD,   /* PHONG too */
         .z_enable = s[IS_RS_ZENABLE] != 0,
         .z_write = s[IS_RS_ZWRITEENABLE] != 0,
         .z_func = (int)s[IS_RS_ZFUNC],

@@ -98,8 +98,10 @@ typedef enum is_rs {
 
 enum { IS_CULL_NONE = 1, IS_CULL_CW = 2, IS_CULL_CCW = 3 };
 enum { IS_FILL_POINT = 1, IS_FILL_WIREFRAME = 2, IS_FILL_SOLID = 3 };
-enum { IS_SHADE_FLAT = 1, IS_SHADE_GOURAUD = 2 };
-enum { IS_ZB_FALSE = 0, IS_ZB_TRUE = 1 };
+/* SHADEMODE PHONG and ZENABLE USEW are accepted as the runtime accepts them, with fallbacks: PHONG shades as
+ * GOURAUD (no D3D9 driver implemented it), USEW uses the z-buffer as TRUE does (no w-buffer here). */
+enum { IS_SHADE_FLAT = 1, IS_SHADE_GOURAUD = 2, IS_SHADE_PHONG = 3 };
+enum { IS_ZB_FALSE = 0, IS_ZB_TRUE = 1, IS_ZB_USEW = 2 };
 enum {
     IS_CMP_NEVER = 1, IS_CMP_LESS, IS_CMP_EQUAL, IS_CMP_LESSEQUAL,
     IS_CMP_GREATER, IS_CMP_NOTEQUAL, IS_CMP_GREATEREQUAL, IS_CMP_ALWAYS

@@ -665,6 +665,45 @@ static void test_clear_viewport_and_rects(void **state)
     dev_destroy(dev);
 }
 
+/* Values the runtime accepts are stored and read back, with their fallback: SHADEMODE PHONG draws as GOURAUD,
+ * ZENABLE USEW as TRUE (the same bytes). */
+static void test_runtime_state_values(void **state)
+{
+    (void)state;
+    uint32_t img[2][16 * 16];
+    const struct { is_rs rs; uint32_t v, same_as; } cases[] = {
+        {IS_RS_SHADEMODE, IS_SHADE_PHONG, IS_SHADE_GOURAUD}, {IS_RS_ZENABLE, IS_ZB_USEW, IS_ZB_TRUE}};
+    for (size_t c = 0; c < 2; c++) {
+        for (int k = 0; k < 2; k++) {
+            is_device *dev = dev_create(16, 16, 1, NULL, 0);
+            uint32_t v = k ? cases[c].v : cases[c].same_as, got = 0;
+            assert_int_equal(dev_set_render_state(dev, cases[c].rs, v), IS_OK);
+            assert_int_equal(dev_get_render_state(dev, cases[c].rs, &got), IS_OK);
+            assert_int_equal(got, v);
+            is_vertex_buffer *vb;
+            assert_int_equal(dev_create_vertex_buffer(dev, 3 * 16, &vb), IS_OK);
+            float (*p)[4] = vb_lock(vb);   /* x, y of the target (vs_point), colour tags */
+            const float tri[3][4] = {{1, 1, 250, 10}, {14, 2, 10, 250}, {3, 14, 120, 120}};
+            memcpy(p, tri, sizeof tri);
+            static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                                   {0, 8, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+            is_vertex_declaration *decl;
+            assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+            dev_set_vertex_declaration(dev, decl);
+            dev_set_vertex_shader(dev, &vs_point);
+            dev_set_stream_source(dev, 0, vb, 0, 16);
+            dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
+            dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+            assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+            assert_int_equal(dev_get_render_target_data(dev, img[k], 16 * 16), IS_OK);
+            decl_release(decl);
+            vb_release(vb);
+            dev_destroy(dev);
+        }
+        assert_memory_equal(img[0], img[1], sizeof img[0]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -673,7 +712,8 @@ int main(void)
         cmocka_unit_test(test_render_states),
         cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
         cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),
-        cmocka_unit_test(test_getters), cmocka_unit_test(test_clear_viewport_and_rects),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_getters), cmocka_unit_test(test_clear_viewport_and_rects),
+        cmocka_unit_test(test_runtime_state_values),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
