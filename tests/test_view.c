@@ -425,6 +425,12 @@ static void test_scripted_runs_end(void **state)
      * the import's memory limit first, as in test_meshes) */
     assert_true(strstr(err, "did not finish within the import time limit of 1 s") ||
                 (UNDER_ASAN && strstr(err, "ran out of the import memory limit")));
+    /* thousands of keys: refused at once with the limit, without echoing the list back */
+    char many[1000 * 2 + 64] = "view -q --size 48x48 --keys p";
+    for (int k = 1; k < 1000; k++) strcat(many, ",p");
+    assert_int_equal(run_in_dir(&err, "%s", many), 2);
+    assert_non_null(strstr(err, "--keys: 1000 key names in 1999 characters; at most 64 names"));
+    assert_true(strlen(err) < 400);
     /* the key names the help prints are the names --keys takes: PgUp, PgDn and Esc too */
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,pgup,Esc"), 0);
     assert_int_equal(run_in_dir(&err, "-q --size 48x48 -o cli.png"), 0);

@@ -614,10 +614,14 @@ static bool known_keys(const char *name)
 static const char *parse_keys(const char *list, view_script *s, char *err, size_t errlen)
 {
     char buf[1024];
-    if (strlen(list) >= sizeof buf) return "--keys: the list is too long";
+    const int max_keys = (int)(sizeof s->keys / sizeof s->keys[0]);
+    size_t n = 1;
+    for (const char *c = list; *c; c++) n += *c == ',';
+    if (n > (size_t)max_keys || strlen(list) >= sizeof buf)   /* said without echoing the list back */
+        return snprintf(err, errlen, "--keys: %zu key names in %zu characters; at most %d names in %zu characters",
+                        n, strlen(list), max_keys, sizeof buf - 1), err;
     strcpy(buf, list);
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        if (s->n_keys == (int)(sizeof s->keys / sizeof s->keys[0])) return "--keys: at most 64 keys";
         if (strlen(t) >= sizeof s->keys[0] || !known_keys(t))
             return snprintf(err, errlen, "--keys: unknown key %.40s (see the keys of 'instess view --help')", t), err;
         strcpy(s->keys[s->n_keys++], t);
