@@ -188,44 +188,65 @@ static void vs_point_at(const is_vs_constants *c, const is_vs_input *in, is_vs_o
 }
 static const is_vertex_shader vs_point = {.name = "point_at", .main = vs_point_at, .outputs = IS_OUT_COLOR0};
 
+/* The two-stream point fixture: stream 0 holds 16 records (x = 3k, vertex tag 100 + k), stream 1 16 records
+ * (y = 2 + 3i, instance tag 10 + i), the index list {2, 0, 3, 1}, vs_point; the frequencies are the caller's. */
+typedef struct points_fixture {
+    is_device *dev;
+    is_vertex_buffer *vb0, *vb1;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+} points_fixture;
+static const uint16_t points_list[4] = {2, 0, 3, 1};
+
+/* A device with the fixture bound. */
+static points_fixture points_setup(void)
+{
+    points_fixture f;
+    f.dev = dev_create(W, H, 1, NULL, 0);
+    assert_non_null(f.dev);
+    assert_int_equal(dev_create_vertex_buffer(f.dev, 16 * 8, &f.vb0), IS_OK);
+    assert_int_equal(dev_create_vertex_buffer(f.dev, 8 * 16, &f.vb1), IS_OK);
+    assert_int_equal(dev_create_index_buffer(f.dev, 4 * 2, IS_FMT_INDEX16, &f.ib), IS_OK);
+    float (*v0)[2] = vb_lock(f.vb0), (*v1)[2] = vb_lock(f.vb1);
+    for (int k = 0; k < 16; k++) v0[k][0] = (float)(3 * k), v0[k][1] = (float)(100 + k); /* x, vertex tag */
+    for (int i = 0; i < 16; i++) v1[i][0] = (float)(2 + 3 * i), v1[i][1] = (float)(10 + i); /* y, instance tag */
+    memcpy(ib_lock(f.ib), points_list, sizeof points_list);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(f.dev, el, &f.decl), IS_OK);
+    dev_set_vertex_declaration(f.dev, f.decl);
+    dev_set_vertex_shader(f.dev, &vs_point);
+    dev_set_stream_source(f.dev, 0, f.vb0, 0, 8);
+    dev_set_stream_source(f.dev, 1, f.vb1, 0, 8);
+    dev_set_indices(f.dev, f.ib);
+    return f;
+}
+
+/* Release the fixture and its device. */
+static void points_teardown(points_fixture *f)
+{
+    decl_release(f->decl);
+    vb_release(f->vb0);
+    vb_release(f->vb1);
+    ib_release(f->ib);
+    dev_destroy(f->dev);
+}
+
 /* Vertices shaded by a draw of 4 points with stream 0 at f0 and stream 1 (instance tags, read by the shader) at
  * f1, indexed or not; *distinct gets the number of lit pixels (each (vertex, instance tag) lights its own). */
 static uint64_t shaded_with(uint32_t f0, uint32_t f1, bool indexed, int *distinct)
 {
-    is_device *dev = dev_create(W, H, 1, NULL, 0);
-    is_vertex_buffer *vb0, *vb1;
-    is_index_buffer *ib;
-    assert_int_equal(dev_create_vertex_buffer(dev, 16 * 8, &vb0), IS_OK);
-    assert_int_equal(dev_create_vertex_buffer(dev, 8 * 16, &vb1), IS_OK);
-    assert_int_equal(dev_create_index_buffer(dev, 4 * 2, IS_FMT_INDEX16, &ib), IS_OK);
-    float (*v0)[2] = vb_lock(vb0), (*v1)[2] = vb_lock(vb1);
-    for (int k = 0; k < 16; k++) v0[k][0] = (float)(3 * k), v0[k][1] = (float)(100 + k);
-    for (int i = 0; i < 16; i++) v1[i][0] = (float)(2 + 3 * i), v1[i][1] = (float)(10 + i);
-    const uint16_t list[4] = {2, 0, 3, 1};
-    memcpy(ib_lock(ib), list, sizeof list);
-    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
-                                    {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
-    is_vertex_declaration *decl;
-    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
-    dev_set_vertex_declaration(dev, decl);
-    dev_set_vertex_shader(dev, &vs_point);
-    dev_set_stream_source(dev, 0, vb0, 0, 8);
-    dev_set_stream_source(dev, 1, vb1, 0, 8);
-    dev_set_indices(dev, ib);
-    assert_int_equal(dev_set_stream_source_freq(dev, 0, f0), IS_OK);
-    assert_int_equal(dev_set_stream_source_freq(dev, 1, f1), IS_OK);
-    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
-    if (indexed) assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 4, 0, 4), IS_OK);
-    else assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 4), IS_OK);
-    uint64_t shaded = dev_vertices_shaded(dev);
-    const rs_target *rt = dev_render_target(dev);
+    points_fixture f = points_setup();
+    assert_int_equal(dev_set_stream_source_freq(f.dev, 0, f0), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(f.dev, 1, f1), IS_OK);
+    dev_clear(f.dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    if (indexed) assert_int_equal(dev_draw_indexed_primitive(f.dev, IS_PT_POINTLIST, 0, 0, 4, 0, 4), IS_OK);
+    else assert_int_equal(dev_draw_primitive(f.dev, IS_PT_POINTLIST, 0, 4), IS_OK);
+    uint64_t shaded = dev_vertices_shaded(f.dev);
+    const rs_target *rt = dev_render_target(f.dev);
     *distinct = 0;
     for (int p = 0; p < W * H; p++) *distinct += (rt->color[p] & 0xffffff) != 0;
-    decl_release(decl);
-    vb_release(vb0);
-    vb_release(vb1);
-    ib_release(ib);
-    dev_destroy(dev);
+    points_teardown(&f);
     return shaded;
 }
 
@@ -251,28 +272,10 @@ static void test_instance_count_rules(void **state)
  * check that exactly the expected (vertex, instance) combinations appear. */
 static void check_instanced_fetch(unsigned n_inst, unsigned div, int base)
 {
-    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    points_fixture f = points_setup();
+    is_device *dev = f.dev;
+    const uint16_t *list = points_list;
     dev_set_threads(dev, 2);
-    is_vertex_buffer *vb0, *vb1;
-    is_index_buffer *ib;
-    assert_int_equal(dev_create_vertex_buffer(dev, 16 * 8, &vb0), IS_OK);
-    assert_int_equal(dev_create_vertex_buffer(dev, 8 * 16, &vb1), IS_OK);
-    assert_int_equal(dev_create_index_buffer(dev, 4 * 2, IS_FMT_INDEX16, &ib), IS_OK);
-    float (*v0)[2] = vb_lock(vb0), (*v1)[2] = vb_lock(vb1);
-    for (int k = 0; k < 16; k++) v0[k][0] = (float)(3 * k), v0[k][1] = (float)(100 + k); /* x, vertex tag */
-    for (int i = 0; i < 16; i++) v1[i][0] = (float)(2 + 3 * i), v1[i][1] = (float)(10 + i); /* y, instance tag */
-    uint16_t *idx = ib_lock(ib);
-    const uint16_t list[4] = {2, 0, 3, 1};
-    memcpy(idx, list, sizeof list);
-    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
-                                    {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
-    is_vertex_declaration *decl;
-    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
-    dev_set_vertex_declaration(dev, decl);
-    dev_set_vertex_shader(dev, &vs_point);
-    dev_set_stream_source(dev, 0, vb0, 0, 8);
-    dev_set_stream_source(dev, 1, vb1, 0, 8);
-    dev_set_indices(dev, ib);
     assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | n_inst), IS_OK);
     assert_int_equal(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | div), IS_OK);
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
@@ -293,11 +296,7 @@ static void check_instanced_fetch(unsigned n_inst, unsigned div, int base)
     int distinct_inst = (int)((n_inst + div - 1) / div);
     assert_int_equal(found, 4 * distinct_inst);
     (void)expected;
-    decl_release(decl);
-    vb_release(vb0);
-    vb_release(vb1);
-    ib_release(ib);
-    dev_destroy(dev);
+    points_teardown(&f);
 }
 
 static void test_instanced_fetch_order(void **state)
