@@ -431,6 +431,10 @@ static void test_scripted_runs_end(void **state)
     assert_int_equal(run_in_dir(&err, "%s", many), 2);
     assert_non_null(strstr(err, "--keys: 1000 key names in 1999 characters; at most 64 names"));
     assert_true(strlen(err) < 400);
+    /* a refused key says why at once (the next value's reason), not only that nothing else works */
+    assert_int_equal(run_in_dir(&err, "view --no-hud --size 48x48 --patch smooth --keys t"), 0);
+    assert_non_null(strstr(err, "path: no other value works with the rest of this state (--path npatch-mode and cpu "
+                                "draw the N-Patch"));
     /* the key names the help prints are the names --keys takes: PgUp, PgDn and Esc too */
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,pgup,Esc"), 0);
     assert_int_equal(run_in_dir(&err, "-q --size 48x48 -o cli.png"), 0);

@@ -65,15 +65,19 @@ static bool commit(view_state *v, const scene_opts *o, const char *what)
 static void cycle(view_state *v, void (*next)(scene_opts *o), int n, const char *what)
 {
     scene_opts o = v->o;
+    const char *first = NULL;   /* why the next value was refused: the reason the student needs */
     for (int k = 1; k < n; k++) {
         next(&o);
-        if (!state_error(v, &o)) {
+        const char *why = state_error(v, &o);
+        if (!why) {
             commit(v, &o, what);
             return;
         }
+        if (!first) first = why;
     }
-    char msg[200];
-    snprintf(msg, sizeof msg, "%s: no other value works with the rest of this state", what);
+    char msg[400];
+    snprintf(msg, sizeof msg, "%s: no other value works with the rest of this state (%.300s)", what,
+             first ? first : "it is the only one");
     notice(v, msg);
 }
 
