@@ -265,6 +265,19 @@ static const char *json_get(const json_doc *d, const char *key, char *buf, size_
     return NULL;
 }
 
+/* A multi-part EXR (two subimages, made with oiiotool, which the set-up installs) is refused by name: only its first
+ * part was compared, without a word. */
+static void test_compare_multipart(void **state)
+{
+    (void)state;
+    assert_int_equal(run("--size 16x16 -q -o part.exr"), 0);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cd '%s' && oiiotool part.exr part.exr --siappend -o multi.exr", dir);
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(run("compare multi.exr part.exr"), 4);
+    assert_non_null(strstr(err_buf, "multi.exr: holds several parts or subimages"));
+}
+
 /* The reader itself rejects what is not JSON (so that the test below can fail). */
 static void test_json_reader(void **state)
 {
@@ -327,6 +340,7 @@ int main(void)
         cmocka_unit_test(test_compare_pass_and_different),
         cmocka_unit_test(test_compare_diff_image),
         cmocka_unit_test(test_compare_errors),
+        cmocka_unit_test(test_compare_multipart),
         cmocka_unit_test(test_json_reader),
         cmocka_unit_test(test_stats_json),
     };
