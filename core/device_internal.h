@@ -9,6 +9,7 @@
 #include "hlsl.h"
 
 #include <omp.h>
+#include <math.h>
 #include <stdarg.h>
 
 /* A resource of dev was created / released (the device's reference count, above); the release of its last
@@ -154,6 +155,17 @@ static inline uint64_t fetch_offset(uint64_t index, uint32_t divider, uint64_t s
 {
     if (divider == 0) return 0;   /* INSTANCEDATA | 0: every instance reads the stream's first element */
     return (index <= UINT32_MAX ? (uint32_t)index / divider : index / divider) * stride;
+}
+
+/* D3D9 saturates the vertex colour outputs oD0 and oD1 per vertex, before they are interpolated: COLOR0 and
+ * COLOR1 of out[0..n) clamped to [0, 1] (NaN becomes 0).  Every draw path calls it after the shader. */
+static inline void saturate_colors(rs_vertex *out, size_t n)
+{
+    for (size_t v = 0; v < n; v++)
+        for (int a = RS_ATTR_COLOR0; a <= RS_ATTR_COLOR1; a++) {
+            float *c = &out[v].attr[a].x;
+            for (int k = 0; k < 4; k++) c[k] = fminf(fmaxf(c[k], 0.0f), 1.0f);
+        }
 }
 
 /* How one declaration element is read during a draw. */

@@ -703,6 +703,47 @@ static void test_runtime_state_values(void **state)
     }
 }
 
+/* The vertex shader's colour as given by its texcoord input, unclamped; the position in pixels. */
+static void vs_raw_color_main(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    out->pos = f4(2.0f * in->position[0].x / W - 1.0f, 1.0f - 2.0f * in->position[0].y / H, 0.5f, 1.0f);
+    out->attr[RS_ATTR_COLOR0] = in->texcoord[0];
+}
+static const is_vertex_shader vs_raw_color = {.name = "raw_color", .main = vs_raw_color_main,
+                                              .outputs = IS_OUT_COLOR0};
+
+/* COLOR0 is saturated per vertex before it is interpolated, as D3D9 does: a vertex colour of 2 (red) and -1
+ * (green) counts as 1 and 0, so at the centroid of a triangle with the other two vertices black the red is about
+ * a third (85 of 255), not two thirds (170, interpolating 2 and clamping the pixel). */
+static void test_colors_saturated_per_vertex(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    is_vertex_buffer *vb;
+    assert_int_equal(dev_create_vertex_buffer(dev, 3 * 24, &vb), IS_OK);
+    float (*v)[6] = vb_lock(vb);   /* x, y, then the colour r, g, b, a */
+    const float tri[3][6] = {{2, 2, 2, -1, 0, 1}, {60, 2, 0, 0, 0, 1}, {2, 60, 0, 0, 0, 1}};
+    memcpy(v, tri, sizeof tri);
+    static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                           {0, 8, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_raw_color);
+    dev_set_stream_source(dev, 0, vb, 0, 24);
+    dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    const rs_target *rt = dev_render_target(dev);
+    uint32_t px = rt->color[21 * W + 21];   /* the centroid (21.3, 21.3) */
+    print_message("  centroid: red %u, green %u\n", px & 0xff, (px >> 8) & 0xff);
+    assert_true((px & 0xff) >= 80 && (px & 0xff) <= 90);
+    assert_int_equal((px >> 8) & 0xff, 0);
+    decl_release(decl);
+    vb_release(vb);
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -712,7 +753,7 @@ int main(void)
         cmocka_unit_test(test_render_state_defaults_documented), cmocka_unit_test(test_get_render_target_data),
         cmocka_unit_test(test_resource_ownership), cmocka_unit_test(test_instance_count_rules),
         cmocka_unit_test(test_getters), cmocka_unit_test(test_clear_viewport_and_rects),
-        cmocka_unit_test(test_runtime_state_values),       cmocka_unit_test(test_instanced_fetch_order),
+        cmocka_unit_test(test_runtime_state_values), cmocka_unit_test(test_colors_saturated_per_vertex),       cmocka_unit_test(test_instanced_fetch_order),
         cmocka_unit_test(test_draw_errors),         cmocka_unit_test(test_strip_fan),
         cmocka_unit_test(test_math),                cmocka_unit_test(test_grid),
     };
