@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -435,6 +436,22 @@ static void test_scripted_runs_end(void **state)
     assert_int_equal(run_in_dir(&err, "view --no-hud --size 48x48 --patch smooth --keys t"), 0);
     assert_non_null(strstr(err, "path: no other value works with the rest of this state (--path npatch-mode and cpu "
                                 "draw the N-Patch"));
+    /* capture paths: a symbolic link or a folder is refused before the window opens, and left as it was */
+    assert_true(prog_write_text(dir, "target.txt", "keep\n"));
+    char link[600], target[600], folder[600];
+    prog_path(dir, "link.png", link, sizeof link);
+    prog_path(dir, "target.txt", target, sizeof target);
+    prog_path(dir, "folder.png", folder, sizeof folder);
+    assert_int_equal(symlink(target, link), 0);
+    assert_int_equal(mkdir(folder, 0755), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --size 48x48 --capture link.png"), 1);
+    assert_non_null(strstr(err, "link.png: is a symbolic link"));
+    assert_int_equal(run_in_dir(&err, "view -q --size 48x48 --capture folder.png"), 1);
+    assert_non_null(strstr(err, "folder.png: is a directory"));
+    size_t n = 0;
+    unsigned char *kept = prog_slurp(target, &n);
+    assert_true(kept && n == 5 && memcmp(kept, "keep\n", 5) == 0);
+    free(kept);
     /* the key names the help prints are the names --keys takes: PgUp, PgDn and Esc too */
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 48x48 --keys PgUp,PgDn,pgup,Esc"), 0);
     assert_int_equal(run_in_dir(&err, "-q --size 48x48 -o cli.png"), 0);
