@@ -39,11 +39,14 @@ LDLIBS_IMG  = $(shell pkg-config --libs OpenImageIO 2>/dev/null) -lstdc++
 CXXFLAGS_IMG = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 LDLIBS_MESH = $(shell pkg-config --libs assimp 2>/dev/null) -lmeshoptimizer -lstdc++
 LDLIBS_TEST = $(shell pkg-config --libs cmocka 2>/dev/null)
+# PNG files are written and read through libpng (image/image_png.c), linked into the library: two small
+# libraries instead of OpenImageIO's ~260 for the format every render and golden uses.
+LDLIBS_PNG  = $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng16)
 # --as-needed: link only what is used.  OpenImageIO is not linked into the programs at all: the image codec is
 # the module libinstess_codec.so (image/image_oiio.cpp), opened on the first image call (image/image_codec.c);
 # programs export their symbols to it (-rdynamic).
 LDFLAGS  ?= -fopenmp -Wl,--as-needed
-LDLIBS   = $(LDLIBS_MESH) -lm
+LDLIBS   = $(LDLIBS_MESH) $(LDLIBS_PNG) -lm
 PROG_LDFLAGS = -rdynamic
 
 LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c image/*.c tess/*.c)
@@ -180,7 +183,7 @@ sanitize: $(SETUP)
 VG_BIN   = $(B)/tests/valgrind/instess
 $(VG_BIN): $(B)/cli/run/main.o $(B)/libinstess_app.a $(filter-out $(B)/image/image_codec.o,$(LIB_OBJ)) \
           $(B)/tests/valgrind/codec_raw.o
-	$(CC) $(LDFLAGS) $^ $(LDLIBS_MESH) -lm -o $@
+	$(CC) $(LDFLAGS) $^ $(LDLIBS_MESH) $(LDLIBS_PNG) -lm -o $@
 
 valgrind: $(VG_BIN)
 	@bash scripts/setup.sh --sanitize
@@ -241,7 +244,9 @@ $(B)/$(SO_REAL): $(PIC_OBJ)
 $(B)/instess.1: $(B)/instess
 	$(B)/instess --man > $@.tmp && mv $@.tmp $@
 
-# instess.pc: the library links assimp (Requires.private), meshoptimizer, OpenMP and libstdc++ (Libs.private);
+# instess.pc: the library links assimp (Requires.private), meshoptimizer, libpng, OpenMP and libstdc++
+# (Libs.private; libpng there, not in Requires.private, whose Cflags pkg-config would add: no installed header
+# includes png.h);
 # a static link must also export the library's image functions to the codec module (-rdynamic).  libdir and
 # includedir are relative to ${prefix} when under it, so `pkg-config --define-variable=prefix=...` finds a
 # staged or moved copy.
@@ -250,7 +255,7 @@ $(B)/instess.pc: Makefile core/api.h $(B)/.codecdir
 	  'includedir=$(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))' '' \
 	  'Name: instess' 'Description: tessellation through instancing on a CPU Direct3D 9-style device' \
 	  'Version: $(VERSION)' 'Requires.private: assimp' 'Cflags: -I$${includedir}' \
-	  'Libs: -L$${libdir} -linstess' 'Libs.private: -rdynamic -lmeshoptimizer -fopenmp -lstdc++ -ldl -lpthread -lm' > $@
+	  'Libs: -L$${libdir} -linstess' 'Libs.private: -rdynamic -lmeshoptimizer $(LDLIBS_PNG) -fopenmp -lstdc++ -ldl -lpthread -lm' > $@
 
 install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(VIEW_SO) $(B)/instess.pc
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(CODECDIR) $(DESTDIR)$(PKGCONFIGDIR) \

@@ -1,9 +1,10 @@
-/* image/image.h -- images in memory (float channels with names), image files through OpenImageIO, and the
- * pixel-diff verdict that golden tests need.
+/* image/image.h -- images in memory (float channels with names), image files (PNG through libpng, EXR and the
+ * rest through OpenImageIO), and the pixel-diff verdict that golden tests need.
  *
  * Conventions: pixels are floats, row-major, top row first, `channels` interleaved; colour channels hold display
  * values in [0, 1].  Functions return 0, or -1 with a message in err (errlen bytes, NUL-terminated); no globals,
- * nothing printed.  OpenImageIO is loaded only on the first codec call (encode, read, compare, text).
+ * nothing printed.  OpenImageIO is loaded only on the first call that needs it (an EXR written or read, a PNG
+ * libpng is not given -- palette, transparency key, under 8 bits --, text): PNG files and comparisons never load it.
  */
 #ifndef INSTESS_IMAGE_H
 #define INSTESS_IMAGE_H
@@ -18,11 +19,12 @@
 extern "C" {
 #endif
 
-/* Two halves: image/image.c holds the pixels and writes one file at a time atomically (image/image.c); the codec (encode into
- * memory, read, compare, text) is image/image_oiio.cpp, the only code that touches OpenImageIO, built as the
- * module libinstess_codec.so that image/image_codec.c opens on the first codec call (so a program that never
- * reads or writes an image never loads OpenImageIO's libraries).  The valgrind stage's build
- * (tests/valgrind/) links another codec with the same five functions in place of image/image_codec.c. */
+/* The parts: image/image.c holds the pixels and writes one file at a time atomically; image/image_png.c encodes
+ * and decodes PNG with libpng; image/image_diff.c compares (image_compare) and draws the diff image; the rest of
+ * the codec (EXR, other formats, text) is image/image_oiio.cpp, the only code that touches OpenImageIO, built as
+ * the module libinstess_codec.so that image/image_codec.c opens on the first call that needs it (OpenImageIO's
+ * ~260 libraries take about 0.4 s to load).  The valgrind stage's build (tests/valgrind/) links another codec
+ * with the same four functions in place of image/image_codec.c. */
 #define IS_IMAGE_MAX_CHANNELS 32
 #define IS_IMAGE_MAX_DIM 65536
 /* The most values (width x height x channels) image_read decodes: 2^28 floats, 1 GiB.  A file declaring more is
@@ -58,14 +60,16 @@ INSTESS_API int image_channel_index(const is_image *img, const char *name);
 /* Fill the channels R, G, B and A of img (those it has) from packed RGBA8 pixels, one per pixel (R in the low
  * byte, as dev_get_render_target_data gives them), each value k becoming k / 255; other channels are left. */
 INSTESS_API void image_from_rgba8(is_image *img, const uint32_t *rgba);
-/* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit RGBA (other channels dropped),
- * .exr RGBA half and other channels float; label names the file in messages.  0 or -1. */
+/* Encode img as fmt into a malloc'd buffer (*bytes, *len; free it): .png 8-bit, its first four channels (1 grey,
+ * 2 grey and alpha, 3 RGB, 4 RGBA; the others dropped), .exr RGBA half and other channels float; label names
+ * the file in messages.  0 or -1. */
 INSTESS_API int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen);
 /* Write one image file: encoded in memory, written to a temporary in the same folder (mkstemp) and renamed onto
  * path, which must be a regular file or absent; nothing is left at path on failure; 0 or -1. */
 INSTESS_API int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
-/* Read any file OpenImageIO reads into floats; 0 or -1.  Only a regular file is opened (a FIFO, a device such as
+/* Read any file OpenImageIO reads into floats (PNGs of 8 or 16 bits without palette or transparency key
+ * through libpng, with the same names and values: Y for grey, k / 255 or k / 65535); 0 or -1.  Only a regular file is opened (a FIFO, a device such as
  * /dev/zero or a folder is refused with what it is); the header is checked first (IS_IMAGE_MAX_DIM,
  * IS_IMAGE_MAX_CHANNELS, IS_IMAGE_MAX_VALUES; deep images, and files of several parts or subimages, are
  * refused: instess reads one flat image), then the pixels are decoded. */
@@ -80,11 +84,12 @@ typedef struct is_image_diff {
     long n_nonfinite;       /* image_check: failing pixels with a non-finite mismatch (NaN in one image only, or an
                                infinity the other image does not hold) */
 } is_image_diff;
-/* Compare a and b (same size and channel count) through OpenImageIO; if diff_path is not NULL, also write a
- * visual diff image there.  Returns 0 when compared (see *res), -1 when they cannot be compared. */
+/* Compare a and b (same size and channel count) as OpenImageIO 2.4's ImageBufAlgo::compare does (the same
+ * numbers, computed here: image/image_diff.c); if diff_path is not NULL, also write a visual diff image there.
+ * Returns 0 when compared (see *res), -1 when they cannot be compared. */
 INSTESS_API int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
                   const char *diff_path, char *err, size_t errlen);
-/* Notes on the above (image/image_oiio.cpp): n_fail / n_warn count PIXELS (a pixel counts once however many of its
+/* Notes on the above (image/image_diff.c): n_fail / n_warn count PIXELS (a pixel counts once however many of its
  * channels exceed the threshold); mean_error is over all values.  The diff image shows the dimmed first image
  * plus |a - b| scaled so the largest difference is full brightness; failing pixels red, warning yellow, from
  * 35% to full brightness by their largest difference over the image's largest (amplified).

@@ -1,10 +1,12 @@
-/* image/image_codec.c -- the image codec, loaded on the first image call: image_encode, image_read,
- * image_compare, image_draw_text and image_text_size (image/image.h) forward to libinstess_codec.so
- * (image/image_oiio.cpp and OpenImageIO), opened with dlopen.
+/* image/image_codec.c -- the image codec, loaded on the first call that needs it: image_encode (EXR), image_read
+ * (every file but the PNGs image/image_png.c decodes), image_draw_text and image_text_size (image/image.h)
+ * forward to libinstess_codec.so (image/image_oiio.cpp and OpenImageIO), opened with dlopen.  PNG files are
+ * written and most are read through libpng (image/image_png.c), and image_compare is C (image/image_diff.c):
+ * neither loads the module.
  *
- * Why: OpenImageIO brings in about 260 shared libraries, and loading them took 0.5 s of every start of the
- * program, also of `--help`, of usage and input errors and of renders that fail before they write.  Now a
- * process loads them only when it encodes, reads, compares or draws text.
+ * Why: OpenImageIO brings in about 260 shared libraries, and loading them takes about 0.4 s (the dynamic
+ * loader binding their symbols).  It was paid by every start of the program, then (with the module) by every
+ * process that touched an image; now only by one that writes or reads an EXR (or an unusual PNG) or draws text.
  *
  * Where the module is looked for, first found wins:
  *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install);
@@ -42,7 +44,6 @@ typedef struct codec_table {
     int (*encode)(const is_image *, is_image_format, const is_image_meta *, const char *, unsigned char **, size_t *,
                   char *, size_t);
     int (*read)(is_image *, const char *, char *, size_t);
-    int (*compare)(const is_image *, const is_image *, float, float, is_image_diff *, const char *, char *, size_t);
     int (*draw_text)(is_image *, int, int, const char *, float, const float[4], char *, size_t);
     int (*text_size)(const char *, float, int *, int *);
     char why[4096];  /* why loading failed, when it did */
@@ -133,12 +134,11 @@ static void load_codec(void)
     codec_table t = {0};
     *(void **)&t.encode = dlsym(h, "codec_encode");
     *(void **)&t.read = dlsym(h, "codec_read");
-    *(void **)&t.compare = dlsym(h, "codec_compare");
     *(void **)&t.draw_text = dlsym(h, "codec_draw_text");
     *(void **)&t.text_size = dlsym(h, "codec_text_size");
     void (*set_host)(const image_codec_host *);
     *(void **)&set_host = dlsym(h, "codec_set_host");
-    if (!t.encode || !t.read || !t.compare || !t.draw_text || !t.text_size || !set_host) {
+    if (!t.encode || !t.read || !t.draw_text || !t.text_size || !set_host) {
         snprintf(g_codec.why, sizeof g_codec.why, "image codec: " CODEC_MODULE " lacks an entry point");
         return;
     }
@@ -159,6 +159,11 @@ static const codec_table *codec(char *err, size_t errlen)
 int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
 {
+    if (fmt == IS_IMAGE_PNG && bytes && len) {   /* PNG: libpng, without loading the module */
+        label = label ? label : "image";
+        *bytes = NULL, *len = 0;
+        return image_valid(img, label, err, errlen) ? image_png_encode(img, meta, label, bytes, len, err, errlen) : -1;
+    }
     const codec_table *c = codec(err, errlen);
     return c ? c->encode(img, fmt, meta, label, bytes, len, err, errlen) : -1;
 }
@@ -178,15 +183,10 @@ int image_read(is_image *img, const char *path, char *err, size_t errlen)
         image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode));
         return -1;
     }
+    int png = img && path && *path ? image_png_read(img, path, err, errlen) : 1;   /* most PNGs: libpng */
+    if (png != 1) return png;
     const codec_table *c = codec(err, errlen);
     return c ? c->read(img, path, err, errlen) : -1;
-}
-
-int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
-                  const char *diff_path, char *err, size_t errlen)
-{
-    const codec_table *c = codec(err, errlen);
-    return c ? c->compare(a, b, fail_thresh, warn_thresh, res, diff_path, err, errlen) : -1;
 }
 
 int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,

@@ -24,6 +24,17 @@ typedef struct image_codec_host {
     int (*write)(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
 } image_codec_host;
 
+/* True if img is an image this library encodes or compares (data, 1..IS_IMAGE_MAX_DIM pixels each way, 1..
+ * IS_IMAGE_MAX_CHANNELS channels); else false with "what: invalid image (...)" in err (image/image_diff.c). */
+bool image_valid(const is_image *img, const char *what, char *err, size_t errlen);
+
+/* PNG through libpng (image/image_png.c): encode img's first four channels as image_encode does for .png; 0 or
+ * -1.  Read path into img: 0, -1 with a message, or 1 when path is not a PNG this file decodes (not a PNG, a
+ * palette or tRNS transparency, fewer than 8 bits, or it cannot be opened): the caller asks the module. */
+int image_png_encode(const is_image *img, const is_image_meta *meta, const char *label, unsigned char **bytes,
+                     size_t *len, char *err, size_t errlen);
+int image_png_read(is_image *img, const char *path, char *err, size_t errlen);
+
 /* printf into err (when err and errlen are given), always NUL-terminated: the message of a failed call. */
 void image_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 

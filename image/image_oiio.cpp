@@ -1,7 +1,11 @@
 // image/image_oiio.cpp -- the image codec through OpenImageIO: encode into memory, read, compare, text.  Built as
-// the module libinstess_codec.so, which image/image_codec.c opens on the first image call (the API is
+// the module libinstess_codec.so, which image/image_codec.c opens on the first call that needs it (the API is
 // image/image.h's image_encode, image_read, ...; here they are codec_*).  The pixels and the writing of files are
-// image/image.c and cli/run/output.c, in C, in the program, which exports them to this module (-rdynamic).
+// image/image.c and cli/run/output.c, in C, whose functions the loader hands over (codec_set_host).
+//
+// The library itself writes PNG and reads most PNGs (image/image_png.c, libpng) and compares (image/image_diff.c)
+// without loading this module: OpenImageIO's libraries take ~0.4 s to load.  This module's PNG paths and
+// codec_compare stay as they were: tests/test_image_codecs.c checks the library's against them, value for value.
 //
 // The only C++ file of the project.  Every entry point is extern "C", catches every exception and reports
 // failures as -1 with a message in err that names the file and the reason.  Encoding goes into memory, not

@@ -5,8 +5,9 @@
 #   - examples/npatch_diff.c built with pkg-config against the staged copy alone, from a folder outside the
 #     repository: the headers it includes and the library it loads are the staged ones (checked with cc -H and
 #     ldd); it matches examples/npatch_diff.png and fails (exit 1, diff image written) on another image;
-#   - the same example linked with the static archive: it finds the codec module through the folder compiled
-#     in from LIBDIR (named in its message), or $INSTESS_CODEC_DIR;
+#   - the same example linked with the static archive: a PNG needs no module (libpng is in the library); for an
+#     EXR it finds the codec module through the folder compiled in from LIBDIR (named in its message), or
+#     $INSTESS_CODEC_DIR;
 #   - the staged program renders (finding its module in ../lib/instess) and compares;
 #   - man -l renders the staged page, which names every option `instess --help` prints;
 #   - a PREFIX of its own is compiled into the module's folder (the man page's FILES names it);
@@ -80,7 +81,7 @@ pc_flags() {
   c=${c% }; l=${l% }   # pkg-config ends its output with a space
   echo "cflags: $c; libs: $l; static: $s"
   [ "$c" = "-I$S/include" ] && [ "$l" = "-L$S/lib -linstess" ] &&
-    [[ "$s" == *-rdynamic* && "$s" == *-lmeshoptimizer* && "$s" == *-lassimp* ]]
+    [[ "$s" == *-rdynamic* && "$s" == *-lmeshoptimizer* && "$s" == *-lassimp* && "$s" == *-lpng16* ]]
 }
 check "pkg-config: flags of the staged copy only (Requires.private, Libs.private)" pc_flags
 
@@ -138,7 +139,7 @@ installed_viewer() {
 check "the installed instess view loads its window module and draws the frame -o draws (dummy display)" installed_viewer
 
 # A module planted in the folder above the program or in the current folder is never loaded: its constructor
-# would run inside instess.
+# would run inside instess.  (-o x.exr: a PNG would not look for the codec module at all.)
 planted_modules() {
   local p="$tmp/plant" marker="$tmp/plant/ran"
   mkdir -p "$p/bin" "$p/cwd" && cp "$S/bin/instess" "$p/bin/" || return 1
@@ -146,7 +147,7 @@ planted_modules() {
     "$marker" > "$p/m.c" && cc -shared -fPIC "$p/m.c" -o "$p/libinstess_codec.so" || return 1
   cp "$p/libinstess_codec.so" "$p/libinstess_view.so" && cp "$p/libinstess_codec.so" "$p/cwd/" &&
     cp "$p/libinstess_view.so" "$p/cwd/" || return 1
-  (cd "$p/cwd" && "$p/bin/instess" --size 16x16 -q -o x.png 2>/dev/null; SDL_VIDEODRIVER=dummy "$p/bin/instess" view \
+  (cd "$p/cwd" && "$p/bin/instess" --size 16x16 -q -o x.exr 2>/dev/null; SDL_VIDEODRIVER=dummy "$p/bin/instess" view \
      -q --frames 1 --size 16x16 2>/dev/null; true)
   [ ! -e "$marker" ] || { echo "a planted module ran"; return 1; }
 }
@@ -154,9 +155,10 @@ check "modules are never loaded from the folder above the program or the current
 
 # The library opened with RTLD_LOCAL (Python's ctypes default, plugin hosts): its symbols are not global, and the
 # codec module it loads on the first image call must still work (it gets the library's functions handed over).
+# An EXR: PNGs are read by the library itself (libpng) and would not load the module.
 rtld_local() {
-  cd "$ex" && "$S/bin/instess" --size 32x32 -q -o local.png &&
-    python3 - "$S/lib/libinstess.so.0" local.png <<'PY'
+  cd "$ex" && "$S/bin/instess" --size 32x32 -q -o local.exr &&
+    python3 - "$S/lib/libinstess.so.0" local.exr <<'PY'
 import ctypes, os, sys
 lib = ctypes.CDLL(sys.argv[1], mode=os.RTLD_LOCAL)
 img = ctypes.create_string_buffer(4096)          # an is_image (smaller than this)
@@ -176,13 +178,14 @@ static_example() {
   cd "$ex" && cc -std=c17 "$root/examples/npatch_diff.c" $(pc --cflags) "$S/lib/libinstess.a" \
        $(pc --static --libs | sed 's/-linstess//') -o npatch_static || return 1
   ! readelf -d npatch_static | grep -q libinstess || { echo "linked the shared library"; return 1; }
-  if [ ! -e "$prefix/lib/instess/libinstess_codec.so" ]; then   # not installed for real: the compiled-in folder
-    ./npatch_static ref.png 2>err.txt && { echo "found a module without one installed"; return 1; }
+  if [ ! -e "$prefix/lib/instess/libinstess_codec.so" ]; then   # not installed for real: no module to find
+    ./npatch_static ref.png || { echo "a PNG needed the module (libpng is in the library)"; return 1; }
+    ./npatch_static --write ref.exr 2>err.txt && { echo "found a module without one installed"; return 1; }
     grep -q "$prefix/lib/instess" err.txt || { cat err.txt; return 1; }
   fi
-  INSTESS_CODEC_DIR="$S/lib/instess" ./npatch_static ref.png
+  INSTESS_CODEC_DIR="$S/lib/instess" ./npatch_static --write ref.exr && [ -s ref.exr ]
 }
-check "example: static archive, module by the compiled-in LIBDIR or INSTESS_CODEC_DIR" static_example
+check "example: static archive: PNG without the module, EXR with it (compiled-in LIBDIR or INSTESS_CODEC_DIR)" static_example
 
 staged_program() {
   cd "$ex" && "$S/bin/instess" --mesh octahedron --size 64x64 -q -o a.png && "$S/bin/instess" compare a.png a.png

@@ -312,9 +312,10 @@ static void test_command_line_conventions(void **state)
     assert_false(exists("x.png"));
 }
 
-/* The image codec (OpenImageIO) is a module loaded on the first image call: a copy of the program without
- * the module beside it still answers --help and --version (which names the libraries) and reports usage
- * errors, and a render fails with exit 1 naming the module, writing nothing. */
+/* The image codec (OpenImageIO) is a module loaded on the first call that needs it: a copy of the program
+ * without the module beside it still answers --help and --version (which names the libraries), reports usage
+ * errors, renders and compares PNGs (libpng, in the program), and an EXR render fails with exit 1 naming the
+ * module, writing nothing. */
 static void test_codec_loaded_on_demand(void **state)
 {
     (void)state;
@@ -334,7 +335,13 @@ static void test_codec_loaded_on_demand(void **state)
     snprintf(cmd, sizeof cmd, "%s --patch curvy -o %s/x.png 2>%s", copy, dir, err_path);
     int st = system(cmd);
     assert_int_equal(WEXITSTATUS(st), 2);
-    snprintf(cmd, sizeof cmd, "%s --size 16x16 -q -o %s/x.png 2>%s", copy, dir, err_path);
+    snprintf(cmd, sizeof cmd, "%s --size 16x16 -q -o %s/x.png 2>%s && %s compare %s/x.png %s/x.png >/dev/null 2>>%s",
+             copy, dir, err_path, copy, dir, dir, err_path);
+    assert_int_equal(system(cmd), 0);
+    assert_true(exists("x.png"));
+    snprintf(cmd, sizeof cmd, "%s/x.png", dir);
+    unlink(cmd);
+    snprintf(cmd, sizeof cmd, "%s --size 16x16 -q -o %s/x.exr 2>%s", copy, dir, err_path);
     st = system(cmd);
     assert_int_equal(WEXITSTATUS(st), 1);
     FILE *f = fopen(err_path, "r");
@@ -344,7 +351,7 @@ static void test_codec_loaded_on_demand(void **state)
     msg[n] = 0;
     print_message("  without the module: %s", msg);
     assert_non_null(strstr(msg, "cannot load libinstess_codec.so"));
-    assert_false(exists("x.png"));
+    assert_false(exists("x.exr"));
     snprintf(cmd, sizeof cmd, "rm -rf %s/lonely", dir);
     assert_int_equal(system(cmd), 0);
 }

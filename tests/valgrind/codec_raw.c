@@ -1,5 +1,6 @@
-/* tests/valgrind/codec_raw.c -- the image codec of the valgrind build: the five codec functions of image/image.h
- * without OpenImageIO, linked in place of image/image_oiio.cpp.
+/* tests/valgrind/codec_raw.c -- the image codec of the valgrind build: the four codec functions of image/image.h
+ * (encode, read, text) without OpenImageIO or libpng, linked in place of image/image_codec.c; image_compare is
+ * the library's own (image/image_diff.c, C).
  *
  * Why: OpenImageIO loads libjxl and with it libhwy, whose start-up code executes RDTSCP; valgrind 3.19's
  * emulated CPU claims RDTSCP on machines that lack it (AMD EPYC here), and every process that loads libhwy
@@ -9,8 +10,8 @@
  * "Encoding" writes the image exactly as it is in memory, whatever the extension: a text header
  * "instess-raw 1\n<width> <height> <channels>\n<name>,<name>,...\n" then width*height*channels floats in the
  * machine's byte order.  tests/valgrind.sh compares the file of a run under memcheck with the file of the same
- * run without valgrind, byte for byte.  Reading gives the image back; comparison and text are not needed by
- * the scenes valgrind runs and fail with a message. */
+ * run without valgrind, byte for byte.  Reading gives the image back; text is not needed by the scenes
+ * valgrind runs and fails with a message. */
 #include "../../core/core.h"
 #include "../../image/image.h"
 
@@ -52,13 +53,6 @@ int image_read(is_image *img, const char *path, char *err, size_t errlen)
     if (f) fclose(f);
     if (!ok) image_free(img), SET_ERR("%s: not an instess-raw image", path);
     return ok ? 0 : -1;
-}
-
-int image_compare(const is_image *a, const is_image *b, float fail_thresh, float warn_thresh, is_image_diff *res,
-                  const char *diff_path, char *err, size_t errlen)
-{
-    (void)a, (void)b, (void)fail_thresh, (void)warn_thresh, (void)res, (void)diff_path;
-    return SET_ERR("image_compare: not in the valgrind build (no OpenImageIO)"), -1;
 }
 
 int image_draw_text(is_image *img, int x, int y, const char *text, float size_px, const float rgba[4], char *err,
