@@ -34,6 +34,22 @@ is_image_format image_format_of(const char *path)
     return !strcmp(low, ".png") ? IS_IMAGE_PNG : !strcmp(low, ".exr") ? IS_IMAGE_EXR : IS_IMAGE_NONE;
 }
 
+int image_file_channel_count(int channels, is_image_format fmt)
+{
+    return fmt == IS_IMAGE_PNG ? (channels < 4 ? channels : 4) : fmt == IS_IMAGE_EXR ? channels : 0;
+}
+
+size_t image_file_channels(const is_image *img, is_image_format fmt, char *buf, size_t len)
+{
+    size_t n = 0;
+    if (len) buf[0] = 0;
+    for (int c = 0; c < image_file_channel_count(img->channels, fmt); c++) {
+        int k = snprintf(n < len ? buf + n : NULL, n < len ? len - n : 0, "%s%s", c ? "," : "", img->channel_names[c]);
+        if (k > 0) n += (size_t)k;
+    }
+    return n;
+}
+
 int image_check_path(const char *path, char *err, size_t errlen)
 {
     if (!path || !*path) return image_set_err(err, errlen, "empty image path"), -1;

@@ -102,7 +102,7 @@ static void encode_rows(png_structp p, png_infop info, const is_image *img, cons
 int image_png_encode(const is_image *img, const is_image_meta *meta, const char *label, unsigned char **bytes,
                      size_t *len, char *err, size_t errlen)
 {
-    int nch = img->channels < 4 ? img->channels : 4;
+    int nch = image_file_channel_count(img->channels, IS_IMAGE_PNG);
     png_ctx ctx = {""};
     png_out out = {0};
     unsigned char *row = malloc((size_t)img->width * 4);

@@ -2,7 +2,9 @@
  * (cli/run/options.c): every option that changes pixels (rendered, to find out) is described and changes the
  * description, and the others do not, so
  * "same description, same pixels" holds.  (`--wire-levels on` and `off` once gave different pixels and the same
- * description: the description was a hand-written list that missed the option.) */
+ * description: the description was a hand-written list that missed the option.)  The description is stored
+ * whole, however long its names, and ends with the channels the file holds: a PNG's four, an EXR's all (an EXR
+ * with every AOV once had its description cut mid-name, and a PNG's listed a Z channel it did not hold). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -10,12 +12,17 @@
 #include <cmocka.h>
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 char *strtok_r(char *str, const char *delim, char **saveptr);   /* POSIX */
 
 #include "../cli/run/scene.h"
 #include "../image/image.h"
+#include "util/prog.h"
+
+#define ALL_AOVS "R,G,B,A,Z,N.X,N.Y,N.Z,bary.X,bary.Y,bary.Z,instance,gregory.X,gregory.Y,gregory.Z,depth"
 
 /* A value for each option that differs from the default (NULL for a flag); every option of the table must have
  * a row here, so a new option is described (or declared pixel-neutral) on purpose. */
@@ -68,7 +75,7 @@ static bool other_pixels(const scene_opts *base, const scene_opts *o, const is_m
 }
 
 /* The description of o for the octahedron. */
-static void describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len) { scene_describe(o, m, buf, len); }
+static void describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len) { scene_describe(o, m, NULL, buf, len); }
 
 static void test_every_pixel_option_is_described(void **state)
 {
@@ -133,9 +140,89 @@ static void test_wire_levels_described(void **state)
     mesh_free(&m);
 }
 
+/* The description of a file: whole with a 3000-character --displace path, its length what scene_describe says,
+ * ending with the channels the file holds (PNG: R,G,B,A of an image that has Z and AOVs too; EXR: all). */
+static void test_description_whole(void **state)
+{
+    (void)state;
+    is_mesh m;
+    is_image img;
+    char err[256], path[3001];
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);
+    assert_int_equal(image_alloc(&img, 4, 4, ALL_AOVS, err, sizeof err), 0);
+    memset(path, 'd', sizeof path - 5);
+    memcpy(path + sizeof path - 5, ".png", 5);
+    scene_opts o;
+    scene_opts_default(&o);
+    o.displace = path;
+    char *exr = scene_describe_file(&o, &m, &img, IS_IMAGE_EXR), *png = scene_describe_file(&o, &m, &img, IS_IMAGE_PNG);
+    assert_true(exr && png);
+    assert_int_equal(strlen(exr), scene_describe(&o, &m, ALL_AOVS, NULL, 0));
+    assert_non_null(strstr(exr, path));
+    size_t ne = strlen(exr), np = strlen(png), tail = strlen(", channels " ALL_AOVS);
+    assert_true(ne > tail && !strcmp(exr + ne - tail, ", channels " ALL_AOVS));
+    assert_true(np > 20 && !strcmp(png + np - strlen(", channels R,G,B,A"), ", channels R,G,B,A"));
+    assert_null(strstr(png, "R,G,B,A,Z"));
+    char small[64];   /* a short buffer: cut, NUL-terminated, and the whole length still returned */
+    assert_int_equal(scene_describe(&o, &m, "R", small, sizeof small), scene_describe(&o, &m, "R", NULL, 0));
+    assert_int_equal(strlen(small), sizeof small - 1);
+    free(exr);
+    free(png);
+    image_free(&img);
+    mesh_free(&m);
+}
+
+/* The ImageDescription OpenImageIO's iinfo reads from path (malloc'd), or NULL. */
+static char *stored_description(const char *path)
+{
+    char cmd[1024], line[16384];
+    snprintf(cmd, sizeof cmd, "iinfo -v '%s' 2>&1", path);
+    FILE *p = popen(cmd, "r");
+    char *desc = NULL;
+    while (p && fgets(line, sizeof line, p))
+        if (!desc && strstr(line, "ImageDescription: \"")) {
+            char *s = strchr(line, '"') + 1, *e = strrchr(line, '"');
+            if (e > s) desc = strndup(s, (size_t)(e - s));
+        }
+    if (p) pclose(p);
+    return desc;
+}
+
+/* The program's files: an EXR with every AOV, rendered from a mesh in a folder with a 200-character name, stores
+ * the mesh's path and the whole channel list; the PNG of the same render lists R,G,B,A. */
+static void test_file_descriptions(void **state)
+{
+    (void)state;
+    char dir[256], sub[256], cmd[2400], mesh[800], p[512];
+    const char *err;
+    assert_int_equal(prog_mkdtemp(dir, "describe"), 0);
+    memset(sub, 'm', 200);
+    sub[200] = 0;
+    snprintf(mesh, sizeof mesh, "%s/%s/box.obj", dir, sub);
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s/%s' && cp tests/data/meshes/box.obj '%s'", dir, sub, mesh);
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(prog_run(dir, &err, "", "-q --size 24x24 --aov normal,bary,instance,gregory,depth '%s' -o %s/a.exr",
+                              mesh, dir), 0);
+    assert_int_equal(prog_run(dir, &err, "", "-q --size 24x24 '%s' -o %s/a.png", mesh, dir), 0);
+    char *exr = stored_description(prog_path(dir, "a.exr", p, sizeof p));
+    char *png = stored_description(prog_path(dir, "a.png", p, sizeof p));
+    if (!exr || !png) fail_msg("no description read back (is iinfo installed? scripts/setup.sh installs it)");
+    print_message("  EXR: ...%s\n", exr + strlen(exr) - 80);
+    size_t tail = strlen(", channels " ALL_AOVS);
+    assert_true(strlen(exr) > tail && !strcmp(exr + strlen(exr) - tail, ", channels " ALL_AOVS));
+    assert_non_null(strstr(exr, sub));
+    assert_true(!strcmp(png + strlen(png) - strlen(", channels R,G,B,A"), ", channels R,G,B,A"));
+    assert_null(strstr(png, ",Z"));
+    free(exr);
+    free(png);
+    prog_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_description_whole),
+        cmocka_unit_test(test_file_descriptions),
         cmocka_unit_test(test_every_pixel_option_is_described),
         cmocka_unit_test(test_wire_levels_described),
     };

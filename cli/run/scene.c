@@ -4,7 +4,9 @@
 
 #include "../../core/hlsl.h"
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -1152,16 +1154,44 @@ static uint64_t mesh_hash(const is_mesh *m)
     return fnv1a(h, m->indices, 3 * m->n_triangles * sizeof *m->indices);
 }
 
-void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len)
+/* printf at buf[*n], as much as fits in len; *n grows by the whole length (as snprintf counts it). */
+static void append(char *buf, size_t len, size_t *n, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+static void append(char *buf, size_t len, size_t *n, const char *fmt, ...)
 {
-    int n = snprintf(buf, len, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx)", INSTESS_VERSION,
-                     m->name, m->n_triangles, (unsigned long long)mesh_hash(m));
-    char value[256];
-    for (size_t k = 0; k < scene_option_count && n >= 0 && (size_t)n < len; k++) {
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(*n < len ? buf + *n : NULL, *n < len ? len - *n : 0, fmt, ap);
+    va_end(ap);
+    if (k > 0) *n += (size_t)k;
+}
+
+size_t scene_describe(const scene_opts *o, const is_mesh *m, const char *channels, char *buf, size_t len)
+{
+    size_t n = 0;
+    if (len) buf[0] = '\0';
+    append(buf, len, &n, "instess %s render: mesh %s (%zu triangles, FNV-1a 0x%016llx)", INSTESS_VERSION, m->name,
+           m->n_triangles, (unsigned long long)mesh_hash(m));
+    char value[PATH_MAX + 128];   /* a value may hold a path (--displace) */
+    for (size_t k = 0; k < scene_option_count; k++) {
         const scene_option *opt = &scene_options[k];
         const char *v = opt->value ? opt->value(o, value, sizeof value) : NULL;
-        if (v) n += snprintf(buf + n, len - (size_t)n, ", %s %s", opt->name, v);
+        if (v) append(buf, len, &n, ", %s %s", opt->name, v);
     }
+    if (channels) append(buf, len, &n, ", channels %s", channels);
+    return n;
+}
+
+char *scene_describe_file(const scene_opts *o, const is_mesh *m, const is_image *img, is_image_format fmt)
+{
+    size_t nc = image_file_channels(img, fmt, NULL, 0);
+    char *channels = malloc(nc + 1);
+    if (!channels) return NULL;
+    image_file_channels(img, fmt, channels, nc + 1);
+    size_t n = scene_describe(o, m, channels, NULL, 0);
+    char *desc = malloc(n + 1);
+    if (desc) scene_describe(o, m, channels, desc, n + 1);
+    free(channels);
+    return desc;
 }
 
 /* Claim the run's outputs (the image, then the export) before any work; 0 or -1 with a message. */
@@ -1194,10 +1224,11 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     double t1 = now_seconds();
     scene_progress_phase(pr, "writing");
     if (rc == 0) {
-        char desc[2048];
-        scene_describe(o, m, desc, sizeof desc);
+        char *desc = scene_describe_file(o, m, &img, image_format_of(o->output));
         is_image_meta meta = {"instess " INSTESS_VERSION, desc};
-        rc = image_write_output(outs, 0, &img, &meta, err, errlen);
+        rc = desc ? image_write_output(outs, 0, &img, &meta, err, errlen)
+                  : (snprintf(err, errlen, "out of memory for the image's description"), -1);
+        free(desc);
     }
     image_free(&img);
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);

@@ -113,8 +113,14 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
 /* The canonical description of a render of mesh m, stored in its image (ImageDescription): the mesh's name,
  * size and hash, then every option of the table (cli/run/options.c) that changes pixels with its value ("patch
  * smooth, level 8, ..."): not the thread count, the output's name or the time, so that two runs of one render
- * write the same bytes, and two renders with the same description have the same pixels. */
-void scene_describe(const scene_opts *o, const is_mesh *m, char *buf, size_t len);
+ * write the same bytes, and two renders with the same description have the same pixels; then, when channels is
+ * not NULL, "channels " and that list (what the file holds).  As much as fits in buf[len] (NUL-terminated when
+ * len > 0); the length of the whole description, as snprintf. */
+size_t scene_describe(const scene_opts *o, const is_mesh *m, const char *channels, char *buf, size_t len);
+/* The whole description of a render of m written as img into a file of format fmt: scene_describe with the
+ * channels that file holds (image_file_channels: a PNG's first four, an EXR's all).  malloc'd (free it), or
+ * NULL when out of memory. */
+char *scene_describe_file(const scene_opts *o, const is_mesh *m, const is_image *img, is_image_format fmt);
 
 /* What a render did (for statistics and the benchmark).  Adaptive renders also count their edges per level
  * (level_hist[l]: mesh edges at level l), buckets (draw calls per pass) and patterns. */

@@ -518,16 +518,21 @@ int view_write_png(const view_state *v, const uint32_t *pixels, bool cli_equal, 
                    size_t errlen)
 {
     is_image img = {0};
-    char desc[2400], scene[2048];
-    scene_describe(&v->o, &v->mesh, scene, sizeof scene);
-    if (cli_equal) snprintf(desc, sizeof desc, "%s", scene);
-    else snprintf(desc, sizeof desc, "instess view frame (%s%s%s%s): %s", show_names[v->show],
-                  v->split ? ", split with " : "", v->split ? vs_patch_name(v->other) : "",
-                  v->hud != VIEW_HUD_OFF ? ", HUD" : "", scene);
     if (image_alloc(&img, v->o.width, v->o.height, cli_equal ? "R,G,B,A,Z" : "R,G,B,A", err, errlen) != 0) return -1;
     image_from_rgba8(&img, pixels);
+    char *scene = scene_describe_file(&v->o, &v->mesh, &img, IS_IMAGE_PNG), *desc = NULL;
+    if (scene && cli_equal) desc = scene, scene = NULL;
+    else if (scene) {   /* what the frame shows, then the scene */
+        size_t n = strlen(scene) + 160;
+        if ((desc = malloc(n)))
+            snprintf(desc, n, "instess view frame (%s%s%s%s): %s", show_names[v->show], v->split ? ", split with " : "",
+                     v->split ? vs_patch_name(v->other) : "", v->hud != VIEW_HUD_OFF ? ", HUD" : "", scene);
+    }
     is_image_meta meta = {"instess " INSTESS_VERSION, desc};
-    int rc = outputs_write_image(&img, path, &meta, err, errlen);
+    int rc = desc ? outputs_write_image(&img, path, &meta, err, errlen)
+                  : (snprintf(err, errlen, "out of memory for the image's description"), -1);
+    free(scene);
+    free(desc);
     image_free(&img);
     return rc;
 }
