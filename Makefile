@@ -4,7 +4,8 @@
 #   make figures    render every figure of the source documents into out/ with out/index.html
 #   make test       build and run every test (tests/run.sh prints "N passed, N failed")
 #   make install    install the library, headers, instess.pc, the program and its man page under PREFIX
-#                   (default /usr/local; DESTDIR stages it, e.g. make install DESTDIR=/tmp/stage);
+#                   (default /usr/local; DESTDIR stages it, e.g. make install DESTDIR=/tmp/stage), and the
+#                   Python package python/instess where Debian's python3 finds it (PYTHONDIR);
 #                   make uninstall removes exactly those files
 #   make bench      the benchmark of docs/design.md, section 6, against Mesa's llvmpipe
 #   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
@@ -73,7 +74,8 @@ CFLAGS_SDL = $(shell pkg-config --cflags sdl2 SDL2_ttf 2>/dev/null)
 LDLIBS_SDL = $(shell pkg-config --libs sdl2 SDL2_ttf 2>/dev/null)
 SETUP    = $(B)/.setup-done
 
-.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean install uninstall install-check FORCE
+.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean install uninstall install-check \
+        python-check FORCE
 .SECONDARY:
 .DEFAULT_GOAL := all
 
@@ -145,8 +147,9 @@ $(HOOKS_BIN): $(B)/cli/run/main.o $(B)/cli/run/output.hooks.o $(B)/libinstess_ap
 $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) $(TEST_MODULES)
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
-# make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
-# UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
+# make test = the unit, numerical and golden tests, the staged install, the Python package's tests, then the same
+# tests built with AddressSanitizer and UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.
+# make test-unit runs only the first part.
 # (+: the nested makes of tests/all.sh share this make's jobserver, so -j passes through without a warning)
 test:
 	+@MAKE="$(MAKE)" bash tests/all.sh
@@ -214,11 +217,16 @@ CODECDIR    = $(LIBDIR)/instess
 SO_NAME     = libinstess.so.$(SOVERSION)
 SO_REAL     = libinstess.so.$(VERSION)
 PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
+# The Python package (python/instess) goes where Debian's python3 finds it: PREFIX/lib/python3.X/dist-packages
+# (/usr/local/lib/python3.11/dist-packages and /usr/lib/python3.11/dist-packages are both on its path).
+PYTHON     ?= /usr/bin/python3
+PYTHONDIR  ?= $(PREFIX)/lib/python$(shell $(PYTHON) -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null || echo 3)/dist-packages
 PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h raster/raster.h vs/vs.h \
               meshes/meshes.h image/image.h tess/tess.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so $(CODECDIR)/libinstess_view.so \
-              $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%)
+              $(CODECDIR)/libinstess_run.so $(PKGCONFIGDIR)/instess.pc $(PUB_HDR:%=$(INCLUDEDIR)/instess/%) \
+              $(PYTHONDIR)/instess/__init__.py $(PYTHONDIR)/instess/_paths.py
 
 # The module's folder as compiled in: the stamp changes (and image_codec.o is rebuilt) only when it does.
 $(B)/.codecdir: FORCE
@@ -240,6 +248,14 @@ $(B)/pic/%.o: %.c $(SETUP)
 $(B)/$(SO_REAL): $(PIC_OBJ)
 	$(CC) -shared -Wl,-soname,$(SO_NAME) -Wl,-z,defs $(LDFLAGS) $^ $(LDLIBS) -ldl -lpthread -o $@
 
+# The program's render as one library call (cli/run/render_call.c, scene_render_args) for the Python package:
+# the module libinstess_run.so, cli/run/ built again with -fPIC and hidden symbols (only scene_render_args is
+# exported), linked against libinstess.so (DT_NEEDED libinstess.so.0, found beside it: RUNPATH $ORIGIN/..).
+RUN_SRC     = $(filter-out cli/run/main.c,$(wildcard cli/run/*.c))
+RUN_SO      = $(B)/libinstess_run.so
+$(RUN_SO): $(RUN_SRC:%.c=$(B)/pic/%.o) $(B)/$(SO_REAL)
+	$(CC) -shared -Wl,-z,defs -Wl,-rpath,'$$ORIGIN/..' $(LDFLAGS) $^ $(LDLIBS) -o $@
+
 # The man page, from the program's own tables (the same that print --help).
 $(B)/instess.1: $(B)/instess
 	$(B)/instess --man > $@.tmp && mv $@.tmp $@
@@ -257,9 +273,10 @@ $(B)/instess.pc: Makefile core/api.h $(B)/.codecdir
 	  'Version: $(VERSION)' 'Requires.private: assimp' 'Cflags: -I$${includedir}' \
 	  'Libs: -L$${libdir} -linstess' 'Libs.private: -rdynamic -lmeshoptimizer $(LDLIBS_PNG) -fopenmp -lstdc++ -ldl -lpthread -lm' > $@
 
-install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(VIEW_SO) $(B)/instess.pc
+install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_SO) $(VIEW_SO) $(RUN_SO) $(B)/instess.pc
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(CODECDIR) $(DESTDIR)$(PKGCONFIGDIR) \
-	    $(DESTDIR)$(MANDIR)/man1 $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR)))
+	    $(DESTDIR)$(MANDIR)/man1 $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR))) \
+	    $(DESTDIR)$(PYTHONDIR)/instess
 	install -m 755 $(B)/instess $(DESTDIR)$(BINDIR)/instess
 	install -m 644 $(B)/instess.1 $(DESTDIR)$(MANDIR)/man1/instess.1
 	install -m 755 $(B)/$(SO_REAL) $(DESTDIR)$(LIBDIR)/$(SO_REAL)
@@ -268,18 +285,27 @@ install: $(B)/instess $(B)/instess.1 $(B)/$(SO_REAL) $(B)/libinstess.a $(CODEC_S
 	install -m 644 $(B)/libinstess.a $(DESTDIR)$(LIBDIR)/libinstess.a
 	install -m 755 $(CODEC_SO) $(DESTDIR)$(CODECDIR)/libinstess_codec.so
 	install -m 755 $(VIEW_SO) $(DESTDIR)$(CODECDIR)/libinstess_view.so
+	install -m 755 $(RUN_SO) $(DESTDIR)$(CODECDIR)/libinstess_run.so
+	install -m 644 python/instess/__init__.py $(DESTDIR)$(PYTHONDIR)/instess/__init__.py
+	printf '%s\n' '# Where make install put the libraries (python/instess/__init__.py looks here first).' \
+	  "LIBDIR = '$(LIBDIR)'" "MODULEDIR = '$(CODECDIR)'" > $(DESTDIR)$(PYTHONDIR)/instess/_paths.py
 	install -m 644 $(B)/instess.pc $(DESTDIR)$(PKGCONFIGDIR)/instess.pc
 	for h in $(PUB_HDR); do install -m 644 $$h $(DESTDIR)$(INCLUDEDIR)/instess/$$h || exit 1; done
 
 # Removes the files install writes, then the folders it made if they are empty.
 uninstall:
 	rm -f $(addprefix $(DESTDIR),$(INSTALLED))
+	rm -rf $(DESTDIR)$(PYTHONDIR)/instess/__pycache__
 	-rmdir $(addprefix $(DESTDIR)$(INCLUDEDIR)/instess/,$(dir $(PUB_HDR))) $(DESTDIR)$(INCLUDEDIR)/instess \
-	    $(DESTDIR)$(CODECDIR) 2>/dev/null || true
+	    $(DESTDIR)$(CODECDIR) $(DESTDIR)$(PYTHONDIR)/instess 2>/dev/null || true
 
 # The staged install, the example built against it with pkg-config, each installed header alone, the man page.
 install-check: $(B)/instess
 	@bash tests/install_check.sh
+
+# The Python package's tests (python/tests, pytest with Debian's python3) on this build's library.
+python-check: $(B)/$(SO_REAL) $(RUN_SO) $(B)/instess
+	@INSTESS_LIBDIR=$(B) INSTESS_BIN=$(B)/instess PYTHON=$(PYTHON) bash tests/python_check.sh
 
 figures: $(B)/instess
 	@mkdir -p out

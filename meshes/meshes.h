@@ -155,7 +155,7 @@ INSTESS_API int mesh_builtin(const char *name, is_mesh *out, char *err, size_t e
 /* Same, with options (recompute_normals, warnings). */
 INSTESS_API int mesh_builtin_ex(const char *name, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* The built-in names, NULL-terminated (a const table). */
-const char *const *mesh_builtin_names(void);
+INSTESS_API const char *const *mesh_builtin_names(void);
 
 /* Import any format assimp 5.2 reads, by extension.  Post-processing: Triangulate, ValidateDataStructure and
  * ConvertToLeftHanded (= MakeLeftHanded: z -> -z, FlipWindingOrder, FlipUVs), which turns assimp's

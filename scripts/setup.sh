@@ -24,6 +24,9 @@ have_pc SDL2_ttf || need+=(libsdl2-ttf-dev)
 command -v man >/dev/null 2>&1 || need+=(man-db)
 command -v groff >/dev/null 2>&1 || need+=(groff-base)
 command -v readelf >/dev/null 2>&1 || need+=(binutils)
+# the Python package (python/instess) and its tests run on Debian's python3 with its numpy and pytest
+/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1 || need+=(python3-numpy)
+/usr/bin/python3 -c 'import pytest' >/dev/null 2>&1 || need+=(python3-pytest)
 if [ "${1:-}" = "--bench" ]; then
   have_pc egl || need+=(libegl-dev)
   have_pc gl || need+=(libgl-dev)

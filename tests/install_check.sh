@@ -10,6 +10,8 @@
 #     $INSTESS_CODEC_DIR;
 #   - the staged program renders (finding its module in ../lib/instess) and compares;
 #   - man -l renders the staged page, which names every option `instess --help` prints;
+#   - the Python package: staged where Debian's python3 looks, it renders and compares with the staged
+#     library; installed into a PREFIX of its own, it finds the library there by itself;
 #   - a PREFIX of its own is compiled into the module's folder (the man page's FILES names it);
 #   - make uninstall leaves no file behind.
 # Prints "install: N passed, M failed"; exit status 1 when M > 0.
@@ -38,7 +40,8 @@ $make --no-print-directory install DESTDIR="$stage" PREFIX=$prefix >"$tmp/instal
 S=$stage$prefix
 files_installed() {
   for f in bin/instess share/man/man1/instess.1 lib/libinstess.so.0.1.0 lib/libinstess.a \
-           lib/instess/libinstess_codec.so lib/instess/libinstess_view.so lib/pkgconfig/instess.pc \
+           lib/instess/libinstess_codec.so lib/instess/libinstess_view.so lib/instess/libinstess_run.so \
+           lib/pkgconfig/instess.pc \
            include/instess/core/core.h \
            include/instess/core/api.h include/instess/core/math.h include/instess/core/device.h \
            include/instess/core/texture.h \
@@ -209,6 +212,44 @@ man_page() {
   grep -qe "--failpercent P" <<<"$text" && grep -q "$prefix/lib/instess/libinstess_codec.so" <<<"$text"
 }
 check "man -l renders the page; it names every option of --help" man_page
+
+# The Python package: installed where Debian's python3 finds it (PREFIX/lib/python3.X/dist-packages, on its
+# path for /usr/local), and, imported from the stage, it renders and compares with the staged library.
+py=${PYTHON:-/usr/bin/python3}
+pydir=$("$py" -c 'import sys; print("lib/python%d.%d/dist-packages" % sys.version_info[:2])' 2>/dev/null)
+python_staged() {
+  [ -f "$S/$pydir/instess/__init__.py" ] && [ -f "$S/$pydir/instess/_paths.py" ] || { echo "no package in $S/$pydir"; return 1; }
+  "$py" -c "import sys; sys.exit('$prefix/$pydir' not in sys.path)" || { echo "$prefix/$pydir: not on $py's path"; return 1; }
+  cd "$ex" && "$S/bin/instess" --size 48x32 -q -o py.png &&
+    INSTESS_LIBDIR="$S/lib" PYTHONPATH="$S/$pydir" PYTHONDONTWRITEBYTECODE=1 "$py" - "$S" <<'PY'
+import sys, instess
+assert instess._lib._name.startswith(sys.argv[1] + "/lib/"), instess._lib._name
+assert instess._run._name == sys.argv[1] + "/lib/instess/libinstess_run.so", instess._run._name
+r = instess.compare(instess.render("--size", "48x32"), "py.png")
+assert r, r
+PY
+}
+check "python: the staged package renders and compares with the staged library (INSTESS_LIBDIR)" python_staged
+
+# Installed for real into a PREFIX of its own: the package finds the library where make install put it, alone.
+python_prefix() {
+  local o="$tmp/py" rc
+  $make --no-print-directory install PREFIX="$o" >"$tmp/install3.log" 2>&1 || { cat "$tmp/install3.log"; return 1; }
+  (cd "$ex" && env -u INSTESS_LIBDIR -u INSTESS_CODEC_DIR PYTHONPATH="$o/$pydir" PYTHONDONTWRITEBYTECODE=1 "$py" - "$o" <<'PY'
+import sys, instess
+assert instess._lib._name.startswith(sys.argv[1] + "/lib/"), instess._lib._name
+img = instess.render("--size", "32x24", "--aov", "depth", format="exr")   # the EXR through the installed codec
+assert "depth" in img.channels, img
+PY
+  )
+  rc=$?
+  $make --no-print-directory uninstall PREFIX="$o" >/dev/null 2>&1
+  local left
+  left=$(find "$o" -type f -o -type l 2>/dev/null)
+  [ -z "$left" ] || { echo "left behind: $left"; return 1; }
+  return $rc
+}
+check "python: installed into a PREFIX, the package finds its library there (_paths.py); uninstall removes it" python_prefix
 
 other_prefix() {
   local o=/opt/instess-check

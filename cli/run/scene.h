@@ -238,6 +238,16 @@ is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_g
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
+/* (cli/run/render_call.c) What `instess ARGV -o FILE` writes into a file of format fmt (IS_IMAGE_PNG or
+ * IS_IMAGE_EXR: the colour of that format), rendered into img (allocated: image_free it) and not written: the
+ * render options of argv[0..argc-1] (no program name; -o, --export-obj and --stats are refused), checked as the
+ * program checks them.  img holds the program's channels (R, G, B, A, Z and the AOVs); a PNG file holds the
+ * first four of them, an EXR all (image_file_channels).  The mesh loader's warnings and what was changed from
+ * what was asked (a level outside a primitive-generator grid's range) go to notes, one per line; nothing is
+ * printed.  0, or -1 with the usage or input error in err.  Exported by libinstess_run.so (the Python package);
+ * one call at a time (the options are parsed with getopt). */
+INSTESS_API int scene_render_args(int argc, const char *const argv[], is_image_format fmt, is_image *img,
+                                  char *notes, size_t notes_len, char *err, size_t errlen);
 
 /* ------------- the command line (cli/run/options.c): one table for getopt, --help, the man page ------------- */
 
