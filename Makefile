@@ -16,8 +16,11 @@
 #   into FMA behind our back, so the scalar reference path and the SIMD path round identically and images are
 #   the same bytes on every machine of this kind.
 
-# All cores unless the caller chose a -j (or a parent make's jobserver is shared with this one).
-ifeq ($(filter -j%,$(MAKEFLAGS))$(findstring jobserver,$(MAKEFLAGS)),)
+# All cores by default.  Only the top-level make sets it: a -j on its command line wins over this default (GNU
+# make 4.3 does not show -j or the jobserver in MAKEFLAGS while it reads the makefile, so they cannot be tested
+# here), and a nested make (tests/all.sh's stages, the sanitizer build) shares its parent's jobserver -- setting
+# -j there too made each of them print "warning: -jN forced in makefile: resetting jobserver mode".
+ifeq ($(MAKELEVEL),0)
 MAKEFLAGS += -j$(shell nproc)
 endif
 
@@ -156,6 +159,7 @@ test:
 
 test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
+	@bash tests/make_check.sh
 	@bash tests/run.sh $(TEST_BIN)
 
 # The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
