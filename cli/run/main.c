@@ -25,7 +25,8 @@ static const scene_subcommand subcommands[] = {
      "For every built-in mesh and patch, the angle between the surface normals on the two sides of each shared "
      "edge and the largest bulge, as a Markdown table.", NULL, NULL},
     {"compare", scene_cmd_compare, "A B [--diff FILE] [--fail T] [--failpercent P]",
-     "Compare two image files as the golden tests do (OpenImageIO's comparison): print the number of pixels, "
+     "Compare two image files as the golden tests do (OpenImageIO 2.4's comparison, computed without loading it): "
+     "print the number of pixels, "
      "the largest difference with its pixel and channel, the mean difference and the count of failing pixels.",
      scene_compare_options,
      "0 identical or within the thresholds, 1 different, 2 usage error, 3 the sizes or channels differ, 4 an "
@@ -55,7 +56,7 @@ static void print_version(FILE *f)
     char mesh_libs[128];
     mesh_library_versions(mesh_libs, sizeof mesh_libs);
     fprintf(f, "instess %s\nbuilt with gcc %s, OpenMP %d, %s, OpenImageIO %s (in the module libinstess_codec.so, "
-               "loaded on the first image)\n", INSTESS_VERSION, __VERSION__, _OPENMP, mesh_libs,
+               "loaded on the first EXR or text; PNG through libpng)\n", INSTESS_VERSION, __VERSION__, _OPENMP, mesh_libs,
             image_codec_build_version());
     fprintf(f, "rasterizer kernels on this CPU: %s (the same bytes as every other)\n", rs_isa_name(rs_isa_best()));
 }
