@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# tests/valgrind.sh BIN -- run the renderer on a few scenes under valgrind (memcheck): no errors, no definite
-# leaks, and the same image as the same run without valgrind.  BIN is the valgrind build of instess
-# (tests/valgrind/codec_raw.c: no OpenImageIO in the process).  Ends with "valgrind: N passed, N failed".
+# tests/valgrind.sh BIN -- run the renderer on a few scenes, and compare on PNGs, under valgrind (memcheck): no
+# errors, no definite leaks, and the same files as the same run without valgrind.  BIN is the valgrind build of
+# instess (tests/valgrind/codec_raw.c: no OpenImageIO in the process; PNG through libpng as in the program).  Ends with "valgrind: N passed, N failed".
 set -u
 bin=${1:-build/tests/valgrind/instess}
 out=$(mktemp -d /tmp/instess-vg-XXXXXX)
@@ -46,6 +46,10 @@ run pn-aen-aov  0 --mesh cylinder --patch pn-aen --level 4 --size 48x48 --msaa 1
 run pg-grid     0 --mesh octahedron --patch phong --grid pg-fractional-odd --level 3.5 --size 64x64 -q -o @f.png
 run obj-import  0 --mesh tests/data/meshes/box.obj --patch smooth --normals real --level 4 --size 48x48 -q -o @g.png
 run bad-mesh    1 --mesh "$out/missing.obj" -q -o @h.png   # an input error: exit 1, no valgrind error, no file
+# compare (image_compare in C) on PNGs read through libpng; a difference writes its diff image as PNG
+g=tests/golden
+run compare-same 0 compare $g/batch-cube-npatch-linear.png $g/batch-cube-npatch-linear.png
+run compare-diff 1 compare $g/batch-cube-npatch-linear.png $g/batch-cube-npatch-quadratic.png --diff @d.png
 if [ -n "$(ls -A "$out" | grep -v '\.log$')" ]; then fail "outputs left behind: $(ls -A "$out")"; fi
 echo "valgrind: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

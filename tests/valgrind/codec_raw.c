@@ -1,19 +1,20 @@
 /* tests/valgrind/codec_raw.c -- the image codec of the valgrind build: the four codec functions of image/image.h
- * (encode, read, text) without OpenImageIO or libpng, linked in place of image/image_codec.c; image_compare is
- * the library's own (image/image_diff.c, C).
+ * (encode, read, text) without OpenImageIO, linked in place of image/image_codec.c.  PNG goes through the
+ * library's own libpng code (image/image_png.c) as in the program, and image_compare is the library's (C), so
+ * memcheck sees both; every other file is "encoded" raw, as below.
  *
  * Why: OpenImageIO loads libjxl and with it libhwy, whose start-up code executes RDTSCP; valgrind 3.19's
  * emulated CPU claims RDTSCP on machines that lack it (AMD EPYC here), and every process that loads libhwy
  * dies of SIGILL under valgrind before main.  The renderer's own code -- device, rasterizer, shaders, meshes,
  * the program's paths and its output files -- is all the same in this build; only the encoding differs.
  *
- * "Encoding" writes the image exactly as it is in memory, whatever the extension: a text header
+ * "Encoding" (not PNG) writes the image exactly as it is in memory, whatever the extension: a text header
  * "instess-raw 1\n<width> <height> <channels>\n<name>,<name>,...\n" then width*height*channels floats in the
  * machine's byte order.  tests/valgrind.sh compares the file of a run under memcheck with the file of the same
  * run without valgrind, byte for byte.  Reading gives the image back; text is not needed by the scenes
  * valgrind runs and fails with a message. */
 #include "../../core/core.h"
-#include "../../image/image.h"
+#include "../../image/image_internal.h"   /* image_png_encode, image_png_read */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,7 +26,7 @@
 int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
 {
-    (void)fmt, (void)meta;
+    if (fmt == IS_IMAGE_PNG) return image_png_encode(img, meta, label ? label : "image", bytes, len, err, errlen);
     char head[64 + IS_IMAGE_MAX_CHANNELS * 16];
     int n = snprintf(head, sizeof head, "instess-raw 1\n%d %d %d\n", img->width, img->height, img->channels);
     for (int c = 0; c < img->channels; c++)
@@ -42,6 +43,8 @@ int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *
 
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
+    int png = image_png_read(img, path, err, errlen);
+    if (png != 1) return png;
     memset(img, 0, sizeof *img);
     FILE *f = fopen(path, "rb");
     int w, h, c;
