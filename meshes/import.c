@@ -390,6 +390,25 @@ static int import_error(const import_src *src, const mesh_io *io, const char *la
     return io->refusal[0] ? IS_MESH_ERR_IO : IS_MESH_ERR_FORMAT;
 }
 
+/* assimp's loaders that meet a face index past the end of their vertices clamp it, log an error and go on (OFF
+ * and MD2 among them; meshes/import_check.c names the face for those before the import): an import during which
+ * such an error is logged fails with it.  The first message is kept. */
+typedef struct index_log { char msg[300]; } index_log;
+
+/* assimp's log callback (user: the index_log): keep the first error about an index out of range. */
+static void on_assimp_log(const char *message, char *user)
+{
+    index_log *l = (index_log *)(void *)user;
+    if (l->msg[0] || strncmp(message, "Error", 5) != 0 || (!strstr(message, "index") && !strstr(message, "Index")) ||
+        (!strstr(message, "out of range") && !strstr(message, "outside the allowed range")))
+        return;
+    const char *m = strstr(message, ": ");   /* "Error, T0: MD2: Vertex index is outside the allowed range\n" */
+    char text[300];
+    snprintf(text, sizeof text, "%s", m ? m + 2 : message);
+    text[strcspn(text, "\r\n")] = '\0';
+    mesh_sanitize(l->msg, sizeof l->msg, text, 250);
+}
+
 /* Import with assimp in this process through meshes/import_io.c's file system and merge the scene into o
  * (arrays owned by o); a file refused by an import that still succeeded goes to note[notelen]. */
 static int import_merged(const import_src *src, const char *label, merged *o, char *note, size_t notelen,
@@ -405,8 +424,18 @@ static int import_merged(const import_src *src, const char *label, merged *o, ch
         if (src->guard) mem_grow(src->guard, src->size);
     }
     if (src->guard) io.on_file = mem_grow, io.on_file_user = src->guard;
+    index_log ilog = {""};
+    struct aiLogStream stream = {on_assimp_log, (char *)&ilog};
+    aiAttachLogStream(&stream);
     const struct aiScene *sc = aiImportFileEx(mesh_io_name(&io), IMPORT_FLAGS, &io.fio);
+    aiDetachLogStream(&stream);
     if (!sc) return import_error(src, &io, label, err, errlen);
+    if (ilog.msg[0]) {
+        aiReleaseImport(sc);
+        mesh_set_err(err, errlen, "%s: a face names a vertex (or texture coordinate) the file does not have; assimp "
+                     "would have used another in its place (assimp: %s)", label, ilog.msg);
+        return IS_MESH_ERR_INVALID;
+    }
     int rc = merge_scene(o, sc, label, err, errlen);
     aiReleaseImport(sc);
     if (rc == IS_MESH_ERR_NOMEM && src->guard && src->guard->active)
@@ -809,12 +838,12 @@ static const char *ext_of(const char *path)
     return dot && (!slash || dot > slash) ? dot + 1 : "";
 }
 
-/* The face indices of a text OFF or OBJ file of `size` bytes (mesh_check_face_indices); other formats pass
- * unread. */
+/* The face indices of a text OFF or OBJ file or an MD2 file of `size` bytes (mesh_check_face_indices); other
+ * formats pass unread. */
 static int check_file_indices(const char *path, const char *label, uint64_t size, char *err, size_t errlen)
 {
     const char *ext = ext_of(path);
-    if (strcasecmp(ext, "off") != 0 && strcasecmp(ext, "obj") != 0) return IS_MESH_OK;
+    if (strcasecmp(ext, "off") != 0 && strcasecmp(ext, "obj") != 0 && strcasecmp(ext, "md2") != 0) return IS_MESH_OK;
     size_t n;
     int rc = IS_MESH_OK;
     unsigned char *data = read_prefix(path, label, (size_t)size, &n, &rc, err, errlen);

@@ -325,10 +325,40 @@ static int check_obj_faces(const unsigned char *data, size_t n, const char *labe
     return IS_MESH_OK;
 }
 
+/* A little-endian 32-bit integer at p. */
+static int32_t le32(const unsigned char *p)
+{
+    return (int32_t)((uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24);
+}
+
+/* MD2 (Quake II, binary): every triangle's three vertex indices and three texture coordinate indices name one
+ * of the file's; assimp 5.2 clamps one past the end to the last without a word.  The header (magic "IDP2",
+ * counts and offsets as little-endian ints: num_vertices at byte 24, num_st 28, num_tris 32, ofs_tris 52), then
+ * num_tris triangles of six unsigned 16-bit indices (vertices, then texture coordinates).  A file whose
+ * triangles lie outside it passes (assimp refuses it). */
+static int check_md2_faces(const unsigned char *data, size_t n, const char *label, char *err, size_t errlen)
+{
+    if (n < 68 || memcmp(data, "IDP2", 4) != 0) return IS_MESH_OK;
+    int32_t nv = le32(data + 24), nst = le32(data + 28), nt = le32(data + 32), ofs = le32(data + 52);
+    if (nv < 0 || nst < 0 || nt < 0 || ofs < 0 || (uint64_t)ofs + 12u * (uint64_t)nt > n) return IS_MESH_OK;
+    for (int32_t t = 0; t < nt; t++)
+        for (int k = 0; k < 6; k++) {
+            const unsigned char *p = data + ofs + 12 * (size_t)t + 2 * (size_t)k;
+            int32_t idx = p[0] | p[1] << 8, count = k < 3 ? nv : nst;
+            if (idx < count) continue;
+            mesh_set_err(err, errlen, "%s: triangle %ld, corner %d names %s %ld, but the file has %ld (0..%ld)", label,
+                         (long)t, k % 3, k < 3 ? "vertex" : "texture coordinate", (long)idx, (long)count,
+                         (long)(count ? count - 1 : 0));
+            return IS_MESH_ERR_INVALID;
+        }
+    return IS_MESH_OK;
+}
+
 /* mesh_check_face_indices: see mesh_internal.h. */
 int mesh_check_face_indices(const unsigned char *data, size_t n, const char *ext, const char *label, char *err,
                             size_t errlen)
 {
     if (ext && strcasecmp(ext, "obj") == 0) return check_obj_faces(data, n, label, err, errlen);
+    if (ext && strcasecmp(ext, "md2") == 0) return check_md2_faces(data, n, label, err, errlen);
     return check_off_faces(data, n, label, err, errlen);
 }

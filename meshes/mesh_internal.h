@@ -89,10 +89,11 @@ const char *mesh_io_name(const mesh_io *io);
 int mesh_check_header(const unsigned char *head, size_t n, uint64_t file_size, const char *label, char *err,
                       size_t errlen);
 
-/* The face indices of a text OFF or OBJ file (data[0..n), ext its extension without the dot, or NULL): every
- * corner names a vertex of the file (assimp 5.2 clamps an OFF index past the end without a word).  Other formats
- * pass (assimp's validation refuses their out-of-range indices).  0 or IS_MESH_ERR_INVALID with a message naming
- * label, the line, the face and the index. */
+/* The face indices of a text OFF or OBJ file or a binary MD2 file (data[0..n), ext its extension without the
+ * dot, or NULL): every corner names a vertex of the file (assimp 5.2 clamps an OFF or MD2 index past the end
+ * without a word).  Other formats pass (assimp's validation refuses their out-of-range indices, and an import
+ * whose loader logs a clamped index fails: meshes/import.c).  0 or IS_MESH_ERR_INVALID with a message naming
+ * label, the line (text) or triangle, the face and the index. */
 int mesh_check_face_indices(const unsigned char *data, size_t n, const char *ext, const char *label, char *err,
                             size_t errlen);
 

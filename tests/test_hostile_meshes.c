@@ -355,8 +355,22 @@ static void test_declared_sizes(void **state)
     unlink(p);
 }
 
+/* faerie.md2 (the assimp test model) with triangle t's corner k index (k 0..2 vertex, 3..5 texture coordinate)
+ * set to v, written as dir/name. */
+static void write_md2_with(const char *name, int t, int k, unsigned v)
+{
+    size_t n;
+    unsigned char *d = prog_slurp("/usr/share/assimp/models/MD2/faerie.md2", &n);
+    assert_true(d && n > 68);
+    unsigned ofs = d[52] | d[53] << 8 | (unsigned)d[54] << 16 | (unsigned)d[55] << 24;
+    d[ofs + 12 * t + 2 * k] = (unsigned char)v, d[ofs + 12 * t + 2 * k + 1] = (unsigned char)(v >> 8);
+    write_bytes(name, d, n);
+    free(d);
+}
+
 /* A face naming a vertex the file does not have: refused with the file, line, face and index (assimp 5.2 clamps
- * an OFF index past the end to the last vertex and renders without a word; its OBJ message names neither). */
+ * an OFF or MD2 index past the end to the last vertex and renders without a word; its OBJ message names
+ * neither). */
 static void test_face_indices(void **state)
 {
     (void)state;
@@ -370,6 +384,10 @@ static void test_face_indices(void **state)
     expect_error("m/back.obj", "", "line 3: face 0, corner 2 names vertex -3", NULL);
     write_text("m/zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
     expect_error("m/zero.obj", "", "line 4: face 0, corner 0 names vertex 0", NULL);
+    write_md2_with("m/far.md2", 5, 1, 416);   /* faerie.md2 has 366 vertices and 487 texture coordinates */
+    expect_error("m/far.md2", "", "triangle 5, corner 1 names vertex 416, but the file has 366 (0..365)", NULL);
+    write_md2_with("m/far_uv.md2", 653, 5, 60000);
+    expect_error("m/far_uv.md2", "", "triangle 653, corner 2 names texture coordinate 60000, but the file has 487", NULL);
     /* in range, relative and absolute: renders */
     write_text("m/fine.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf -4 -3 -1\nf 1 2 4\nf 2 3 4\n");
     write_text("m/fine.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
