@@ -158,6 +158,8 @@ test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 # libstdc++ at start: ASan finds the real __cxa_throw only if it is there before the codec module is opened.
 # The codec module (C++) is built without -fsanitize=function: its calls into the library go through the table
 # the loader hands it (codec_set_host), and that check needs the C++ UBSan runtime, which the C programs lack.
+# allocator_may_return_null: an allocation ASan cannot make (the API walkers ask for SIZE_MAX bytes) returns NULL,
+# as malloc does, so the library's out-of-memory paths run instead of ASan's report.
 SAN      = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
            -fno-omit-frame-pointer
 SAN_B    = build-asan
@@ -168,7 +170,7 @@ sanitize: $(SETUP)
 	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN) -fno-sanitize=vptr,function" \
 	    LDFLAGS="-fopenmp -Wl,--no-as-needed -lstdc++ -Wl,--as-needed $(SAN)" \
 	    $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess $(SAN_B)/tests/instess-hooks
-	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1:allocator_may_return_null=1 \
 	 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp \
 	 INSTESS_BIN=$(SAN_B)/instess INSTESS_HOOKS_BIN=$(SAN_B)/tests/instess-hooks TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
 	 bash tests/run.sh $(TEST_BIN:$(B)/%=$(SAN_B)/%)
