@@ -172,6 +172,8 @@ static const char *kind_of(mode_t m)
 
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
+    if (img) memset(img, 0, sizeof *img);
+    if (!img || !path || !*path) return image_set_err(err, errlen, "image_read: NULL image or empty path"), -1;
     struct stat st;   /* a FIFO would block the reader, /dev/zero never ends: refused before opening */
     if (path && *path && stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
         if (img) memset(img, 0, sizeof *img);
