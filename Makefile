@@ -150,6 +150,7 @@ test:
 
 test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
+	@bash tests/check_api_walkers.sh
 	@bash tests/run.sh $(TEST_BIN)
 
 # The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
