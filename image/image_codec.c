@@ -159,6 +159,9 @@ static const codec_table *codec(char *err, size_t errlen)
 int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
 {
+    if (fmt != IS_IMAGE_PNG && fmt != IS_IMAGE_EXR)   /* before the C++ side, where another value is no enum's */
+        return image_set_err(err, errlen, "%s: image_encode: format %d is neither PNG nor EXR", label ? label : "image",
+                             (int)fmt), -1;
     const codec_table *c = codec(err, errlen);
     return c ? c->encode(img, fmt, meta, label, bytes, len, err, errlen) : -1;
 }

@@ -83,6 +83,7 @@ static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod
         float4 v = mul4(f4_of(mid, 1.0f), &p->world_view);
         return v.z > 0.0f ? clamp_level(p, (double)p->max_level * p->ref_depth / v.z) : p->max_level;
     }
+    if (!(p->target_px > 0.0f)) return p->max_level;   /* no pixels per segment (0, negative, NaN): the finest */
     float3 q[4];
     edge_polygon(pa, e->nrm[k][0], pb, e->nrm[k][1], q);
     double len = 0.0, x0, y0, x1, y1;

@@ -138,6 +138,7 @@ static void test_changed_meshes(void **state)
     is_patch_instance inst;
     assert_int_equal(mesh_build_instances(&empty, &inst), 0);
     assert_int_equal(mesh_stats(&empty).triangles, 0);
+    mesh_free(&empty);
     (void)mesh_compute_face_normal((float3){0, 0, 0}, (float3){0, 0, 0}, (float3){0, 0, 0});
     (void)mesh_compute_face_normal((float3){NAN, 0, 0}, (float3){INFINITY, 1, 0}, (float3){FLT_MAX, -FLT_MAX, 0});
     float3 f = mesh_compute_face_normal((float3){0, 0, 0}, (float3){0, 1e-30f, 0}, (float3){1e-30f, 0, 0});
