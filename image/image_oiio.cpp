@@ -207,9 +207,10 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
             n = "channel" + std::to_string(c);  // unnamed or unrepresentable: name it by position
         names += (c ? "," : "") + n;
     }
-    if (H().alloc(img, spec.width, spec.height, names.c_str(), err, errlen) != 0) {
-        set_err(err, errlen, "%s: unsupported channel names \"%s\" (at most 15 characters each)", path,
-                names.c_str());
+    char why[512] = "";
+    if (H().alloc(img, spec.width, spec.height, names.c_str(), why, sizeof why) != 0) {
+        // image_alloc says which: channel names it cannot hold, or no memory for the pixels
+        set_err(err, errlen, "%s: %s", path, why);
         return -1;
     }
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, img->data)) {

@@ -652,8 +652,13 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
     for (size_t k = 0; k < 4; k++)
-        if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
-                                                       aov_slots[k].comps);
+        if ((aovs & aov_slots[k].bit) && rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 +
+                                                           aov_slots[k].slot, aov_slots[k].comps) != RS_OK) {
+            /* a plane missing would leave its channels silently empty in the image */
+            snprintf(err, errlen, "out of memory for the AOV planes of a %dx%d target", o->width, o->height);
+            dev_destroy(dev);
+            return NULL;
+        }
     return dev;
 }
 
