@@ -112,24 +112,35 @@ char *scene_join_names(const char *const *names, const char *sep, char *buf, siz
     return buf;
 }
 
-/* A whole decimal integer in [lo, hi]. */
+bool scene_plain_number(const char *s)
+{
+    if (!s) return false;
+    const char *p = s + (*s == '+' || *s == '-');
+    if (!((*p >= '0' && *p <= '9') || (*p == '.' && p[1] >= '0' && p[1] <= '9'))) return false;
+    for (; *p && *p != ','; p++)   /* a number of a list ends at its comma */
+        if (!((*p >= '0' && *p <= '9') || *p == '.' || *p == 'e' || *p == 'E' || *p == '+' || *p == '-'))
+            return false;
+    return true;
+}
+
+/* A whole decimal integer in [lo, hi], written plainly (scene_plain_number). */
 bool scene_parse_int(const char *s, int lo, int hi, int *out)
 {
     char *end;
     errno = 0;
-    long v = s ? strtol(s, &end, 10) : 0;
-    if (!s || end == s || *end || errno || v < lo || v > hi) return false;
+    long v = scene_plain_number(s) ? strtol(s, &end, 10) : 0;
+    if (!scene_plain_number(s) || end == s || *end || errno || v < lo || v > hi) return false;
     *out = (int)v;
     return true;
 }
 
-/* A finite number in [lo, hi]. */
+/* A finite number in [lo, hi], written plainly (scene_plain_number). */
 bool scene_parse_float(const char *s, float lo, float hi, float *out)
 {
     char *end;
     errno = 0;
-    double v = s ? strtod(s, &end) : 0;
-    if (!s || end == s || *end || errno || !isfinite(v) || v < lo || v > hi) return false;
+    double v = scene_plain_number(s) ? strtod(s, &end) : 0;
+    if (!scene_plain_number(s) || end == s || *end || errno || !isfinite(v) || v < lo || v > hi) return false;
     *out = (float)v;
     return true;
 }

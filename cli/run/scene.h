@@ -156,6 +156,11 @@ bool scene_parse_path(const char *s, scene_path *out);
 bool scene_parse_fill(const char *s, scene_fill *out);
 bool scene_parse_size(const char *s, int *w, int *h);
 bool scene_parse_msaa(const char *s, int *out);
+/* Whether s starts a number written plainly, up to its end or the next comma: an optional sign, then digits (or a
+ * point and a digit), then only digits, '.', exponents and their signs -- never spaces, hexadecimal, "inf" or
+ * "nan", which strtod would take.  Every numeric option is parsed through it (docs/robustness.md, "Round 3:
+ * library API, viewer and numbers"). */
+bool scene_plain_number(const char *s);
 bool scene_parse_int(const char *s, int lo, int hi, int *out);
 bool scene_parse_float(const char *s, float lo, float hi, float *out);
 bool scene_parse_aovs(const char *s, unsigned *out);
