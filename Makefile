@@ -77,8 +77,8 @@ CFLAGS_SDL = $(shell pkg-config --cflags sdl2 SDL2_ttf 2>/dev/null)
 LDLIBS_SDL = $(shell pkg-config --libs sdl2 SDL2_ttf 2>/dev/null)
 SETUP    = $(B)/.setup-done
 
-.PHONY: all setup test test-unit sanitize valgrind fuzz figures bench goldens clean install uninstall install-check \
-        python-check FORCE
+.PHONY: all setup test test-unit sanitize faults valgrind fuzz figures bench goldens clean install uninstall \
+        install-check python-check FORCE
 .SECONDARY:
 .DEFAULT_GOAL := all
 
@@ -151,8 +151,8 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
 # make test = the unit, numerical and golden tests, the staged install, the Python package's tests, then the same
-# tests built with AddressSanitizer and UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.
-# make test-unit runs only the first part.
+# tests built with AddressSanitizer and UndefinedBehaviorSanitizer (clang), then allocation failure everywhere
+# (make faults), then valgrind on the renderer.  make test-unit runs only the first part.
 # (+: the nested makes of tests/all.sh share this make's jobserver, so -j passes through without a warning)
 test:
 	+@MAKE="$(MAKE)" bash tests/all.sh
@@ -160,6 +160,7 @@ test:
 test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 	@bash tests/check_includes.sh
 	@bash tests/make_check.sh
+	@bash tests/check_api_walkers.sh
 	@bash tests/run.sh $(TEST_BIN)
 
 # The sanitizer build: every test, clang, ASan + UBSan with float-cast-overflow and float-divide-by-zero,
@@ -168,20 +169,41 @@ test-unit: $(TEST_BIN) $(B)/instess $(HOOKS_BIN)
 # libstdc++ at start: ASan finds the real __cxa_throw only if it is there before the codec module is opened.
 # The codec module (C++) is built without -fsanitize=function: its calls into the library go through the table
 # the loader hands it (codec_set_host), and that check needs the C++ UBSan runtime, which the C programs lack.
+# allocator_may_return_null: an allocation ASan cannot make (the API walkers ask for SIZE_MAX bytes) returns NULL,
+# as malloc does, so the library's out-of-memory paths run instead of ASan's report.
 SAN      = -fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all \
            -fno-omit-frame-pointer
 SAN_B    = build-asan
-sanitize: $(SETUP)
-	@bash scripts/setup.sh --sanitize
-	@$(MAKE) --no-print-directory B=$(SAN_B) CC=clang CXX=clang++ OPT=-O1 \
+# The make of the sanitizer build (its targets follow), shared by sanitize and faults.
+SAN_MAKE = $(MAKE) --no-print-directory B=$(SAN_B) CC=clang CXX=clang++ OPT=-O1 \
 	    CFLAGS="$(CFLAGS_BASE) $(SAN) -DINSTESS_CHECKS -Wno-unknown-warning-option" \
 	    CXXFLAGS="-std=c++17 -O1 -g $(ARCH) -ffp-contract=off $(SAN) -fno-sanitize=vptr,function" \
-	    LDFLAGS="-fopenmp -Wl,--no-as-needed -lstdc++ -Wl,--as-needed $(SAN)" \
-	    $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess $(SAN_B)/tests/instess-hooks
-	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
-	 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp \
+	    LDFLAGS="-fopenmp -Wl,--no-as-needed -lstdc++ -Wl,--as-needed $(SAN)"
+SAN_ENV  = ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1:allocator_may_return_null=1 \
+	   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp
+sanitize: $(SETUP)
+	@bash scripts/setup.sh --sanitize
+	@$(SAN_MAKE) $(TEST_BIN:$(B)/%=$(SAN_B)/%) $(SAN_B)/instess $(SAN_B)/tests/instess-hooks
+	@$(SAN_ENV) \
 	 INSTESS_BIN=$(SAN_B)/instess INSTESS_HOOKS_BIN=$(SAN_B)/tests/instess-hooks TEST_LOG_DIR=$(SAN_B)/test-logs TEST_LABEL=sanitize \
 	 bash tests/run.sh $(TEST_BIN:$(B)/%=$(SAN_B)/%)
+
+# The fault-injection build (tests/fault/fault.c): the program of the sanitizer build with every malloc, calloc,
+# realloc, aligned_alloc and strdup of its own objects wrapped, so that INSTESS_FAULT_AT=N fails the N-th.
+# tests/faults.sh runs a render, a compare and an import with N = 1, 2, ... until the operation succeeds: each
+# failure must end in an error message and the error's exit code, with no output written, no leak and no
+# sanitizer report.  It is never the normal program: only this target links fault.o.
+FAULT_WRAP = -Wl,--wrap=malloc,--wrap=calloc,--wrap=realloc,--wrap=aligned_alloc,--wrap=strdup
+FAULT_BIN  = $(B)/tests/instess-faults
+$(FAULT_BIN): $(B)/cli/run/main.o $(B)/tests/fault/fault.o $(B)/libinstess_app.a $(B)/libinstess.a | $(CODEC_SO) \
+              $(VIEW_SO) $(TEST_MODULES)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $(FAULT_WRAP) $^ $(LDLIBS) -o $@
+
+faults: $(SETUP)
+	@bash scripts/setup.sh --sanitize
+	@$(SAN_MAKE) $(SAN_B)/tests/instess-faults
+	@$(SAN_ENV) bash tests/faults.sh $(SAN_B)/tests/instess-faults
 
 # valgrind on the renderer: a few scenes, no errors, no definite leaks.  memcheck runs the instess program
 # built with tests/valgrind/codec_raw.c in place of the OpenImageIO codec (OpenImageIO's libhwy dies of SIGILL

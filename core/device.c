@@ -97,6 +97,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
 
 void dev_reset(is_device *dev)
 {
+    if (!dev_live(dev)) return;
     memset(dev->rs_state, 0, sizeof dev->rs_state);
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);
@@ -108,20 +109,50 @@ void dev_reset(is_device *dev)
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
 }
 
-void dev_resource_added(is_device *dev) { dev->live_resources++; }
-
-void dev_resource_gone(is_device *dev)
+void dev_res_add(is_device *dev, dev_res *r, dev_res_kind kind)
 {
-    if (--dev->live_resources == 0 && dev->destroyed) free(dev);
+    *r = (dev_res){NULL, dev->resources, dev, kind};
+    if (dev->resources) dev->resources->prev = r;
+    dev->resources = r;
 }
 
-/* Destroy the device and the textures it still owns.  Its memory goes at once; the small struct itself stays
- * until its last buffer or declaration is released (the resources' reference, device_internal.h), so a buffer
- * released after dev_destroy finds it. */
+void dev_res_remove(dev_res *r)
+{
+    is_device *dev = r->dev;
+    if (r->prev) r->prev->next = r->next;
+    else dev->resources = r->next;
+    if (r->next) r->next->prev = r->prev;
+    r->prev = r->next = NULL;
+    if (!dev->resources && dev->destroyed) free(dev);
+}
+
+bool dev_res_owns(const is_device *dev, const void *p, dev_res_kind kind)
+{
+    for (const dev_res *r = dev->resources; r; r = r->next)
+        if ((const void *)r == p) return r->kind == kind;
+    return false;
+}
+
+/* Free the memory of a resource still listed when its device is destroyed (its handle stays for its release). */
+static void res_free_contents(dev_res *r)
+{
+    if (r->kind == DEV_RES_VB) {
+        is_vertex_buffer *vb = (is_vertex_buffer *)r;
+        free(vb->data), vb->data = NULL, vb->size = 0;
+    } else if (r->kind == DEV_RES_IB) {
+        is_index_buffer *ib = (is_index_buffer *)r;
+        free(ib->data), ib->data = NULL, ib->size = 0;
+    }
+}
+
+/* Destroy the device and the textures it still owns.  Its memory and its buffers' memory go at once; the small
+ * struct itself stays until its last buffer or declaration is released (the resources' reference,
+ * device_internal.h), so a buffer released after dev_destroy finds it. */
 void dev_destroy(is_device *dev)
 {
     if (!dev || dev->destroyed) return;
     dev_release_textures(dev);
+    for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
     dev->ib = NULL;
     dev->decl = NULL;
@@ -137,14 +168,15 @@ void dev_destroy(is_device *dev)
     free(dev->npatch_lv.p);
     free(dev->culled.p);
     dev->destroyed = true;
-    if (dev->live_resources == 0) free(dev);
+    if (!dev->resources) free(dev);
 }
 
-const char *dev_last_error(const is_device *dev) { return dev ? dev->err : "no device"; }
+const char *dev_last_error(const is_device *dev) { return dev_live(dev) ? dev->err : "no device"; }
 
 /* Threads for shading and rasterization (0: all cores). */
 void dev_set_threads(is_device *dev, int threads)
 {
+    if (!dev_live(dev)) return;
     dev->threads = threads < 0 ? 0 : threads;
     rs_set_threads(dev->rs, dev->threads);
 }
@@ -152,31 +184,38 @@ void dev_set_threads(is_device *dev, int threads)
 /* The scalar reference path on or off (same bytes either way). */
 void dev_set_reference_path(is_device *dev, bool on)
 {
+    if (!dev_live(dev)) return;
     dev->reference = on;
     rs_set_reference_path(dev->rs, on);
 }
 
-bool dev_reference_path(const is_device *dev) { return dev->reference; }
+bool dev_reference_path(const is_device *dev) { return dev_live(dev) && dev->reference; }
 
 /* The rasterizer's instruction set (core.h). */
-int dev_set_isa(is_device *dev, int isa) { return rs_set_isa(dev->rs, isa) == RS_OK ? 0 : -1; }
+int dev_set_isa(is_device *dev, int isa) { return dev_live(dev) && rs_set_isa(dev->rs, isa) == RS_OK ? 0 : -1; }
 
-int dev_isa(const is_device *dev) { return rs_isa(dev->rs); }
+int dev_isa(const is_device *dev) { return dev_live(dev) ? rs_isa(dev->rs) : -1; }
 
 /* Phase times in dev_stats on or off (device_internal.h). */
 void dev_set_timing(is_device *dev, bool on)
 {
+    if (!dev_live(dev)) return;
     dev->timing = on;
     rs_set_timing(dev->rs, on);
 }
 
 /* Pre-tessellation culling on or off (draw_cull.c). */
-void dev_set_patch_cull(is_device *dev, bool on) { dev->patch_cull = on; }
+void dev_set_patch_cull(is_device *dev, bool on)
+{
+    if (dev_live(dev)) dev->patch_cull = on;
+}
 
 is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl)
 {
-    if (decl && decl->dev != dev)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: the declaration belongs to another device");
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (decl && !dev_res_owns(dev, decl, DEV_RES_DECL))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: not a live declaration of this device (another "
+                        "device's, or released)");
     dev->decl = decl;
     return IS_OK;
 }
@@ -185,12 +224,14 @@ is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl
 is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffer *vb, unsigned offset,
                                 unsigned stride)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (stream >= IS_MAX_STREAMS)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: stream %u >= %d", stream, IS_MAX_STREAMS);
     if (offset % 4)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: offset %u not DWORD-aligned", offset);
-    if (vb && vb->dev != dev)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: the buffer belongs to another device");
+    if (vb && !dev_res_owns(dev, vb, DEV_RES_VB))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: not a live vertex buffer of this device (another "
+                        "device's, or released)");
     dev->streams[stream].vb = vb;
     dev->streams[stream].offset = offset;
     dev->streams[stream].stride = stride;
@@ -205,6 +246,7 @@ is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffe
 is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t setting)
 {
     const uint32_t flags = setting & (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA);
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (stream >= IS_MAX_STREAMS)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u >= %d", stream, IS_MAX_STREAMS);
     if (flags == (IS_STREAMSOURCE_INDEXEDDATA | IS_STREAMSOURCE_INSTANCEDATA))
@@ -219,21 +261,24 @@ is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t s
 
 is_result dev_get_stream_source_freq(const is_device *dev, unsigned stream, uint32_t *setting)
 {
-    if (stream >= IS_MAX_STREAMS || !setting) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || stream >= IS_MAX_STREAMS || !setting) return IS_ERR_INVALIDCALL;
     *setting = dev->streams[stream].freq;
     return IS_OK;
 }
 
 is_result dev_set_indices(is_device *dev, is_index_buffer *ib)
 {
-    if (ib && ib->dev != dev)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetIndices: the buffer belongs to another device");
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (ib && !dev_res_owns(dev, ib, DEV_RES_IB))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetIndices: not a live index buffer of this device (another "
+                        "device's, or released)");
     dev->ib = ib;
     return IS_OK;
 }
 
 is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (vs && !vs->main) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShader: shader '%s' has no function",
                                          vs->name ? vs->name : "?");
     dev->vs = vs;
@@ -243,6 +288,7 @@ is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs)
 /* SetVertexShaderConstantF: count4 float4 registers starting at c[start]. */
 is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const float *data, unsigned count4)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShaderConstantF: registers c%u..c%u out of c0..c%d", start,
                         start + count4 - 1, IS_MAX_VS_CONSTANTS - 1);
@@ -252,7 +298,7 @@ is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const
 
 is_result dev_get_vertex_declaration(const is_device *dev, is_vertex_declaration **decl)
 {
-    if (!dev || !decl) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !decl) return IS_ERR_INVALIDCALL;
     *decl = dev->decl;
     return IS_OK;
 }
@@ -260,7 +306,7 @@ is_result dev_get_vertex_declaration(const is_device *dev, is_vertex_declaration
 is_result dev_get_stream_source(const is_device *dev, unsigned stream, is_vertex_buffer **vb, unsigned *offset,
                                 unsigned *stride)
 {
-    if (!dev || !vb || !offset || !stride || stream >= IS_MAX_STREAMS) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !vb || !offset || !stride || stream >= IS_MAX_STREAMS) return IS_ERR_INVALIDCALL;
     *vb = dev->streams[stream].vb;
     *offset = dev->streams[stream].offset;
     *stride = dev->streams[stream].stride;
@@ -269,21 +315,21 @@ is_result dev_get_stream_source(const is_device *dev, unsigned stream, is_vertex
 
 is_result dev_get_indices(const is_device *dev, is_index_buffer **ib)
 {
-    if (!dev || !ib) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !ib) return IS_ERR_INVALIDCALL;
     *ib = dev->ib;
     return IS_OK;
 }
 
 is_result dev_get_vertex_shader(const is_device *dev, const is_vertex_shader **vs)
 {
-    if (!dev || !vs) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !vs) return IS_ERR_INVALIDCALL;
     *vs = dev->vs;
     return IS_OK;
 }
 
 is_result dev_get_vertex_shader_constant_f(const is_device *dev, unsigned start, float *data, unsigned count4)
 {
-    if (!dev || !data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
+    if (!dev_live(dev) || !data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
         return IS_ERR_INVALIDCALL;
     memcpy(data, &dev->consts.c[start], count4 * sizeof(float4));
     return IS_OK;
@@ -323,6 +369,7 @@ static int state_check(is_rs state, uint32_t v)
  * ADAPTIVETESS_X..W) as their bits. */
 is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     int r = (unsigned)state < IS_RS_COUNT ? state_check(state, value) : STATE_UNKNOWN;
     if (r == STATE_UNKNOWN)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: unknown render state %d (this device implements "
@@ -335,7 +382,7 @@ is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
 
 is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *value)
 {
-    if ((unsigned)state >= IS_RS_COUNT || !value || state_check(state, dev->rs_state[state]) != STATE_OK)
+    if (!dev_live(dev) || (unsigned)state >= IS_RS_COUNT || !value || state_check(state, dev->rs_state[state]) != STATE_OK)
         return IS_ERR_INVALIDCALL;
     *value = dev->rs_state[state];
     return IS_OK;
@@ -344,6 +391,7 @@ is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *valu
 /* SetViewport: must lie inside the target, with 0 <= MinZ <= MaxZ <= 1. */
 is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!vp || vp->width == 0 || vp->height == 0 || vp->x > (uint32_t)dev->rt.width ||
         vp->width > (uint32_t)dev->rt.width - vp->x || vp->y > (uint32_t)dev->rt.height ||
         vp->height > (uint32_t)dev->rt.height - vp->y || !(vp->min_z >= 0.0f) || !(vp->max_z <= 1.0f) ||
@@ -356,7 +404,7 @@ is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
 
 is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
 {
-    if (!vp) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !vp) return IS_ERR_INVALIDCALL;
     *vp = dev->viewport;
     return IS_OK;
 }
@@ -364,16 +412,18 @@ is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
 /* SetNPatchMode: segments < 1 disables; non-finite or huge values are invalid. */
 is_result dev_set_npatch_mode(is_device *dev, float segments)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!isfinite(segments) || segments > 256.0f)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetNPatchMode: %g segments (at most 256)", (double)segments);
     dev->npatch_segments = segments;
     return IS_OK;
 }
 
-float dev_get_npatch_mode(const is_device *dev) { return dev->npatch_segments; }
+float dev_get_npatch_mode(const is_device *dev) { return dev_live(dev) ? dev->npatch_segments : 0.0f; }
 
 is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     dev->npatch_eval = fn;
     return IS_OK;
 }
@@ -388,7 +438,7 @@ static void clear_rect(is_device *dev, is_rect r, unsigned flags, uint32_t rgba,
 
 is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, unsigned flags, uint32_t argb, float z)
 {
-    if (!dev) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER)) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
     if (count == 0 && rects) return IS_OK;   /* the runtime: nothing cleared */
@@ -426,12 +476,13 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
 /* The target, with any deferred clear written (so its planes may be read directly). */
 rs_target *dev_render_target(is_device *dev)
 {
-    if (dev) rs_target_flush(dev->rs, &dev->rt);
+    if (!dev_live(dev)) return NULL;
+    rs_target_flush(dev->rs, &dev->rt);
     return &dev->rt;
 }
 is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count)
 {
-    if (!dev || !rgba) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !rgba) return IS_ERR_INVALIDCALL;
     rs_target *rt = dev_render_target(dev);
     if (count < (size_t)rt->width * (size_t)rt->height) {
         snprintf(dev->err, sizeof dev->err, "GetRenderTargetData: a buffer of %zu pixels for a %dx%d target", count,
@@ -442,9 +493,14 @@ is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t coun
     return IS_OK;
 }
 
-const rs_stats *dev_stats(const is_device *dev) { return &dev->stats; }
-uint64_t dev_vertices_shaded(const is_device *dev) { return dev->shaded; }
-uint64_t dev_instances_culled(const is_device *dev) { return dev->instances_culled; }
+/* The counters; a NULL (or destroyed) device has none: zeros. */
+const rs_stats *dev_stats(const is_device *dev)
+{
+    static const rs_stats none = {0};
+    return dev_live(dev) ? &dev->stats : &none;
+}
+uint64_t dev_vertices_shaded(const is_device *dev) { return dev_live(dev) ? dev->shaded : 0; }
+uint64_t dev_instances_culled(const is_device *dev) { return dev_live(dev) ? dev->instances_culled : 0; }
 
 /* The render-state values dev_rs_state and dev_clear pass to the rasterizer unchanged: D3D9's values on both
  * sides (core.h's IS_*, raster.h's RS_*), tied here so that a change to one side that breaks the other does not

@@ -10,7 +10,13 @@
  *    a D3D9 constant D3DXXX_YYY becomes IS_XXX_YYY (D3DCULL_CCW -> IS_CULL_CCW, D3DRS_CULLMODE -> IS_RS_CULLMODE).
  *    Values of render states equal D3D9's.
  *  - Errors: every dev_* call returns IS_OK (0) or a negative IS_ERR_* code; an invalid call changes nothing and
- *    leaves a message in dev_last_error(dev).
+ *    leaves a message in dev_last_error(dev).  A NULL (or destroyed) device gets IS_ERR_INVALIDCALL, NULL or 0
+ *    from every function, NULL pointers and out-of-range values an error; nothing prints, nothing exits
+ *    (tests/test_api_device.c walks every function).
+ *  - Ownership: buffers and declarations belong to the device that created them, which keeps a registry of the
+ *    live ones; a setter given a handle that is not in it (another device's, released, or no handle at all) refuses
+ *    it without reading it.  A released handle is gone: passing it to its own functions (lock, release) again is
+ *    a use of freed memory, as in D3D9.
  *  - No globals: all state lives in the device (the context passed first).  Threads: dev_set_threads.
  */
 #ifndef INSTESS_CORE_DEVICE_H
@@ -255,9 +261,10 @@ typedef struct is_vertex_declaration is_vertex_declaration;
  * Returns NULL (and a message in err if given) for bad sizes or when out of memory. */
 INSTESS_API is_device *dev_create(int width, int height, int samples, char *err, size_t errlen);
 /* Release the device and the textures it still owns (core/texture.h).  Buffers and declarations belong to their
- * device and hold a reference to it, as in D3D9: releasing one after dev_destroy is safe (the device's memory is
- * freed at once, its last few bytes with its last resource), and a resource of another device is refused by the
- * setters (IS_ERR_INVALIDCALL). */
+ * device and hold a reference to it, as in D3D9: dev_destroy frees the device's memory and the memory of its
+ * buffers still alive at once (their lock then returns NULL, their size 0), and releasing them after dev_destroy
+ * is safe (the small handles go with their release, the device's last few bytes with its last resource).  A
+ * resource of another device, or one released, is refused by the setters (IS_ERR_INVALIDCALL). */
 INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
  * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator);

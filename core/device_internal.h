@@ -12,10 +12,25 @@
 #include <math.h>
 #include <stdarg.h>
 
-/* A resource of dev was created / released (the device's reference count, above); the release of its last
- * resource frees a destroyed device. */
-void dev_resource_added(is_device *dev);
-void dev_resource_gone(is_device *dev);
+/* The device's registry of its live buffers and declarations: every one starts with a dev_res, linked into its
+ * device's list from creation to release.  A handle given to the device is looked up in the list by its address
+ * (never read before it is found there, of the right kind), so a buffer of another device, a released one or a
+ * pointer that names no resource at all is refused without touching its memory.  The registry also counts the
+ * resources' reference to their device (D3D9's): dev_destroy frees the device's memory and the memory of every
+ * resource still listed (their data: lock returns NULL, size 0), and the small structs themselves stay until each
+ * is released -- the device's last few bytes with its last -- so releasing after dev_destroy is safe. */
+typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL } dev_res_kind;
+typedef struct dev_res {
+    struct dev_res *prev, *next;
+    is_device *dev;
+    dev_res_kind kind;
+} dev_res;
+/* Link r (of kind, owned by dev) into dev's registry. */
+void dev_res_add(is_device *dev, dev_res *r, dev_res_kind kind);
+/* Unlink r from its device's registry; frees a destroyed device with its last resource. */
+void dev_res_remove(dev_res *r);
+/* Whether p is a live resource of dev of that kind (p compared, never read). */
+bool dev_res_owns(const is_device *dev, const void *p, dev_res_kind kind);
 
 /* printf into err (when err and errlen are given), always NUL-terminated: the message of a failed call. */
 void core_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -24,13 +39,13 @@ void core_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__(
 static inline int omp_threads(void) { return omp_get_num_procs(); }
 
 struct is_vertex_buffer {
-    is_device *dev;
+    dev_res res;            /* first: the registry's link (res.dev: the device) */
     unsigned char *data;
     size_t size;
 };
 
 struct is_index_buffer {
-    is_device *dev;
+    dev_res res;
     unsigned char *data;
     size_t size;
     is_format format;
@@ -44,7 +59,7 @@ typedef struct decl_element {
 } decl_element;
 
 struct is_vertex_declaration {
-    is_device *dev;
+    dev_res res;
     unsigned n;
     decl_element el[IS_MAX_ELEMENTS];
     uint32_t stream_mask;   /* streams the declaration reads */
@@ -92,10 +107,9 @@ typedef struct scratch_buf {
 } scratch_buf;
 
 struct is_device {
-    /* Resources hold a reference to their device, as D3D9's do: dev_destroy frees the device's memory only when
-     * no buffer or declaration of it is left (the last release frees it then), so releasing a resource after
-     * dev_destroy is safe. */
-    size_t live_resources;
+    /* The registry of live buffers and declarations (dev_res above): they hold a reference to their device, as
+     * D3D9's do, so a destroyed device's struct is freed with its last resource. */
+    dev_res *resources;
     bool destroyed;
     rs_context *rs;
     rs_target rt;
@@ -132,6 +146,10 @@ struct is_device {
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
 };
+
+/* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources
+ * do; every public function treats it as a NULL device: IS_ERR_INVALIDCALL, NULL or 0). */
+static inline bool dev_live(const is_device *dev) { return dev && !dev->destroyed; }
 
 /* Wall-clock milliseconds now when dev times its draws (dev_set_timing), else 0. */
 static inline double dev_clock(const is_device *dev) { return dev->timing ? omp_get_wtime() * 1e3 : 0.0; }

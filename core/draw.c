@@ -382,13 +382,15 @@ static unsigned instance_count(const is_device *dev)
  * non-indexed draws; it draws the one instance and succeeds). */
 is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: no vertex declaration set");
     if (prim_count == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
     if (r != IS_OK) return r;
     size_t n_idx = prim_index_count(type, prim_count);
-    if (n_idx > DRAW_MAX_VERTICES)
-        return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: %zu vertices exceed %u", n_idx, DRAW_MAX_VERTICES);
+    if (n_idx > DRAW_MAX_VERTICES)   /* the device's MaxPrimitiveCount: D3D9 refuses a draw beyond its caps */
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: %zu vertices, more than the %u one draw may read",
+                        n_idx, DRAW_MAX_VERTICES);
     fetch_plan fp;
     r = plan_fetch(dev, "DrawPrimitive", (uint64_t)start_vertex + n_idx - 1, 1, &fp);
     if (r != IS_OK) return r;
@@ -400,15 +402,24 @@ is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_ve
     return draw_shaded(dev, &fp, type, prim_count, start_vertex, (uint32_t)n_idx, seq);
 }
 
-/* Read the draw's indices, check them against [min, min + num) and rebase them to min. */
-static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsigned min, unsigned num,
-                              uint32_t *out)
+/* Whether indices start..start+n_idx-1 lie in the bound index buffer; else the error (checked before the draw
+ * allocates room for them: a count beyond the buffer never sizes an allocation). */
+static is_result check_index_range(is_device *dev, unsigned start, size_t n_idx)
 {
     const is_index_buffer *ib = dev->ib;
     size_t isz = ib->format == IS_FMT_INDEX16 ? 2 : 4;
     if (start > ib->size / isz || n_idx > ib->size / isz - start)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawIndexedPrimitive: indices %u..%zu beyond the %zu-index buffer",
                         start, start + n_idx - 1, ib->size / isz);
+    return IS_OK;
+}
+
+/* Read the draw's indices (in the buffer: check_index_range), check them against [min, min + num) and rebase
+ * them to min. */
+static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsigned min, unsigned num,
+                              uint32_t *out)
+{
+    const is_index_buffer *ib = dev->ib;
     for (size_t k = 0; k < n_idx; k++) {
         uint32_t v = read_index(ib, start + k);
         if (v < min || v - min >= num)
@@ -426,6 +437,7 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                                      unsigned prim_count)
 {
     const char *call = "DrawIndexedPrimitive";
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0 || num_vertices == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, call, type, prim_count);
@@ -440,6 +452,7 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                         base_vertex_index, min_vertex_index);
     unsigned n_inst = instance_count(dev);
     size_t n_idx = prim_index_count(type, prim_count);
+    if ((r = check_index_range(dev, start_index, n_idx)) != IS_OK) return r;
     uint32_t *idx = scratch_get(&dev->idx, n_idx, sizeof *idx);
     if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);
     fetch_plan fp;

@@ -3,10 +3,11 @@
 #include "hlsl.h"
 
 /* Fill bary with the (L+1)(L+2)/2 grid points and idx with L*L triangles (3 indices each); returns the
- * point count.  Point (i, j) is b = ((L-i-j)/L, i/L, j/L): each coordinate is an exact integer over L, so the
+ * point count (0, nothing written, for a level outside 1..CORE_GRID_REGULAR_MAX_LEVEL or a NULL array).  Point (i, j) is b = ((L-i-j)/L, i/L, j/L): each coordinate is an exact integer over L, so the
  * point mirrored along an edge holds the same three floats in swapped positions. */
 size_t core_grid_regular(int level, float3 *bary, uint32_t *idx)
 {
+    if (level < 1 || level > CORE_GRID_REGULAR_MAX_LEVEL || !bary || !idx) return 0;
     const int L = level;
     const float fl = (float)L;
     for (int j = 0; j <= L; j++)

@@ -26,8 +26,14 @@ extern "C" {
  * Each coordinate is computed as (integer)/L, so mirrored points of an edge hold the same floats swapped.
  * bary gets the points, idx gets 3*L*L indices.  Returns the number of points. */
 INSTESS_API size_t core_grid_regular(int level, float3 *bary, uint32_t *idx);
-static inline size_t core_grid_points(int level) { return (size_t)(level + 1) * (size_t)(level + 2) / 2; }
-static inline size_t core_grid_triangles(int level) { return (size_t)level * (size_t)level; }
+/* The largest level core_grid_regular takes (core_grid_index's int arithmetic); beyond it, below 1 or with a NULL
+ * array it writes nothing and returns 0, and the two sizes below are 0 for a level below 1. */
+#define CORE_GRID_REGULAR_MAX_LEVEL 16384
+static inline size_t core_grid_points(int level)
+{
+    return level < 1 ? 0 : (size_t)(level + 1) * (size_t)(level + 2) / 2;
+}
+static inline size_t core_grid_triangles(int level) { return level < 1 ? 0 : (size_t)level * (size_t)level; }
 static inline uint32_t core_grid_index(int level, int i, int j)
 {
     /* rows j = 0..L hold L+1-j points each */
@@ -81,7 +87,8 @@ INSTESS_API int core_grid_adaptive(const int levels[3], core_grid *out);
  * pattern of sort(e) after renumbering its vertices.  core_lod_order gives that renumbering: perm[i] is the
  * triangle's vertex that becomes the pattern's vertex i, so that the triangle's edge (perm[k], perm[k+1]) has
  * level sorted[k]; returns true when perm is odd (a reflection: the pattern's triangles must then be drawn with
- * two indices swapped to keep the mesh's winding).  Ties keep the lower edge first (deterministic). */
+ * two indices swapped to keep the mesh's winding).  Ties keep the lower edge first (deterministic).  A NULL
+ * array: false, nothing written. */
 INSTESS_API bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3]);
 
 /* A lazily filled cache of the patterns of sorted triples, bounded in memory: the patterns held take at most
@@ -97,7 +104,7 @@ INSTESS_API void core_pattern_cache_destroy(core_pattern_cache *c);
 /* The pattern of sorted levels a <= b <= c (built on first use), valid until the next call on this cache; NULL
  * for unsorted or out-of-range levels or when out of memory. */
 INSTESS_API const core_grid *core_pattern_get(core_pattern_cache *c, int a, int b, int cl);
-/* Bytes held now (by the bound's count), patterns built so far, patterns evicted so far. */
+/* Bytes held now (by the bound's count), patterns built so far, patterns evicted so far (0 for a NULL cache). */
 INSTESS_API size_t core_pattern_cache_bytes(const core_pattern_cache *c);
 INSTESS_API size_t core_pattern_cache_built(const core_pattern_cache *c);
 INSTESS_API size_t core_pattern_cache_evicted(const core_pattern_cache *c);

@@ -93,6 +93,7 @@ int core_grid_adaptive(const int levels[3], core_grid *out)
 
 bool core_lod_order(const int edge_levels[3], int sorted[3], int perm[3])
 {
+    if (!edge_levels || !sorted || !perm) return false;
     int o[3] = {0, 1, 2}; /* the triangle's edges by level, ties by index (insertion sort: stable) */
     for (int i = 1; i < 3; i++)
         for (int k = i; k > 0 && edge_levels[o[k]] < edge_levels[o[k - 1]]; k--) {
@@ -203,6 +204,6 @@ const core_grid *core_pattern_get(core_pattern_cache *c, int a, int b, int cl)
     return &c->e[k].g;
 }
 
-size_t core_pattern_cache_bytes(const core_pattern_cache *c) { return c->bytes; }
-size_t core_pattern_cache_built(const core_pattern_cache *c) { return c->built; }
-size_t core_pattern_cache_evicted(const core_pattern_cache *c) { return c->evicted; }
+size_t core_pattern_cache_bytes(const core_pattern_cache *c) { return c ? c->bytes : 0; }
+size_t core_pattern_cache_built(const core_pattern_cache *c) { return c ? c->built : 0; }
+size_t core_pattern_cache_evicted(const core_pattern_cache *c) { return c ? c->evicted : 0; }

@@ -34,7 +34,7 @@
 /* A fractional level less than this above n-2 (the two short segments together, in level units) is taken as n-2. */
 #define PG_SNAP (1.0 / 1024.0)
 /* A regular grid's level beyond this is an error (core_grid_index's int arithmetic, and memory). */
-#define PG_REGULAR_MAX_LEVEL 16384.0f
+#define PG_REGULAR_MAX_LEVEL ((float)CORE_GRID_REGULAR_MAX_LEVEL)
 /* The most segments on an edge: CORE_PG_MAX_LEVEL as an integer. */
 enum { PG_MAX_SEGMENTS = 64 };
 _Static_assert(PG_MAX_SEGMENTS == (int)CORE_PG_MAX_LEVEL, "PG_MAX_SEGMENTS follows CORE_PG_MAX_LEVEL");

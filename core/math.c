@@ -9,10 +9,11 @@ float4x4 mat_identity(void)
     return r;
 }
 
-/* a * b: transforms by a first, then by b. */
+/* a * b: transforms by a first, then by b (a NULL matrix reads as the zero matrix). */
 float4x4 mat_mul(const float4x4 *a, const float4x4 *b)
 {
-    float4x4 r;
+    float4x4 r = {{{0}}};
+    if (!a || !b) return r;
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++)
             r.m[i][j] = a->m[i][0] * b->m[0][j] + a->m[i][1] * b->m[1][j] + a->m[i][2] * b->m[2][j] +
@@ -79,7 +80,9 @@ float4x4 mat_look_at_lh(float3 eye, float3 at, float3 up)
 /* D3DXMatrixPerspectiveFovLH: [xs 0 0 0; 0 ys 0 0; 0 0 zf/(zf-zn) 1; 0 0 -zn*zf/(zf-zn) 0]. */
 float4x4 mat_perspective_fov_lh(float fovy, float aspect, float zn, float zf)
 {
-    float ys = 1.0f / tanf(fovy * 0.5f);
+    float t = tanf(fovy * 0.5f);
+    if (t == 0.0f || aspect == 0.0f || zf == zn) return (float4x4){{{0}}};   /* degenerate: math.h */
+    float ys = 1.0f / t;
     float xs = ys / aspect;
     float q = zf / (zf - zn);
     float4x4 r = {{{xs, 0, 0, 0}, {0, ys, 0, 0}, {0, 0, q, 1}, {0, 0, -zn * q, 0}}};
@@ -89,6 +92,7 @@ float4x4 mat_perspective_fov_lh(float fovy, float aspect, float zn, float zf)
 /* D3DXMatrixOrthoLH: [2/w 0 0 0; 0 2/h 0 0; 0 0 1/(zf-zn) 0; 0 0 zn/(zn-zf) 1]. */
 float4x4 mat_ortho_lh(float w, float h, float zn, float zf)
 {
+    if (w == 0.0f || h == 0.0f || zf == zn) return (float4x4){{{0}}};   /* degenerate: math.h */
     float4x4 r = {{{2.0f / w, 0, 0, 0}, {0, 2.0f / h, 0, 0}, {0, 0, 1.0f / (zf - zn), 0},
                    {0, 0, zn / (zn - zf), 1}}};
     return r;
@@ -97,7 +101,8 @@ float4x4 mat_ortho_lh(float w, float h, float zn, float zf)
 /* Transpose. */
 float4x4 mat_transpose(const float4x4 *a)
 {
-    float4x4 r;
+    float4x4 r = {{{0}}};
+    if (!a) return r;
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) r.m[i][j] = a->m[j][i];
     return r;
@@ -106,6 +111,7 @@ float4x4 mat_transpose(const float4x4 *a)
 /* Inverse by Gauss-Jordan elimination with partial pivoting (in double); false and identity if singular. */
 bool mat_inverse(const float4x4 *a, float4x4 *out)
 {
+    if (!a || !out) return false;
     double m[4][8];
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 8; j++) m[i][j] = j < 4 ? a->m[i][j] : (j - 4 == i);

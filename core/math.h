@@ -33,11 +33,14 @@ INSTESS_API float4x4 mat_rotation_y(float a);
 INSTESS_API float4x4 mat_rotation_z(float a);
 /* D3DXMatrixLookAtLH. */
 INSTESS_API float4x4 mat_look_at_lh(float3 eye, float3 at, float3 up);
-/* D3DXMatrixPerspectiveFovLH: fovy in radians, aspect = width / height, z in [zn, zf] -> [0, 1]. */
+/* D3DXMatrixPerspectiveFovLH: fovy in radians, aspect = width / height, z in [zn, zf] -> [0, 1].  Degenerate
+ * arguments (tan(fovy / 2) == 0, aspect 0, zn == zf), where D3DX would divide by zero, give the zero matrix (what
+ * it transforms is not drawn); so does mat_ortho_lh for w or h 0 or zn == zf. */
 INSTESS_API float4x4 mat_perspective_fov_lh(float fovy, float aspect, float zn, float zf);
 /* D3DXMatrixOrthoLH. */
 INSTESS_API float4x4 mat_ortho_lh(float w, float h, float zn, float zf);
-/* Transpose; inverse (returns false, and identity, when singular). */
+/* Transpose; inverse (returns false, and identity, when singular; false and nothing written for a NULL pointer).
+ * mat_mul and mat_transpose read a NULL matrix as the zero matrix. */
 INSTESS_API float4x4 mat_transpose(const float4x4 *a);
 INSTESS_API bool mat_inverse(const float4x4 *a, float4x4 *out);
 

@@ -9,7 +9,8 @@
 /* CreateVertexBuffer: zeroed memory of `bytes` bytes. */
 is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out)
 {
-    if (!dev) return IS_ERR_INVALIDCALL;
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: NULL output pointer");
     if (bytes == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexBuffer: size 0");
     is_vertex_buffer *vb = calloc(1, sizeof *vb);
@@ -18,8 +19,8 @@ is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffe
         free(vb);
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexBuffer: out of memory for %zu bytes", bytes);
     }
-    *vb = (is_vertex_buffer){dev, data, bytes};
-    dev_resource_added(dev);
+    *vb = (is_vertex_buffer){.data = data, .size = bytes};
+    dev_res_add(dev, &vb->res, DEV_RES_VB);
     *out = vb;
     return IS_OK;
 }
@@ -27,7 +28,8 @@ is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffe
 /* CreateIndexBuffer: 16- or 32-bit indices. */
 is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, is_index_buffer **out)
 {
-    if (!dev) return IS_ERR_INVALIDCALL;
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: NULL output pointer");
     if (fmt != IS_FMT_INDEX16 && fmt != IS_FMT_INDEX32)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateIndexBuffer: format %d is not INDEX16 or INDEX32", fmt);
@@ -38,13 +40,14 @@ is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, i
         free(ib);
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateIndexBuffer: out of memory for %zu bytes", bytes);
     }
-    *ib = (is_index_buffer){dev, data, bytes, fmt};
-    dev_resource_added(dev);
+    *ib = (is_index_buffer){.data = data, .size = bytes, .format = fmt};
+    dev_res_add(dev, &ib->res, DEV_RES_IB);
     *out = ib;
     return IS_OK;
 }
 
-/* Lock: the buffer's memory (this device has no GPU copy, so Unlock has nothing to upload). */
+/* Lock: the buffer's memory (this device has no GPU copy, so Unlock has nothing to upload); NULL for a NULL
+ * handle, or one whose device was destroyed (dev_destroy freed its memory). */
 void *vb_lock(is_vertex_buffer *vb) { return vb ? vb->data : NULL; }
 void vb_unlock(is_vertex_buffer *vb) { (void)vb; }
 size_t vb_size(const is_vertex_buffer *vb) { return vb ? vb->size : 0; }
@@ -56,23 +59,22 @@ size_t ib_size(const is_index_buffer *ib) { return ib ? ib->size : 0; }
 void vb_release(is_vertex_buffer *vb)
 {
     if (!vb) return;
+    is_device *dev = vb->res.dev;
     for (int s = 0; s < IS_MAX_STREAMS; s++)
-        if (vb->dev->streams[s].vb == vb) vb->dev->streams[s].vb = NULL;
-    is_device *dev = vb->dev;
+        if (dev->streams[s].vb == vb) dev->streams[s].vb = NULL;
+    dev_res_remove(&vb->res);   /* may free a destroyed device: dev is not read after it */
     free(vb->data);
     free(vb);
-    dev_resource_gone(dev);
 }
 
 /* Release an index buffer; unbinds it. */
 void ib_release(is_index_buffer *ib)
 {
     if (!ib) return;
-    if (ib->dev->ib == ib) ib->dev->ib = NULL;
-    is_device *dev = ib->dev;
+    if (ib->res.dev->ib == ib) ib->res.dev->ib = NULL;
+    dev_res_remove(&ib->res);
     free(ib->data);
     free(ib);
-    dev_resource_gone(dev);
 }
 
 /* Bytes an element of `type` reads, or 0 for an unknown type. */
@@ -149,11 +151,11 @@ static is_result check_element(is_device *dev, const is_vertex_declaration *d, u
 is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element *elements,
                                         is_vertex_declaration **out)
 {
-    if (!dev) return IS_ERR_INVALIDCALL;
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!elements || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: NULL argument");
     is_vertex_declaration *d = calloc(1, sizeof *d);
     if (!d) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "CreateVertexDeclaration: out of memory");
-    d->dev = dev;
     for (unsigned k = 0;; k++) {
         const is_vertex_element *e = &elements[k];
         if (e->stream == 0xFF) break;
@@ -172,7 +174,7 @@ is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element 
         free(d);
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: no elements before the end marker");
     }
-    dev_resource_added(dev);
+    dev_res_add(dev, &d->res, DEV_RES_DECL);
     *out = d;
     return IS_OK;
 }
@@ -181,10 +183,9 @@ is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element 
 void decl_release(is_vertex_declaration *decl)
 {
     if (!decl) return;
-    if (decl->dev->decl == decl) decl->dev->decl = NULL;
-    is_device *dev = decl->dev;
+    if (decl->res.dev->decl == decl) decl->res.dev->decl = NULL;
+    dev_res_remove(&decl->res);
     free(decl);
-    dev_resource_gone(dev);
 }
 
 /* Read a little-endian value of a type at p without alignment assumptions. */

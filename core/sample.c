@@ -111,6 +111,7 @@ static float4 sample(const is_sampler *s, float u, float v, float lod)
 
 float4 tex_sample_lod(const is_sampler *s, float4 t)
 {
+    if (!s) return f4(0, 0, 0, 1);   /* as an empty sampler */
     return sample(s, t.x, t.y, t.w);
 }
 
@@ -145,12 +146,12 @@ float tex_lod_from_gradients(unsigned width, unsigned height, float2 ddx, float2
 
 float4 tex_sample_grad(const is_sampler *s, float2 uv, float2 ddx, float2 ddy)
 {
-    if (!s->tex) return f4(0, 0, 0, 1);
+    if (!s || !s->tex) return f4(0, 0, 0, 1);
     return sample(s, uv.x, uv.y, tex_lod_from_gradients(s->tex->lv[0].w, s->tex->lv[0].h, ddx, ddy));
 }
 
 float4 tex_sample_bias(const is_sampler *s, float4 t, float2 ddx, float2 ddy)
 {
-    if (!s->tex) return f4(0, 0, 0, 1);
+    if (!s || !s->tex) return f4(0, 0, 0, 1);
     return sample(s, t.x, t.y, tex_lod_from_gradients(s->tex->lv[0].w, s->tex->lv[0].h, ddx, ddy) + t.w);
 }

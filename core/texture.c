@@ -52,6 +52,8 @@ is_result dev_create_texture(is_device *dev, unsigned width, unsigned height, un
                              is_format format, is_texture **out)
 {
     unsigned kept = 0;
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTexture: NULL output pointer");
     is_result r = check_create(dev, width, height, levels, usage, format, &kept);
     if (r != IS_OK) return r;
@@ -253,6 +255,7 @@ static bool owns(const is_device *dev, const is_texture *t)
 
 is_result dev_set_texture(is_device *dev, unsigned sampler, is_texture *tex)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     is_sampler *s = sampler_slot(dev, sampler);
     if (!s) return IS_OK; /* as the runtime: an index D3D9 does not have is ignored */
     if (tex && !owns(dev, tex))
@@ -264,7 +267,7 @@ is_result dev_set_texture(is_device *dev, unsigned sampler, is_texture *tex)
 
 is_result dev_get_texture(const is_device *dev, unsigned sampler, is_texture **out)
 {
-    if (!out) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !out) return IS_ERR_INVALIDCALL;
     const is_sampler *s = sampler_slot(dev, sampler);
     *out = s ? (is_texture *)s->tex : NULL;
     return IS_OK;
@@ -272,6 +275,7 @@ is_result dev_get_texture(const is_device *dev, unsigned sampler, is_texture **o
 
 is_result dev_set_sampler_state(is_device *dev, unsigned sampler, is_samp type, uint32_t value)
 {
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if ((unsigned)type < IS_SAMP_ADDRESSU || (unsigned)type >= IS_SAMP_COUNT)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetSamplerState: sampler %u: unknown state %d (D3DSAMP_ADDRESSU 1 .. "
                         "D3DSAMP_DMAPOFFSET 13)", sampler, (int)type);
@@ -282,7 +286,7 @@ is_result dev_set_sampler_state(is_device *dev, unsigned sampler, is_samp type, 
 
 is_result dev_get_sampler_state(const is_device *dev, unsigned sampler, is_samp type, uint32_t *value)
 {
-    if (!value || (unsigned)type < IS_SAMP_ADDRESSU || (unsigned)type >= IS_SAMP_COUNT) return IS_ERR_INVALIDCALL;
+    if (!dev_live(dev) || !value || (unsigned)type < IS_SAMP_ADDRESSU || (unsigned)type >= IS_SAMP_COUNT) return IS_ERR_INVALIDCALL;
     const is_sampler *s = sampler_slot(dev, sampler);
     *value = s ? s->state[type] : 0;
     return IS_OK;

@@ -38,7 +38,9 @@
  *  - Errors: functions that take a device or texture return IS_OK or a negative IS_ERR_* with a message in
  *    dev_last_error of the (texture's) device, and an invalid call changes nothing.  As the D3D9 runtime does,
  *    SetTexture and SetSamplerState on a sampler index that does not exist return IS_OK and do nothing, and
- *    SetSamplerState stores any value (sampling decodes unknown ones as said above).
+ *    SetSamplerState stores any value (sampling decodes unknown ones as said above).  A NULL device, texture or
+ *    output is IS_ERR_INVALIDCALL (tex_get_level_count: 0), a NULL sampler samples as an empty one
+ *    (tests/test_api_texture.c walks every function).
  */
 #ifndef INSTESS_CORE_TEXTURE_H
 #define INSTESS_CORE_TEXTURE_H

@@ -45,7 +45,12 @@ static void fill_level0(is_texture *t, const is_image *img)
 is_result dev_create_texture_from_image(is_device *dev, const is_image *img, is_format format, unsigned levels,
                                         is_texture **out)
 {
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!img || !img->data || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTextureFromImage: NULL argument");
+    if (img->channels < 1 || img->channels > IS_IMAGE_MAX_CHANNELS || img->width < 1 || img->height < 1)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTextureFromImage: an image of %dx%d pixels and %d channels",
+                        img->width, img->height, img->channels);
     is_texture *t = NULL;
     is_result r = dev_create_texture(dev, (unsigned)img->width, (unsigned)img->height, levels, 0, format, &t);
     if (r != IS_OK) return r;
@@ -58,6 +63,8 @@ is_result dev_create_texture_from_image(is_device *dev, const is_image *img, is_
 is_result dev_create_texture_from_file(is_device *dev, const char *path, is_format format, unsigned levels,
                                        is_texture **out)
 {
+    if (out) *out = NULL;
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!path || !out) return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTextureFromFile: NULL %s",
                                        path ? "output pointer" : "path");
     is_image img = {0};

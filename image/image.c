@@ -20,6 +20,7 @@
 /* path's extension (from the last '.' of its file name), or "" when there is none. */
 static const char *extension_of(const char *path)
 {
+    if (!path) return "";
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(path, '.');
     return dot && (!slash || dot > slash) ? dot : "";
@@ -116,7 +117,7 @@ void image_free(is_image *img)
 
 int image_channel_index(const is_image *img, const char *name)
 {
-    for (int c = 0; c < img->channels; c++)
+    for (int c = 0; img && name && c < img->channels && c < IS_IMAGE_MAX_CHANNELS; c++)
         if (!strcmp(img->channel_names[c], name)) return c;
     return -1;
 }
@@ -252,10 +253,23 @@ static void count_failing(const is_image *a, const is_image *b, float thresh, is
     if (res->n_nonfinite) res->max_error = INFINITY;
 }
 
+/* Whether fail_thresh (>= 0, +inf allowed) and fail_percent (0..100) can decide a test; else why in err. */
+static bool thresholds_ok(float fail_thresh, float fail_percent, char *err, size_t errlen)
+{
+    if (fail_thresh >= 0.0f && fail_percent >= 0.0f && fail_percent <= 100.0f) return true;   /* NaN fails */
+    image_set_err(err, errlen, "image_check: thresholds %g and %g%% (a difference >= 0, a percentage 0..100)",
+                  (double)fail_thresh, (double)fail_percent);
+    return false;
+}
+
 is_image_verdict image_check(const is_image *actual, const is_image *reference, float fail_thresh,
                              float fail_percent, const char *diff_path, is_image_diff *res, char *err, size_t errlen)
 {
+    is_image_diff none;
+    if (!res) res = &none;   /* the verdict alone */
     memset(res, 0, sizeof *res);
+    if (!actual || !reference) return image_set_err(err, errlen, "image_check: NULL image"), IS_IMAGE_BAD_ARGUMENT;
+    if (!thresholds_ok(fail_thresh, fail_percent, err, errlen)) return IS_IMAGE_BAD_ARGUMENT;
     if (!same_shape(actual, reference, err, errlen)) return IS_IMAGE_SHAPE_DIFFERS;
     if (image_compare(actual, reference, fail_thresh, fail_thresh, res, NULL, err, errlen) != 0)
         return IS_IMAGE_IO_ERROR;
@@ -271,7 +285,11 @@ is_image_verdict image_check_files(const char *a, const char *b, float fail_thre
                                    const char *diff_path, is_image_diff *res, char *err, size_t errlen)
 {
     is_image ia = {0}, ib = {0};
+    is_image_diff none;
+    if (!res) res = &none;
     memset(res, 0, sizeof *res);
+    if (!a || !b) return image_set_err(err, errlen, "image_check_files: NULL path"), IS_IMAGE_BAD_ARGUMENT;
+    if (!thresholds_ok(fail_thresh, fail_percent, err, errlen)) return IS_IMAGE_BAD_ARGUMENT;
     is_image_verdict v = IS_IMAGE_IO_ERROR;
     if (image_read(&ia, a, err, errlen) == 0 && image_read(&ib, b, err, errlen) == 0)
         v = image_check(&ia, &ib, fail_thresh, fail_percent, diff_path, res, err, errlen);

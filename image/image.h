@@ -3,8 +3,10 @@
  *
  * Conventions: pixels are floats, row-major, top row first, `channels` interleaved; colour channels hold display
  * values in [0, 1].  Functions return 0, or -1 with a message in err (errlen bytes, NUL-terminated); no globals,
- * nothing printed.  OpenImageIO is loaded only on the first call that needs it (an EXR written or read, a PNG
- * libpng is not given -- palette, transparency key, under 8 bits --, text): PNG files and comparisons never load it.
+ * nothing printed.  NULL images, paths and outputs, and images whose fields do not describe their data, are -1
+ * (image_check: IS_IMAGE_BAD_ARGUMENT); tests/test_api_image.c walks every function.  OpenImageIO is loaded only
+ * on the first call that needs it (an EXR written or read, a PNG libpng is not given -- palette, transparency key,
+ * under 8 bits --, text): PNG files and comparisons never load it.
  */
 #ifndef INSTESS_IMAGE_H
 #define INSTESS_IMAGE_H
@@ -107,7 +109,9 @@ typedef enum is_image_verdict {
     IS_IMAGE_PASS = 0,          /* identical, or within the thresholds */
     IS_IMAGE_DIFFERENT = 1,     /* more than fail_percent % of the pixels differ by more than fail_thresh */
     IS_IMAGE_SHAPE_DIFFERS = 2, /* width, height or channels (count or names) differ: not compared */
-    IS_IMAGE_IO_ERROR = 3       /* an image cannot be read, or the diff image cannot be written */
+    IS_IMAGE_IO_ERROR = 3,      /* an image cannot be read, or the diff image cannot be written */
+    IS_IMAGE_BAD_ARGUMENT = 4   /* a NULL image or path, or a threshold that is not a number >= 0 (fail_percent:
+                                   0..100; NaN would pass everything): not compared */
 } is_image_verdict;
 /* The pixel-diff test of actual against reference, as the golden tests and `instess compare` run it: a pixel
  * fails when one of its channels differs by more than fail_thresh, is NaN in one image and not in the other, or
@@ -128,7 +132,7 @@ INSTESS_API is_image_verdict image_check_files(const char *a, const char *b, flo
 
 /* Text for diagrams, in DejaVu Sans (/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf), rendered by
  * OpenImageIO's render_text and composited "over" the channels R, G, B (and A if present) with colour rgba
- * (not premultiplied; rgba[3] is the opacity); other channels (Z, AOVs) are untouched.  (x, y) is the left end
+ * (not premultiplied, each 0..1; rgba[3] is the opacity); other channels (Z, AOVs) are untouched.  (x, y) is the left end
  * of the first line's baseline; '\n' starts a new line size_px lower; size_px is rounded to whole pixels
  * (1..4096).  Text must be printable ASCII (OpenImageIO 2.4 draws other characters wrongly: write "alpha",
  * "b0").  Pixels outside the image are clipped.  Returns 0, or -1 with a message in err. */

@@ -159,6 +159,9 @@ static const codec_table *codec(char *err, size_t errlen)
 int image_encode(const is_image *img, is_image_format fmt, const is_image_meta *meta, const char *label,
                  unsigned char **bytes, size_t *len, char *err, size_t errlen)
 {
+    if (fmt != IS_IMAGE_PNG && fmt != IS_IMAGE_EXR)   /* before the C++ side, where another value is no enum's */
+        return image_set_err(err, errlen, "%s: image_encode: format %d is neither PNG nor EXR", label ? label : "image",
+                             (int)fmt), -1;
     if (fmt == IS_IMAGE_PNG && bytes && len) {   /* PNG: libpng, without loading the module */
         label = label ? label : "image";
         *bytes = NULL, *len = 0;
@@ -177,6 +180,8 @@ static const char *kind_of(mode_t m)
 
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
+    if (img) memset(img, 0, sizeof *img);
+    if (!img || !path || !*path) return image_set_err(err, errlen, "image_read: NULL image or empty path"), -1;
     struct stat st;   /* a FIFO would block the reader, /dev/zero never ends: refused before opening */
     if (path && *path && stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
         if (img) memset(img, 0, sizeof *img);

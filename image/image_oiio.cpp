@@ -211,9 +211,10 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
             n = "channel" + std::to_string(c);  // unnamed or unrepresentable: name it by position
         names += (c ? "," : "") + n;
     }
-    if (H().alloc(img, spec.width, spec.height, names.c_str(), err, errlen) != 0) {
-        set_err(err, errlen, "%s: unsupported channel names \"%s\" (at most 15 characters each)", path,
-                names.c_str());
+    char why[512] = "";
+    if (H().alloc(img, spec.width, spec.height, names.c_str(), why, sizeof why) != 0) {
+        // image_alloc says which: channel names it cannot hold, or no memory for the pixels
+        set_err(err, errlen, "%s: %s", path, why);
         return -1;
     }
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, img->data)) {
@@ -317,10 +318,19 @@ bool ascii_text(const char *text)
     return true;
 }
 
-// Pixel height of the font for size_px (OIIO takes whole pixels).
+// Pixel height of the font for size_px (OIIO takes whole pixels); 0 for a size outside 1..4096 (NaN too).
 int font_px(float size_px)
 {
-    return (int)std::lround(size_px);
+    return size_px >= 0.5f && size_px < 4096.5f ? (int)std::lround(size_px) : 0;
+}
+
+// Whether the colour's four values are finite and in [0, 1] (a NaN would spread into every pixel drawn).
+bool colour_ok(const float rgba[4])
+{
+    for (int k = 0; k < 4; k++)
+        if (!(rgba[k] >= 0.0f && rgba[k] <= 1.0f))
+            return false;
+    return true;
 }
 
 // The body of image_draw_text: coverage of the text from render_text in a one-channel buffer over the
@@ -331,9 +341,9 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
     int px = font_px(size_px);
     if (!valid_image(img, "image_draw_text", err, errlen))
         return -1;
-    if (!text || !rgba || !(px >= 1 && px <= 4096)) {
-        set_err(err, errlen, "image_draw_text: invalid argument (text %s, colour %s, size %g px)",
-                text ? "set" : "NULL", rgba ? "set" : "NULL", (double)size_px);
+    if (!text || !rgba || !(px >= 1 && px <= 4096) || !colour_ok(rgba)) {
+        set_err(err, errlen, "image_draw_text: invalid argument (text %s, colour %s, size %g px; the colour's "
+                "values 0..1, the size 1..4096)", text ? "set" : "NULL", rgba ? "set" : "NULL", (double)size_px);
         return -1;
     }
     int r = H().channel_index(img, "R"), g = H().channel_index(img, "G"), b = H().channel_index(img, "B");
@@ -354,11 +364,15 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
         set_err(err, errlen, "image_draw_text: cannot use the font %s", kFont);
         return -1;
     }
-    // The text's box in image coordinates, clipped to the image; one channel, one slice.
-    box = ROI(std::max(box.xbegin + x, 0), std::min(box.xend + x, img->width), std::max(box.ybegin + y, 0),
-              std::min(box.yend + y, img->height), 0, 1, 0, 1);
-    if (box.width() <= 0 || box.height() <= 0)
+    // The text's box in image coordinates, clipped to the image (in 64 bits: x and y may be any int); one
+    // channel, one slice.
+    const long long x0 = std::max((long long)box.xbegin + x, 0LL), x1 = std::min((long long)box.xend + x,
+                                                                                   (long long)img->width);
+    const long long y0 = std::max((long long)box.ybegin + y, 0LL), y1 = std::min((long long)box.yend + y,
+                                                                                   (long long)img->height);
+    if (x1 <= x0 || y1 <= y0)
         return 0;  // entirely outside the image
+    box = ROI((int)x0, (int)x1, (int)y0, (int)y1, 0, 1, 0, 1);
     ImageBuf cov(ImageSpec(box, TypeDesc::FLOAT));
     ImageBufAlgo::zero(cov);
     const float one = 1.0f;

@@ -918,6 +918,7 @@ int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *
 /* mesh_library_versions: see meshes.h. */
 void mesh_library_versions(char *buf, size_t len)
 {
+    if (!buf || len == 0) return;
     snprintf(buf, len, "assimp %u.%u.%u, meshoptimizer %d.%d", aiGetVersionMajor(), aiGetVersionMinor(),
              aiGetVersionPatch(), MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10);
 }

@@ -211,8 +211,9 @@ static bool weld(is_mesh *m)
         float3 p = m->positions[v];
         canon[v] = f3(p.x + 0.0f, p.y + 0.0f, p.z + 0.0f);   /* -0 + 0 = +0 in round-to-nearest */
     }
-    meshopt_generateShadowIndexBuffer(m->welded, m->indices, 3 * m->n_triangles, canon, m->n_vertices,
-                                      sizeof(float3), sizeof(float3));
+    if (m->n_triangles)   /* meshoptimizer asserts its arrays even for no triangle */
+        meshopt_generateShadowIndexBuffer(m->welded, m->indices, 3 * m->n_triangles, canon, m->n_vertices,
+                                          sizeof(float3), sizeof(float3));
     free(canon);
     return true;
 }
@@ -387,6 +388,21 @@ static int build_adjacency(is_mesh *m)
 /* mesh_update_topology: see meshes.h. */
 int mesh_update_topology(is_mesh *m, char *err, size_t errlen)
 {
+    if (!m) {
+        mesh_set_err(err, errlen, "mesh_update_topology: NULL mesh");
+        return IS_MESH_ERR_ARG;
+    }
+    if (m->n_triangles && (!m->indices || !m->positions || !m->welded || !m->opposite)) {
+        mesh_set_err(err, errlen, "%s: not a mesh of mesh_create (missing positions, indices or their topology)",
+                     m->name);
+        return IS_MESH_ERR_ARG;
+    }
+    for (size_t i = 0; i < 3 * m->n_triangles; i++)   /* the caller may have changed them */
+        if (m->indices[i] >= m->n_vertices) {
+            mesh_set_err(err, errlen, "%s: triangle %zu, corner %zu: vertex index %u is out of range (%zu vertices)",
+                         m->name, i / 3, i % 3, m->indices[i], m->n_vertices);
+            return IS_MESH_ERR_INVALID;
+        }
     if (!weld(m) || build_adjacency(m) != IS_MESH_OK) {
         mesh_set_err(err, errlen, "%s: out of memory building adjacency", m->name);
         return IS_MESH_ERR_NOMEM;
@@ -462,7 +478,7 @@ int mesh_create(is_mesh *out, const char *label, const is_mesh_data *in, const i
 }
 
 /* mesh_stats: see meshes.h. */
-is_mesh_stats mesh_stats(const is_mesh *m) { return m->stats; }
+is_mesh_stats mesh_stats(const is_mesh *m) { return m ? m->stats : (is_mesh_stats){0}; }
 
 /* ------------------------------------------------ instances ------------------------------------------------ */
 
@@ -473,6 +489,7 @@ _Static_assert(offsetof(is_patch_instance, opp) == 72 && offsetof(is_patch_insta
 /* mesh_build_instances: see meshes.h. */
 size_t mesh_build_instances(const is_mesh *m, is_patch_instance *out)
 {
+    if (!m || !out) return 0;
     for (size_t t = 0; t < m->n_triangles; t++) {
         is_patch_instance *p = out + t;
         for (int k = 0; k < 3; k++) {

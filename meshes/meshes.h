@@ -37,6 +37,8 @@
  *    buffer err[errlen] (may be NULL) that names the file (or built-in), the element (vertex 12, triangle 7)
  *    and what is wrong.  Warnings (dropped degenerate triangles, replaced normals, non-manifold edges) go to
  *    the optional callback in is_mesh_options and are counted in is_mesh_stats; library code never prints.
+ *    A NULL mesh, output, name or array is IS_MESH_ERR_ARG (mesh_stats and mesh_build_instances: zeros, 0);
+ *    counts beyond the limits are refused before the arrays are read (tests/test_api_meshes.c walks them all).
  *  - No globals except const tables (mesh_patch_declaration, the built-in name list).  Thread-safe apart
  *    from assimp's own last-error string.
  */
@@ -182,7 +184,8 @@ INSTESS_API int mesh_load_memory(const void *data, size_t size, const char *hint
 INSTESS_API int mesh_open(const char *spec, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 
 /* Recompute welded indices, opposite vertices and the edge counts of stats from positions and indices (after
- * a caller changed positions).  0 or IS_MESH_ERR_NOMEM. */
+ * a caller changed positions).  0, IS_MESH_ERR_NOMEM, IS_MESH_ERR_ARG (NULL, or not a mesh of mesh_create), or
+ * IS_MESH_ERR_INVALID for an index the caller set past the vertices (checked first: nothing is read past them). */
 INSTESS_API int mesh_update_topology(is_mesh *m, char *err, size_t errlen);
 
 /* The outward face normal of (v0, v1, v2) under the convention above: normalize(cross(v1 - v0, v2 - v0)),

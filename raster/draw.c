@@ -141,20 +141,6 @@ static bool valid_state(const rs_state *st, const rs_target *rt)
     return isfinite(vp->min_z) && isfinite(vp->max_z);
 }
 
-/* Is the target well formed (sizes, planes, AOV planes)? */
-static bool valid_target(const rs_target *rt)
-{
-    if (!rt->color || !rt->depth || rt->width < 1 || rt->height < 1 || rt->width > RS_MAX_SIZE ||
-        rt->height > RS_MAX_SIZE || (rt->samples != 1 && rt->samples != 4))
-        return false;
-    if (rt->n_aov < 0 || rt->n_aov > RS_MAX_AOV || (rt->n_aov > 0 && rt->samples != 1)) return false;
-    for (int k = 0; k < rt->n_aov; k++) {
-        const rs_aov *a = &rt->aov[k];
-        if (!a->data || a->slot < 0 || a->slot >= RS_MAX_ATTR || a->comps < 1 || a->comps > 4) return false;
-    }
-    return true;
-}
-
 /* Do the primitive type, counts and indices describe vertices that exist? */
 static bool valid_input(int prim, const rs_vertex *verts, size_t n_verts, const uint32_t *idx, size_t n_prims)
 {
@@ -248,10 +234,11 @@ static bool reserve_context(rs_context *rs, size_t n, size_t n_tiles)
     return true;
 }
 
-int rs_threads(const rs_context *rs) { return thread_count(rs); }
+int rs_threads(const rs_context *rs) { return rs ? thread_count(rs) : 1; }
 
 size_t rs_max_pieces(const rs_target *rt)
 {
+    if (!rs_target_valid(rt)) return 0;
     size_t tiles = (size_t)((rt->width + RS_TILE - 1) / RS_TILE) * (size_t)((rt->height + RS_TILE - 1) / RS_TILE);
     size_t cap = BIN_OFFSETS_BUDGET / (tiles + 1);
     return cap < 1 ? 1 : (cap > CHUNK_MAX_COUNT ? CHUNK_MAX_COUNT : cap);
@@ -304,6 +291,16 @@ static bool reserve_pv(rs_context *rs, size_t slots, size_t n)
     return true;
 }
 
+/* Whether a produced piece keeps the source's promise: vertices (at most max_verts) and 3 * np indices, each
+ * naming one of them. */
+static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const uint32_t *idx, size_t np)
+{
+    if (!v || !idx || nv > src->max_verts || np > SIZE_MAX / 3) return false;
+    for (size_t k = 0; k < 3 * np; k++)
+        if (idx[k] >= nv) return false;
+    return true;
+}
+
 /* Produce piece c of src on the calling thread and set it up into chunk c: shade (the producer), project each
  * vertex once (as the shared pass), set up and bin. */
 static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, int slot)
@@ -313,6 +310,8 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     const uint32_t *idx = NULL;
     size_t np = src->produce(src->ctx, c, slot, &v, &nv, &idx);
     rs_chunk *ch = &rs->chunks[c];
+    ch->bad_piece = np && !piece_ok(src, v, nv, idx, np);
+    if (ch->bad_piece) np = 0;   /* set up nothing of it: the draw fails (RS_EINVAL) */
     rs_job jl = *j;
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
     ch->first = 0, ch->count = np;
@@ -449,7 +448,7 @@ static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
 {
     if (stats) memset(stats, 0, sizeof *stats);
-    if (!rs || !st || !rt || !src || !src->produce || !valid_target(rt) || !valid_state(st, rt) ||
+    if (!rs || !st || !rt || !src || !src->produce || !rs_target_valid(rt) || !valid_state(st, rt) ||
         src->n_pieces > rs_max_pieces(rt))
         return RS_EINVAL;
     if (stats) stats->prims_in = src->n_prims;
@@ -466,6 +465,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     const double setup_ms = phase_clock(rs) - t0;
     size_t n_prims = 0;
     for (size_t c = 0; c < src->n_pieces; c++) {
+        if (rs->chunks[c].bad_piece) return RS_EINVAL;
         if (rs->chunks[c].oom) return RS_ENOMEM;
         n_prims += rs->chunks[c].count;
     }
@@ -479,7 +479,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
             const uint32_t *idx, size_t n_prims, rs_stats *stats)
 {
     if (stats) memset(stats, 0, sizeof *stats);
-    if (!rs || !st || !rt || !valid_target(rt) || !valid_state(st, rt) ||
+    if (!rs || !st || !rt || !rs_target_valid(rt) || !valid_state(st, rt) ||
         !valid_input(prim, verts, n_verts, idx, n_prims))
         return RS_EINVAL;
     if (stats) stats->prims_in = n_prims;

@@ -34,7 +34,10 @@
  *    input vertices that survive clipping.
  *  - Blending: 8-bit math, out = min(255, round(src*fs/255) + round(dst*fd/255)) per channel (raster/frag.c).
  *  - Errors: functions return 0 on success or a negative RS_E* code.  Degenerate, non-finite or fully clipped
- *    primitives are silently dropped (counted in rs_stats) -- they are not errors.
+ *    primitives are silently dropped (counted in rs_stats) -- they are not errors.  NULL contexts, states and
+ *    targets, and targets whose fields do not describe planes (rs_target_init's are always good) are refused:
+ *    RS_EINVAL, or nothing done by the void functions; rs_threads(NULL) is 1, rs_max_pieces of a bad target 0
+ *    (tests/test_api_raster.c walks every function).
  *  - Determinism: the same draw gives the same bytes for any thread count (tiles are owned by one thread and
  *    walk primitives in submission order).
  *  - Paths: every draw has a scalar reference path (rs_set_reference_path) and fast paths (shared vertex
@@ -242,7 +245,8 @@ typedef struct rs_source {
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 INSTESS_API size_t rs_max_pieces(const rs_target *rt);
 /* Draw the triangles of src (rs_stats.prims_in counts those the pieces gave): RS_OK, or RS_EINVAL (bad state,
- * target or source: too many pieces, or pieces whose triangles add up to more than n_prims), RS_ENOMEM or RS_EWORK with nothing drawn. */
+ * target or source: too many pieces, pieces whose triangles add up to more than n_prims, or a piece without
+ * vertices or indices, with more than max_verts vertices or an index past its vertices), RS_ENOMEM or RS_EWORK with nothing drawn. */
 INSTESS_API int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats);
 
 #ifdef __cplusplus

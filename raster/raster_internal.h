@@ -144,7 +144,13 @@ typedef struct rs_chunk {
     uint64_t culled, clipped, degenerate, drawn;
     uint64_t work;               /* triangles' min(area, box) in RS_WORK_UNIT, saturating (RS_MAX_OVERDRAW) */
     bool oom;
+    bool bad_piece;              /* rs_draw_source: the producer broke the piece's promise (RS_EINVAL) */
 } rs_chunk;
+
+/* Is rt well formed: planes present, sizes and samples in range, AOV planes (at most RS_MAX_AOV, on one sample)
+ * with data, slots and components in range?  Every public function that reads or writes a target's planes asks
+ * first (a hand-made target may say anything). */
+bool rs_target_valid(const rs_target *rt);
 
 struct rs_context {
     int threads;

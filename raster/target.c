@@ -30,6 +30,19 @@ static void *plane_alloc(size_t n)
     return p;
 }
 
+bool rs_target_valid(const rs_target *rt)
+{
+    if (!rt || !rt->color || !rt->depth || rt->width < 1 || rt->height < 1 || rt->width > RS_MAX_SIZE ||
+        rt->height > RS_MAX_SIZE || (rt->samples != 1 && rt->samples != 4))
+        return false;
+    if (rt->n_aov < 0 || rt->n_aov > RS_MAX_AOV || (rt->n_aov > 0 && rt->samples != 1)) return false;
+    for (int k = 0; k < rt->n_aov; k++) {
+        const rs_aov *a = &rt->aov[k];
+        if (!a->data || a->slot < 0 || a->slot >= RS_MAX_ATTR || a->comps < 1 || a->comps > 4) return false;
+    }
+    return true;
+}
+
 /* Allocate a w x h target with 1 or 4 samples: RS_OK, RS_EINVAL (bad arguments) or RS_ENOMEM. */
 int rs_target_init(rs_target *rt, int width, int height, int samples)
 {
@@ -63,7 +76,7 @@ void rs_target_free(rs_target *rt)
 /* Add a zeroed AOV plane of `comps` components of `slot`: RS_OK, RS_EINVAL or RS_ENOMEM. */
 int rs_target_add_aov(rs_target *rt, int slot, int comps)
 {
-    if (!rt || !rt->color || rt->samples != 1 || rt->n_aov < 0 || rt->n_aov >= RS_MAX_AOV) return RS_EINVAL;
+    if (!rs_target_valid(rt) || rt->samples != 1 || rt->n_aov >= RS_MAX_AOV) return RS_EINVAL;
     if (slot < 0 || slot >= RS_MAX_ATTR || comps < 1 || comps > 4) return RS_EINVAL;
     float *d = calloc((size_t)rt->width * (size_t)rt->height * (size_t)comps, sizeof *d);
     if (!d) return RS_ENOMEM;
@@ -134,7 +147,7 @@ static void clear_rows(rs_target *rt, unsigned flags, uint32_t rgba, float z, in
 
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads)
 {
-    if (!rt || !rt->color) return;
+    if (!rs_target_valid(rt)) return;
     int nt = threads > 0 ? threads : omp_get_num_procs();
     nt = nt < 1 ? 1 : (nt > rt->height ? rt->height : nt);
 #pragma omp parallel for schedule(static) num_threads(nt)
@@ -144,7 +157,7 @@ void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float
 
 void rs_target_clear_rect(rs_target *rt, int x0, int y0, int x1, int y1, unsigned flags, uint32_t rgba, float z)
 {
-    if (!rt || !rt->color) return;
+    if (!rs_target_valid(rt)) return;
     x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
     x1 = x1 > rt->width ? rt->width : x1, y1 = y1 > rt->height ? rt->height : y1;
     size_t ns = (size_t)rt->samples;
@@ -162,14 +175,14 @@ void rs_target_clear_rect(rs_target *rt, int x0, int y0, int x1, int y1, unsigne
 
 void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
-    if (!rt || !rt->color) return;
+    if (!rs_target_valid(rt)) return;
     clear_rows(rt, flags, rgba, z, 0, rt->height);
 }
 
 /* Average the samples of each pixel, per channel, rounding half up: (sum + n/2) / n. */
 void rs_target_resolve(const rs_target *rt, uint32_t *out)
 {
-    if (!rt || !rt->color || !out) return;
+    if (!rs_target_valid(rt) || !out) return;
     size_t np = (size_t)rt->width * (size_t)rt->height;
     int ns = rt->samples;
     if (ns == 1) {
@@ -238,7 +251,7 @@ void rs_target_flush(rs_context *rs, rs_target *rt)
 
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
-    if (!rs || !rt || !rt->color || !(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH))) return;
+    if (!rs || !rs_target_valid(rt) || !(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH))) return;
     rs->work = 0;   /* a new frame: RS_MAX_OVERDRAW counts from here */
     rs->frame = true;
     if (rs->pend_tiles > 0 && (!pending_on(rs, rt) || (flags & rs->pend_flags) != rs->pend_flags))

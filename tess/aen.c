@@ -3,6 +3,7 @@
 #include "tess_internal.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 /* The normal triangle u has at the vertex welded to w (fallback: `own`). */
 static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
@@ -16,6 +17,7 @@ static float3 normal_at(const is_mesh *m, uint32_t u, uint32_t w, float3 own)
  * edge without exactly one neighbour (boundary, non-manifold) gets t's own normals.  Returns 0 or -1. */
 int tess_adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
 {
+    if (!m || !nadj || (m->n_triangles && (!m->edges || !m->tri_edge))) return -1;
     for (size_t t = 0; t < m->n_triangles; t++)
         for (uint32_t k = 0; k < 3; k++) {
             const is_mesh_edge *E = &m->edges[m->tri_edge[3 * t + k]];
@@ -32,6 +34,11 @@ int tess_adjacent_normals(const is_mesh *m, float3 (*nadj)[3][2])
 /* One triangle's neighbour normals in, those of its renumbering by p (tess_permute_instance) out. */
 void tess_permute_adjacent_normals(const float3 in[3][2], const uint8_t p[3], float3 out[3][2])
 {
+    if (!in || !out) return;
+    if (!tess_is_permutation(p)) {   /* as tess_permute_instance: the normals as they are */
+        memcpy(out, in, sizeof(float3[3][2]));
+        return;
+    }
     for (int k = 0; k < 3; k++) {
         const int x = p[k], y = p[(k + 1) % 3], old = y == (x + 1) % 3 ? x : y; /* the edge joining x, y */
         for (int j = 0; j < 2; j++) /* the corner p[k + j] of the old edge is (old + c) % 3 */
@@ -54,6 +61,7 @@ static int permuted_adjacent_normals(const is_mesh *m, const tess_adaptive *a, f
  * Listing 1.1.2's; replaces the declaration of tess_bind_instanced. */
 is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *m, tess_resources *r, const tess_adaptive *a)
 {
+    if (!dev || !m || !r || !m->n_triangles) return IS_ERR_INVALIDCALL;
     is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
     if (e != IS_OK) return e;
     if (a ? permuted_adjacent_normals(m, a, vb_lock(r->vb2)) : tess_adjacent_normals(m, vb_lock(r->vb2))) return IS_ERR_OUTOFMEMORY;

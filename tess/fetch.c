@@ -17,6 +17,10 @@ static void set_nadj_regs(is_vs_input *in, const float3 nadj[3][2])
 /* The input registers the device would fetch for grid point b of instance inst (Listing 1.1.2's layout). */
 void tess_input_from_instance(const is_patch_instance *inst, const float3 (*nadj)[2], float3 b, is_vs_input *in)
 {
+    if (!inst || !in) {   /* nothing to fetch: the defaults */
+        if (in) for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) ((float4 *)in)[k] = f4(0, 0, 0, 1);
+        return;
+    }
     float4 *r = (float4 *)in;
     for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = f4(0, 0, 0, 1);
     in->position[0] = f4_of(b, 1.0f);

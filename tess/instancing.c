@@ -8,6 +8,7 @@
 
 void tess_resources_free(tess_resources *r)
 {
+    if (!r) return;
     vb_release(r->vb0);
     vb_release(r->vb1);
     vb_release(r->vb2);
@@ -18,6 +19,8 @@ void tess_resources_free(tess_resources *r)
 
 is_result tess_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_t max_index, is_index_buffer **out)
 {
+    if (out) *out = NULL;
+    if (!dev || !idx || !out || n == 0 || n > SIZE_MAX / 4) return IS_ERR_INVALIDCALL;
     bool small = max_index < 65536;
     is_result r = dev_create_index_buffer(dev, n * (small ? 2 : 4), small ? IS_FMT_INDEX16 : IS_FMT_INDEX32, out);
     if (r != IS_OK) return r;
@@ -32,6 +35,8 @@ is_result tess_index_buffer(is_device *dev, const uint32_t *idx, size_t n, size_
 
 is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid *g, tess_resources *r)
 {
+    if (!dev || !m || !g || !r || !g->bary || !g->idx || !g->n_points || !g->n_triangles || !m->n_triangles)
+        return IS_ERR_INVALIDCALL;
     is_result e = dev_create_vertex_buffer(dev, g->n_points * sizeof(float3), &r->vb0);
     if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
     if (e == IS_OK) e = tess_index_buffer(dev, g->idx, 3 * g->n_triangles, g->n_points, &r->ib);
@@ -55,6 +60,11 @@ is_result tess_bind_instanced(is_device *dev, const is_mesh *m, const core_grid 
 
 void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], is_patch_instance *out)
 {
+    if (!in || !out) return;
+    if (!tess_is_permutation(perm)) {   /* not a renumbering of three corners: the instance as it is */
+        *out = *in;
+        return;
+    }
     for (int i = 0; i < 3; i++) {
         out->v[i] = in->v[perm[i]], out->n[i] = in->n[perm[i]], out->t[i] = in->t[perm[i]];
         const int a = perm[i], b = perm[(i + 1) % 3];
@@ -65,6 +75,7 @@ void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], i
 
 void tess_adaptive_free(tess_adaptive *a)
 {
+    if (!a) return;
     tess_resources_free(&a->r);
     free(a->buckets), free(a->tri), free(a->perm);
     memset(a, 0, sizeof *a);
@@ -196,7 +207,9 @@ static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern
 is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
                               tess_adaptive *a)
 {
+    if (!a) return IS_ERR_INVALIDCALL;
     memset(a, 0, sizeof *a);
+    if (!dev || !m || !e || !cache || !m->n_triangles || e->n_edges == 0) return IS_ERR_INVALIDCALL;
     const size_t n = m->n_triangles;
     uint64_t *keys = malloc(n * sizeof *keys);
     uint8_t (*tperm)[3] = malloc(n * sizeof *tperm);
@@ -215,6 +228,7 @@ is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_ed
 
 is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k)
 {
+    if (!dev || !a || k >= a->n_buckets || !a->buckets) return IS_ERR_INVALIDCALL;
     const tess_bucket *b = &a->buckets[k];
     is_result e = dev_set_stream_source(dev, 1, a->r.vb1, b->first * (unsigned)sizeof(is_patch_instance),
                                         sizeof(is_patch_instance));

@@ -9,6 +9,7 @@
 
 void tess_lod_edges_free(tess_lod_edges *e)
 {
+    if (!e) return;
     free(e->ends), free(e->nrm), free(e->faces), free(e->n_faces), free(e->tri_edge), free(e->level);
     memset(e, 0, sizeof *e);
 }
@@ -23,7 +24,10 @@ static float3 corner_normal(const is_mesh *m, uint32_t t, uint32_t w)
 
 int tess_lod_edges_build(const is_mesh *m, tess_lod_edges *e, char *err, size_t errlen)
 {
+    if (!e) return snprintf(err, errlen, "tess_lod_edges_build: NULL edges"), -1;
     memset(e, 0, sizeof *e);
+    if (!m || (m->n_triangles && (!m->edges || !m->tri_edge || !m->welded || !m->normals)))
+        return snprintf(err, errlen, "tess_lod_edges_build: no mesh, or one without its edge table"), -1;
     const size_t ne = m->n_edges, nt3 = 3 * m->n_triangles;
     e->ends = malloc((ne ? ne : 1) * sizeof *e->ends), e->nrm = malloc((ne ? ne : 1) * sizeof *e->nrm);
     e->faces = malloc((ne ? ne : 1) * sizeof *e->faces), e->n_faces = malloc((ne ? ne : 1) * sizeof *e->n_faces);
@@ -79,6 +83,7 @@ static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod
         float4 v = mul4(f4_of(mid, 1.0f), &p->world_view);
         return v.z > 0.0f ? clamp_level(p, (double)p->max_level * p->ref_depth / v.z) : p->max_level;
     }
+    if (!(p->target_px > 0.0f)) return p->max_level;   /* no pixels per segment (0, negative, NaN): the finest */
     float3 q[4];
     edge_polygon(pa, e->nrm[k][0], pb, e->nrm[k][1], q);
     double len = 0.0, x0, y0, x1, y1;
@@ -99,9 +104,20 @@ static int facing(const tess_lod_params *p, const is_mesh *m, uint32_t t)
     return (f > 0) - (f < 0);
 }
 
-void tess_lod_levels(const tess_lod_params *p, const is_mesh *m, tess_lod_edges *e, uint64_t *hist)
+/* p with its levels in 1..CORE_LOD_MAX_LEVEL and min_level <= max_level (min lowered to max). */
+static tess_lod_params clamped_params(const tess_lod_params *in)
 {
+    tess_lod_params p = *in;
+    p.max_level = p.max_level < 1 ? 1 : p.max_level > CORE_LOD_MAX_LEVEL ? CORE_LOD_MAX_LEVEL : p.max_level;
+    p.min_level = p.min_level < 1 ? 1 : p.min_level > p.max_level ? p.max_level : p.min_level;
+    return p;
+}
+
+void tess_lod_levels(const tess_lod_params *params, const is_mesh *m, tess_lod_edges *e, uint64_t *hist)
+{
+    if (!params || !m || !e || !hist) return;
     memset(hist, 0, (CORE_LOD_MAX_LEVEL + 1) * sizeof *hist);
+    const tess_lod_params clamped = clamped_params(params), *p = &clamped;
     for (size_t k = 0; k < e->n_edges; k++) {
         int l = p->mode == TESS_LOD_UNIFORM ? p->max_level : edge_level(p, m, e, k);
         if (p->silhouette && e->n_faces[k] == 2 && facing(p, m, e->faces[k][0]) * facing(p, m, e->faces[k][1]) < 0)

@@ -24,6 +24,7 @@ static int32_t mate_of(const is_mesh *m, size_t t, int k)
 int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int spe, vs_smoothness_result *res)
 {
     if (!res || !m || !m->positions || !m->edges || !m->tri_edge || m->n_triangles == 0 || spe < 1 ||
+        spe > TESS_SMOOTHNESS_MAX_SAMPLES ||
         (unsigned)p >= VS_PATCH_COUNT || m->n_triangles > UINT32_MAX / 3)
         return -1;
     memset(res, 0, sizeof *res);

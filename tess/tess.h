@@ -12,6 +12,9 @@
  *    after a failure.  Nothing is global: a pattern cache (core_pattern_cache) belongs to its caller.
  *  - Edge k of a triangle runs from v_k to v_(k+1 mod 3); an edge's level depends on its two welded end points
  *    alone, so both triangles of an edge agree and the surface stays watertight.
+ *  - NULL arguments: IS_ERR_INVALIDCALL / -1, or nothing done; a perm that is not a permutation of 0, 1, 2 is
+ *    the identity; tess_lod_levels clamps its levels into 1..CORE_LOD_MAX_LEVEL with min_level <= max_level
+ *    (tests/test_api_tess.c walks every function).
  */
 #ifndef INSTESS_TESS_H
 #define INSTESS_TESS_H
@@ -148,11 +151,13 @@ typedef struct vs_smoothness_result {
     size_t samples;         /* edge samples taken */
 } vs_smoothness_result;
 
+/* The most samples per edge tess_smoothness takes (more would not end in reasonable time on a large mesh). */
+#define TESS_SMOOTHNESS_MAX_SAMPLES 4096
 /* Sample every shared edge of m (the mesh's welded-edge table: edges with exactly two triangles) at
  * `samples_per_edge` points (i + 1/2) / samples_per_edge and compare the derivative normals of the two sides
  * (patch p with options o, real normals); sample each triangle at the interior points of the level-8 grid for
  * the distance.  The neighbours (opposite vertices, PN-AEN's normals) come from the same table.  Returns 0, or
- * -1 for bad arguments or when out of memory. */
+ * -1 for bad arguments (samples_per_edge outside 1..TESS_SMOOTHNESS_MAX_SAMPLES) or when out of memory. */
 INSTESS_API int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int samples_per_edge,
                                 vs_smoothness_result *res);
 

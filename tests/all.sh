@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/all.sh -- `make test`: the unit/numerical/golden tests, the staged install with the example
 # (tests/install_check.sh), the Python package's tests (tests/python_check.sh), the same tests under ASan+UBSan,
-# and valgrind on
+# allocation failure at every allocation of a render, a compare and an import (make faults: tests/faults.sh, about
+# half a minute), and valgrind on
 # the renderer, one stage after the other (each runs even if an earlier one failed), then one total line:
 # "total: N passed, N failed" (", N skipped" when tests skipped themselves: never counted as passed).  Each
 # stage's wall time is printed after it, and all of them at the end.
@@ -9,7 +10,7 @@
 set -u
 make=${MAKE:-make}
 passed=0; failed=0; skipped=0; status=0; times=""
-for stage in test-unit install-check python-check sanitize valgrind; do
+for stage in test-unit install-check python-check sanitize faults valgrind; do
   echo "== $stage"
   start=$SECONDS
   log=$(mktemp)

@@ -459,6 +459,36 @@ static void test_scripted_runs_end(void **state)
     assert_true(same_file("instess-view-0001.png", "cli.png"));   /* closer, then farther: back where it was */
 }
 
+/* Capture and screenshot paths that would replace an input: the --displace height map named by --capture (also
+ * as ./h.png) is refused before the window opens and left as it was (it was replaced); with every screenshot
+ * name taken, the s key refuses rather than write over instess-view-9999.png (it wrote over it). */
+static void test_capture_inputs(void **state)
+{
+    (void)state;
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "find '%s' -mindepth 1 -delete", dir);   /* test_scripted_runs_end left a folder */
+    assert_int_equal(system(cmd), 0);
+    const char *err;
+    assert_int_equal(run_in_dir(&err, "-q --size 8x8 -o h.png"), 0);
+    assert_int_equal(run_in_dir(&err, "-q --size 8x8 -o h0.png"), 0);
+    static const char *const names[] = {"h.png", "./h.png"};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 32x32 --displace h.png --capture %s", names[k]), 1);
+        assert_non_null(strstr(err, "is the height map of --displace; instess will not replace its input"));
+        assert_true(same_file("h.png", "h0.png"));
+    }
+    snprintf(cmd, sizeof cmd, "cd '%s' && for i in $(seq -f %%04g 1 9999); do : > instess-view-$i.png; done", dir);
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(run_in_dir(&err, "view --no-hud --size 32x32 --keys s"), 0);
+    assert_non_null(strstr(err, "screenshot refused: instess-view-0001.png .. instess-view-9999.png all exist"));
+    char p[600];
+    size_t n = 1;
+    free(prog_slurp(prog_path(dir, "instess-view-9999.png", p, sizeof p), &n));
+    assert_int_equal(n, 0);   /* still the empty file */
+    snprintf(cmd, sizeof cmd, "find '%s' -mindepth 1 -delete", dir);   /* too many names for rm's command line */
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -473,6 +503,7 @@ int main(void)
         cmocka_unit_test(test_close),
         cmocka_unit_test(test_sigterm),
         cmocka_unit_test(test_scripted_runs_end),
+        cmocka_unit_test(test_capture_inputs),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);
 }

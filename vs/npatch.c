@@ -42,6 +42,11 @@ static void npatch_eval(const float3 v[3], const float3 n[3], float3 b, uint32_t
 void vs_npatch_evaluate(const float3 v[3], const float3 n[3], float3 b, uint32_t position_degree,
                         uint32_t normal_degree, float3 *pos, float3 *nrm)
 {
+    if (!v || !n) {   /* no triangle: the origin, no normal */
+        if (pos) *pos = f3(0, 0, 0);
+        if (nrm) *nrm = f3(0, 0, 0);
+        return;
+    }
     vs_normals nm = normal_degree == IS_DEGREE_QUADRATIC ? VS_NORMALS_QUADRATIC
                   : normal_degree == VS_DEGREE_REAL      ? VS_NORMALS_REAL
                                                          : VS_NORMALS_LINEAR;

@@ -358,6 +358,7 @@ static float3 position_at(vs_patch p, const vs_triangle *T, float3 b, const floa
 
 float3 vs_patch_position(vs_patch p, const vs_triangle *T, float3 b, const vs_options *o)
 {
+    if (!T) return f3(0, 0, 0);
     vs_options od = vs_default_options();
     if (!o) o = &od;
     float bw[3];
@@ -406,6 +407,12 @@ void vs_patch_eval(vs_patch p, const vs_triangle *T, float3 b, const vs_options 
 {
     vs_options od = vs_default_options();
     if (!o) o = &od;
+    if (!T) {   /* no triangle: zeros */
+        if (pos) *pos = f3(0, 0, 0);
+        if (nrm) *nrm = f3(0, 0, 0);
+        if (greg) *greg = f3(0, 0, 0);
+        return;
+    }
     float bw[3];
     int k = 0, at = classify(b, bw, &k);
     if (at != AT_INTERIOR) b = f3(bw[0], bw[1], bw[2]);
@@ -423,14 +430,14 @@ vs_triangle vs_triangle_make(const float3 v[3], const float3 n[3])
 {
     vs_triangle T;
     memset(&T, 0, sizeof T);
-    for (int k = 0; k < 3; k++) {
-        T.v[k] = v[k];
-        T.n[k] = n[k];
+    for (int k = 0; k < 3; k++) {   /* NULL positions or normals: zeros */
+        T.v[k] = v ? v[k] : f3(0, 0, 0);
+        T.n[k] = n ? n[k] : f3(0, 0, 0);
     }
     for (int k = 0; k < 3; k++) {
-        T.opp[k] = v[(k + 2) % 3];
-        T.nadj[k][0] = n[k];
-        T.nadj[k][1] = n[(k + 1) % 3];
+        T.opp[k] = T.v[(k + 2) % 3];
+        T.nadj[k][0] = T.n[k];
+        T.nadj[k][1] = T.n[(k + 1) % 3];
     }
     return T;
 }
@@ -454,6 +461,11 @@ static float4 input_reg(const is_vs_input *in, vs_reg r)
 
 void vs_triangle_from_input(const is_vs_input *in, vs_triangle *T)
 {
+    if (!T) return;
+    if (!in) {
+        memset(T, 0, sizeof *T);
+        return;
+    }
     for (int k = 0; k < 3; k++) {
         T->v[k] = f3_of(in->texcoord[VS_IN_V0 + k]);
         T->n[k] = f3_of(in->texcoord[VS_IN_N0 + k]);

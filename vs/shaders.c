@@ -16,6 +16,10 @@ void vs_set_constants(is_vs_constants *c, const float4x4 *wvp, const float4x4 *w
 {
     vs_options od = vs_default_options();
     if (!o) o = &od;
+    if (!c) return;
+    const float4x4 zero = {{{0}}};
+    if (!wvp) wvp = &zero;   /* a NULL matrix is written as the zero matrix (math.h's rule) */
+    if (!world) world = &zero;
     for (int i = 0; i < 4; i++) {
         c->c[VS_C_WORLDVIEWPROJ + i] = f4(wvp->m[i][0], wvp->m[i][1], wvp->m[i][2], wvp->m[i][3]);
         c->c[VS_C_WORLD + i] = f4(world->m[i][0], world->m[i][1], world->m[i][2], world->m[i][3]);
@@ -26,8 +30,9 @@ void vs_set_constants(is_vs_constants *c, const float4x4 *wvp, const float4x4 *w
 
 vs_options vs_options_from_constants(const is_vs_constants *c)
 {
-    float4 r = c->c[VS_C_OPTIONS];
     vs_options o = vs_default_options();
+    if (!c) return o;
+    float4 r = c->c[VS_C_OPTIONS];
     o.normals = r.x >= 1.5f ? VS_NORMALS_REAL : r.x >= 0.5f ? VS_NORMALS_QUADRATIC : VS_NORMALS_LINEAR;
     o.phong_alpha = isfinite(r.y) ? r.y : 0.75f;
     o.quad_factor = isfinite(r.z) && r.z != 0.0f ? r.z : 2.0f;
@@ -39,7 +44,7 @@ static const char *const normals_names[] = {"linear", "quadratic", "real"};
 
 int vs_normals_from_name(const char *name, vs_normals *out)
 {
-    for (int i = 0; name && i < 3; i++)
+    for (int i = 0; name && out && i < 3; i++)
         if (strcmp(name, normals_names[i]) == 0) return *out = (vs_normals)i, 0;
     return -1;
 }
@@ -62,7 +67,7 @@ const vs_patch_info vs_patches[VS_PATCH_COUNT] = {
 
 int vs_patch_from_name(const char *name, vs_patch *out)
 {
-    for (int i = 0; name && i < VS_PATCH_COUNT; i++)
+    for (int i = 0; name && out && i < VS_PATCH_COUNT; i++)
         if (strcmp(name, vs_patches[i].name) == 0) return *out = (vs_patch)i, 0;
     return -1;
 }
@@ -72,9 +77,10 @@ const char *vs_patch_name(vs_patch p) { return (unsigned)p < VS_PATCH_COUNT ? vs
 char *vs_patch_names(const char *sep, char *buf, size_t len)
 {
     size_t n = 0;
+    if (!buf || len == 0) return buf;
     buf[0] = 0;
     for (int i = 0; i < VS_PATCH_COUNT && n < len; i++)
-        n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? sep : "", vs_patches[i].name);
+        n += (size_t)snprintf(buf + n, len - n, "%s%s", i && sep ? sep : "", vs_patches[i].name);
     return buf;
 }
 

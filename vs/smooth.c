@@ -55,6 +55,7 @@ static float3 edge_patch(float3 va, float3 vb, float3 vc, float3 na, float3 nb, 
 
 float3 vs_smooth_initial_formula(const vs_triangle *T, float3 b, float3 *gout)
 {
+    if (!T) return f3(0, 0, 0);
     float3 v0 = T->v[0], v1 = T->v[1], v2 = T->v[2];
     float3 n0 = T->n[0], n1 = T->n[1], n2 = T->n[2];
     float3 g = vs_gregory(b); // gregory coords
@@ -92,6 +93,7 @@ static float edge_fn(float3 nf, float3 a, float3 b, float3 o, float3 third)
 
 float3 vs_smooth_fn(const vs_triangle *T)
 {
+    if (!T) return f3(0, 0, 0);
     float3 v0 = T->v[0], v1 = T->v[1], v2 = T->v[2];
     // own face normal, and the neighbour across edge k traversed the other way: (v1, v0, opp0) etc.
     float3 nf = normalize3(cross3(sub3(v1, v0), sub3(v2, v0)));
@@ -103,6 +105,7 @@ float3 vs_smooth_fn(const vs_triangle *T)
 
 float3 vs_smooth_formula(const vs_triangle *T, float3 b, uint32_t flags, float3 *gout, int *p_evals)
 {
+    if (!T) return f3(0, 0, 0);
     float3 v0 = T->v[0], v1 = T->v[1], v2 = T->v[2];
     float3 n0 = T->n[0], n1 = T->n[1], n2 = T->n[2];
     bool shortcut = !(flags & VS_FLAG_NO_SHORTCUT);
@@ -145,6 +148,7 @@ float3 vs_smooth_formula(const vs_triangle *T, float3 b, uint32_t flags, float3 
 uint64_t vs_smooth_shortcut_savings(const vs_triangle *tris, size_t n, int level, uint64_t *total)
 {
     uint64_t interior = level >= 3 ? (uint64_t)(level - 1) * (uint64_t)(level - 2) / 2 : 0, saved = 0;
+    if (!tris) n = 0;
     for (size_t i = 0; i < n; i++) {
         float3 fn = vs_smooth_fn(&tris[i]);
         saved += interior * (uint64_t)((fn.x == 1.0f) + (fn.y == 1.0f) + (fn.z == 1.0f));

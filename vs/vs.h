@@ -54,6 +54,11 @@
  *    (Gregory 0/0, curve parameters, zero-length edges), normalize of a zero vector stays zero and a zero
  *    normal falls back to the linear normal, then the face normal.  Non-finite results fall back to the flat
  *    position, then to the vertex with the largest weight.  Degenerate triangles give finite points.
+ *    The functions below take NULL where a pointer is asked: a NULL triangle, vertex or normal array reads as
+ *    zeros (results zero), a NULL output is not written, a NULL name or out pointer is "not found" (-1), and
+ *    vs_patch_names writes nothing into a NULL or zero-byte buffer; a patch or normal mode out of range is "?" /
+ *    NULL by name and evaluates as some patch, never out of a table (tests/test_api_vs.c walks them all).  The
+ *    shaders' own entry points (main, batch, hull) are the device's to call, with its registers.
  *  - No globals except const tables; everything is reentrant.
  */
 #ifndef INSTESS_VS_H

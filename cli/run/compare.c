@@ -110,6 +110,7 @@ static int compare_exit_code(is_image_verdict v)
     case IS_IMAGE_DIFFERENT: return 1;
     case IS_IMAGE_SHAPE_DIFFERS: return 3;
     case IS_IMAGE_IO_ERROR: return 4;
+    case IS_IMAGE_BAD_ARGUMENT: return 2;   /* the options are checked before: not reached */
     }
     return 4;
 }

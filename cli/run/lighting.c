@@ -82,6 +82,7 @@ static bool parse_triple(const char *s, float v[3])
 {
     char *end;
     for (int k = 0; k < 3; k++) {
+        if (!scene_plain_number(s)) return false;
         double x = strtod(s, &end);
         if (end == s || !isfinite(x) || !isfinite((float)x)) return false;
         v[k] = (float)x;

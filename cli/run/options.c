@@ -102,11 +102,11 @@ static const char *opt_size(scene_opts *o, const char *a)
 }
 static const char *opt_yaw(scene_opts *o, const char *a)
 {
-    return scene_parse_float(a, -1e6f, 1e6f, &o->yaw) ? NULL : "--yaw needs a number of degrees";
+    return scene_parse_float(a, -1e6f, 1e6f, &o->yaw) ? NULL : "--yaw takes degrees, -1000000..1000000";
 }
 static const char *opt_pitch(scene_opts *o, const char *a)
 {
-    return scene_parse_float(a, -1e6f, 1e6f, &o->pitch) ? NULL : "--pitch needs a number of degrees";
+    return scene_parse_float(a, -1e6f, 1e6f, &o->pitch) ? NULL : "--pitch takes degrees, -1000000..1000000";
 }
 static const char *opt_distance(scene_opts *o, const char *a)
 {
@@ -206,6 +206,7 @@ static const char *opt_d3d9_adaptive(scene_opts *o, const char *a)
     char *end;
     const char *p = a;
     for (int i = 0; i < 4; i++) {
+        if (!scene_plain_number(p)) return msg;
         o->d3d9_mdm[i] = strtof(p, &end);
         if (end == p || !isfinite(o->d3d9_mdm[i]) || *end != (i < 3 ? ',' : '\0')) return msg;
         p = end + 1;

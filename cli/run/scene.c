@@ -114,24 +114,35 @@ char *scene_join_names(const char *const *names, const char *sep, char *buf, siz
     return buf;
 }
 
-/* A whole decimal integer in [lo, hi]. */
+bool scene_plain_number(const char *s)
+{
+    if (!s) return false;
+    const char *p = s + (*s == '+' || *s == '-');
+    if (!((*p >= '0' && *p <= '9') || (*p == '.' && p[1] >= '0' && p[1] <= '9'))) return false;
+    for (; *p && *p != ','; p++)   /* a number of a list ends at its comma */
+        if (!((*p >= '0' && *p <= '9') || *p == '.' || *p == 'e' || *p == 'E' || *p == '+' || *p == '-'))
+            return false;
+    return true;
+}
+
+/* A whole decimal integer in [lo, hi], written plainly (scene_plain_number). */
 bool scene_parse_int(const char *s, int lo, int hi, int *out)
 {
     char *end;
     errno = 0;
-    long v = s ? strtol(s, &end, 10) : 0;
-    if (!s || end == s || *end || errno || v < lo || v > hi) return false;
+    long v = scene_plain_number(s) ? strtol(s, &end, 10) : 0;
+    if (!scene_plain_number(s) || end == s || *end || errno || v < lo || v > hi) return false;
     *out = (int)v;
     return true;
 }
 
-/* A finite number in [lo, hi]. */
+/* A finite number in [lo, hi], written plainly (scene_plain_number). */
 bool scene_parse_float(const char *s, float lo, float hi, float *out)
 {
     char *end;
     errno = 0;
-    double v = s ? strtod(s, &end) : 0;
-    if (!s || end == s || *end || errno || !isfinite(v) || v < lo || v > hi) return false;
+    double v = scene_plain_number(s) ? strtod(s, &end) : 0;
+    if (!scene_plain_number(s) || end == s || *end || errno || !isfinite(v) || v < lo || v > hi) return false;
     *out = (float)v;
     return true;
 }
@@ -592,18 +603,67 @@ static is_result set_scene_shader(is_device *dev, const scene_opts *o, const sce
 
 /* The adaptive draw of scene_draw (o->lod distance or screen): per-edge levels, buckets of patterns, one instanced
  * draw per bucket and pass; the levels' histogram and counts into st if not NULL.  0 or -1. */
+/* Bytes the patterns of the distinct sorted edge-level triples of m's triangles (levels in e) take at most -- the
+ * pool on the host, then the device's vertex and index buffers (both windings): 24 bytes per point and 36 per
+ * triangle of the regular grid of the triple's finest level, which a pattern never exceeds -- with the number of
+ * triples in *n; ULLONG_MAX when out of memory for counting. */
+static unsigned long long pattern_pool_bytes(const is_mesh *m, const tess_lod_edges *e, size_t *n)
+{
+    enum { L = CORE_LOD_MAX_LEVEL };
+    uint8_t *seen = calloc((size_t)L * L * L / 8, 1);
+    if (!seen) return ULLONG_MAX;
+    unsigned long long bytes = 0;
+    *n = 0;
+    for (size_t t = 0; t < m->n_triangles; t++) {
+        int v[3];
+        for (int k = 0; k < 3; k++) v[k] = e->level[e->tri_edge[3 * t + k]];
+        int lo = v[0] < v[1] ? v[0] : v[1], hi = v[0] < v[1] ? v[1] : v[0];
+        int a = lo < v[2] ? lo : v[2], c = hi > v[2] ? hi : v[2], b = v[0] + v[1] + v[2] - a - c;
+        size_t key = ((size_t)(a - 1) * L + (size_t)(b - 1)) * L + (size_t)(c - 1);
+        if (seen[key / 8] & (1u << (key % 8))) continue;
+        seen[key / 8] |= (uint8_t)(1u << (key % 8));
+        (*n)++;
+        bytes += 24ull * core_grid_points(c) + 36ull * core_grid_triangles(c);
+    }
+    free(seen);
+    return bytes;
+}
+
+/* Whether the patterns of levels e fit in what --max-memory leaves after the render's estimate; else the message
+ * in err (the pool grows with the distinct level triples, up to 45,760 patterns of up to 200 KB). */
+static bool patterns_fit(const scene_opts *o, const is_mesh *m, const tess_lod_edges *e, char *err, size_t errlen)
+{
+    size_t n = 0;
+    const unsigned long long pool = pattern_pool_bytes(m, e, &n), budget = (unsigned long long)o->max_memory_mib << 20;
+    const unsigned long long used =
+        scene_memory_estimate(o, m->n_triangles, core_grid_points(scene_lod_max_level(o)));
+    if (pool != ULLONG_MAX && used <= budget && pool <= budget - used) return true;
+    if (pool == ULLONG_MAX) snprintf(err, errlen, "%s: out of memory for counting the edge-level triples", m->name);
+    else snprintf(err, errlen, "%s: --lod %s gives %zu distinct edge-level triples, whose patterns need about %llu "
+                  "MiB besides the render's %llu MiB, more than the memory budget of %u MiB (--max-memory MIB raises "
+                  "it; --max-level lowers the need)", m->name, scene_lod_names[o->lod], n, (pool + (1u << 20) - 1) >> 20,
+                  (used + (1u << 20) - 1) >> 20, o->max_memory_mib);
+    return false;
+}
+
+/* The adaptive draw: 0, or -1 with the reason in err (or, when err is empty, in dev_last_error). */
 static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, const is_vertex_shader *shader,
-                         scene_stats *st)
+                         scene_stats *st, char *err, size_t errlen)
 {
     scene_camera cam = make_camera(o, m);
     tess_lod_params p = scene_lod_params_of(o, m);
     tess_lod_edges e;
     tess_adaptive a = {0};
     uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
-    char err[256];
     core_pattern_cache *cache = core_pattern_cache_create(0);
-    if (!cache || tess_lod_edges_build(m, &e, err, sizeof err) != 0) return core_pattern_cache_destroy(cache), -1;
+    if (!cache) return snprintf(err, errlen, "%s: out of memory for the pattern cache", m->name), -1;
+    if (tess_lod_edges_build(m, &e, err, errlen) != 0) return core_pattern_cache_destroy(cache), -1;
     tess_lod_levels(&p, m, &e, hist);
+    if (!patterns_fit(o, m, &e, err, errlen)) {
+        tess_lod_edges_free(&e);
+        core_pattern_cache_destroy(cache);
+        return -1;
+    }
     is_texture *dmap = NULL;
     is_result r = set_scene_shader(dev, o, &cam, vs_patch_shader(o->patch), shader, &dmap);
     if (r == IS_OK) r = tess_bind_adaptive(dev, m, &e, cache, &a);
@@ -620,18 +680,22 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
     return r == IS_OK ? 0 : -1;
 }
 
-/* scene_draw with the adaptive draw's statistics into st (may be NULL). */
+/* scene_draw with the adaptive draw's statistics into st (may be NULL); -1 with a message in err, or err left
+ * empty when dev_last_error says why. */
 static int draw_scene(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
-                      const is_vertex_shader *shader, scene_stats *st)
+                      const is_vertex_shader *shader, scene_stats *st, char *err, size_t errlen)
 {
-    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, st);
+    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED)
+        return draw_adaptive(dev, o, m, shader, st, err, errlen);
     return scene_draw(dev, o, m, g, shader);
 }
 
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader)
 {
-    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED) return draw_adaptive(dev, o, m, shader, NULL);
+    char why[400] = "";
+    if (o->lod != TESS_LOD_UNIFORM && o->path == SCENE_PATH_INSTANCED)
+        return draw_adaptive(dev, o, m, shader, NULL, why, sizeof why);   /* the reason: dev_last_error's, or lost */
     scene_camera cam = make_camera(o, m);
     tess_resources r = {0};
     is_texture *dmap = NULL;
@@ -654,8 +718,13 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
     for (size_t k = 0; k < 4; k++)
-        if (aovs & aov_slots[k].bit) rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + aov_slots[k].slot,
-                                                       aov_slots[k].comps);
+        if ((aovs & aov_slots[k].bit) && rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 +
+                                                           aov_slots[k].slot, aov_slots[k].comps) != RS_OK) {
+            /* a plane missing would leave its channels silently empty in the image */
+            snprintf(err, errlen, "out of memory for the AOV planes of a %dx%d target", o->width, o->height);
+            dev_destroy(dev);
+            return NULL;
+        }
     return dev;
 }
 
@@ -663,8 +732,10 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
                     char *err, size_t errlen)
 {
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
-    if (draw_scene(dev, o, m, g, NULL, st) != 0)
-        return snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev)), -1;
+    char why[600] = "";
+    if (draw_scene(dev, o, m, g, NULL, st, why, sizeof why) != 0)
+        return why[0] ? snprintf(err, errlen, "%s", why)
+                      : snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev)), -1;
     if (st) {
         st->vertices_shaded += dev_vertices_shaded(dev);
         st->triangles_drawn += dev_stats(dev)->prims_drawn;

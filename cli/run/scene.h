@@ -35,7 +35,10 @@
  * floats), the instances, and on the CPU path SCENE_CPU_BYTES_PER_VERTEX per tessellated vertex (its vertex
  * buffer, indices and the device's shaded vertices: measured 397-400 bytes as peak RSS over the instanced path
  * on the sphere at levels 128 and 256), and with --lod the pattern cache's bound (CORE_PATTERN_CACHE_DEFAULT_BYTES
- * plus its 1 MiB index) and the renumbered instances.  The instanced and N-patch-mode paths shade in bounded chunks. */
+ * plus its 1 MiB index) and the renumbered instances.  The instanced and N-patch-mode paths shade in bounded chunks.
+ * An adaptive render checks its pattern pool too, once its edges' levels are known and before the pool is built:
+ * 24 bytes per point and 36 per triangle of the finest level's regular grid, per distinct level triple (up to
+ * 45,760 of them at up to 200 KB each), must fit in what the estimate leaves of the budget. */
 #define SCENE_DEFAULT_MAX_MEMORY_MIB 4096
 #define SCENE_CPU_BYTES_PER_VERTEX 400ull
 
@@ -162,6 +165,11 @@ bool scene_parse_path(const char *s, scene_path *out);
 bool scene_parse_fill(const char *s, scene_fill *out);
 bool scene_parse_size(const char *s, int *w, int *h);
 bool scene_parse_msaa(const char *s, int *out);
+/* Whether s starts a number written plainly, up to its end or the next comma: an optional sign, then digits (or a
+ * point and a digit), then only digits, '.', exponents and their signs -- never spaces, hexadecimal, "inf" or
+ * "nan", which strtod would take.  Every numeric option is parsed through it (docs/robustness.md, "Round 3:
+ * library API, viewer and numbers"). */
+bool scene_plain_number(const char *s);
 bool scene_parse_int(const char *s, int lo, int hi, int *out);
 bool scene_parse_float(const char *s, float lo, float hi, float *out);
 bool scene_parse_aovs(const char *s, unsigned *out);

@@ -549,6 +549,10 @@ void view_screenshot(view_state *v)
     int k = v->shots;
     do snprintf(path, sizeof path, "instess-view-%04d.png", ++k);
     while (lstat(path, &s) == 0 && k < 9999);
+    if (lstat(path, &s) == 0) {   /* every name taken: never over an existing file (an input, say) */
+        notice(v, "screenshot refused: instess-view-0001.png .. instess-view-9999.png all exist here");
+        return;
+    }
     if (view_write_png(v, v->frame, view_frame_is_cli(v), path, err, sizeof err) != 0) {
         snprintf(msg, sizeof msg, "screenshot failed: %s", err);
         notice(v, msg);
@@ -718,7 +722,13 @@ static int view_load(view_state *v)
     is_outputs outs;
     outputs_init(&outs);
     int rc = 0;
-    if (v->script.capture && outputs_add(&outs, v->script.capture, err, sizeof err) != 0) rc = -1;
+    const char *cap = v->script.capture;
+    if (cap && v->o.mesh && outputs_same_target(cap, v->o.mesh))   /* as the CLI's -o: never over an input */
+        rc = -1, snprintf(err, sizeof err, "%s: is the input mesh; instess will not replace its input", cap);
+    else if (cap && v->o.displace && outputs_same_target(cap, v->o.displace))
+        rc = -1, snprintf(err, sizeof err, "%s: is the height map of --displace; instess will not replace its input",
+                          cap);
+    if (rc == 0 && cap && outputs_add(&outs, cap, err, sizeof err) != 0) rc = -1;
     outputs_abort(&outs);
     if (rc == 0 && v->o.displace && (rc = scene_load_displacement(v->o.displace, &v->displace_map, err, sizeof err)) == 0)
         v->o.displace_map = &v->displace_map;

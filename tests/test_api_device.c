@@ -1,0 +1,631 @@
+/* tests/test_api_device.c -- every public function of core/device.h called as a hostile or careless program
+ * would: a NULL device, NULL pointers, zero and huge sizes, render states and primitive types that do not exist,
+ * strides and offsets that do not match the buffers, draws without a shader, a declaration or buffers, or with
+ * buffers too small, and handles of another device or already released.  Each call must return (an error where
+ * D3D9 returns D3DERR_INVALIDCALL, changing nothing), never crash, never read or write outside its buffers (the
+ * sanitizer stage runs this under ASan and UBSan) and never print.
+ *
+ * What issue 27 settles (whether a draw that reads past a vertex buffer's end fails or reads zeros) is not pinned
+ * here: such a draw must only return one of the two answers without reading out of bounds.
+ * tests/check_api_walkers.sh checks that every INSTESS_API function of core/device.h is named in this file. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/core.h"
+
+enum { W = 16, H = 12 };
+
+/* A shader that writes oPos from POSITION0 and white. */
+static void vs_pos(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    (void)c;
+    out->pos = in->position[0];
+    out->attr[RS_ATTR_COLOR0] = (float4){1, 1, 1, 1};
+}
+static const is_vertex_shader shader = {.name = "pos", .main = vs_pos, .outputs = IS_OUT_COLOR0};
+
+static const is_vertex_element pos_decl[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+
+static float bits_float(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return u;
+}
+
+/* Whether a draw's answer is one of the two a draw may give (drawn, or refused as an invalid call). */
+static bool ok_or_invalid(is_result r) { return r == IS_OK || r == IS_ERR_INVALIDCALL; }
+
+/* A NULL device: every function returns (IS_ERR_INVALIDCALL, NULL, 0 or a message), none dereferences it. */
+static void test_null_device(void **state)
+{
+    (void)state;
+    is_vertex_buffer *vb = NULL;
+    is_index_buffer *ib = NULL;
+    is_vertex_declaration *decl = NULL;
+    const is_vertex_shader *vs = NULL;
+    uint32_t u = 0;
+    float f[4] = {0};
+    unsigned off = 0, stride = 0;
+    is_viewport vp = {0, 0, 1, 1, 0, 1};
+    is_rect rect = {0, 0, 1, 1};
+    uint32_t px[4];
+    dev_destroy(NULL);
+    dev_reset(NULL);
+    assert_non_null(dev_last_error(NULL));
+    dev_set_threads(NULL, 2);
+    dev_set_timing(NULL, true);
+    dev_set_patch_cull(NULL, true);
+    dev_set_reference_path(NULL, true);
+    assert_false(dev_reference_path(NULL));
+    assert_int_equal(dev_set_isa(NULL, 0), -1);
+    (void)dev_isa(NULL);
+    assert_int_equal(dev_create_vertex_buffer(NULL, 64, &vb), IS_ERR_INVALIDCALL);
+    assert_null(vb);
+    assert_int_equal(dev_create_index_buffer(NULL, 64, IS_FMT_INDEX16, &ib), IS_ERR_INVALIDCALL);
+    assert_null(ib);
+    assert_int_equal(dev_create_vertex_declaration(NULL, pos_decl, &decl), IS_ERR_INVALIDCALL);
+    assert_null(decl);
+    assert_int_equal(dev_set_vertex_declaration(NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_declaration(NULL, &decl), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source(NULL, 0, NULL, 0, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source(NULL, 0, &vb, &off, &stride), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source_freq(NULL, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source_freq(NULL, 0, &u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_indices(NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_indices(NULL, &ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader(NULL, &shader), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader(NULL, &vs), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(NULL, 0, f, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader_constant_f(NULL, 0, f, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_state(NULL, IS_RS_ZENABLE, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_state(NULL, IS_RS_ZENABLE, &u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_viewport(NULL, &vp), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_viewport(NULL, &vp), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_npatch_mode(NULL, 4.0f), IS_ERR_INVALIDCALL);
+    assert_true(dev_get_npatch_mode(NULL) == 0.0f);
+    assert_int_equal(dev_set_npatch_evaluator(NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear_rects(NULL, 1, &rect, IS_CLEAR_TARGET, 0, 1.0f), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear(NULL, IS_CLEAR_TARGET, 0, 1.0f), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive(NULL, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive(NULL, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    assert_null(dev_render_target(NULL));
+    assert_int_equal(dev_get_render_target_data(NULL, px, 4), IS_ERR_INVALIDCALL);
+    const rs_stats *st = dev_stats(NULL);
+    assert_non_null(st);   /* zero counters */
+    assert_int_equal(st->prims_in, 0);
+    assert_int_equal(dev_vertices_shaded(NULL), 0);
+    assert_int_equal(dev_instances_culled(NULL), 0);
+    /* the handles' own functions with NULL handles */
+    assert_null(vb_lock(NULL));
+    vb_unlock(NULL);
+    assert_int_equal(vb_size(NULL), 0);
+    vb_release(NULL);
+    assert_null(ib_lock(NULL));
+    ib_unlock(NULL);
+    assert_int_equal(ib_size(NULL), 0);
+    ib_release(NULL);
+    decl_release(NULL);
+}
+
+/* dev_create with sizes and sample counts out of range: NULL and a message, also with a tiny or no buffer. */
+static void test_create_sizes(void **state)
+{
+    (void)state;
+    const int bad[][3] = {{0, 1, 1}, {1, 0, 1}, {-1, 1, 1}, {1, -5, 1}, {INT_MIN, INT_MIN, 1}, {INT_MAX, 1, 1},
+                          {1, RS_MAX_SIZE + 1, 1}, {1, 1, 0}, {1, 1, 2}, {1, 1, 8}, {1, 1, -4}, {1, 1, INT_MAX}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char err[200] = "";
+        assert_null(dev_create(bad[k][0], bad[k][1], bad[k][2], err, sizeof err));
+        assert_true(strlen(err) > 0);
+        char tiny[1] = {'x'};
+        assert_null(dev_create(bad[k][0], bad[k][1], bad[k][2], tiny, sizeof tiny));
+        assert_int_equal(tiny[0], 0);   /* NUL-terminated in a buffer of one byte */
+        assert_null(dev_create(bad[k][0], bad[k][1], bad[k][2], NULL, 0));
+        assert_null(dev_create(bad[k][0], bad[k][1], bad[k][2], NULL, 100));   /* no buffer, a length */
+    }
+    is_device *dev = dev_create(1, 1, 4, NULL, 0);   /* the smallest target */
+    assert_non_null(dev);
+    dev_destroy(dev);
+}
+
+/* Resources: NULL outputs, zero and huge sizes, unknown formats, bad declarations. */
+static void test_resources(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    assert_non_null(dev);
+    is_vertex_buffer *vb = NULL;
+    is_index_buffer *ib = NULL;
+    is_vertex_declaration *decl = NULL;
+    assert_int_equal(dev_create_vertex_buffer(dev, 64, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_vertex_buffer(dev, 0, &vb), IS_ERR_INVALIDCALL);
+    assert_null(vb);
+    assert_int_equal(dev_create_vertex_buffer(dev, SIZE_MAX, &vb), IS_ERR_OUTOFMEMORY);
+    assert_null(vb);
+    assert_int_equal(dev_create_vertex_buffer(dev, (size_t)1 << 62, &vb), IS_ERR_OUTOFMEMORY);
+    assert_null(vb);
+    assert_true(strlen(dev_last_error(dev)) > 0);
+    assert_int_equal(dev_create_index_buffer(dev, 64, IS_FMT_INDEX16, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_index_buffer(dev, 0, IS_FMT_INDEX16, &ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_index_buffer(dev, 64, (is_format)0, &ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_index_buffer(dev, 64, (is_format)-1, &ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_index_buffer(dev, SIZE_MAX, IS_FMT_INDEX32, &ib), IS_ERR_OUTOFMEMORY);
+    assert_null(ib);
+    /* declarations: NULL, empty, unknown type, usage, method, stream, unaligned offsets, too many elements */
+    assert_int_equal(dev_create_vertex_declaration(dev, NULL, &decl), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_vertex_declaration(dev, pos_decl, NULL), IS_ERR_INVALIDCALL);
+    const is_vertex_element end_only[] = {IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(dev, end_only, &decl), IS_ERR_INVALIDCALL);
+    const is_vertex_element bad[][2] = {
+        {{0, 0, 99, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+        {{0, 0, IS_DECLTYPE_UNUSED, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+        {{0, 0, IS_DECLTYPE_FLOAT3, 7, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+        {{0, 0, IS_DECLTYPE_FLOAT3, 0, 200, 0}, IS_DECL_END},
+        {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 255}, IS_DECL_END},
+        {{IS_MAX_STREAMS, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+        {{0xFE, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+        {{0, 2, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        decl = NULL;
+        assert_int_equal(dev_create_vertex_declaration(dev, bad[k], &decl), IS_ERR_INVALIDCALL);
+        assert_null(decl);
+    }
+    is_vertex_element many[IS_MAX_ELEMENTS + 2];
+    for (int k = 0; k < IS_MAX_ELEMENTS + 1; k++)
+        many[k] = (is_vertex_element){(uint16_t)(k % IS_MAX_STREAMS), (uint16_t)(16 * (k / IS_MAX_STREAMS)),
+                                      IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, (uint8_t)(k % 16)};
+    many[IS_MAX_ELEMENTS + 1] = (is_vertex_element)IS_DECL_END;
+    assert_int_equal(dev_create_vertex_declaration(dev, many, &decl), IS_ERR_INVALIDCALL);
+    /* the largest offset an element may have does not wrap its end */
+    const is_vertex_element far[] = {{0, 0xFFFC, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    is_result r = dev_create_vertex_declaration(dev, far, &decl);
+    assert_true(ok_or_invalid(r));
+    if (r == IS_OK) decl_release(decl);
+    dev_destroy(dev);
+}
+
+/* Setters and getters with NULL outputs, streams, registers and states beyond the last, values out of range:
+ * refused, nothing changed. */
+static void test_state_edges(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    assert_non_null(dev);
+    float c[4 * IS_MAX_VS_CONSTANTS] = {0};
+    uint32_t u;
+    assert_int_equal(dev_get_stream_source_freq(dev, 0, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source_freq(dev, IS_MAX_STREAMS, &u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source_freq(dev, UINT_MAX, &u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source_freq(dev, UINT_MAX, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source(dev, UINT_MAX, NULL, 0, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source(dev, IS_MAX_STREAMS, NULL, NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_stream_source(dev, 0, NULL, NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_declaration(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_indices(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader(dev, NULL), IS_ERR_INVALIDCALL);
+    /* constants: NULL data, registers beyond c255, a start + count that wraps around */
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, NULL, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, IS_MAX_VS_CONSTANTS, c, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 1, c, IS_MAX_VS_CONSTANTS), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 2, c, UINT_MAX), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, UINT_MAX, c, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, c, IS_MAX_VS_CONSTANTS), IS_OK);
+    assert_int_equal(dev_get_vertex_shader_constant_f(dev, 0, NULL, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader_constant_f(dev, UINT_MAX, c, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_vertex_shader_constant_f(dev, 2, c, UINT_MAX), IS_ERR_INVALIDCALL);
+    assert_true(ok_or_invalid(dev_set_vertex_shader_constant_f(dev, 0, c, 0)));   /* nothing to set */
+    /* a shader without a function */
+    const is_vertex_shader empty = {.name = NULL, .main = NULL};
+    assert_int_equal(dev_set_vertex_shader(dev, &empty), IS_ERR_INVALIDCALL);
+    /* render states that do not exist, values out of range, float states not finite */
+    const int unknown[] = {-1, 0, 1, 6, 255, 256, 1000, INT_MAX, INT_MIN};
+    for (size_t k = 0; k < sizeof unknown / sizeof unknown[0]; k++) {
+        assert_int_equal(dev_set_render_state(dev, (is_rs)unknown[k], 1), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_get_render_state(dev, (is_rs)unknown[k], &u), IS_ERR_INVALIDCALL);
+    }
+    assert_int_equal(dev_get_render_state(dev, IS_RS_CULLMODE, NULL), IS_ERR_INVALIDCALL);
+    const struct { is_rs s; uint32_t v; } bad_values[] = {
+        {IS_RS_FILLMODE, 0}, {IS_RS_FILLMODE, 4}, {IS_RS_FILLMODE, UINT32_MAX}, {IS_RS_CULLMODE, 0},
+        {IS_RS_CULLMODE, 4}, {IS_RS_ZFUNC, 0}, {IS_RS_ZFUNC, 9}, {IS_RS_SRCBLEND, 0}, {IS_RS_DESTBLEND, 99},
+        {IS_RS_DEPTHBIAS, 0x7fc00000u /* NaN */}, {IS_RS_SLOPESCALEDEPTHBIAS, 0x7f800000u /* inf */},
+        {IS_RS_MINTESSELLATIONLEVEL, 0}, {IS_RS_MAXTESSELLATIONLEVEL, 0xff800000u /* -inf */},
+        {IS_RS_MINTESSELLATIONLEVEL, 0xbf800000u /* -1 */}, {IS_RS_ADAPTIVETESS_X, 0x7fc00000u},
+        {IS_RS_ADAPTIVETESS_W, 0x7f800000u}, {IS_RS_ENABLEADAPTIVETESSELLATION, 2},
+        {IS_RS_POSITIONDEGREE, 0}, {IS_RS_NORMALDEGREE, 7}, {IS_RS_PATCHEDGESTYLE, 2},
+    };
+    for (size_t k = 0; k < sizeof bad_values / sizeof bad_values[0]; k++) {
+        uint32_t before = 0, after = 0;
+        assert_int_equal(dev_get_render_state(dev, bad_values[k].s, &before), IS_OK);
+        assert_int_equal(dev_set_render_state(dev, bad_values[k].s, bad_values[k].v), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_get_render_state(dev, bad_values[k].s, &after), IS_OK);
+        assert_int_equal(before, after);
+    }
+    /* viewports: NULL, empty, outside the target (also by wrapping x + width), depth ranges out of order or NaN */
+    const is_viewport bad_vp[] = {{0, 0, 0, H, 0, 1}, {0, 0, W, 0, 0, 1}, {W, 0, 1, H, 0, 1},
+                                  {1, 0, UINT32_MAX, H, 0, 1}, {UINT32_MAX, 0, 2, H, 0, 1}, {0, 0, W, H, 0.5f, 0.25f},
+                                  {0, 0, W, H, -0.1f, 1}, {0, 0, W, H, 0, 1.5f}, {0, 0, W, H, NAN, 1},
+                                  {0, 0, W, H, 0, NAN}};
+    is_viewport vp0, vp1;
+    assert_int_equal(dev_get_viewport(dev, &vp0), IS_OK);
+    assert_int_equal(dev_set_viewport(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_viewport(dev, NULL), IS_ERR_INVALIDCALL);
+    for (size_t k = 0; k < sizeof bad_vp / sizeof bad_vp[0]; k++)
+        assert_int_equal(dev_set_viewport(dev, &bad_vp[k]), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_viewport(dev, &vp1), IS_OK);
+    assert_memory_equal(&vp0, &vp1, sizeof vp0);
+    /* N-patch segments: not finite, huge, negative (below 1: off) */
+    const float bad_seg[] = {NAN, INFINITY, -INFINITY, 1e30f, 257.0f, FLT_MAX};
+    for (size_t k = 0; k < sizeof bad_seg / sizeof bad_seg[0]; k++)
+        assert_int_equal(dev_set_npatch_mode(dev, bad_seg[k]), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_npatch_mode(dev, -5.0f), IS_OK);
+    assert_int_equal(dev_set_npatch_evaluator(dev, NULL), IS_OK);
+    /* threads and ISA out of range */
+    dev_set_threads(dev, -7);
+    dev_set_threads(dev, INT_MAX);
+    dev_set_threads(dev, 0);
+    int isa = dev_isa(dev);
+    assert_int_equal(dev_set_isa(dev, -1), -1);
+    assert_int_equal(dev_set_isa(dev, 99), -1);
+    assert_int_equal(dev_set_isa(dev, INT_MIN), -1);
+    assert_int_equal(dev_isa(dev), isa);
+    dev_set_timing(dev, true);
+    dev_set_patch_cull(dev, true);
+    dev_set_reference_path(dev, true);
+    assert_true(dev_reference_path(dev));
+    dev_set_reference_path(dev, false);
+    /* clears: unknown flags, z out of [0, 1] or NaN, rectangles empty, reversed, outside the target, huge */
+    assert_int_equal(dev_clear(dev, 0x80, 0, 1.0f), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_ZBUFFER, 0, NAN), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_ZBUFFER, 0, -1.0f), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_ZBUFFER, 0, 2.0f), IS_ERR_INVALIDCALL);
+    const is_rect rects[] = {{0, 0, 0, 0}, {5, 5, 1, 1}, {-100, -100, 100000, 100000}, {INT32_MIN, INT32_MIN,
+                             INT32_MAX, INT32_MAX}, {W, H, W + 5, H + 5}, {INT32_MAX, 0, INT32_MIN, 1}};
+    assert_true(ok_or_invalid(dev_clear_rects(dev, 6, rects, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff00ff00u, 0.5f)));
+    assert_true(ok_or_invalid(dev_clear_rects(dev, UINT_MAX, NULL, IS_CLEAR_TARGET, 0, 1.0f)));
+    assert_true(ok_or_invalid(dev_clear_rects(dev, 0, rects, IS_CLEAR_TARGET, 0, 1.0f)));
+    /* the target's data into a buffer too small, or none */
+    uint32_t px[W * H];
+    assert_int_equal(dev_get_render_target_data(dev, NULL, W * H), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_data(dev, px, W * H - 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_data(dev, px, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_data(dev, px, W * H), IS_OK);
+    assert_non_null(dev_render_target(dev));
+    assert_non_null(dev_stats(dev));
+    (void)dev_vertices_shaded(dev);
+    (void)dev_instances_culled(dev);
+    assert_true(dev_get_npatch_mode(dev) < 1.0f);
+    dev_reset(dev);
+    dev_destroy(dev);
+}
+
+/* A device with the position shader, a FLOAT4 position declaration and a vertex buffer of n vertices bound
+ * with stride 16 (the triangle (-1,-1), (0,1), (1,-1) repeated), and a 16-bit index buffer of ni indices 0, 1, 2, ... */
+typedef struct draw_fixture {
+    is_device *dev;
+    is_vertex_buffer *vb;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+} draw_fixture;
+
+static void fixture_make(draw_fixture *f, size_t n, size_t ni)
+{
+    f->dev = dev_create(W, H, 1, NULL, 0);
+    assert_non_null(f->dev);
+    assert_int_equal(dev_create_vertex_buffer(f->dev, n * 16, &f->vb), IS_OK);
+    float *v = vb_lock(f->vb);
+    assert_non_null(v);
+    static const float tri[3][4] = {{-1, -1, 0.5f, 1}, {0, 1, 0.5f, 1}, {1, -1, 0.5f, 1}};
+    for (size_t k = 0; k < n; k++) memcpy(v + 4 * k, tri[k % 3], 16);
+    vb_unlock(f->vb);
+    assert_int_equal(vb_size(f->vb), n * 16);
+    assert_int_equal(dev_create_index_buffer(f->dev, ni * 2, IS_FMT_INDEX16, &f->ib), IS_OK);
+    uint16_t *idx = ib_lock(f->ib);
+    for (size_t k = 0; k < ni; k++) idx[k] = (uint16_t)k;
+    ib_unlock(f->ib);
+    assert_int_equal(ib_size(f->ib), ni * 2);
+    assert_int_equal(dev_create_vertex_declaration(f->dev, pos_decl, &f->decl), IS_OK);
+}
+
+static void fixture_bind(draw_fixture *f)
+{
+    assert_int_equal(dev_set_vertex_shader(f->dev, &shader), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(f->dev, f->decl), IS_OK);
+    assert_int_equal(dev_set_stream_source(f->dev, 0, f->vb, 0, 16), IS_OK);
+    assert_int_equal(dev_set_indices(f->dev, f->ib), IS_OK);
+}
+
+static void fixture_free(draw_fixture *f)
+{
+    vb_release(f->vb);
+    ib_release(f->ib);
+    decl_release(f->decl);
+    dev_destroy(f->dev);
+}
+
+/* Draws without a shader, a declaration, a vertex or an index buffer: refused with a message; primitive types
+ * that do not exist; zero and huge primitive counts; starts and vertex ranges beyond the buffers. */
+static void test_draw_edges(void **state)
+{
+    (void)state;
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    is_device *dev = f.dev;
+    /* nothing bound */
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
+    assert_true(strlen(dev_last_error(dev)) > 0);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    dev_set_vertex_shader(dev, &shader);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);   /* no declaration */
+    dev_set_vertex_declaration(dev, f.decl);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);   /* no buffer */
+    dev_set_stream_source(dev, 0, f.vb, 0, 16);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    fixture_bind(&f);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
+    /* primitive types that do not exist */
+    const int types[] = {0, 7, -1, 100, INT_MAX, INT_MIN};
+    for (size_t k = 0; k < sizeof types / sizeof types[0]; k++) {
+        assert_int_equal(dev_draw_primitive(dev, (is_primtype)types[k], 0, 1), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive(dev, (is_primtype)types[k], 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    }
+    /* every primitive type at counts of zero, one, and far beyond the buffers */
+    for (int t = IS_PT_POINTLIST; t <= IS_PT_TRIANGLEFAN; t++) {
+        const unsigned counts[] = {0, 1, 2, 7, 1u << 20, UINT_MAX / 3, UINT_MAX / 2, UINT_MAX - 1, UINT_MAX};
+        for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+            assert_true(ok_or_invalid(dev_draw_primitive(dev, (is_primtype)t, 0, counts[k])));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, 0, 6, 0, counts[k])));
+        }
+        /* starts and vertex ranges beyond the buffers, negative and huge base vertices */
+        const unsigned starts[] = {5, 6, 100, UINT_MAX - 2, UINT_MAX};
+        for (size_t k = 0; k < sizeof starts / sizeof starts[0]; k++) {
+            assert_true(ok_or_invalid(dev_draw_primitive(dev, (is_primtype)t, starts[k], 1)));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, 0, 6, starts[k], 1)));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, starts[k], 6, 0, 1)));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, 0, starts[k], 0, 1)));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, starts[k], starts[k], 0, 1)));
+        }
+        const int bases[] = {-1, -3, -6, 1, 3, 100, INT_MAX, INT_MIN};
+        for (size_t k = 0; k < sizeof bases / sizeof bases[0]; k++)
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, bases[k], 0, 6, 0, 2)));
+    }
+    fixture_free(&f);
+}
+
+/* Strides and offsets that do not match the buffer: stride 0 (every vertex reads the first), smaller than the
+ * element, huge, an offset at or beyond the end; indices that name vertices past the buffer; a 32-bit index
+ * buffer of an odd size.  The draw answers (drawn or refused) and reads nothing outside the buffers. */
+static void test_draw_strides(void **state)
+{
+    (void)state;
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    fixture_bind(&f);
+    is_device *dev = f.dev;
+    const unsigned strides[] = {0, 4, 8, 12, 16, 20, 96, 4096, 1u << 20, UINT_MAX - 3, UINT_MAX};
+    const unsigned offsets[] = {0, 4, 80, 92, 96, 100, 1u << 30, UINT_MAX - 3};
+    for (size_t s = 0; s < sizeof strides / sizeof strides[0]; s++)
+        for (size_t o = 0; o < sizeof offsets / sizeof offsets[0]; o++) {
+            is_result r = dev_set_stream_source(dev, 0, f.vb, offsets[o], strides[s]);
+            assert_true(ok_or_invalid(r));
+            if (r != IS_OK) continue;
+            assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2)));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+            assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 6)));
+        }
+    assert_int_equal(dev_set_stream_source(dev, 0, f.vb, 3, 16), IS_ERR_INVALIDCALL);   /* not DWORD-aligned */
+    dev_set_stream_source(dev, 0, f.vb, 0, 16);
+    /* indices beyond the vertex buffer (65535, 7) and beyond num_vertices */
+    uint16_t *idx = ib_lock(f.ib);
+    idx[1] = 65535, idx[4] = 7;
+    ib_unlock(f.ib);
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 2)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 65536, 0, 2)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, -65535, 0, 6, 0, 2)));
+    /* a 32-bit index buffer of 10 bytes (two and a half indices) and indices near 2^32 */
+    is_index_buffer *ib32;
+    assert_int_equal(dev_create_index_buffer(dev, 10, IS_FMT_INDEX32, &ib32), IS_OK);
+    uint32_t *i32 = ib_lock(ib32);
+    i32[0] = 0, i32[1] = UINT32_MAX;
+    ib_unlock(ib32);
+    assert_int_equal(dev_set_indices(dev, ib32), IS_OK);
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 1)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_LINELIST, 0, 0, 6, 0, 1)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 1, 0, 6, 0, 2)));
+    ib_release(ib32);
+    /* a buffer too small for one vertex of the declaration (8 bytes for a FLOAT4) */
+    is_vertex_buffer *small;
+    assert_int_equal(dev_create_vertex_buffer(dev, 8, &small), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 0, small, 0, 16), IS_OK);
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1)));
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 1)));
+    vb_release(small);
+    fixture_free(&f);
+}
+
+/* Instanced draws with frequencies that do not fit the buffers: instance counts of 2^30 - 1, dividers of
+ * 2^30 - 1 and 1, an instance stream too small, INSTANCEDATA on a stream the declaration does not read, and the
+ * N-patch mode (with and without an evaluator, adaptive on) over the same bindings. */
+static void test_draw_instancing(void **state)
+{
+    (void)state;
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    fixture_bind(&f);
+    is_device *dev = f.dev;
+    static const is_vertex_element two[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},
+                                            {1, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    is_vertex_declaration *d2;
+    assert_int_equal(dev_create_vertex_declaration(dev, two, &d2), IS_OK);
+    is_vertex_buffer *inst;
+    assert_int_equal(dev_create_vertex_buffer(dev, 3 * 16, &inst), IS_OK);
+    dev_set_vertex_declaration(dev, d2);
+    dev_set_stream_source(dev, 1, inst, 0, 16);
+    const uint32_t counts[] = {1, 2, 3, 4, 1000, (1u << 30) - 1};
+    const uint32_t dividers[] = {1, 2, 1000, (1u << 30) - 1};
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+        for (size_t d = 0; d < sizeof dividers / sizeof dividers[0]; d++) {
+            assert_true(ok_or_invalid(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | counts[c])));
+            assert_true(ok_or_invalid(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | dividers[d])));
+            /* a count of 2^30 - 1 instances of a triangle covering the target: the work bound refuses it, or the
+             * buffer check does; neither may take minutes */
+            is_result r = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1);
+            assert_true(r == IS_OK || r == IS_ERR_INVALIDCALL || r == IS_ERR_OUTOFMEMORY);
+        }
+    /* INSTANCEDATA on a stream the declaration does not read, and a plain divider on stream 0 */
+    dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 2);
+    dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1);
+    assert_true(ok_or_invalid(dev_set_stream_source_freq(dev, 5, IS_STREAMSOURCE_INSTANCEDATA | 1)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1)));
+    dev_set_stream_source_freq(dev, 0, 7);
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2)));
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+    /* the N-patch mode without an evaluator, then adaptive with extreme levels */
+    dev_set_stream_source_freq(dev, 0, 1);
+    dev_set_stream_source_freq(dev, 1, 1);
+    dev_set_vertex_declaration(dev, f.decl);
+    assert_int_equal(dev_set_npatch_mode(dev, 4.0f), IS_OK);
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+    dev_set_render_state(dev, IS_RS_ENABLEADAPTIVETESSELLATION, 1);
+    dev_set_render_state(dev, IS_RS_MAXTESSELLATIONLEVEL, float_bits(FLT_MAX));
+    dev_set_render_state(dev, IS_RS_MINTESSELLATIONLEVEL, float_bits(1e30f));
+    dev_set_render_state(dev, IS_RS_ADAPTIVETESS_Z, float_bits(0.0f));   /* depth 0: T = S / 0 */
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+    dev_set_npatch_mode(dev, 256.0f);
+    dev_set_render_state(dev, IS_RS_PATCHEDGESTYLE, IS_PATCHEDGE_CONTINUOUS);
+    assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2)));
+    dev_set_npatch_mode(dev, 0.0f);
+    vb_release(inst);
+    decl_release(d2);
+    fixture_free(&f);
+}
+
+/* The adaptive levels' formula at its edges: never NaN out of the edge rule, whatever goes in. */
+static void test_adaptive_levels(void **state)
+{
+    (void)state;
+    const float v[] = {0.0f, -0.0f, 1.0f, -1.0f, 1e-45f, 1e30f, FLT_MAX, INFINITY, -INFINITY, NAN};
+    const size_t n = sizeof v / sizeof v[0];
+    for (size_t a = 0; a < n; a++)
+        for (size_t b = 0; b < n; b++) {
+            float4 p = {v[a], v[b], v[(a + b) % n], 1}, mdm = {v[b], 0, v[a], v[(a * b) % n]};
+            (void)core_adaptive_vertex_level(v[a], v[b], p, mdm);   /* may be anything: the edge rule clamps */
+            for (size_t c = 0; c < n; c++) {
+                float lo = 1.0f, hi = 64.0f;
+                float e = core_adaptive_edge_level(v[a], v[b], lo, hi);
+                assert_true(e >= lo && e <= hi);
+                /* MIN > MAX: MIN wins (the documented order); out-of-range states never come from the device */
+                e = core_adaptive_edge_level(v[a], v[c], 8.0f, 2.0f);
+                assert_true(e == 8.0f || (e >= 2.0f && e <= 8.0f));
+                assert_false(isnan(core_adaptive_edge_level(v[a], v[b], v[c] >= 1 ? v[c] : 1.0f, 64.0f)));
+            }
+        }
+}
+
+/* Ownership: another device's resources and released ones are refused by the setters (compared as pointers,
+ * never read); dev_destroy releases the memory of what is left, and the handles it leaves are safe to release
+ * after it (as D3D9's, which hold a reference to their device). */
+static void test_ownership(void **state)
+{
+    (void)state;
+    draw_fixture a, b;
+    fixture_make(&a, 6, 6);
+    fixture_make(&b, 6, 6);
+    assert_int_equal(dev_set_stream_source(b.dev, 0, a.vb, 0, 16), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_indices(b.dev, a.ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_declaration(b.dev, a.decl), IS_ERR_INVALIDCALL);
+    /* a released buffer, declaration and index buffer: refused (the pointers name freed memory) */
+    is_vertex_buffer *gone_vb;
+    is_index_buffer *gone_ib;
+    is_vertex_declaration *gone_decl;
+    assert_int_equal(dev_create_vertex_buffer(b.dev, 64, &gone_vb), IS_OK);
+    assert_int_equal(dev_create_index_buffer(b.dev, 64, IS_FMT_INDEX16, &gone_ib), IS_OK);
+    assert_int_equal(dev_create_vertex_declaration(b.dev, pos_decl, &gone_decl), IS_OK);
+    vb_release(gone_vb);
+    ib_release(gone_ib);
+    decl_release(gone_decl);
+    assert_int_equal(dev_set_stream_source(b.dev, 0, gone_vb, 0, 16), IS_ERR_INVALIDCALL);
+    assert_non_null(strstr(dev_last_error(b.dev), "not a live"));
+    assert_int_equal(dev_set_indices(b.dev, gone_ib), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_declaration(b.dev, gone_decl), IS_ERR_INVALIDCALL);
+    /* a handle that is no handle at all (a stack address) */
+    char junk[256] = {0};
+    assert_int_equal(dev_set_stream_source(b.dev, 0, (is_vertex_buffer *)junk, 0, 16), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_indices(b.dev, (is_index_buffer *)junk), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_vertex_declaration(b.dev, (is_vertex_declaration *)junk), IS_ERR_INVALIDCALL);
+    /* b draws with its own buffers after a's are bound on a and a is destroyed */
+    fixture_bind(&a);
+    fixture_bind(&b);
+    dev_destroy(a.dev);
+    assert_null(vb_lock(a.vb));   /* dev_destroy released the buffers' memory */
+    assert_int_equal(vb_size(a.vb), 0);
+    assert_null(ib_lock(a.ib));
+    assert_int_equal(ib_size(a.ib), 0);
+    assert_int_equal(dev_clear(b.dev, IS_CLEAR_TARGET, 0, 1.0f), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive(b.dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
+    vb_unlock(a.vb);
+    ib_unlock(a.ib);
+    vb_release(a.vb);   /* after dev_destroy: no use-after-free, and the device's last bytes go with the last */
+    ib_release(a.ib);
+    decl_release(a.decl);
+    /* getters hand out what was set */
+    is_vertex_buffer *gvb;
+    is_index_buffer *gib;
+    is_vertex_declaration *gdecl;
+    const is_vertex_shader *gvs;
+    unsigned off, stride;
+    assert_int_equal(dev_get_stream_source(b.dev, 0, &gvb, &off, &stride), IS_OK);
+    assert_ptr_equal(gvb, b.vb);
+    assert_int_equal(dev_get_indices(b.dev, &gib), IS_OK);
+    assert_ptr_equal(gib, b.ib);
+    assert_int_equal(dev_get_vertex_declaration(b.dev, &gdecl), IS_OK);
+    assert_ptr_equal(gdecl, b.decl);
+    assert_int_equal(dev_get_vertex_shader(b.dev, &gvs), IS_OK);
+    assert_ptr_equal(gvs, &shader);
+    /* releasing bound resources unbinds them: the next draw is refused, not a read of freed memory */
+    vb_release(b.vb), b.vb = NULL;
+    assert_int_equal(dev_get_stream_source(b.dev, 0, &gvb, &off, &stride), IS_OK);
+    assert_null(gvb);
+    assert_int_equal(dev_draw_indexed_primitive(b.dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_ERR_INVALIDCALL);
+    /* a device destroyed with resources never released: dev_destroy frees their memory (LeakSanitizer counts
+     * only the handles, released here) */
+    draw_fixture c;
+    fixture_make(&c, 3, 3);
+    fixture_bind(&c);
+    dev_destroy(c.dev);
+    c.dev = NULL;
+    vb_release(c.vb), ib_release(c.ib), decl_release(c.decl);
+    fixture_free(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_null_device),   cmocka_unit_test(test_create_sizes),
+        cmocka_unit_test(test_resources),     cmocka_unit_test(test_state_edges),
+        cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
+        cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
+        cmocka_unit_test(test_ownership),
+    };
+    return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
+}
