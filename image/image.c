@@ -43,8 +43,11 @@ int image_file_channel_count(int channels, is_image_format fmt)
 size_t image_file_channels(const is_image *img, is_image_format fmt, char *buf, size_t len)
 {
     size_t n = 0;
-    if (len) buf[0] = 0;
-    for (int c = 0; c < image_file_channel_count(img->channels, fmt); c++) {
+    if (buf && len) buf[0] = 0;
+    else len = 0;
+    int count = img && img->channels > 0 && img->channels <= IS_IMAGE_MAX_CHANNELS
+                    ? image_file_channel_count(img->channels, fmt) : 0;   /* NULL or lying images: no names */
+    for (int c = 0; c < count; c++) {
         int k = snprintf(n < len ? buf + n : NULL, n < len ? len - n : 0, "%s%s", c ? "," : "", img->channel_names[c]);
         if (k > 0) n += (size_t)k;
     }

@@ -51,7 +51,8 @@ INSTESS_API is_image_format image_format_of(const char *path);
  * 4 RGBA), all of them for EXR (0 for IS_IMAGE_NONE). */
 INSTESS_API int image_file_channel_count(int channels, is_image_format fmt);
 /* The names of the channels a file of format fmt holds of img, joined by commas ("R,G,B,A") into buf, as much as
- * fits in len (NUL-terminated when len > 0); the length of the whole list, as snprintf. */
+ * fits in len (NUL-terminated when len > 0); the length of the whole list, as snprintf.  NULL images, images whose
+ * channel count is out of 1..IS_IMAGE_MAX_CHANNELS and a NULL buf (then read as len 0) give an empty list. */
 INSTESS_API size_t image_file_channels(const is_image *img, is_image_format fmt, char *buf, size_t len);
 /* 0 if path can name an image file (a known extension after a non-empty stem), else -1 with a message. */
 INSTESS_API int image_check_path(const char *path, char *err, size_t errlen);

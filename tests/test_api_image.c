@@ -130,7 +130,25 @@ static void test_bad_images(void **state)
         assert_true(v == IS_IMAGE_IO_ERROR || v == IS_IMAGE_SHAPE_DIFFERS);
         const float white[4] = {1, 1, 1, 1};
         assert_int_equal(image_draw_text(b, 0, 10, "x", 12, white, err, sizeof err), -1);
+        char names[40] = "untouched";
+        if (b->channels < 1 || b->channels > IS_IMAGE_MAX_CHANNELS) {   /* names read only for counts an image has */
+            assert_int_equal(image_file_channels(b, IS_IMAGE_EXR, names, sizeof names), 0);
+            assert_string_equal(names, "");
+        }
     }
+    /* The channel lists: counts per format, NULL images and buffers, a list cut to the buffer. */
+    assert_int_equal(image_file_channel_count(6, IS_IMAGE_PNG), 4);
+    assert_int_equal(image_file_channel_count(6, IS_IMAGE_EXR), 6);
+    assert_int_equal(image_file_channel_count(6, IS_IMAGE_NONE), 0);
+    char names[8] = "ignored";
+    assert_int_equal(image_file_channels(NULL, IS_IMAGE_PNG, names, sizeof names), 0);
+    assert_string_equal(names, "");
+    is_image rgba;
+    assert_int_equal(image_alloc(&rgba, 1, 1, "R,G,B,A,Z", err, sizeof err), 0);
+    assert_int_equal(image_file_channels(&rgba, IS_IMAGE_EXR, NULL, 99), strlen("R,G,B,A,Z"));
+    assert_int_equal(image_file_channels(&rgba, IS_IMAGE_PNG, names, 4), strlen("R,G,B,A"));
+    assert_string_equal(names, "R,G");
+    image_free(&rgba);
     image_free(&good);
 }
 
