@@ -28,7 +28,10 @@ static const rs_kernels kernels[RS_ISA_COUNT] = {
                         rs_setup_shared_avx512 },
 };
 #else /* the browser build: no kernels, the reference path only (raster_internal.h) */
-static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none"}, [RS_ISA_AVX512] = {"avx512"}};
+static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL},
+                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL}};
+/* setup_simd.c's definition (sizeof(rs_pvert), asserted 24 there), for the scratch rs_draw_source reserves */
+size_t rs_pvert_size(void) { return 24; }
 #endif
 
 const rs_kernels *rs_kernels_of(int isa) { return &kernels[isa >= 0 && isa < RS_ISA_COUNT ? isa : RS_ISA_AVX2]; }
