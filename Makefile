@@ -269,6 +269,7 @@ goldens: $(B)/instess $(TEST_BIN)
 	INSTESS_REGENERATE_GOLDENS=1 INSTESS_GOLDENS_ONLY=$(ONLY) bash tests/run.sh $(TEST_BIN)
 
 include bench/bench.mk
+include web/web.mk
 -include tests/fuzz/fuzz.mk
 
 # Every build folder: build/, the sanitizer's, the fuzzers' and any other build-*/ (and tests/failures/).
