@@ -7,6 +7,7 @@
 #                   (default /usr/local; DESTDIR stages it, e.g. make install DESTDIR=/tmp/stage);
 #                   make uninstall removes exactly those files
 #   make bench      the benchmark of docs/design.md, section 6, against Mesa's llvmpipe
+#   make web        the tutorial in the browser: out/web/index.html, one file (web/web.mk); make test-web tests it
 #   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
 #                   make goldens ONLY=ID[,ID...] re-renders just those
 #
@@ -132,7 +133,8 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 	$(CC) $(LDFLAGS) $(PROG_LDFLAGS) $^ $(LDLIBS_TEST) $(LDLIBS) -o $@
 
 # make test = the unit, numerical and golden tests, then the same tests built with AddressSanitizer and
-# UndefinedBehaviorSanitizer (clang), then valgrind on the renderer.  make test-unit runs only the first part.
+# UndefinedBehaviorSanitizer (clang), then valgrind on the renderer, then the browser page (make test-web,
+# web/web.mk).  make test-unit runs only the first part.
 test:
 	@MAKE="$(MAKE)" bash tests/all.sh
 
