@@ -281,12 +281,12 @@ async function main() {
   await step("framing: box", choose("c-fit", "box"), "sphere --level 4 --fill solid+wire --lod distance --max-level 24 --wire-levels on --silhouette --yaw 100 --fit box");
   // split view: two renders of half the width, the right one with the other patch
   await step("tutorial step 5: the split view", press("#steps button:nth-child(5)") + "; await instess.idle();" + press("#show"),
-             ["cube --level 16 --size 256x512", "cube --level 16 --patch npatch --size 256x512"]);
+             ["cube --level 16 --size 384x512", "cube --level 16 --patch npatch --size 384x512"]);
   if (process.env.WEB_SCREENSHOT) await screenshot(process.env.WEB_SCREENSHOT);
   await screenshot(join(outDir, "page-split.png"));
   await step("split: the right half's patch", choose("c-other", "phong"),
-             ["cube --level 16 --size 256x512", "cube --level 16 --patch phong --size 256x512"]);
-  await step("split: off", tick("c-split", false), "cube --level 16");
+             ["cube --level 16 --size 384x512", "cube --level 16 --patch phong --size 384x512"]);
+  await step("split: off", tick("c-split", false), "cube --level 16 --size 768x512");
   await step("tutorial step 8: the device's N-patch mode", press("#steps button:nth-child(8)") + "; await instess.idle();" + press("#show"),
              "sphere --patch npatch --normals linear --level 6 --path npatch-mode");
   await step("path: cpu (the same N-Patch)", choose("c-path", "cpu"), "sphere --patch npatch --normals linear --level 6 --path cpu", { acts: false });
@@ -331,7 +331,7 @@ async function finish() {
   try { await Promise.race([send("Browser.close"), new Promise((r) => setTimeout(r, 3000))]); } catch {}
   browser.kill();
   await Promise.race([exited, new Promise((r) => setTimeout(r, 3000))]);
-  rmSync(profile, { recursive: true, force: true });
+  rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 200 });
   console.log(`web: ${passed} passed, ${failed} failed`);
   process.exit(failed ? 1 : 0);
 }

@@ -116,7 +116,7 @@
       `thread count.">${tables.threads} thread</span>`;
     $("command").textContent = f.parts.map((p) => "build/instess " + p.args + " -o " +
       (f.parts.length > 1 ? (p.x ? "right" : "left") : "out") + ".png").join("\n");
-    $("view").style.width = Math.max(256, canvas.clientWidth) + "px";   /* the text under the image as wide as it */
+    $("view").style.width = Math.max(256, canvas.width) + "px";   /* the text under the image as wide as it */
     const split = f.parts.length > 1;
     $("divider").style.display = $("label-left").style.display = $("label-right").style.display = split ? "block" : "none";
     if (split) {
@@ -338,7 +338,7 @@ pos0 = vs_lerp3(edge_patch(...), posN, fminf(1.0f, fn0 + bl));
 return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
         <p>Each of the ${live(stat("vertices_shaded"))} vertices of this frame ran it once.</p>` },
     { title: "5. The patches",
-      preset: { mesh: "cube", patch: "smooth", other: "npatch", split: true, level: "16" },
+      preset: { mesh: "cube", patch: "smooth", other: "npatch", split: true, level: "16", size: "768x512" },
       html: () => `<p><b>N-Patch</b> (<code>npatch</code>): a cubic B&eacute;zier triangle from the corners and
         their normals; watertight where neighbours agree on normals, but only C0 across edges: the cube shows
         creases. <b>Intermediate smoothed patch</b> (<code>smooth-initial</code>, Listing 1.1.1): smooth across
@@ -349,7 +349,8 @@ return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
         patch's own) shows the difference; under <code>linear</code> (what D3D9 rendered) every curved patch
         shades alike.</p>` },
     { title: "6. The errata of the listings",
-      preset: { mesh: "cube", patch: "smooth-initial", other: "smooth", split: true, level: "16", light: "grazing" },
+      preset: { mesh: "cube", patch: "smooth-initial", other: "smooth", split: true, level: "16", light: "grazing",
+                size: "768x512" },
       html: () => `<p>The article's listings were OCR'd and carry typos and real mistakes: the control points
         lack their /3, <code>fn0..fn2</code> use an undefined <code>n</code> and pair opposite vertices with the
         wrong edges, Gregory coordinates are 0/0 at the corners, curve parameters divide by zero on edges, and a
@@ -357,13 +358,15 @@ return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
         test.</p><p>Under a grazing light the intermediate patch's ridge along the cube's diagonals (left, fig
         1.1.8b) is gone in the final patch (right).</p>` },
     { title: "7. Crack-free, to the bit",
-      preset: { mesh: "cube-split", patch: "npatch", other: "pn-aen", split: true, level: "8", normals: "linear" },
+      preset: { mesh: "cylinder", patch: "npatch", other: "pn-aen", split: true, level: "8", normals: "linear",
+                yaw: "20", pitch: "-35", distance: "2.8", size: "768x512" },
       html: () => `<p>Two triangles sharing an edge see it with their vertices in opposite order. instess
         evaluates every edge point in a canonical vertex order, so both sides compute identical bits; with the
-        top-left fill rule no pixel is left out or drawn twice.</p><p>Left: the N-Patch of a cube whose corners
-        have one normal per face (<code>cube-split</code>): the edge curves of the two sides differ and the
-        background shows through. Right: PN-AEN averages the edge control points of both sides and closes
-        them.</p>` },
+        top-left fill rule no pixel is left out or drawn twice (<code>tests/test_cracks.c</code> counts every
+        pixel's coverage to prove it).</p><p>The surface stays closed as long as the two sides agree on the
+        normals. The cylinder's rim vertices are split: radial normals for the side, axial ones for the caps.
+        Left: the N-Patch's two rim curves differ, and the background shows through along the rim. Right:
+        PN-AEN averages the edge control points of both sides and closes it (fig-001-5).</p>` },
     { title: "8. Three ways to the same N-Patch",
       preset: { mesh: "sphere", patch: "npatch", normals: "linear", level: "6", path: "npatch-mode" },
       html: () => `<p>D3D9 offered three: the device's own N-patch mode (<code>SetNPatchMode</code>),
@@ -372,7 +375,7 @@ return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
         the path (now ${live(state.path)}) and the picture does not change.</p>` },
     { title: "9. Adaptive level of detail, still through instancing",
       preset: { mesh: "sphere", patch: "smooth", lod: "screen", "max-level": "32", "lod-target": "8",
-                fill: "solid+wire", "wire-levels": true, distance: "2.2" },
+                fill: "solid+wire", "wire-levels": true, distance: "2.6" },
       html: () => `<p>Every mesh edge gets a level of its own, computed once from its two welded end points, so
         both triangles of an edge agree: <code>distance</code> scales the finest level by depth,
         <code>screen</code> divides the projected length of the edge's control polygon by the target in pixels.

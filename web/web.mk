@@ -16,7 +16,7 @@
 # (libm.c, with the table web/trig_table.c makes natively).  Same -O2 -ffp-contract=off as the program.
 
 WEB_TOOLCHAIN ?= wasi
-WEB_OUT   = out/web
+WEB_OUT  ?= out/web
 WEB_B     = $(B)/web-$(WEB_TOOLCHAIN)
 WEB_LIB_SRC = $(filter-out raster/span.c raster/setup_simd.c,$(wildcard core/*.c raster/*.c vs/*.c tess/*.c)) \
               meshes/mesh.c meshes/builtin.c meshes/normals_check.c
