@@ -2,8 +2,8 @@
  * the page's controls produce, as C tables for web/libm.c.
  *
  * Why: the C libraries disagree in the last bit of these functions (glibc 2.36 on x86-64-v3 runs its FMA
- * variants of sinf and cosf and Sun's tanf kernel; wasi-libc and emscripten run musl's): of the angles -360..360
- * degrees in tenths, glibc's sinf differs from musl's at about 100, cosf at about 90, tanf at about 1300.  The
+ * variants of sinf and cosf and Sun's tanf kernel; wasi-libc and emscripten run musl's): of the 7201 angles
+ * -360..360 degrees in tenths, glibc's sinf differs from musl's at 94, cosf at 92, tanf at 952.  The
  * camera's matrices (cli/run/scene.c's make_camera, core/math.c) take those bits, and a last-bit change moves an
  * edge across a sample now and then.  The page's controls give whole degrees (yaw, pitch -360..360, field of
  * view 1..170), so the page can take the native values for exactly those arguments: the keys below are the
