@@ -247,8 +247,9 @@ async function main() {
     report(false, "the page opens from file:// and its module starts", e.message);
     return;
   }
-  const threads = await evaluate(`document.getElementById("status").textContent`);
-  report(/1 thread/.test(threads), "the page says it draws on 1 thread", `status: ${threads}`);
+  const threads = await evaluate(`document.getElementById("status").textContent + " / " + document.getElementById("threads-note").textContent`);
+  report(/1 thread/.test(threads) && /cross-origin isolation/.test(threads), "the page says it draws on 1 thread, and why",
+         `it says: ${threads}`);
 
   // the state the page opens with: the program's defaults
   await step("the first frame", "", "cube", { acts: false });
