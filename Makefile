@@ -8,6 +8,7 @@
 #                   Python package python/instess where Debian's python3 finds it (PYTHONDIR);
 #                   make uninstall removes exactly those files
 #   make bench      the benchmark of docs/design.md, section 6, against Mesa's llvmpipe
+#   make web        the tutorial in the browser: out/web/index.html, one file (web/web.mk); make test-web tests it
 #   make goldens    re-render the golden images under tests/golden/ (only on purpose: commit says why);
 #                   make goldens ONLY=ID[,ID...] re-renders just those
 #
@@ -152,7 +153,8 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_UTIL_OBJ) $(B)/libinstess_app.a $(B)/libinst
 
 # make test = the unit, numerical and golden tests, the staged install, the Python package's tests, then the same
 # tests built with AddressSanitizer and UndefinedBehaviorSanitizer (clang), then allocation failure everywhere
-# (make faults), then valgrind on the renderer.  make test-unit runs only the first part.
+# (make faults), then valgrind on the renderer, then the browser page (make test-web, web/web.mk).  make test-unit
+# runs only the first part.
 # (+: the nested makes of tests/all.sh share this make's jobserver, so -j passes through without a warning)
 test:
 	+@MAKE="$(MAKE)" bash tests/all.sh
@@ -342,6 +344,7 @@ goldens: $(B)/instess $(TEST_BIN)
 	INSTESS_REGENERATE_GOLDENS=1 INSTESS_GOLDENS_ONLY=$(ONLY) bash tests/run.sh $(TEST_BIN)
 
 include bench/bench.mk
+include web/web.mk
 -include tests/fuzz/fuzz.mk
 
 # Every build folder: build/, the sanitizer's, the fuzzers' and any other build-*/ (and tests/failures/).

@@ -20,12 +20,19 @@
 
 /* The kernel table: one row per instruction set (RS_ISA_*), each a copy of span.c and setup_simd.c compiled for
  * it (raster_internal.h, RS_KERNEL). */
+#ifndef RS_NO_KERNELS
 static const rs_kernels kernels[RS_ISA_COUNT] = {
     [RS_ISA_AVX2] = { "avx2", rs_tri_fast_avx2, rs_project_vertices_avx2, rs_project_vertex_avx2,
                       rs_setup_shared_avx2 },
     [RS_ISA_AVX512] = { "avx512", rs_tri_fast_avx512, rs_project_vertices_avx512, rs_project_vertex_avx512,
                         rs_setup_shared_avx512 },
 };
+#else /* the browser build: no kernels, the reference path only (raster_internal.h) */
+static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL},
+                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL}};
+/* setup_simd.c's definition (sizeof(rs_pvert), asserted 24 there), for the scratch rs_draw_source reserves */
+size_t rs_pvert_size(void) { return 24; }
+#endif
 
 const rs_kernels *rs_kernels_of(int isa) { return &kernels[isa >= 0 && isa < RS_ISA_COUNT ? isa : RS_ISA_AVX2]; }
 
@@ -74,6 +81,7 @@ rs_context *rs_create(int threads)
     if (!rs) return NULL;
     rs->threads = threads > 0 ? threads : 0;
     rs->isa = rs_isa_best();
+    if (RS_ONLY_REFERENCE) rs->reference = true;
     return rs;
 }
 
@@ -98,7 +106,7 @@ void rs_destroy(rs_context *rs)
 
 void rs_set_reference_path(rs_context *rs, bool on)
 {
-    if (rs) rs->reference = on;
+    if (rs) rs->reference = on || RS_ONLY_REFERENCE;
 }
 
 void rs_set_timing(rs_context *rs, bool on)

@@ -38,6 +38,15 @@
 #define RS_KERNEL(name) name##_avx2
 #endif
 
+/* RS_NO_KERNELS (the browser build, `make web`: WebAssembly has neither instruction set): span.c and setup_simd.c
+ * are not compiled, the kernel table has no functions (draw.c), and every draw takes the reference path, which
+ * writes the same bytes (rs_create, rs_set_reference_path).  RS_ONLY_REFERENCE says so at compile time. */
+#ifdef RS_NO_KERNELS
+#define RS_ONLY_REFERENCE true
+#else
+#define RS_ONLY_REFERENCE false
+#endif
+
 /* RS_ASSERT(cond): assert(cond) when INSTESS_CHECKS is defined; otherwise no code at all (cond is not evaluated,
  * only type-checked, so it may name variables that exist for the check alone). */
 #ifdef INSTESS_CHECKS

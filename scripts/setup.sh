@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# scripts/setup.sh [--bench] -- install what instess needs from Debian's packages, only when missing.
-# Checks pkg-config (and a few files) first; runs apt-get through sudo when not root.  Idempotent and quiet
-# when everything is there.  --bench also installs what `make bench` needs (Mesa's llvmpipe, EGL, GLES/GL).
+# scripts/setup.sh [--bench|--sanitize|--web] -- install what instess needs from Debian's packages, only when
+# missing.  Checks pkg-config (and a few files) first; runs apt-get through sudo when not root.  Idempotent and
+# quiet when everything is there.  --bench also installs what `make bench` needs (Mesa's llvmpipe, EGL, GLES/GL);
+# --sanitize clang, its runtimes and valgrind; --web what `make web` and its browser test need (clang and lld
+# for wasm32-wasi, wasi-libc, compiler-rt's wasm32 builtins; Chromium and node to drive it).
 set -euo pipefail
 
 need=()
@@ -39,6 +41,15 @@ if [ "${1:-}" = "--sanitize" ]; then
   [ -e /usr/lib/llvm-14/lib/libomp.so ] || need+=(libomp-dev)
   # clang's sanitizer and libFuzzer runtimes are a separate package on Debian 12
   compgen -G '/usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.asan-x86_64.a' >/dev/null || need+=(libclang-rt-14-dev)
+fi
+
+if [ "${1:-}" = "--web" ]; then
+  command -v clang >/dev/null 2>&1 || need+=(clang)
+  command -v wasm-ld >/dev/null 2>&1 || need+=(lld)
+  [ -f /usr/include/wasm32-wasi/stdio.h ] || need+=(wasi-libc)
+  compgen -G '/usr/lib/llvm-14/lib/clang/*/lib/wasi/libclang_rt.builtins-wasm32.a' >/dev/null || need+=(libclang-rt-14-dev-wasm32)
+  command -v chromium >/dev/null 2>&1 || need+=(chromium)
+  command -v node >/dev/null 2>&1 || need+=(nodejs)
 fi
 
 [ ${#need[@]} -eq 0 ] && exit 0

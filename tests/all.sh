@@ -2,15 +2,16 @@
 # tests/all.sh -- `make test`: the unit/numerical/golden tests, the staged install with the example
 # (tests/install_check.sh), the Python package's tests (tests/python_check.sh), the same tests under ASan+UBSan,
 # allocation failure at every allocation of a render, a compare and an import (make faults: tests/faults.sh, about
-# half a minute), and valgrind on
-# the renderer, one stage after the other (each runs even if an earlier one failed), then one total line:
+# half a minute), valgrind on the renderer, and the page of `make web` in headless Chromium against the program
+# (tests/web_test.sh; skipped, by name, only when Chromium or the wasm toolchain cannot be installed), one stage
+# after the other (each runs even if an earlier one failed), then one total line:
 # "total: N passed, N failed" (", N skipped" when tests skipped themselves: never counted as passed).  Each
 # stage's wall time is printed after it, and all of them at the end.
 # Exit status 0 only if every stage passed.
 set -u
 make=${MAKE:-make}
 passed=0; failed=0; skipped=0; status=0; times=""
-for stage in test-unit install-check python-check sanitize faults valgrind; do
+for stage in test-unit install-check python-check sanitize faults valgrind test-web; do
   echo "== $stage"
   start=$SECONDS
   log=$(mktemp)

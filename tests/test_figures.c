@@ -309,6 +309,10 @@ static void test_only_index(void **state)
     assert_int_equal(count_in_file(index, "<img src="), 1);
     assert_int_equal(count_in_file(index, "href=\"#fig-"), 1);
     assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 1);
+    /* the link to the tutorial in the browser (make web), with its contents entry; not built in this folder */
+    assert_int_equal(count_in_file(index, "<a href=\"web/index.html\">"), 1);
+    assert_int_equal(count_in_file(index, "href=\"#browser\""), 1);
+    assert_int_equal(count_in_file(index, "Not built in this folder yet"), 1);
     rc = prog_run(dir, &err, "", "figures --only fig-003-4 --out '%s'", sub);
     assert_int_equal(rc, 0);
     assert_int_equal(count_in_file(index, "<figure id="), 2);

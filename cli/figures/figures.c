@@ -414,6 +414,7 @@ static void html_toc(FILE *f, const figure **all, size_t n, bool live)
         if (k + 1 == n || all[k + 1]->section != s) fputs("</li>\n", f);
     }
     if (live) fputs("<li><a href=\"#live\">Explore it live: instess view</a></li>\n", f);
+    fputs("<li><a href=\"#browser\">The tutorial in the browser</a></li>\n", f);
     fputs("</ol>\n</nav>\n", f);
 }
 
@@ -449,6 +450,19 @@ static void html_viewer(FILE *f, const char *dir)
           "Tab,Left,Right --capture viewer.png</code>: the smoothed patch (left) beside the N-Patch (right) on "
           "the cube, with the HUD.</p>\n<div class=\"group\"><figure><img src=\"viewer.png\" "
           "alt=\"instess view, split screen with the HUD\" width=\"960\" height=\"540\"></figure></div>\n", f);
+}
+
+/* The link to the tutorial in the browser (make web writes it beside the gallery, out/web/index.html: its own
+ * target, so that make figures stays as fast), saying whether it is there yet. */
+static void html_browser(FILE *f, const char *dir)
+{
+    fputs("<h2 id=\"browser\">The tutorial in the browser</h2>\n<p class=\"intro\"><a href=\"web/index.html\">"
+          "web/index.html</a>: the README's tutorial with live controls (mesh, an OBJ file of your own, patch, level, "
+          "normals, level of detail, split view), rendered by instess compiled to WebAssembly, in any browser, "
+          "without a server: the same pixels as the program, and the command line that reproduces each frame.", f);
+    if (!file_there(dir, "web/index", ".html"))
+        fputs(" Not built in this folder yet: <code>make web</code> writes it to out/web/index.html.", f);
+    fputs("</p>\n", f);
 }
 
 /* Whether the comma-separated list only names VIEWER_ID. */
@@ -532,6 +546,7 @@ static int write_gallery(const char *dir, const figure *const *sel, size_t n_sel
     html_toc(f, all, n, file_there(dir, "viewer", ".png"));
     html_body(f, dir, all, n, sel, n_sel, res);
     html_viewer(f, dir);
+    html_browser(f, dir);
     fputs("</body>\n</html>\n", f);
     if (outputs_close_stream(&outs, k, f, err, sizeof err) != 0 || outputs_commit(&outs, err, sizeof err) != 0) {
         outputs_abort(&outs);
