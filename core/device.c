@@ -151,6 +151,7 @@ static void res_free_contents(dev_res *r)
 void dev_destroy(is_device *dev)
 {
     if (!dev || dev->destroyed) return;
+    inspect_stop(dev);
     dev_release_textures(dev);
     for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;

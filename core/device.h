@@ -232,12 +232,20 @@ typedef struct is_patch_hull {
  * instance has no bound (non-finite data, say): it is then drawn. */
 typedef bool (*is_vs_hull_fn)(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
 
+/* A named value a shader publishes for the pipeline inspector (core/inspect.h): name is a static string. */
+typedef struct is_vs_value { const char *name; float4 v; } is_vs_value;
+/* The explain stage (optional): for the inputs in, the shader's named intermediate values -- the same numbers
+ * `main` computes for them -- into vals (at most max); returns how many it wrote. */
+typedef unsigned (*is_vs_explain_fn)(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals,
+                                     unsigned max);
+
 typedef struct is_vertex_shader {
     const char *name;
     is_vs_fn main;
     uint32_t outputs;   /* IS_OUT_* mask of written outputs (what the rasterizer interpolates) */
     is_vs_batch_fn batch; /* NULL: the device calls main per vertex */
     is_vs_hull_fn hull;   /* NULL: no bound, every instance is shaded */
+    is_vs_explain_fn explain; /* NULL: the shader publishes nothing to the inspector */
 } is_vertex_shader;
 
 /* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */

@@ -145,6 +145,7 @@ struct is_device {
     scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
+    struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
 };
 
 /* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources
@@ -256,6 +257,20 @@ is_result reserve_scratch(is_device *dev, size_t nv, size_t ni);
 /* The device's result of a rasterizer call that returned r (RS_OK or RS_E*): IS_OK with its counters s added to
  * the device's, or the error with its message. */
 is_result draw_result(is_device *dev, int r, const rs_stats *s);
+/* (draw.c) Index-stream position of corner c of primitive p of a draw of `type`; fetch vertex `vertex` of
+ * instance `instance` into in's registers; run dev's shader on in (outputs it does not write are zero, colours
+ * saturated) -- the device's reference front end, which the fast paths match bit for bit. */
+size_t prim_vertex(is_primtype type, size_t p, unsigned c);
+void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instance, is_vs_input *in);
+void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out);
+/* (inspect.c) The recording inspector's share of a draw (dev->inspector set): inspect_draw replays it for the
+ * recorded pixel before the device draws and returns the record's mark; inspect_draw_done keeps the fragments
+ * after the mark when the draw succeeded, else drops them and counts the draw skipped.  inspect_stop frees the
+ * inspector (dev_destroy, dev_inspect_end). */
+size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims, uint32_t first,
+                    uint32_t count, const uint32_t *stream_idx);
+void inspect_draw_done(is_device *dev, size_t mark, bool drawn);
+void inspect_stop(is_device *dev);
 
 /* ---- draw_fused.c: the fused path of instanced triangle draws ---- */
 

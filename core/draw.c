@@ -54,7 +54,7 @@ static int prim_raster_type(is_primtype type, unsigned *per_prim)
 
 /* Position in the index stream of vertex c (0..per-1) of primitive p: lists, strips (triangle p is
  * (p, p+1, p+2) when even and (p, p+2, p+1) when odd, keeping the winding, as D3D9 does) and fans (0, p+1, p+2). */
-static size_t prim_vertex(is_primtype type, size_t p, unsigned c)
+size_t prim_vertex(is_primtype type, size_t p, unsigned c)
 {
     switch (type) {
     case IS_PT_LINESTRIP: return p + c;
@@ -108,7 +108,7 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
 }
 
 /* Fetch vertex `vertex` of instance `instance` into the input registers. */
-static void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instance, is_vs_input *in)
+void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instance, is_vs_input *in)
 {
     input_defaults(in);
     for (unsigned k = 0; k < fp->n; k++) {
@@ -119,7 +119,7 @@ static void fetch_vertex(const fetch_plan *fp, uint32_t vertex, uint32_t instanc
 }
 
 /* Run the shader on one input; outputs it does not write are zero, as the rasterizer expects. */
-static void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
+void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
 {
     memset(out, 0, sizeof *out);
     dev->vs->main(&dev->consts, in, out);
@@ -328,8 +328,8 @@ static size_t assemble(is_device *dev, is_primtype type, size_t n_prims, uint32_
 }
 
 /* The draw after validation: stream_idx[k] are index-stream entries already rebased to `first`. */
-static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims,
-                             uint32_t first, uint32_t count, const uint32_t *stream_idx)
+static is_result draw_shaded_run(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims,
+                                 uint32_t first, uint32_t count, const uint32_t *stream_idx)
 {
     unsigned per;
     int prim = prim_raster_type(type, &per);
@@ -351,6 +351,17 @@ static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype t
         size_t np = assemble(dev, type, n_prims, ni, count, stream_idx);
         r = rasterize(dev, prim, (size_t)ni * count, np);
     }
+    return r;
+}
+
+/* draw_shaded_run, replayed first for the pixel the inspector records (core/inspect.c) when the device records. */
+static is_result draw_shaded(is_device *dev, const fetch_plan *fp, is_primtype type, size_t n_prims,
+                             uint32_t first, uint32_t count, const uint32_t *stream_idx)
+{
+    if (!dev->inspector) return draw_shaded_run(dev, fp, type, n_prims, first, count, stream_idx);
+    size_t mark = inspect_draw(dev, fp, type, n_prims, first, count, stream_idx);
+    is_result r = draw_shaded_run(dev, fp, type, n_prims, first, count, stream_idx);
+    inspect_draw_done(dev, mark, r == IS_OK);
     return r;
 }
 
@@ -637,6 +648,7 @@ static is_result draw_npatch_adaptive(is_device *dev, const fetch_plan *fp, size
 static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris, const uint32_t *stream_idx,
                              uint32_t first)
 {
+    if (dev->inspector) inspect_draw_done(dev, SIZE_MAX, false);   /* the N-patch mode is not recorded */
     if (dev->rs_state[IS_RS_ENABLEADAPTIVETESSELLATION])
         return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
     core_grid grid;

@@ -105,6 +105,12 @@ float3 vs_smooth_fn(const vs_triangle *T)
 
 float3 vs_smooth_formula(const vs_triangle *T, float3 b, uint32_t flags, float3 *gout, int *p_evals)
 {
+    return vs_smooth_traced(T, b, flags, gout, p_evals, NULL);
+}
+
+float3 vs_smooth_traced(const vs_triangle *T, float3 b, uint32_t flags, float3 *gout, int *p_evals,
+                        vs_smooth_trace *tr)
+{
     if (!T) return f3(0, 0, 0);
     float3 v0 = T->v[0], v1 = T->v[1], v2 = T->v[2];
     float3 n0 = T->n[0], n1 = T->n[1], n2 = T->n[2];
@@ -123,6 +129,8 @@ float3 vs_smooth_formula(const vs_triangle *T, float3 b, uint32_t flags, float3 
     float3 posN = vs_evaluate_npatch(v0, v1, v2, n0, n1, n2, b);
     // blend factor to blend towards N-Patch based on vicinity of the center of the tri
     float bl = 3 * 3 * 3 * b.x * b.y * b.z;
+    if (tr) *tr = (vs_smooth_trace){.c = c, .fn = fn, .posN = posN, .bl = bl, .g = g,
+                                    .pos = {posN, posN, posN}};
     // every bf is 1: pos0 = pos1 = pos2 = posN, and the Gregory blend of three posN is posN exactly
     bool all_one = fn0 == 1.0f && fn1 == 1.0f && fn2 == 1.0f;
     if (shortcut && all_one) return posN;
@@ -131,14 +139,17 @@ float3 vs_smooth_formula(const vs_triangle *T, float3 b, uint32_t flags, float3 
     if (!shortcut || fn0 != 1.0f) {
         pos0 = vs_lerp3(edge_patch(v0, v1, v2, n0, n1, n2, c.x, b.z), posN, fminf(1.0f, fn0 + bl));
         if (p_evals) ++*p_evals;
+        if (tr) tr->pos[0] = pos0;
     }
     if (!shortcut || fn1 != 1.0f) {
         pos1 = vs_lerp3(edge_patch(v1, v2, v0, n1, n2, n0, c.y, b.x), posN, fminf(1.0f, fn1 + bl));
         if (p_evals) ++*p_evals;
+        if (tr) tr->pos[1] = pos1;
     }
     if (!shortcut || fn2 != 1.0f) {
         pos2 = vs_lerp3(edge_patch(v2, v0, v1, n2, n0, n1, c.z, b.y), posN, fminf(1.0f, fn2 + bl));
         if (p_evals) ++*p_evals;
+        if (tr) tr->pos[2] = pos2;
     }
     if (all_one) return posN; // (without the shortcut: after evaluating every P_k)
     // gregory blend points on curves and blend with N-Patch again
@@ -177,5 +188,6 @@ static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_i
 }
 
 const is_vertex_shader vs_shader_smooth_initial = {"smooth-initial", VSInstancedPatchInitial, VS_OUTPUTS,
-                                                   VSInstancedPatchInitialBatch, NULL};
-const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch, NULL};
+                                                   VSInstancedPatchInitialBatch, NULL, vs_explain_smooth_initial};
+const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch, NULL,
+                                           vs_explain_smooth};

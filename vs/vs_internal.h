@@ -51,6 +51,26 @@ void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, 
 void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
                      is_vs_output *out);
 
+/* The smoothed patch's Listing 1.1.2 intermediates at one b (the pipeline inspector's view): the curve
+ * parameters c, the face-normal factors fn, the N-Patch point posN, the centre blend bl, the blended P0..P2 (posN
+ * where the shortcut skips one) and the Gregory weights g.  vs_smooth_formula is vs_smooth_traced without a
+ * trace: the same operations, so the numbers are those of the render. */
+typedef struct vs_smooth_trace {
+    float3 c, fn, posN, g, pos[3];
+    float bl;
+} vs_smooth_trace;
+float3 vs_smooth_traced(const vs_triangle *T, float3 b, uint32_t flags, float3 *gout, int *p_evals,
+                        vs_smooth_trace *tr);
+
+/* The explain stages (is_vs_explain_fn, vs/explain.c) of the patch shaders: b, the patch point and normal in
+ * object space, where b lies (interior, edge, corner) and, for the smoothed patches, their intermediates. */
+unsigned vs_explain_flat(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+unsigned vs_explain_npatch(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+unsigned vs_explain_smooth_initial(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+unsigned vs_explain_smooth(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+unsigned vs_explain_phong(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+unsigned vs_explain_pn_aen(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max);
+
 /* The hull stages (vs/hull.c; is_vs_hull_fn of core/core.h) of the npatch and flat shaders. */
 bool vs_npatch_hull(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);
 bool vs_flat_hull(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h);

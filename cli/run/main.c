@@ -31,6 +31,10 @@ static const scene_subcommand subcommands[] = {
      scene_compare_options,
      "0 identical or within the thresholds, 1 different, 2 usage error, 3 the sizes or channels differ, 4 an "
      "image cannot be read (or the diff image cannot be written)."},
+    {"inspect", scene_cmd_inspect, "[OPTION]... [MESH] --pixel X,Y [--json]",
+     "Render as -o would (one sample per pixel) and print the history of pixel X,Y through the draws: each fragment's "
+     "draw, instance, grid triangle, stream registers, vertex shader values, barycentrics, depth test and colour "
+     "(--json: as JSON).", NULL, NULL},
     {"view", scene_cmd_view, "[OPTION]... [MESH] [--keys LIST] [--frames N] [--capture FILE.png] [--no-hud]",
      "Open a window showing exactly what the same render options write with -o, re-rendered as keys and the mouse "
      "change them (instess view --help lists the keys); --keys, --frames and --capture script it without a "

@@ -1139,7 +1139,7 @@ static int utf8_len(const unsigned char *p)
     return len;
 }
 
-static void json_string(FILE *f, const char *s)
+void scene_json_string(FILE *f, const char *s)
 {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p;) {
@@ -1156,9 +1156,9 @@ static void json_string(FILE *f, const char *s)
 static void print_stats_json(const scene_opts *o, const is_mesh *m, const run_report *r)
 {
     fputs("{\"mesh\": ", stdout);
-    json_string(stdout, m->name);
+    scene_json_string(stdout, m->name);
     fputs(", \"output\": ", stdout);
-    json_string(stdout, o->output);
+    scene_json_string(stdout, o->output);
     printf(", \"triangles\": %zu, \"grid_points\": %zu, \"grid_triangles\": %zu, \"vertices_shaded\": %llu, "
            "\"triangles_drawn\": %llu, \"ms\": %.3f",
            r->st.mesh_triangles, r->st.grid_points, r->st.grid_triangles, (unsigned long long)r->st.vertices_shaded,

@@ -333,6 +333,10 @@ int scene_cmd_figures(int argc, char **argv);
 int scene_cmd_smoothness(int argc, char **argv);
 int scene_cmd_compare(int argc, char **argv);
 int scene_cmd_view(int argc, char **argv);
+/* `instess inspect` (cli/run/inspect.c): one pixel's history through the device's draws (core/inspect.h). */
+int scene_cmd_inspect(int argc, char **argv);
+/* s as a JSON string (quoted; invalid UTF-8 as U+FFFD, control characters escaped) into f. */
+void scene_json_string(FILE *f, const char *s);
 
 /* An option of a subcommand, for its usage text and the man page: `--name METAVAR`, what it does. */
 typedef struct scene_subopt {

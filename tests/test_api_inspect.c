@@ -1,0 +1,120 @@
+/* tests/test_api_inspect.c -- every public function of core/inspect.h with NULL devices and records, pixels at
+ * and beyond the target's edges (INT_MIN, INT_MAX), a multisampled target, recording begun twice, ended twice or
+ * never, a device destroyed while it records (its inspector freed: the sanitizer stage checks for leaks), draws the
+ * inspector does not record (points, lines) and draws that fail (nothing recorded for them).  Usage names out of
+ * range are "?".  tests/check_api_walkers.sh checks that every INSTESS_API function of core/inspect.h is named
+ * here. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <limits.h>
+#include <string.h>
+
+#include "../core/core.h"
+#include "../vs/vs.h"
+
+/* A 16x16 device drawing one screen-filling triangle with the fixed shader (identity transform): positions in a
+ * vertex buffer of float4s (stream 0, POSITION0). */
+static is_device *device_with_triangle(int samples)
+{
+    char err[256];
+    is_device *dev = dev_create(16, 16, samples, err, sizeof err);
+    assert_non_null(dev);
+    const float verts[4][4] = {{-1, 1, 0.5f, 1}, {3, 1, 0.5f, 1}, {-1, -3, 0.5f, 1}, {0, 0, 0.5f, 1}};
+    is_vertex_buffer *vb;
+    assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
+    memcpy(vb_lock(vb), verts, sizeof verts);
+    vb_unlock(vb);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
+    float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+    is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    vs_set_constants(&c, &id, &id, (float4){1, 1, 1, 1}, NULL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, 10), IS_OK);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_shader_fixed), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
+    return dev;
+}
+
+/* NULL arguments, pixels outside, multisampled targets; begin twice, end twice. */
+static void test_arguments(void **state)
+{
+    (void)state;
+    is_inspect rec, other;
+    memset(&rec, 0x5a, sizeof rec);   /* untouched by refused calls */
+    assert_int_equal(dev_inspect_begin(NULL, 0, 0, &rec), IS_ERR_INVALIDCALL);
+    is_device *dev = device_with_triangle(1);
+    assert_int_equal(dev_inspect_begin(dev, 0, 0, NULL), IS_ERR_INVALIDCALL);
+    const int bad[][2] = {{-1, 0}, {0, -1}, {16, 0}, {0, 16}, {INT_MIN, 0}, {0, INT_MAX}, {INT_MAX, INT_MIN}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+        assert_int_equal(dev_inspect_begin(dev, bad[k][0], bad[k][1], &rec), IS_ERR_INVALIDCALL);
+    assert_int_equal(rec.x, 0x5a5a5a5a);
+    memset(&rec, 0, sizeof rec);
+    memset(&other, 0, sizeof other);
+    assert_int_equal(dev_inspect_begin(dev, 15, 15, &rec), IS_OK);
+    assert_int_equal(dev_inspect_begin(dev, 3, 4, &other), IS_OK);   /* the second replaces the first */
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(rec.n_fragments, 0);
+    assert_int_equal(other.n_fragments, 1);
+    assert_int_equal(other.x, 3);
+    dev_inspect_end(dev);
+    dev_inspect_end(dev);
+    dev_inspect_end(NULL);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(other.n_fragments, 1);   /* nothing recorded after the end */
+    is_inspect_free(&other);
+    is_inspect_free(&other);
+    is_inspect_free(NULL);
+    assert_null(other.fragments);
+    dev_destroy(dev);
+    dev = device_with_triangle(4);
+    assert_int_equal(dev_inspect_begin(dev, 0, 0, &rec), IS_ERR_INVALIDCALL);
+    dev_destroy(dev);
+    assert_string_equal(is_decl_usage_name(IS_DECLUSAGE_POSITION), "POSITION");
+    assert_string_equal(is_decl_usage_name(IS_DECLUSAGE_COUNT), "?");
+    assert_string_equal(is_decl_usage_name(UINT_MAX), "?");
+}
+
+/* Draws not recorded (points, lines), draws that fail, and a device destroyed while it records. */
+static void test_draws(void **state)
+{
+    (void)state;
+    is_device *dev = device_with_triangle(1);
+    is_inspect rec = {0};
+    assert_int_equal(dev_inspect_begin(dev, 2, 2, &rec), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 3), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_LINELIST, 0, 1), IS_OK);
+    assert_int_equal(rec.draws, 0);
+    assert_int_equal(rec.draws_skipped, 2);
+    assert_int_equal(dev_set_vertex_shader(dev, NULL), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);   /* no shader */
+    assert_int_equal(rec.n_fragments, 0);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_shader_fixed), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(rec.draws, 1);
+    assert_int_equal(rec.n_fragments, 1);
+    const is_inspect_fragment *f = &rec.fragments[0];
+    assert_int_equal(f->v[0].n_inputs, 1);
+    assert_int_equal(f->v[0].inputs[0].usage, IS_DECLUSAGE_POSITION);
+    assert_int_equal(f->v[0].n_values, 0);   /* the fixed shader publishes nothing */
+    assert_true(f->passed);
+    dev_destroy(dev);   /* while recording: the inspector goes with the device, rec keeps its fragments */
+    assert_int_equal(rec.n_fragments, 1);
+    is_inspect_free(&rec);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_arguments),
+        cmocka_unit_test(test_draws),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
