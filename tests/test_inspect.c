@@ -247,6 +247,14 @@ static void test_program(void **state)
     assert_non_null(strstr(json, "\"usage\": \"TEXCOORD\", \"usage_index\": 12"));
     image_free(&img);
     free(json);
+    /* under another light the patch is wrapped (cli/run/lighting.c): the wrapper forwards what the patch publishes */
+    snprintf(cmd, sizeof cmd, "%s inspect cube --light grazing --size 64x64 --level 4 --pixel 30,33 --json -q > %s/lit.json",
+             prog_bin(), dir);
+    assert_int_equal(system(cmd), 0);
+    json = (char *)prog_slurp(prog_path(dir, "lit.json", path, sizeof path), &n);
+    assert_non_null(json);
+    assert_non_null(strstr(json, "\"posN\": ["));
+    free(json);
     /* the note on stderr: the default --msaa 4 is not what is inspected */
     assert_int_equal(prog_run(dir, &err, "", "inspect cube --size 64x64 --level 4 --pixel 30,33"), 0);
     assert_non_null(strstr(err, "one sample per pixel"));

@@ -89,7 +89,22 @@ static void vs_displaced(const is_vs_constants *c, const is_vs_input *in, is_vs_
     out->attr[RS_ATTR_COLOR0] = diffuse;
     out->attr[RS_ATTR_TEXCOORD0 + 1] = f4_of(n, 0.0f);
 }
-const is_vertex_shader scene_displaced_shader = {.name = "displaced", .main = vs_displaced, .outputs = VS_OUTPUTS};
+/* The inner shader's published values, then the displaced point (object space) as "displaced". */
+static unsigned vs_displaced_explain(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals,
+                                     unsigned max)
+{
+    int k = (int)c->c[C_DISPLACE].x;
+    const is_vertex_shader *inner = scene_shader_at(k);
+    unsigned n = inner->explain ? inner->explain(c, in, vals, max) : 0;
+    if (k >= VS_PATCH_COUNT || n >= max) return n;
+    vs_triangle T;
+    vs_triangle_from_input(in, &T);
+    vs_options vo = vs_options_from_constants(c);
+    vals[n] = (is_vs_value){"displaced", f4_of(displaced_point(c, (vs_patch)k, &T, &vo, f3_of(in->position[0])), 1.0f)};
+    return n + 1;
+}
+const is_vertex_shader scene_displaced_shader = {.name = "displaced", .main = vs_displaced, .outputs = VS_OUTPUTS,
+                                                 .explain = vs_displaced_explain};
 
 const is_vertex_shader *scene_displace_shader(const scene_opts *o, const is_vertex_shader *inner)
 {

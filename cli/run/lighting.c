@@ -38,7 +38,14 @@ static void vs_relit(const is_vs_constants *c, const is_vs_input *in, is_vs_outp
     }
     out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
 }
-static const is_vertex_shader relit_shader = {.name = "relit", .main = vs_relit, .outputs = VS_OUTPUTS};
+/* The wrapped shader's published values (the inspector's view of the patch under the light). */
+static unsigned vs_relit_explain(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max)
+{
+    const is_vertex_shader *inner = scene_shader_at((int)c->c[C_LIGHT_MODE].x);
+    return inner->explain ? inner->explain(c, in, vals, max) : 0;
+}
+static const is_vertex_shader relit_shader = {.name = "relit", .main = vs_relit, .outputs = VS_OUTPUTS,
+                                              .explain = vs_relit_explain};
 
 /* Index of s in vs_shaders, or -1. */
 static int shader_index(const is_vertex_shader *s)
