@@ -323,6 +323,21 @@ async function main() {
   } catch (e) {
     report(false, "a click hands its pixel to instess.hooks.pixel", e.message);
   }
+  // the click shows the pixel's history: the same text as `instess inspect` for that half's command line
+  try {
+    const at = await evaluate(`(() => { const c = document.getElementById("canvas"), r = c.getBoundingClientRect();
+      const x = c.width >> 1, y = c.height >> 1;
+      const e = { clientX: r.left + (x + 0.5) * r.width / c.width, clientY: r.top + (y + 0.5) * r.height / c.height, pointerId: 1, bubbles: true };
+      c.dispatchEvent(new PointerEvent("pointerdown", e)); c.dispatchEvent(new PointerEvent("pointerup", e));
+      return { x, y }; })()`);
+    const shown = await evaluate(`document.getElementById("inspector-text").textContent`);
+    const cmd = (await evaluate("instess.commands()"))[0].args;
+    const native = execFileSync(instess, ["inspect", ...words(cmd), "--pixel", `${at.x},${at.y}`, "-q"], { cwd: meshDir }).toString();
+    report(shown === native && /fragment 1: draw 0/.test(native), "a click shows the pixel's history, as instess inspect prints it",
+           `the page shows ${JSON.stringify(shown.slice(0, 200))}, instess inspect ${JSON.stringify(native.slice(0, 200))}`);
+  } catch (e) {
+    report(false, "a click shows the pixel's history, as instess inspect prints it", e.message);
+  }
   report(errors.length === 0, "no uncaught exception in the page", errors.join("; "));
 }
 

@@ -9,9 +9,10 @@
 // view`'s split screen.  What the program refuses (say, real normals on the CPU path) is refused here with its
 // message, and the controls go back to the state shown.
 //
-// For the pages and tools to come (the pixel inspector, instance-by-instance playback), window.instess offers one
-// function per control (setMesh, setPatch, ...), set(changes) for any of them, commands(), and hooks: pixel(info)
-// is called on a click with the pixel and the command line of its half, frame(info) after every frame.
+// window.instess offers one function per control (setMesh, setPatch, ...), set(changes) for any of them,
+// commands(), inspect(args, x, y, json) (the pipeline inspector: what `instess inspect` prints), and hooks:
+// pixel(info) is called on a click with the pixel and the command line of its half (the click then shows the
+// pixel's history under the canvas), frame(info) after every frame.
 "use strict";
 (function () {
   const $ = (id) => document.getElementById(id);
@@ -272,7 +273,18 @@
     const info = { x, y, part: k, partX: x - parts[k].x, args: parts[k].args,
                    rgba: Array.from(g2d.getImageData(x, y, 1, 1).data) };
     if (api.hooks.pixel) api.hooks.pixel(info);
+    const h = api.inspect(info.args, info.partX, info.y);
+    $("inspector").style.display = "block";
+    $("inspector-title").textContent = h.ok ? `The pipeline inspector: pixel (${info.partX}, ${info.y}) -- ` +
+      `build/instess inspect ${info.args} --pixel ${info.partX},${info.y}` : "The pipeline inspector";
+    $("inspector-text").textContent = h.ok ? h.text : h.message;
   }
+  // The history of pixel (x, y) of the render of args (one sample per pixel), as instess inspect prints it
+  // (json: as its --json): {ok, text} or {ok: false, message}.
+  api.inspect = (args, x, y, json) => {
+    const p = withBytes(args, (a) => ex.web_inspect(ctx, a, x, y, json ? 1 : 0));
+    return p ? { ok: true, text: cstr(p) } : { ok: false, message: cstr(ex.web_message(ctx)) };
+  };
   // The controls show the state (after a change, or after a refusal put it back).
   function syncControls() {
     for (const key of Object.keys(SELECTS)) $("c-" + key).value = state[key];

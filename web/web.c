@@ -50,6 +50,8 @@ typedef struct web_ctx {
     char message[1024];
     char notes[2048];
     char tables[8192];
+    char *inspected;            /* web_inspect's last text (open_memstream's buffer) */
+    size_t inspected_len;
 } web_ctx;
 
 /* printf into w->message; -1. */
@@ -259,6 +261,36 @@ WEB_EXPORT(web_render) int web_render(web_ctx *w, int part, const char *args)
     if (rc == 0) rc = draw_part(w, part, &o);
     free(buf);
     return rc;
+}
+
+/* The pipeline inspector (README, "The pipeline inspector"): the history of pixel (x, y) of args's render (one
+ * sample per pixel), as `instess inspect ARGS --pixel X,Y` prints it (JSON when json is not 0), or NULL with the
+ * message. */
+WEB_EXPORT(web_inspect) const char *web_inspect(web_ctx *w, const char *args, int x, int y, int json)
+{
+    w->message[0] = w->notes[0] = 0;
+    free(w->inspected);
+    w->inspected = NULL;
+    char *buf = strdup(args ? args : ""), *argv[WEB_MAX_ARGS];
+    if (!buf) return fail(w, "out of memory"), NULL;
+    scene_opts o;
+    int rc = parse_render(w, buf, argv, &o);
+    if (rc == 0) rc = mesh_load(w, o.mesh, o.recompute_normals);
+    if (rc == 0 && (x < 0 || y < 0 || x >= o.width || y >= o.height))
+        rc = fail(w, "pixel (%d, %d) is outside the %dx%d image", x, y, o.width, o.height);
+    is_inspect rec = {0};
+    uint32_t color = 0;
+    float depth = 0;
+    if (rc == 0) rc = scene_inspect_pixel(&o, w->mesh.draw, x, y, &rec, &color, &depth, w->message, sizeof w->message);
+    FILE *f = rc == 0 ? open_memstream(&w->inspected, &w->inspected_len) : NULL;
+    if (rc == 0 && !f) rc = fail(w, "out of memory");
+    if (f) {
+        scene_inspect_print(f, &o, w->mesh.draw, &rec, color, depth, json != 0);
+        if (fclose(f) != 0) rc = fail(w, "out of memory");
+    }
+    is_inspect_free(&rec);
+    free(buf);
+    return rc == 0 ? w->inspected : NULL;
 }
 
 WEB_EXPORT(web_frame) const uint32_t *web_frame(const web_ctx *w, int part) { return w->part[part & 1].frame; }

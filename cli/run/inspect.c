@@ -84,104 +84,104 @@ static const char *slot_name(int k, char buf[16])
 }
 
 /* One vertex of a fragment as text. */
-static void print_vertex_text(const is_inspect_vertex *v, int k)
+static void print_vertex_text(FILE *f, const is_inspect_vertex *v, int k)
 {
     char name[16];
-    printf("  vertex %d: stream-0 vertex %u, instance %u\n", k, v->vertex, v->instance);
+    fprintf(f, "  vertex %d: stream-0 vertex %u, instance %u\n", k, v->vertex, v->instance);
     for (unsigned e = 0; e < v->n_inputs; e++) {
         const is_inspect_input *in = &v->inputs[e];
         char reg[24];
         snprintf(reg, sizeof reg, "%s%u", is_decl_usage_name(in->usage), in->usage_index);
-        printf("    in   stream %u %-13s (%.7g, %.7g, %.7g, %.7g)%s\n", in->stream, reg, in->value.x, in->value.y,
+        fprintf(f, "    in   stream %u %-13s (%.7g, %.7g, %.7g, %.7g)%s\n", in->stream, reg, in->value.x, in->value.y,
                in->value.z, in->value.w, in->per_instance ? "  per instance" : "");
     }
     for (unsigned n = 0; n < v->n_values; n++)
-        printf("    vs   %-20s (%.7g, %.7g, %.7g, %.7g)\n", v->values[n].name, v->values[n].v.x, v->values[n].v.y,
+        fprintf(f, "    vs   %-20s (%.7g, %.7g, %.7g, %.7g)\n", v->values[n].name, v->values[n].v.x, v->values[n].v.y,
                v->values[n].v.z, v->values[n].v.w);
-    printf("    out  %-20s (%.7g, %.7g, %.7g, %.7g)\n", "POSITION (oPos)", v->out.pos.x, v->out.pos.y, v->out.pos.z,
+    fprintf(f, "    out  %-20s (%.7g, %.7g, %.7g, %.7g)\n", "POSITION (oPos)", v->out.pos.x, v->out.pos.y, v->out.pos.z,
            v->out.pos.w);
     for (int s = 0; s < RS_MAX_ATTR; s++) {
         if (!(v->outputs & (1u << s))) continue;
         const rs_vec4 *a = &v->out.attr[s];
-        printf("    out  %-20s (%.7g, %.7g, %.7g, %.7g)\n", slot_name(s, name), a->x, a->y, a->z, a->w);
+        fprintf(f, "    out  %-20s (%.7g, %.7g, %.7g, %.7g)\n", slot_name(s, name), a->x, a->y, a->z, a->w);
     }
 }
 
 /* The record as text. */
-static void print_text(const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t final_color,
+static void print_text(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t final_color,
                        float final_depth)
 {
     char h1[10], h2[10];
-    printf("pixel (%d, %d) of a %dx%d render of %s (%s patch, level %g): %zu fragment%s in %u draw%s", rec->x,
+    fprintf(f, "pixel (%d, %d) of a %dx%d render of %s (%s patch, level %g): %zu fragment%s in %u draw%s", rec->x,
            rec->y, o->width, o->height, m->name, vs_patch_name(o->patch), (double)o->level, rec->n_fragments,
            rec->n_fragments == 1 ? "" : "s", rec->draws, rec->draws == 1 ? "" : "s");
-    if (rec->draws_skipped) printf(" (%u draw%s not recorded: N-patch mode, points or lines)", rec->draws_skipped,
+    if (rec->draws_skipped) fprintf(f, " (%u draw%s not recorded: N-patch mode, points or lines)", rec->draws_skipped,
                                    rec->draws_skipped == 1 ? "" : "s");
-    printf("\n");
+    fprintf(f, "\n");
     for (size_t k = 0; k < rec->n_fragments; k++) {
-        const is_inspect_fragment *f = &rec->fragments[k];
-        printf("\nfragment %zu: draw %u, instance %u (the mesh triangle), grid triangle %u\n", k + 1, f->draw,
-               f->instance, f->primitive);
-        printf("  barycentrics at the pixel centre: %.7g %.7g %.7g (of vertices 0, 1, 2)\n", f->bary[0], f->bary[1],
-               f->bary[2]);
-        printf("  depth %.9g against %.9g in the depth buffer: %s\n", f->depth, f->depth_before,
-               f->passed ? "passed" : "failed");
-        printf("  colour %s -> %s\n", hex(f->color_before, h1), hex(f->color_after, h2));
-        for (int v = 0; v < 3; v++) print_vertex_text(&f->v[v], v);
+        const is_inspect_fragment *fr = &rec->fragments[k];
+        fprintf(f, "\nfragment %zu: draw %u, instance %u (the mesh triangle), grid triangle %u\n", k + 1, fr->draw,
+               fr->instance, fr->primitive);
+        fprintf(f, "  barycentrics at the pixel centre: %.7g %.7g %.7g (of vertices 0, 1, 2)\n", fr->bary[0], fr->bary[1],
+               fr->bary[2]);
+        fprintf(f, "  depth %.9g against %.9g in the depth buffer: %s\n", fr->depth, fr->depth_before,
+               fr->passed ? "passed" : "failed");
+        fprintf(f, "  colour %s -> %s\n", hex(fr->color_before, h1), hex(fr->color_after, h2));
+        for (int v = 0; v < 3; v++) print_vertex_text(f, &fr->v[v], v);
     }
-    if (rec->fragments_dropped) printf("\n(%zu more fragments not kept)\n", rec->fragments_dropped);
-    printf("\nfinal pixel: colour %s, depth %.9g\n", hex(final_color, h1), final_depth);
+    if (rec->fragments_dropped) fprintf(f, "\n(%zu more fragments not kept)\n", rec->fragments_dropped);
+    fprintf(f, "\nfinal pixel: colour %s, depth %.9g\n", hex(final_color, h1), final_depth);
 }
 
 /* A float4 as a JSON array (%.9g: the float's exact value reads back). */
-static void json_vec(const char *key, rs_vec4 v, bool comma)
+static void json_vec(FILE *f, const char *key, rs_vec4 v, bool comma)
 {
-    printf("\"%s\": [%.9g, %.9g, %.9g, %.9g]%s", key, v.x, v.y, v.z, v.w, comma ? ", " : "");
+    fprintf(f, "\"%s\": [%.9g, %.9g, %.9g, %.9g]%s", key, v.x, v.y, v.z, v.w, comma ? ", " : "");
 }
 
 /* One vertex as a JSON object. */
-static void print_vertex_json(const is_inspect_vertex *v)
+static void print_vertex_json(FILE *f, const is_inspect_vertex *v)
 {
     char name[16];
-    printf("{\"vertex\": %u, \"instance\": %u, \"inputs\": [", v->vertex, v->instance);
+    fprintf(f, "{\"vertex\": %u, \"instance\": %u, \"inputs\": [", v->vertex, v->instance);
     for (unsigned e = 0; e < v->n_inputs; e++) {
         const is_inspect_input *in = &v->inputs[e];
-        printf("%s{\"usage\": \"%s\", \"usage_index\": %u, \"stream\": %u, \"per_instance\": %s, ", e ? ", " : "",
+        fprintf(f, "%s{\"usage\": \"%s\", \"usage_index\": %u, \"stream\": %u, \"per_instance\": %s, ", e ? ", " : "",
                is_decl_usage_name(in->usage), in->usage_index, in->stream, in->per_instance ? "true" : "false");
-        json_vec("value", in->value, false);
-        printf("}");
+        json_vec(f, "value", in->value, false);
+        fprintf(f, "}");
     }
-    printf("], \"shader\": {");
-    for (unsigned n = 0; n < v->n_values; n++) json_vec(v->values[n].name, v->values[n].v, n + 1 < v->n_values);
-    printf("}, \"outputs\": {");
-    json_vec("POSITION", v->out.pos, false);
+    fprintf(f, "], \"shader\": {");
+    for (unsigned n = 0; n < v->n_values; n++) json_vec(f, v->values[n].name, v->values[n].v, n + 1 < v->n_values);
+    fprintf(f, "}, \"outputs\": {");
+    json_vec(f, "POSITION", v->out.pos, false);
     for (int s = 0; s < RS_MAX_ATTR; s++)
-        if (v->outputs & (1u << s)) printf(", "), json_vec(slot_name(s, name), v->out.attr[s], false);
-    printf("}}");
+        if (v->outputs & (1u << s)) fprintf(f, ", "), json_vec(f, slot_name(s, name), v->out.attr[s], false);
+    fprintf(f, "}}");
 }
 
 /* The record as one JSON object. */
-static void print_json(const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t final_color,
+static void print_json(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t final_color,
                        float final_depth)
 {
     char h[10];
-    printf("{\"pixel\": [%d, %d], \"size\": [%d, %d], \"mesh\": ", rec->x, rec->y, o->width, o->height);
-    scene_json_string(stdout, m->name);
-    printf(", \"patch\": \"%s\", \"level\": %.9g, \"draws\": %u, \"draws_skipped\": %u, \"fragments_dropped\": %zu, "
+    fprintf(f, "{\"pixel\": [%d, %d], \"size\": [%d, %d], \"mesh\": ", rec->x, rec->y, o->width, o->height);
+    scene_json_string(f, m->name);
+    fprintf(f, ", \"patch\": \"%s\", \"level\": %.9g, \"draws\": %u, \"draws_skipped\": %u, \"fragments_dropped\": %zu, "
            "\"fragments\": [", vs_patch_name(o->patch), (double)o->level, rec->draws, rec->draws_skipped,
            rec->fragments_dropped);
     for (size_t k = 0; k < rec->n_fragments; k++) {
-        const is_inspect_fragment *f = &rec->fragments[k];
-        printf("%s{\"draw\": %u, \"instance\": %u, \"primitive\": %u, \"bary\": [%.9g, %.9g, %.9g], "
-               "\"depth\": %.9g, \"depth_before\": %.9g, \"passed\": %s, ", k ? ", " : "", f->draw, f->instance,
-               f->primitive, f->bary[0], f->bary[1], f->bary[2], f->depth, f->depth_before,
-               f->passed ? "true" : "false");
-        printf("\"color_before\": \"%s\", ", hex(f->color_before, h));
-        printf("\"color_after\": \"%s\", \"vertices\": [", hex(f->color_after, h));
-        for (int v = 0; v < 3; v++) printf("%s", v ? ", " : ""), print_vertex_json(&f->v[v]);
-        printf("]}");
+        const is_inspect_fragment *fr = &rec->fragments[k];
+        fprintf(f, "%s{\"draw\": %u, \"instance\": %u, \"primitive\": %u, \"bary\": [%.9g, %.9g, %.9g], "
+               "\"depth\": %.9g, \"depth_before\": %.9g, \"passed\": %s, ", k ? ", " : "", fr->draw, fr->instance,
+               fr->primitive, fr->bary[0], fr->bary[1], fr->bary[2], fr->depth, fr->depth_before,
+               fr->passed ? "true" : "false");
+        fprintf(f, "\"color_before\": \"%s\", ", hex(fr->color_before, h));
+        fprintf(f, "\"color_after\": \"%s\", \"vertices\": [", hex(fr->color_after, h));
+        for (int v = 0; v < 3; v++) fprintf(f, "%s", v ? ", " : ""), print_vertex_json(f, &fr->v[v]);
+        fprintf(f, "]}");
     }
-    printf("], \"final\": {\"color\": \"%s\", \"depth\": %.9g}}\n", hex(final_color, h), final_depth);
+    fprintf(f, "], \"final\": {\"color\": \"%s\", \"depth\": %.9g}}\n", hex(final_color, h), final_depth);
 }
 
 /* Warnings of the mesh loader to stderr unless quiet (as the run). */
@@ -190,7 +190,41 @@ static void warn_stderr(void *user, const char *msg)
     if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
 }
 
-/* Render o's scene on a one-sample device that records pixel a, and print the record; 0, or 1 with a message. */
+void scene_inspect_print(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t color,
+                         float depth, bool json)
+{
+    if (json) print_json(f, o, m, rec, color, depth);
+    else print_text(f, o, m, rec, color, depth);
+}
+
+int scene_inspect_pixel(const scene_opts *o, const is_mesh *m, int x, int y, is_inspect *rec, uint32_t *color,
+                        float *depth, char *err, size_t errlen)
+{
+    core_grid g = {0};
+    const bool adaptive = o->lod != TESS_LOD_UNIFORM;   /* as the run: an adaptive render checks its finest grid */
+    if (core_grid_make(adaptive ? CORE_GRID_REGULAR : o->grid, adaptive ? (float)scene_lod_max_level(o) : o->level,
+                       &g) != 0)
+        return snprintf(err, errlen, "level %g: cannot build the grid", (double)o->level), -1;
+    int rc = scene_check_limits(o, m, &g, err, errlen);
+    scene_opts one = *o;
+    one.msaa = 1;
+    is_device *dev = rc == 0 ? scene_create_device(&one, 1, 0, err, errlen) : NULL;
+    if (rc == 0 && !dev) rc = -1;
+    if (rc == 0 && dev_inspect_begin(dev, x, y, rec) != IS_OK) rc = -1, snprintf(err, errlen, "%s", dev_last_error(dev));
+    if (rc == 0) rc = scene_render_on(dev, &one, m, &g, NULL, err, errlen);
+    if (rc == 0 && rec->out_of_memory) rc = -1, snprintf(err, errlen, "out of memory while recording the pixel");
+    if (rc == 0) {
+        dev_inspect_end(dev);
+        const rs_target *rt = dev_render_target(dev);
+        size_t px = (size_t)y * (size_t)rt->width + (size_t)x;
+        *color = rt->color[px], *depth = rt->depth[px];
+    }
+    dev_destroy(dev);
+    core_grid_free(&g);
+    return rc;
+}
+
+/* Load o's mesh, record pixel a and print the record on stdout; 0, or 1 with a message. */
 static int inspect_scene(const scene_opts *o, const inspect_args *a)
 {
     char err[1024] = "";
@@ -204,31 +238,14 @@ static int inspect_scene(const scene_opts *o, const inspect_args *a)
     int rc = 0;
     if (o->displace && (rc = scene_load_displacement(o->displace, &map, err, sizeof err)) == 0) od.displace_map = &map;
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &mesh, err, sizeof err);
-    const is_mesh *m = rc == 0 ? scene_fit_mesh(&mesh, &copy) : NULL;
-    core_grid g = {0};
-    const bool adaptive = o->lod != TESS_LOD_UNIFORM;
-    if (rc == 0 && core_grid_make(adaptive ? CORE_GRID_REGULAR : o->grid,
-                                  adaptive ? (float)scene_lod_max_level(o) : o->level, &g) != 0)
-        rc = -1, snprintf(err, sizeof err, "level %g: cannot build the grid", (double)o->level);
-    if (rc == 0) rc = scene_check_limits(o, m, &g, err, sizeof err);
-    is_device *dev = rc == 0 ? scene_create_device(&od, 1, 0, err, sizeof err) : NULL;
-    if (rc == 0 && !dev) rc = -1;
     is_inspect rec = {0};
-    if (rc == 0 && dev_inspect_begin(dev, a->x, a->y, &rec) != IS_OK)
-        rc = -1, snprintf(err, sizeof err, "%s", dev_last_error(dev));
-    if (rc == 0) rc = scene_render_on(dev, &od, m, &g, NULL, err, sizeof err);
-    if (rc == 0 && rec.out_of_memory) rc = -1, snprintf(err, sizeof err, "out of memory while recording the pixel");
-    if (rc == 0) {
-        dev_inspect_end(dev);
-        const rs_target *rt = dev_render_target(dev);
-        size_t px = (size_t)a->y * (size_t)rt->width + (size_t)a->x;
-        if (a->json) print_json(o, m, &rec, rt->color[px], rt->depth[px]);
-        else print_text(o, m, &rec, rt->color[px], rt->depth[px]);
-    }
-    if (rc != 0) fprintf(stderr, "instess inspect: %s\n", err);
+    uint32_t color = 0;
+    float depth = 0;
+    const is_mesh *m = rc == 0 ? scene_fit_mesh(&mesh, &copy) : NULL;
+    if (rc == 0) rc = scene_inspect_pixel(&od, m, a->x, a->y, &rec, &color, &depth, err, sizeof err);
+    if (rc == 0) scene_inspect_print(stdout, o, m, &rec, color, depth, a->json);
+    else fprintf(stderr, "instess inspect: %s\n", err);
     is_inspect_free(&rec);
-    dev_destroy(dev);
-    core_grid_free(&g);
     mesh_free(&copy);
     mesh_free(&mesh);
     image_free(&map);

@@ -335,6 +335,14 @@ int scene_cmd_compare(int argc, char **argv);
 int scene_cmd_view(int argc, char **argv);
 /* `instess inspect` (cli/run/inspect.c): one pixel's history through the device's draws (core/inspect.h). */
 int scene_cmd_inspect(int argc, char **argv);
+/* The pieces of `instess inspect` for other front ends (the page of make web): scene_inspect_pixel renders o's
+ * scene of mesh m (as scene_fit_mesh gives it; displacement map read) with one sample per pixel, recording pixel
+ * (x, y) into rec (is_inspect_free it), and the target's final colour and depth into *color, *depth: 0, or -1 with
+ * a message; scene_inspect_print prints the record as text or JSON into f. */
+int scene_inspect_pixel(const scene_opts *o, const is_mesh *m, int x, int y, is_inspect *rec, uint32_t *color,
+                        float *depth, char *err, size_t errlen);
+void scene_inspect_print(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t color,
+                         float depth, bool json);
 /* s as a JSON string (quoted; invalid UTF-8 as U+FFFD, control characters escaped) into f. */
 void scene_json_string(FILE *f, const char *s);
 
