@@ -1,6 +1,10 @@
 /* raster/clip.c -- homogeneous clipping in double precision against the near plane z >= 0, the far plane
  * z <= w and the guard band |x| <= gx*w, |y| <= gy*w (which together imply w >= 0).
  *
+ * The user clip planes (SetClipPlane, CLIPPLANEENABLE: dot(plane, p) >= 0 inside, in clip space) come after near
+ * and far and before the guard band, with the same parametric intersection; CLIPPING FALSE leaves the guard band
+ * alone (rs_job.clip_mask).
+ *
  * Near and far planes: parametric intersection in 4D.  The guard band: with coordinates like 1e30 the
  * parametric point loses every digit that matters on screen (t = 0.5 - 1e-27 rounds to 0.5), so the screen
  * position of a guard-band intersection comes from projective lines in (x, y, w) instead: the edge's line
@@ -23,9 +27,13 @@ static void guard_line(const rs_job *j, int k, double g[3])
     g[2] = k <= 3 ? j->gx : j->gy;
 }
 
-/* Signed distance of homogeneous point p to clip plane k (>= 0 inside). */
+/* Signed distance of homogeneous point p to clip plane k (>= 0 inside); planes 6.. are the user planes. */
 static double plane_dist(const rs_job *j, const double *p, int k)
 {
+    if (k >= RS_CLIP_PLANES) {
+        const float *u = j->st->clip_plane[k - RS_CLIP_PLANES];
+        return (double)u[0] * p[0] + (double)u[1] * p[1] + (double)u[2] * p[2] + (double)u[3] * p[3];
+    }
     switch (k) {
     case 0: return p[2];
     case 1: return p[3] - p[2];
@@ -36,14 +44,19 @@ static double plane_dist(const rs_job *j, const double *p, int k)
     }
 }
 
-/* Bit k set when p is outside plane k. */
+/* Bit k set when p is outside plane k (the user planes only when the job clips against one). */
 unsigned rs_outcode(const rs_job *j, const double *p)
 {
     unsigned c = 0;
-    for (int k = 0; k < RS_CLIP_PLANES; k++)
+    int n = j->clip_mask >> RS_CLIP_PLANES ? RS_ALL_PLANES : RS_CLIP_PLANES;
+    for (int k = 0; k < n; k++)
         if (!(plane_dist(j, p, k) >= 0.0)) c |= 1u << k;
     return c;
 }
+
+/* The k-th plane in clipping order: near, far, the user planes, then the guard band (whose projective lines are
+ * computed from the polygon the linear planes leave). */
+static int plane_at(int k) { return k < 2 ? k : (k < 2 + RS_MAX_CLIP_PLANES ? k + 4 : k - RS_MAX_CLIP_PLANES); }
 
 /* r = a x b (3-vectors). */
 static void cross(const double *a, const double *b, double *r)
@@ -101,7 +114,7 @@ static rs_cvert intersect(const rs_job *j, const rs_cvert *in, const rs_cvert *o
 static int clip_plane(const rs_job *j, const rs_cvert *src, int n, rs_cvert *dst, int k, rs_clipbuf *cb)
 {
     int m = 0;
-    bool guard = k >= 2;
+    bool guard = k >= 2 && k < RS_CLIP_PLANES;
     for (int i = 0; i < n; i++) {
         const rs_cvert *a = &src[i], *b = &src[(i + 1) % n];
         double da = plane_dist(j, a->p, k), db = plane_dist(j, b->p, k);
@@ -126,9 +139,10 @@ static int clip_plane(const rs_job *j, const rs_cvert *src, int n, rs_cvert *dst
 int rs_clip_poly(const rs_job *j, rs_cvert *poly, int n, unsigned planes, rs_clipbuf *cb)
 {
     rs_cvert tmp[RS_MAX_POLY];
-    for (int k = 0; k < RS_CLIP_PLANES && n >= 3; k++) {
+    for (int i = 0; i < RS_ALL_PLANES && n >= 3; i++) {
+        int k = plane_at(i);
         if (!(planes & (1u << k))) continue;
-        if (k >= 2 && !(planes & (((1u << k) - 1u) & ~3u))) /* first guard plane: lines of the edges */
+        if (k >= 2 && k < RS_CLIP_PLANES && !(planes & (((1u << k) - 1u) & ~3u))) /* first guard plane: edge lines */
             for (int i = 0; i < n; i++) edge_line(&poly[i], &poly[(i + 1) % n], poly[i].line);
         int m = clip_plane(j, poly, n, tmp, k, cb);
         for (int i = 0; i < m; i++) poly[i] = tmp[i];
@@ -142,14 +156,16 @@ bool rs_clip_line(const rs_job *j, rs_cvert *v, unsigned planes, rs_clipbuf *cb)
 {
     double line[3];
     bool have_line = false;
-    for (int k = 0; k < RS_CLIP_PLANES; k++) {
+    for (int i = 0; i < RS_ALL_PLANES; i++) {
+        int k = plane_at(i);
+        bool guard = k >= 2 && k < RS_CLIP_PLANES;
         if (!(planes & (1u << k))) continue;
-        if (k >= 2 && !have_line) { edge_line(&v[0], &v[1], line); have_line = true; }
+        if (guard && !have_line) { edge_line(&v[0], &v[1], line); have_line = true; }
         double d0 = plane_dist(j, v[0].p, k), d1 = plane_dist(j, v[1].p, k);
         bool in0 = d0 >= 0.0, in1 = d1 >= 0.0;
         if (!in0 && !in1) return false;
-        if (in0 && !in1) v[1] = intersect(j, &v[0], &v[1], d0, d1, k, k >= 2 ? line : NULL, cb);
-        else if (!in0 && in1) v[0] = intersect(j, &v[1], &v[0], d1, d0, k, k >= 2 ? line : NULL, cb);
+        if (in0 && !in1) v[1] = intersect(j, &v[0], &v[1], d0, d1, k, guard ? line : NULL, cb);
+        else if (!in0 && in1) v[0] = intersect(j, &v[1], &v[0], d1, d0, k, guard ? line : NULL, cb);
     }
     return true;
 }

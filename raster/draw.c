@@ -132,6 +132,27 @@ static int thread_count(const rs_context *rs)
     return n > 0 ? n : 1;
 }
 
+/* Is f a comparison function (RS_CMP_*) and o a stencil operation (RS_STENCILOP_*)? */
+static bool valid_cmp(int f) { return f >= RS_CMP_NEVER && f <= RS_CMP_ALWAYS; }
+static bool valid_sop(int o) { return o >= RS_STENCILOP_KEEP && o <= RS_STENCILOP_DECR; }
+static bool valid_face(const rs_stencil_ops *f)
+{
+    return valid_cmp(f->func) && valid_sop(f->fail) && valid_sop(f->zfail) && valid_sop(f->pass);
+}
+
+/* Are pixel.c's states (those on) valid: functions, operations, finite clip planes? */
+static bool valid_ext_state(const rs_state *st)
+{
+    if (st->alpha_test && !valid_cmp(st->alpha_func)) return false;
+    if (st->stencil_enable && (!valid_face(&st->stencil_cw) || (st->stencil_two_sided && !valid_face(&st->stencil_ccw))))
+        return false;
+    for (int i = 0; i < RS_MAX_CLIP_PLANES; i++)
+        if ((st->clip_plane_enable >> i) & 1u)
+            for (int c = 0; c < 4; c++)
+                if (!isfinite(st->clip_plane[i][c])) return false;
+    return true;
+}
+
 /* Are the render states and the viewport valid for target rt? */
 static bool valid_state(const rs_state *st, const rs_target *rt)
 {
@@ -143,6 +164,7 @@ static bool valid_state(const rs_state *st, const rs_target *rt)
                              st->dst_blend < RS_BLEND_ZERO || st->dst_blend > RS_BLEND_INVDESTCOLOR))
         return false;
     if (!isfinite(st->depth_bias) || !isfinite(st->slope_scale_depth_bias)) return false;
+    if (!valid_ext_state(st)) return false;
     const rs_viewport *vp = &st->viewport;
     if (vp->x < 0 || vp->y < 0 || vp->width < 1 || vp->height < 1) return false;
     if (vp->width > rt->width - vp->x || vp->height > rt->height - vp->y) return false;
@@ -181,6 +203,14 @@ static void job_slots(rs_job *j)
     j->stride = j->n_slots * RS_ATTR_STRIDE;
 }
 
+/* Narrow the job's rectangle [sx0, sx1) x [sy0, sy1) to the scissor rectangle r (empty: sx1 = sx0, sy1 = sy0). */
+static void job_scissor(rs_job *j, const rs_rect *r)
+{
+    j->sx0 = r->x0 > j->sx0 ? r->x0 : j->sx0, j->sy0 = r->y0 > j->sy0 ? r->y0 : j->sy0;
+    j->sx1 = r->x1 < j->sx1 ? r->x1 : j->sx1, j->sy1 = r->y1 < j->sy1 ? r->y1 : j->sy1;
+    if (j->sx1 < j->sx0 || j->sy1 < j->sy0) j->sx1 = j->sx0, j->sy1 = j->sy0;
+}
+
 /* Fill the per-draw constants of a draw on rs (its path and kernels too). */
 static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_target *rt, int prim,
                      const rs_vertex *verts, const uint32_t *idx)
@@ -203,6 +233,7 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     j->omax = ms ? 6 * (RS_SUB / 16) : 0;
     const rs_viewport *vp = &st->viewport;
     j->sx0 = vp->x; j->sy0 = vp->y; j->sx1 = vp->x + vp->width; j->sy1 = vp->y + vp->height;
+    if (st->scissor_enable) job_scissor(j, &st->scissor);
     j->cx = (int64_t)vp->x * RS_SUB + (int64_t)vp->width * (RS_SUB / 2);
     j->cy = (int64_t)vp->y * RS_SUB + (int64_t)vp->height * (RS_SUB / 2);
     j->sx_scale = (double)vp->width * (RS_SUB / 2);
@@ -213,6 +244,14 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     j->zscale = vp->max_z - vp->min_z;
     j->zlo = vp->min_z < vp->max_z ? vp->min_z : vp->max_z;
     j->zhi = vp->min_z < vp->max_z ? vp->max_z : vp->min_z;
+    j->ext = rs_state_ext(st, rt);
+    j->reference |= j->ext;   /* pixel.c's states live on the reference path only */
+    j->clip_mask = rs_clip_mask(st);
+    if (st->pretransformed) { /* screen pixels: x/w and y/w are pixels from the centre, depth is z/w itself */
+        j->sx_scale = j->sy_scale = RS_SUB;
+        j->gx = j->gy = (double)RS_GUARD_BAND - 1.0;
+        j->zoff = 0.0f, j->zscale = 1.0f, j->zlo = 0.0f, j->zhi = 1.0f;
+    }
     j->flat = st->shade_mode == RS_SHADE_FLAT;
     j->span_mode = rs_span_mode(st, rt);
     j->tiles_x = (rt->width + RS_TILE - 1) / RS_TILE;
@@ -269,7 +308,7 @@ static size_t chunk_count(size_t n, size_t n_tiles)
  * about once, when the scratch would be large, or when out of memory (the per-triangle setup gives the same). */
 static void shared_pass(rs_context *rs, rs_job *j, size_t n_verts, size_t n_prims, int nt)
 {
-    if (rs->reference || j->prim != RS_PRIM_TRIANGLES || !j->idx || n_verts > 3 * n_prims ||
+    if (j->reference || j->prim != RS_PRIM_TRIANGLES || !j->idx || n_verts > 3 * n_prims ||
         n_verts > SHARED_PASS_MAX_VERTICES)
         return;
     if (n_verts > rs->pv_cap) {
@@ -323,7 +362,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     rs_job jl = *j;
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
     ch->first = 0, ch->count = np;
-    if (np && nv <= 3 * np && nv <= src->max_verts && !rs->reference) {
+    if (np && nv <= 3 * np && nv <= src->max_verts && !j->reference) {
         rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * src->max_verts * rs_pvert_size());
         jl.kern->project_vertices(&jl, v, nv, pv);
         jl.pv = pv;

@@ -68,6 +68,11 @@ void rs_frag_const_z(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, fl
     size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
     float *dep = t->depth + base;
     z = rs_zclamp(z, j->zlo, j->zhi);
+    if (j->ext) { /* pixel.c's states: lines and points use the front (clockwise) stencil states */
+        const float zs[4] = { z, z, z, z };
+        rs_frag_ext(j, t, x, y, cov, zs, false, a, b1, b2);
+        return;
+    }
     unsigned pass = cov;
     if (st->z_enable) {
         pass = 0;

@@ -15,7 +15,7 @@
  *    band |X - cx|, |Y - cy| < RS_GUARD_BAND pixels around the viewport centre (cx, cy) (so there is always at
  *    least 8192 px of band around a viewport); edge functions are evaluated in int64 (budget in
  *    raster/setup.c).  Triangles outside the guard band are clipped against it, never overflowed.  Rendering is
- *    scissored to the viewport rectangle.
+ *    scissored to the viewport rectangle (and to the scissor rectangle when scissor_enable is set).
  *  - Depth: float32 in [min_z, max_z] (normally [0, 1]), smaller is nearer with RS_CMP_LESS.  Depth bias is
  *    depth_bias + slope_scale_depth_bias * max(|dz/dx|, |dz/dy|) (per pixel), added before the test; the biased
  *    depth is clamped to the viewport's depth range.
@@ -100,6 +100,17 @@ enum { RS_PRIM_POINTS = 1, RS_PRIM_LINES = 2, RS_PRIM_TRIANGLES = 4 };
 #define RS_MAX_SIZE 16384      /* largest render target side */
 
 typedef struct rs_viewport { int x, y, width, height; float min_z, max_z; } rs_viewport;
+/* A rectangle of pixels x0 <= x < x1, y0 <= y < y1 (the scissor). */
+typedef struct rs_rect { int x0, y0, x1, y1; } rs_rect;
+/* D3DSTENCILOP: what a stencil test outcome writes. */
+enum {
+    RS_STENCILOP_KEEP = 1, RS_STENCILOP_ZERO, RS_STENCILOP_REPLACE, RS_STENCILOP_INCRSAT, RS_STENCILOP_DECRSAT,
+    RS_STENCILOP_INVERT, RS_STENCILOP_INCR, RS_STENCILOP_DECR
+};
+/* One face's stencil states: the test (RS_CMP_*: (ref & mask) func (stencil & mask)) and the operations on
+ * stencil failure, stencil pass with depth failure, and both passing (RS_STENCILOP_*). */
+typedef struct rs_stencil_ops { int func, fail, zfail, pass; } rs_stencil_ops;
+#define RS_MAX_CLIP_PLANES 6   /* D3D9's user clip planes */
 
 typedef struct rs_state {
     int cull_mode;            /* RS_CULL_*  */
@@ -114,6 +125,26 @@ typedef struct rs_state {
     float slope_scale_depth_bias; /* times max |dz/dx|, |dz/dy| (D3DRS_SLOPESCALEDEPTHBIAS) */
     uint32_t attr_mask;       /* bit k set: slot k is written by the shader and is interpolated */
     rs_viewport viewport;
+    /* ---- D3D9's per-pixel and clipping states beyond the above (raster/pixel.c): all zero is off, the
+     * behaviour of a state without them.  A draw with any of them on but the scissor takes the reference path
+     * (same bytes for any thread count and instruction set). ---- */
+    bool scissor_enable;      /* SCISSORTESTENABLE: draw only inside `scissor` (besides the viewport) */
+    rs_rect scissor;          /* SetScissorRect, pixels x0 <= x < x1, y0 <= y < y1 */
+    uint32_t color_write_disable; /* bit c set: channel c (R, G, B, A = D3DCOLORWRITEENABLE's bits 1, 2, 4, 8) is
+                                     not written (COLORWRITEENABLE = 0xF & ~color_write_disable) */
+    bool alpha_test;          /* ALPHATESTENABLE: keep a pixel when its 8-bit alpha alpha_func alpha_ref */
+    int alpha_func;           /* RS_CMP_* */
+    uint32_t alpha_ref;       /* 0..255 (low 8 bits of ALPHAREF) */
+    bool stencil_enable;      /* STENCILENABLE (needs rt->stencil; without a stencil plane nothing is tested) */
+    bool stencil_two_sided;   /* TWOSIDEDSTENCILMODE: counter-clockwise triangles use stencil_ccw */
+    rs_stencil_ops stencil_cw, stencil_ccw; /* the front (clockwise, lines and points too) and CCW states */
+    uint32_t stencil_ref, stencil_mask, stencil_write_mask; /* STENCILREF, STENCILMASK, STENCILWRITEMASK (8 bits used) */
+    bool no_clipping;         /* CLIPPING FALSE: no near, far or user-plane clipping (only the guard band);
+                                 depth is clamped to the viewport's range instead */
+    uint32_t clip_plane_enable; /* CLIPPLANEENABLE bits 0..5: keep the part where dot(clip_plane[i], pos) >= 0 */
+    float clip_plane[RS_MAX_CLIP_PLANES][4]; /* SetClipPlane, in clip space (a, b, c, d) */
+    bool pretransformed;      /* POSITIONT / XYZRHW: pos is (X, Y, Z, RHW) in screen pixels, depth Z (no
+                                 viewport mapping, no user planes), 1/w = RHW for perspective-correct attributes */
 } rs_state;
 
 /* ---- the render target: colour and depth per sample, optional float AOV planes per pixel ---- */
@@ -132,6 +163,8 @@ typedef struct rs_target {
     float *depth;       /* same layout as color */
     int n_aov;          /* AOV planes, written only when samples == 1, by the fragment that passes depth */
     rs_aov aov[RS_MAX_AOV];
+    uint8_t *stencil;   /* the 8 stencil bits of D3D24S8 per sample, same layout as color (rs_target_init
+                           allocates it, zeroed; NULL in a hand-made target: no stencil test) */
 } rs_target;
 
 /* Counters of one rs_draw call (for tests and the benchmark).  prims_* count input primitives: culled by
@@ -198,7 +231,7 @@ INSTESS_API void rs_target_free(rs_target *rt);
 /* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
 INSTESS_API int rs_target_add_aov(rs_target *rt, int slot, int comps);
 /* What a clear writes (D3DCLEAR_TARGET and D3DCLEAR_ZBUFFER have these values). */
-enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2 };
+enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2, RS_CLEAR_STENCIL = 4 /* see rs_target_clear_stencil */ };
 /* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
 INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* The same for the pixels x0 <= x < x1, y0 <= y < y1 only (clipped to the target); no deferred clear of rt may be
@@ -212,6 +245,9 @@ INSTESS_API void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigne
 /* Write every tile of rt whose clear is still deferred on rs (call before anything else reads or writes rt's
  * planes). */
 INSTESS_API void rs_target_flush(rs_context *rs, rs_target *rt);
+/* Set the stencil of every sample of pixels x0 <= x < x1, y0 <= y < y1 (clipped to the target) to the low 8 bits
+ * of value (D3DCLEAR_STENCIL; never deferred: the stencil plane is only written by stencil draws and this). */
+INSTESS_API void rs_target_clear_stencil(rs_target *rt, int x0, int y0, int x1, int y1, uint32_t value);
 /* Average the samples of each pixel into out (width*height packed RGBA8), per channel, rounding to nearest
  * (halves up: (sum + 2) / 4). */
 INSTESS_API void rs_target_resolve(const rs_target *rt, uint32_t *out);

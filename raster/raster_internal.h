@@ -67,7 +67,7 @@ static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) 
 #define COPY_STREAM_BYTES (4u << 20)
 #define RS_WORK_UNIT ((uint64_t)2 * RS_SUB * RS_SUB)   /* work units per pixel: doubled areas in 1/256 px */
 #define RS_BLOCK 8                    /* block side of the trivial reject / accept test */
-#define RS_MAX_POLY 12                /* 3 vertices + one per clip plane (6), with room */
+#define RS_MAX_POLY 16                /* 3 vertices + one per clip plane (6 + 6 user planes), with room */
 #define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
 
 enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
@@ -101,6 +101,9 @@ typedef struct rs_job {
     bool reference;             /* the scalar reference path (rs_set_reference_path): no fast paths */
     const rs_kernels *kern;     /* the fast-path kernels of the context's instruction set (rs_set_isa) */
     int span_mode;              /* span.c's walk instance for the depth state (rs_span_mode) */
+    bool ext;                   /* a state of pixel.c is on (rs_state_ext): the reference walk's rs_frag_ext */
+    unsigned clip_mask;         /* the clip planes that clip (rs_outcode's bits): near, far, guard band and the
+                                   enabled user planes; the guard band alone with CLIPPING FALSE */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 
@@ -131,6 +134,8 @@ typedef struct rs_point {
 typedef struct rs_prim {
     int32_t x0, y0, x1, y1;      /* pixel bounding box clamped to the scissor, inclusive */
     int kind;                    /* RS_K_* */
+    int back;                    /* 1: a triangle counter-clockwise on screen (two-sided stencil); set by the
+                                    reference set-up only, read only by rs_frag_ext (in what was padding) */
     union { rs_tri t; rs_line l; rs_point p; } u;
 } rs_prim;
 _Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment states it");
@@ -207,6 +212,7 @@ static inline size_t rs_tile_index(const rs_tile *t, int x, int y)
 
 /* ---- clip.c: homogeneous clipping of polygons and segments ---- */
 #define RS_CLIP_PLANES 6   /* near, far, left, right, top, bottom (guard band) */
+#define RS_ALL_PLANES (RS_CLIP_PLANES + RS_MAX_CLIP_PLANES) /* and the user planes, bits 6..11 */
 
 /* A vertex being clipped: homogeneous position in double, attribute slots by pointer. */
 typedef struct rs_cvert {
@@ -219,7 +225,7 @@ typedef struct rs_cvert {
 
 /* Storage for the attributes of vertices made by clipping one primitive. */
 typedef struct rs_clipbuf {
-    rs_vec4 pool[2 * RS_CLIP_PLANES + 4][RS_MAX_ATTR];
+    rs_vec4 pool[2 * RS_ALL_PLANES + 4][RS_MAX_ATTR];
     int n_pool;
 } rs_clipbuf;
 
@@ -312,6 +318,19 @@ void rs_point_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a
 /* Depth-test pixel (x, y)'s samples in cov at the one depth z, then shade with barycentrics (b1, b2) and write. */
 void rs_frag_const_z(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float z, const float *a,
                      float b1, float b2);
+
+/* ---- pixel.c: D3D9's per-pixel states beyond depth and blending (the reference walk only) ---- */
+/* Whether st has a state on that only the reference path implements (rs_job.ext): alpha test, stencil (with a
+ * stencil plane in rt), colour write mask, CLIPPING FALSE, user clip planes, pre-transformed vertices.  The
+ * scissor is not one: it narrows the job's rectangle, which every path honours. */
+bool rs_state_ext(const rs_state *st, const rs_target *rt);
+/* The job's clip planes (rs_job.clip_mask) for st. */
+unsigned rs_clip_mask(const rs_state *st);
+/* The pixel of a job with ext: shade colour at (b1, b2) of attribute block a, alpha test, then per covered sample
+ * s of cov the stencil and depth tests (zs[s]: its clamped depth) with their stencil operations (the CCW states
+ * when `back` and two-sided), depth write, blend and colour write mask, and the AOV planes. */
+void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
+                 const float *a, float b1, float b2);
 
 /* ---- small helpers ---- */
 /* floor(a / b) for b > 0. */

@@ -156,8 +156,10 @@ void rs_tri_planes(const rs_job *j, const rs_svert *const v[3], int64_t area2, r
     t->s[2] = (float)n[0];
 }
 
-/* Emit triangle v[0..3) of doubled area `area` > 0 (clockwise) with its pixel box, edges, planes and slots. */
-static void emit_front(const rs_job *j, rs_chunk *c, const rs_svert *const v[3], int64_t area, const rs_vec4 *flat)
+/* Emit triangle v[0..3) of doubled area `area` > 0 (clockwise) with its pixel box, edges, planes and slots; back:
+ * the input triangle was counter-clockwise (two-sided stencil). */
+static void emit_front(const rs_job *j, rs_chunk *c, const rs_svert *const v[3], int64_t area, const rs_vec4 *flat,
+                       bool back)
 {
     int64_t mnx = v[0]->x, mxx = v[0]->x, mny = v[0]->y, mxy = v[0]->y;
     for (int i = 1; i < 3; i++) {
@@ -173,6 +175,7 @@ static void emit_front(const rs_job *j, rs_chunk *c, const rs_svert *const v[3],
     if (!p) return;
     rs_count_work(c, area, x0, y0, x1, y1);
     p->kind = RS_K_TRI;
+    p->back = back;
     rs_tri_edges(v, &p->u.t);
     p->u.t.vx = (int32_t)v[0]->x;
     p->u.t.vy = (int32_t)v[0]->y;
@@ -190,7 +193,7 @@ static void emit_tri(const rs_job *j, rs_chunk *c, const rs_svert *a, const rs_s
     int64_t area = (b->x - a->x) * (d->y - a->y) - (b->y - a->y) * (d->x - a->x);
     if (area == 0 || (area > 0) != (sign > 0)) return;
     const rs_svert *v[3] = { a, area > 0 ? b : d, area > 0 ? d : b };
-    emit_front(j, c, v, area > 0 ? area : -area, flat);
+    emit_front(j, c, v, area > 0 ? area : -area, flat, sign < 0);
 }
 
 /* Emit the line a -> b: one pixel per major-axis pixel centre in [start, end) (the last pixel is not drawn).
@@ -253,7 +256,21 @@ static void emit_point(const rs_job *j, rs_chunk *c, const rs_svert *v, const rs
     rs_fill_attr(j, at, v->a, NULL, NULL, flat);
 }
 
-/* Load n input vertices into clip vertices; false if a position is not finite.  *and / *or: outcodes. */
+/* The homogeneous position of a pre-transformed vertex (X, Y, Z, RHW) (rs_state.pretransformed): w = 1 / RHW and
+ * (X - centre, Y - centre, Z) times w, which the job's pretransformed projection maps back to X, Y (in 1/256 px
+ * from the centre) and depth Z; false when not finite (RHW 0, say). */
+static bool pretransformed_pos(const rs_job *j, const rs_vec4 *p, double *h)
+{
+    double w = 1.0 / (double)p->w;
+    h[0] = ((double)p->x - (double)j->cx / RS_SUB) * w;
+    h[1] = ((double)p->y - (double)j->cy / RS_SUB) * w;
+    h[2] = (double)p->z * w;
+    h[3] = w;
+    return isfinite(h[0]) && isfinite(h[1]) && isfinite(h[2]) && isfinite(h[3]);
+}
+
+/* Load n input vertices into clip vertices; false if a position is not finite.  *and / *or: outcodes of the
+ * job's clip planes (clip_mask). */
 static bool load(const rs_job *j, const rs_vertex *const *v, int n, rs_cvert *cv, unsigned *oand, unsigned *oor)
 {
     *oand = ~0u;
@@ -262,7 +279,8 @@ static bool load(const rs_job *j, const rs_vertex *const *v, int n, rs_cvert *cv
         const rs_vec4 *p = &v[i]->pos;
         if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->z) || !isfinite(p->w)) return false;
         cv[i] = (rs_cvert){ .p = { p->x, p->y, p->z, p->w }, .a = v[i]->attr, .edge = true, .orig = true };
-        unsigned oc = rs_outcode(j, cv[i].p);
+        if (j->st->pretransformed && !pretransformed_pos(j, p, cv[i].p)) return false;
+        unsigned oc = rs_outcode(j, cv[i].p) & j->clip_mask;
         *oand &= oc;
         *oor |= oc;
     }

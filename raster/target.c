@@ -53,7 +53,8 @@ int rs_target_init(rs_target *rt, int width, int height, int samples)
     size_t n = (size_t)width * (size_t)height * (size_t)samples;
     rt->color = plane_alloc(n);
     rt->depth = plane_alloc(n);
-    if (!rt->color || !rt->depth) {
+    rt->stencil = plane_alloc((n + 3) / 4); /* one byte per sample */
+    if (!rt->color || !rt->depth || !rt->stencil) {
         rs_target_free(rt);
         return RS_ENOMEM;
     }
@@ -69,6 +70,7 @@ void rs_target_free(rs_target *rt)
     if (!rt) return;
     free(rt->color);
     free(rt->depth);
+    free(rt->stencil);
     for (int k = 0; k < rt->n_aov && k < RS_MAX_AOV; k++) free(rt->aov[k].data);
     memset(rt, 0, sizeof *rt);
 }
@@ -327,4 +329,17 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
     if (stream) _mm_sfence();
 #endif
     rs->pend[tile] = 0;
+}
+
+/* rs_target_clear_stencil: the stencil bytes of the pixels of [x0, x1) x [y0, y1) inside the target. */
+void rs_target_clear_stencil(rs_target *rt, int x0, int y0, int x1, int y1, uint32_t value)
+{
+    if (!rs_target_valid(rt) || !rt->stencil) return;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > rt->width ? rt->width : x1, y1 = y1 > rt->height ? rt->height : y1;
+    if (x0 >= x1 || y0 >= y1) return;
+    size_t ns = (size_t)rt->samples;
+    for (int y = y0; y < y1; y++)
+        memset(rt->stencil + ((size_t)y * (size_t)rt->width + (size_t)x0) * ns, (int)(value & 0xffu),
+               (size_t)(x1 - x0) * ns);
 }

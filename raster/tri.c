@@ -13,12 +13,51 @@ typedef struct walk {
     unsigned full;             /* mask of all samples */
 } walk;
 
+/* Perspective barycentrics (*b1, *b2) of triangle tr at the pixel centre (fx, fy) (pixels from vertex 0), or at
+ * sample `first` when the centre lies far outside the triangle. */
+static inline void tri_bary(const rs_job *j, const rs_tri *tr, float fx, float fy, int first, float *b1, float *b2)
+{
+    const float k = 1.0f / RS_SUB;
+    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
+        fx += (float)j->sox[first] * k;
+        fy += (float)j->soy[first] * k;
+        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    }
+    float r = 1.0f / sv;
+    *b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+    *b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+}
+
+/* tri_pixel for a job with D3D9's further per-pixel states (pixel.c): each covered sample's depth, then
+ * rs_frag_ext.  Out of line: the plain walk does not pay for it. */
+static __attribute__((noinline)) void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                                                    int x, int y, unsigned cov)
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
+    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    float zs[4] = { 0, 0, 0, 0 };
+    for (int s = 0; s < j->samples; s++) {
+        float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
+        zs[s] = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
+    }
+    float b1, b2;
+    tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
+    rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
+}
+
 /* Depth-test, shade and write pixel (x, y) of triangle p with sample coverage cov. */
 static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
 {
     const rs_tri *tr = &p->u.t;
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
+    if (j->ext) {
+        tri_pixel_ext(j, t, p, a, x, y, cov);
+        return;
+    }
     size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
     /* offsets from vertex 0 below 2^24 (1/256 px): exact in float (setup.c's bit budget) */
     RS_ASSERT(rs_within((int64_t)x * RS_SUB - j->cx - tr->vx, 24) &&
@@ -42,15 +81,8 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     t->tested += (uint64_t)__builtin_popcount(cov);
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
-        fx += (float)j->sox[first] * k;
-        fy += (float)j->soy[first] * k;
-        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    }
-    float r = 1.0f / sv;
-    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+    float b1, b2;
+    tri_bary(j, tr, fx, fy, first, &b1, &b2);
     rs_write_color(j, t->color + base, pass, rs_shade_color(j, a, b1, b2));
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
 }

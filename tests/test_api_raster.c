@@ -279,6 +279,63 @@ static void test_draw_source(void **state)
     rs_destroy(rs);
 }
 
+/* rs_target_clear_stencil: NULL, a target without a stencil plane (hand-made), rectangles outside, reversed and
+ * at the int limits, values beyond 8 bits (their low byte); and the states of raster/pixel.c out of range (alpha
+ * and stencil functions, stencil operations, clip planes not finite): RS_EINVAL when on, unread when off. */
+static void test_stencil_and_pixel_states(void **state)
+{
+    (void)state;
+    rs_target_clear_stencil(NULL, 0, 0, 1, 1, 1);
+    uint32_t color[16] = {0};
+    float depth[16] = {0};
+    rs_target hand = {.width = 4, .height = 4, .samples = 1, .color = color, .depth = depth};
+    rs_target_clear_stencil(&hand, 0, 0, 4, 4, 1);   /* no plane: nothing */
+    rs_target rt;
+    assert_int_equal(rs_target_init(&rt, 4, 4, 4), RS_OK);
+    rs_target_clear_stencil(&rt, INT_MIN, INT_MIN, INT_MAX, INT_MAX, 0x1234);
+    for (int k = 0; k < 64; k++) assert_int_equal(rt.stencil[k], 0x34);
+    rs_target_clear_stencil(&rt, 3, 3, 1, 1, 0);
+    rs_target_clear_stencil(&rt, 100, 100, 200, 200, 0);
+    rs_target_clear_stencil(&rt, 1, 1, 2, 2, UINT32_MAX);
+    assert_int_equal(rt.stencil[(1 * 4 + 1) * 4 + 3], 0xff);
+    assert_int_equal(rt.stencil[0], 0x34);
+    rs_context *rs = rs_create(1);
+    rs_vertex v[3];
+    triangle(v);
+    rs_state st = default_state();
+    st.viewport = (rs_viewport){0, 0, 4, 4, 0, 1};
+    st.scissor_enable = true;
+    st.scissor = (rs_rect){INT_MIN, INT_MIN, INT_MAX, INT_MAX};
+    assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+    st.scissor = (rs_rect){INT_MAX, INT_MAX, INT_MIN, INT_MIN};
+    assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+    const int bad[] = {0, -1, 9, INT_MAX, INT_MIN};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        rs_state a = default_state();
+        a.viewport = st.viewport;
+        a.alpha_test = true, a.alpha_func = bad[k];
+        assert_int_equal(rs_draw(rs, &a, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
+        rs_state s = default_state();
+        s.viewport = st.viewport;
+        s.stencil_enable = true;
+        s.stencil_cw = (rs_stencil_ops){RS_CMP_ALWAYS, RS_STENCILOP_KEEP, bad[k], RS_STENCILOP_KEEP};
+        assert_int_equal(rs_draw(rs, &s, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
+        s.stencil_cw.zfail = RS_STENCILOP_KEEP;
+        s.stencil_two_sided = true;
+        s.stencil_ccw = (rs_stencil_ops){bad[k], RS_STENCILOP_KEEP, RS_STENCILOP_KEEP, RS_STENCILOP_KEEP};
+        assert_int_equal(rs_draw(rs, &s, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
+    }
+    rs_state c = default_state();
+    c.viewport = st.viewport;
+    c.clip_plane_enable = 1u << 5;
+    c.clip_plane[5][2] = INFINITY;
+    assert_int_equal(rs_draw(rs, &c, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
+    c.clip_plane_enable = ~(1u << 5) & 0x3fu;   /* the others (zero planes: everything inside) */
+    assert_int_equal(rs_draw(rs, &c, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+    rs_destroy(rs);
+    rs_target_free(&rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +343,7 @@ int main(void)
         cmocka_unit_test(test_targets),
         cmocka_unit_test(test_draw_args),
         cmocka_unit_test(test_draw_source),
+        cmocka_unit_test(test_stencil_and_pixel_states),
     };
     return cmocka_run_group_tests_name("api_raster", tests, NULL, NULL);
 }

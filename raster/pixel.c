@@ -1,0 +1,110 @@
+/* raster/pixel.c -- D3D9's per-pixel states beyond depth and blending, in the order of the D3D9 pipeline: alpha
+ * test (ALPHATESTENABLE, ALPHAFUNC, ALPHAREF) on the pixel's 8-bit alpha, then per sample the stencil test and
+ * the depth test with the stencil operations of their outcome (STENCIL*, two-sided with the CCW_ states), depth
+ * write, blend, and the colour write mask (COLORWRITEENABLE).  The scissor test is not here: it narrows the
+ * job's rectangle (draw.c's make_job), which every path honours.
+ *
+ * These states are implemented on the reference walk only: make_job turns a job with any of them on into a
+ * reference job (rs_state_ext), so the fast paths never see them and cost nothing more when they are off.
+ *
+ * The alpha test compares the pixel's alpha as written to the target (COLOR0's alpha saturated and rounded to 8
+ * bits) with ALPHAREF's low 8 bits: "alpha func ref" (GREATER passes when alpha > ref).  The stencil test is
+ * "(ref & mask) func (stencil & mask)" on the 8 bits of the sample's stencil; an operation writes only the bits
+ * of STENCILWRITEMASK.  A sample failing the stencil test runs the FAIL operation and nothing else; passing it
+ * and failing depth runs ZFAIL; passing both runs PASS, writes depth (ZWRITEENABLE) and colour. */
+#include "raster_internal.h"
+
+bool rs_state_ext(const rs_state *st, const rs_target *rt)
+{
+    return st->alpha_test || (st->stencil_enable && rt->stencil) || (st->color_write_disable & 0xfu) ||
+           st->no_clipping || (st->clip_plane_enable & 0x3fu) || st->pretransformed;
+}
+
+unsigned rs_clip_mask(const rs_state *st)
+{
+    const unsigned guard = 0x3cu;   /* planes 2..5 */
+    if (st->no_clipping) return guard;
+    unsigned user = st->pretransformed ? 0u : (st->clip_plane_enable & 0x3fu);
+    return 0x3fu | user << RS_CLIP_PLANES;
+}
+
+/* Does a pass RS_CMP_* f against b (unsigned 8-bit values)? */
+static bool cmp8(int f, uint32_t a, uint32_t b)
+{
+    switch (f) {
+    case RS_CMP_NEVER: return false;
+    case RS_CMP_LESS: return a < b;
+    case RS_CMP_EQUAL: return a == b;
+    case RS_CMP_LESSEQUAL: return a <= b;
+    case RS_CMP_GREATER: return a > b;
+    case RS_CMP_NOTEQUAL: return a != b;
+    case RS_CMP_GREATEREQUAL: return a >= b;
+    default: return true;
+    }
+}
+
+/* Stencil value s after operation op with reference ref (8 bits in, 8 bits out). */
+static uint32_t stencil_op(int op, uint32_t s, uint32_t ref)
+{
+    switch (op) {
+    case RS_STENCILOP_ZERO: return 0;
+    case RS_STENCILOP_REPLACE: return ref & 0xffu;
+    case RS_STENCILOP_INCRSAT: return s < 255u ? s + 1u : 255u;
+    case RS_STENCILOP_DECRSAT: return s > 0u ? s - 1u : 0u;
+    case RS_STENCILOP_INVERT: return ~s & 0xffu;
+    case RS_STENCILOP_INCR: return (s + 1u) & 0xffu;
+    case RS_STENCILOP_DECR: return (s - 1u) & 0xffu;
+    default: return s;   /* KEEP */
+    }
+}
+
+/* Colour new written over old through the mask: channels in `keep` (a byte mask) keep old. */
+static inline uint32_t write_masked(uint32_t new, uint32_t old, uint32_t keep) { return (new & ~keep) | (old & keep); }
+
+/* Bytes of the packed colour kept by a colour write mask that disables channels `disable` (bit c: byte c). */
+static uint32_t keep_bytes(uint32_t disable)
+{
+    uint32_t k = 0;
+    for (int c = 0; c < 4; c++)
+        if (disable & (1u << c)) k |= 0xffu << (8 * c);
+    return k;
+}
+
+void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
+                 const float *a, float b1, float b2)
+{
+    const rs_state *st = j->st;
+    t->tested += (uint64_t)__builtin_popcount(cov);
+    uint32_t src = rs_shade_color(j, a, b1, b2);
+    if (st->alpha_test && !cmp8(st->alpha_func, src >> 24, st->alpha_ref & 0xffu)) return;
+    size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
+    float *dep = t->depth + base;
+    /* the reference walk draws in the target (raster_tiles gives a job with ext no tile buffers) */
+    RS_ASSERT(t->color == j->rt->color && t->ox == 0 && t->oy == 0);
+    uint8_t *sten = st->stencil_enable && j->rt->stencil ? j->rt->stencil + base : NULL;
+    const rs_stencil_ops *ops = back && st->stencil_two_sided ? &st->stencil_ccw : &st->stencil_cw;
+    uint32_t ref = st->stencil_ref & 0xffu, mask = st->stencil_mask & 0xffu, wm = st->stencil_write_mask & 0xffu;
+    unsigned pass = 0;
+    for (int s = 0; s < j->samples; s++) {
+        if (!(cov & (1u << s))) continue;
+        bool zp = !st->z_enable || rs_zpass(st->z_func, zs[s], dep[s]);
+        if (sten) {
+            bool sp = cmp8(ops->func, ref & mask, sten[s] & mask);
+            int op = !sp ? ops->fail : (!zp ? ops->zfail : ops->pass);
+            sten[s] = (uint8_t)((sten[s] & ~wm) | (stencil_op(op, sten[s], ref) & wm));
+            if (!sp) continue;
+        }
+        if (!zp) continue;
+        if (st->z_enable && st->z_write) dep[s] = zs[s];
+        pass |= 1u << s;
+    }
+    if (!pass) return;
+    t->written += (uint64_t)__builtin_popcount(pass);
+    uint32_t *col = t->color + base, keep = keep_bytes(st->color_write_disable);
+    for (int s = 0; s < j->samples; s++) {
+        if (!(pass & (1u << s))) continue;
+        uint32_t v = st->blend_enable ? rs_blend(st->src_blend, st->dst_blend, src, col[s]) : src;
+        col[s] = write_masked(v, col[s], keep);
+    }
+    if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
+}
