@@ -189,7 +189,7 @@ static bool valid_input(int prim, const rs_vertex *verts, size_t n_verts, const 
 static void job_slots(rs_job *j)
 {
     const rs_state *st = j->st;
-    uint32_t need = 1u << RS_ATTR_COLOR0;
+    uint32_t need = st->ps ? ~0u : 1u << RS_ATTR_COLOR0;   /* a pixel shader reads every slot written */
     for (int k = 0; k < j->rt->n_aov; k++) need |= 1u << j->rt->aov[k].slot;
     need &= st->attr_mask;
     j->n_slots = 0;

@@ -14,9 +14,11 @@
  * and failing depth runs ZFAIL; passing both runs PASS, writes depth (ZWRITEENABLE) and colour. */
 #include "raster_internal.h"
 
+#include <string.h>
+
 bool rs_state_ext(const rs_state *st, const rs_target *rt)
 {
-    return st->alpha_test || (st->stencil_enable && rt->stencil) || (st->color_write_disable & 0xfu) ||
+    return st->ps || st->alpha_test || (st->stencil_enable && rt->stencil) || (st->color_write_disable & 0xfu) ||
            st->no_clipping || (st->clip_plane_enable & 0x3fu) || st->pretransformed;
 }
 
@@ -70,12 +72,53 @@ static uint32_t keep_bytes(uint32_t disable)
     return k;
 }
 
+void rs_ps_lane(const rs_job *j, const float *a, float b1, float b2, rs_vec4 *v)
+{
+    for (int i = 0; i < j->n_slots; i++) {
+        const float *p = a + i * RS_ATTR_STRIDE;
+        v[j->slot[i]] = (rs_vec4){p[0] + b1 * p[1] + b2 * p[2], p[3] + b1 * p[4] + b2 * p[5],
+                                  p[6] + b1 * p[7] + b2 * p[8], p[9] + b1 * p[10] + b2 * p[11]};
+    }
+}
+
+void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_quad *q,
+                int lane, const float *a, float b1, float b2)
+{
+    rs_ps_out o;
+    memset(&o, 0, sizeof o);
+    j->st->ps(j->st->ps_ctx, q, &o);
+    if (o.kill & (1u << lane)) return;   /* texkill: the pixel ends here, before any test */
+    if (o.depth_written)
+        for (int s = 0; s < j->samples; s++) zs[s] = rs_zclamp(o.depth[lane], j->zlo, j->zhi);
+    const rs_vec4 c = o.color[lane];
+    rs_frag_out(j, t, x, y, cov, zs, back, rs_to8(c.x) | rs_to8(c.y) << 8 | rs_to8(c.z) << 16 | rs_to8(c.w) << 24,
+                a, b1, b2);
+}
+
 void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
+                 const float *a, float b1, float b2)
+{
+    if (j->st->ps) {   /* a line or a point: a quad whose lanes all hold this pixel's inputs */
+        rs_ps_quad q;
+        memset(&q, 0, sizeof q);
+        int lane = (x & 1) + 2 * (y & 1);
+        for (int k = 0; k < 4; k++) {
+            rs_ps_lane(j, a, b1, b2, q.v[k]);
+            q.vpos[k][0] = (float)((x & ~1) + (k & 1)), q.vpos[k][1] = (float)((y & ~1) + (k >> 1));
+        }
+        q.front = true, q.live = 1u << lane;
+        float z[4] = {zs[0], zs[1], zs[2], zs[3]};
+        rs_frag_ps(j, t, x, y, cov, z, back, &q, lane, a, b1, b2);
+        return;
+    }
+    rs_frag_out(j, t, x, y, cov, zs, back, rs_shade_color(j, a, b1, b2), a, b1, b2);
+}
+
+void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back, uint32_t src,
                  const float *a, float b1, float b2)
 {
     const rs_state *st = j->st;
     t->tested += (uint64_t)__builtin_popcount(cov);
-    uint32_t src = rs_shade_color(j, a, b1, b2);
     if (st->alpha_test && !cmp8(st->alpha_func, src >> 24, st->alpha_ref & 0xffu)) return;
     size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
     float *dep = t->depth + base;

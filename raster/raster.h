@@ -112,6 +112,28 @@ enum {
 typedef struct rs_stencil_ops { int func, fail, zfail, pass; } rs_stencil_ops;
 #define RS_MAX_CLIP_PLANES 6   /* D3D9's user clip planes */
 
+/* ---- the pixel shader: a C function run on 2x2 quads of pixels (D3D9 ps_3_0's model) ----
+ * Lane k of a quad is pixel (x0 + (k & 1), y0 + (k >> 1)), x0 and y0 even.  The inputs are every slot of attr_mask
+ * interpolated as the fixed path interpolates COLOR0 (perspective-correct, FLAT for COLOR0/1 with SHADEMODE FLAT),
+ * at each lane's pixel centre, also for helper lanes the primitive does not cover (extrapolated from its planes;
+ * a lane where that is undefined -- behind the eye -- gets its quad's covered pixel's inputs), so ddx = lane 1 -
+ * lane 0 and ddy = lane 2 - lane 0 exist everywhere (coarse derivatives, as D3D9 hardware).  Lines and points run
+ * quads whose four lanes hold the same inputs (derivatives zero). */
+typedef struct rs_ps_quad {
+    rs_vec4 v[4][RS_MAX_ATTR];  /* per lane: COLOR0, COLOR1, TEXCOORD0..7 (slots of attr_mask; others 0) */
+    float vpos[4][2];           /* vPos: the lane's pixel (integers: D3D9's pixel centres) */
+    bool front;                 /* vFace > 0: a clockwise (front) triangle; lines and points are front */
+    unsigned live;              /* lanes the primitive covers (bit k: lane k); the others are helpers */
+} rs_ps_quad;
+typedef struct rs_ps_out {
+    rs_vec4 color[4];           /* oC0 per lane (saturated and rounded to 8 bits when written) */
+    float depth[4];             /* oDepth per lane, used when depth_written (then clamped to the viewport range) */
+    bool depth_written;
+    unsigned kill;              /* texkill / clip: bit k drops lane k (no depth, stencil-pass or colour write) */
+} rs_ps_out;
+/* The shader: ctx is rs_state.ps_ctx; out is zeroed before the call.  Called from several threads at once. */
+typedef void (*rs_ps_fn)(const void *ctx, const rs_ps_quad *q, rs_ps_out *out);
+
 typedef struct rs_state {
     int cull_mode;            /* RS_CULL_*  */
     int fill_mode;            /* RS_FILL_*  */
@@ -143,6 +165,8 @@ typedef struct rs_state {
                                  depth is clamped to the viewport's range instead */
     uint32_t clip_plane_enable; /* CLIPPLANEENABLE bits 0..5: keep the part where dot(clip_plane[i], pos) >= 0 */
     float clip_plane[RS_MAX_CLIP_PLANES][4]; /* SetClipPlane, in clip space (a, b, c, d) */
+    rs_ps_fn ps;              /* the pixel shader, or NULL: the fixed path (the pixel colour is COLOR0) */
+    const void *ps_ctx;       /* its context (the device's constants and samplers) */
     bool pretransformed;      /* POSITIONT / XYZRHW: pos is (X, Y, Z, RHW) in screen pixels, depth Z (no
                                  viewport mapping, no user planes), 1/w = RHW for perspective-correct attributes */
 } rs_state;

@@ -331,6 +331,16 @@ unsigned rs_clip_mask(const rs_state *st);
  * when `back` and two-sided), depth write, blend and colour write mask, and the AOV planes. */
 void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
                  const float *a, float b1, float b2);
+/* rs_frag_ext after the colour: the pixel's colour src (packed RGBA8) through the alpha test, stencil, depth,
+ * blend, colour mask, and the AOV planes from (b1, b2) of a. */
+void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back, uint32_t src,
+                 const float *a, float b1, float b2);
+/* The pixel shader's inputs at barycentrics (b1, b2) of attribute block a: every interpolated slot into v[slot]. */
+void rs_ps_lane(const rs_job *j, const float *a, float b1, float b2, rs_vec4 *v);
+/* Run the pixel shader on quad q and take lane `lane` (pixel (x, y), coverage cov, sample depths zs -- replaced
+ * by oDepth when the shader writes it) through rs_frag_out, unless the shader killed it. */
+void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_quad *q,
+                int lane, const float *a, float b1, float b2);
 
 /* ---- small helpers ---- */
 /* floor(a / b) for b > 0. */

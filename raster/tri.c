@@ -6,6 +6,8 @@
  * span.c's 8-lane walks instead, which write the same bytes. */
 #include "raster_internal.h"
 
+#include <string.h>
+
 /* Per-triangle constants of the walk: edge offsets of each sample and their range. */
 typedef struct walk {
     int64_t eo[3][4];          /* ea*sox + eb*soy of sample s for edge e */
@@ -29,6 +31,40 @@ static inline void tri_bary(const rs_job *j, const rs_tri *tr, float fx, float f
     *b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
 }
 
+/* The pixel shader's quad around pixel (x, y) of triangle p (barycentrics (b1, b2) at the pixel), then the
+ * pixel's lane through rs_frag_ps: each lane's inputs at its own centre from the triangle's planes, its own
+ * inputs where the plane of 1/w is not positive (behind the eye); live = the lanes whose centre the triangle
+ * covers (the top-left rule on the edge functions). */
+static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov,
+                         float *zs, float b1, float b2)
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    rs_ps_quad q;
+    memset(&q, 0, sizeof q);
+    int x0 = x & ~1, y0 = y & ~1, lane = (x - x0) + 2 * (y - y0);
+    for (int l = 0; l < 4; l++) {
+        int px = x0 + (l & 1), py = y0 + (l >> 1);
+        int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
+        bool in = true;
+        for (int e = 0; e < 3; e++) in &= (int64_t)tr->ea[e] * X + (int64_t)tr->eb[e] * Y + tr->ec[e] >= 0;
+        if (in) q.live |= 1u << l;
+        q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
+        float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k;
+        float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+        float l1 = b1, l2 = b2;
+        if (l != lane && sv > 0.0f) {
+            float r = 1.0f / sv;
+            l1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+            l2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+        }
+        rs_ps_lane(j, a, l1, l2, q.v[l]);
+    }
+    q.live |= 1u << lane;   /* covered by a sample, if not at its centre */
+    q.front = p->back == 0;
+    rs_frag_ps(j, t, x, y, cov, zs, p->back != 0, &q, lane, a, b1, b2);
+}
+
 /* tri_pixel for a job with D3D9's further per-pixel states (pixel.c): each covered sample's depth, then
  * rs_frag_ext.  Out of line: the plain walk does not pay for it. */
 static __attribute__((noinline)) void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
@@ -45,7 +81,8 @@ static __attribute__((noinline)) void tri_pixel_ext(const rs_job *j, rs_tile *t,
     }
     float b1, b2;
     tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
-    rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
+    if (j->st->ps) tri_pixel_ps(j, t, p, a, x, y, cov, zs, b1, b2);
+    else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
 }
 
 /* Depth-test, shade and write pixel (x, y) of triangle p with sample coverage cov. */
