@@ -249,7 +249,7 @@ PIC_OBJ     = $(LIB_SRC:%.c=$(B)/pic/%.o) $(KERNEL_SRC:%.c=$(B)/pic/%.avx512.o)
 # (/usr/local/lib/python3.11/dist-packages and /usr/lib/python3.11/dist-packages are both on its path).
 PYTHON     ?= /usr/bin/python3
 PYTHONDIR  ?= $(PREFIX)/lib/python$(shell $(PYTHON) -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null || echo 3)/dist-packages
-PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h core/inspect.h raster/raster.h vs/vs.h \
+PUB_HDR     = core/core.h core/api.h core/math.h core/device.h core/texture.h core/grid.h core/inspect.h core/pixel.h raster/raster.h vs/vs.h \
               meshes/meshes.h image/image.h tess/tess.h
 INSTALLED   = $(BINDIR)/instess $(MANDIR)/man1/instess.1 $(LIBDIR)/$(SO_REAL) $(LIBDIR)/$(SO_NAME) \
               $(LIBDIR)/libinstess.so $(LIBDIR)/libinstess.a $(CODECDIR)/libinstess_codec.so $(CODECDIR)/libinstess_view.so \

@@ -89,6 +89,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     }
     set_default_states(dev);
     dev_samplers_default(dev);
+    dev->ps_consts.s = dev->ps_samplers;
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
@@ -104,6 +105,8 @@ void dev_reset(is_device *dev)
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->ib = NULL, dev->decl = NULL, dev->vs = NULL;
     memset(&dev->consts, 0, sizeof dev->consts);
+    dev->ps = NULL;
+    memset(dev->ps_consts.c, 0, sizeof dev->ps_consts.c);
     dev_samplers_default(dev); /* no texture bound; the textures themselves stay the device's */
     dev->npatch_segments = 0, dev->npatch_eval = NULL;
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
@@ -546,6 +549,8 @@ rs_state dev_rs_state(const is_device *dev)
         .depth_bias = bits_float(s[IS_RS_DEPTHBIAS]),
         .slope_scale_depth_bias = bits_float(s[IS_RS_SLOPESCALEDEPTHBIAS]),
         .attr_mask = dev->vs ? dev->vs->outputs : 0,
+        .ps = dev->ps ? dev_ps_run : NULL,
+        .ps_ctx = dev,
         .viewport = {(int)dev->viewport.x, (int)dev->viewport.y, (int)dev->viewport.width,
                      (int)dev->viewport.height, dev->viewport.min_z, dev->viewport.max_z},
     };

@@ -146,6 +146,8 @@ struct is_device {
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
     struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
+    const is_pixel_shader *ps;  /* SetPixelShader (core/pixel.c), NULL: the fixed path */
+    is_ps_constants ps_consts;  /* its c0..c223; s points at ps_samplers */
 };
 
 /* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources
@@ -237,9 +239,10 @@ static inline void fetch_cached(const fetch_plan *fp, const float4 *cache, uint3
 
 /* The outputs the rasterizer reads when drawing into dev's target: oD0 (the pixel colour) and the slots of the
  * target's AOV planes (raster.h).  A batch may skip the others, as a D3D9 driver links the vertex outputs to what
- * the pixel stage consumes. */
+ * the pixel stage consumes (a pixel shader: every output). */
 static inline uint32_t live_outputs(const is_device *dev)
 {
+    if (dev->ps) return ~0u;   /* a pixel shader may read every output */
     uint32_t live = IS_OUT_COLOR0;
     for (int k = 0; k < dev->rt.n_aov; k++) live |= 1u << dev->rt.aov[k].slot;
     return live;
@@ -271,6 +274,8 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
                     uint32_t count, const uint32_t *stream_idx);
 void inspect_draw_done(is_device *dev, size_t mark, bool drawn);
 void inspect_stop(is_device *dev);
+/* (pixel.c) rs_state.ps while a pixel shader is set: dev (ctx)'s shader with its constants and samplers. */
+void dev_ps_run(const void *ctx, const rs_ps_quad *q, rs_ps_out *out);
 
 /* ---- draw_fused.c: the fused path of instanced triangle draws ---- */
 

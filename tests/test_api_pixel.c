@@ -1,0 +1,186 @@
+/* tests/test_api_pixel.c -- core/pixel.h: every public function with NULL devices, shaders and data, constant
+ * registers at and past c223 (nothing changed by a refused call), samplers and coordinates that are NULL or out of
+ * range; and the device's pixel stage: a shader's colour from its constants, a texture read through ps_tex2D with
+ * D3D9's texel centres (point sampling of a 4x4 texture drawn 1:1), dev_reset back to the fixed path, and the
+ * fixed path's bytes unchanged by setting and clearing a shader.  tests/check_api_walkers.sh checks that every
+ * INSTESS_API function of core/pixel.h is named here. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <limits.h>
+#include <math.h>
+#include <string.h>
+
+#include "../core/core.h"
+#include "../vs/vs.h"
+
+#define N 4   /* the target and the texture: N x N */
+
+/* A device drawing a screen-filling triangle (fixed shader, identity transform, normal towards the viewer: COLOR0
+ * is the diffuse colour) whose TEXCOORD0 is the texture
+ * coordinate mapping texel centres to pixel centres (u = (X + 0.5) / N at screen X). */
+static is_device *device(void)
+{
+    char err[256];
+    is_device *dev = dev_create(N, N, 1, err, sizeof err);
+    assert_non_null(dev);
+    /* clip x = X / (N/2) - 1 at pixel X; u = (X + 0.5) / N: at clip x = -1 (X = 0) u = 0.5/N, slope 1/N per pixel */
+    const float verts[3][9] = {{-1, 1, 0.5f, 1, 0.5f / N, 0.5f / N, 0, 0, -1},
+                               {3, 1, 0.5f, 1, 0.5f / N + 2.0f, 0.5f / N, 0, 0, -1},
+                               {-1, -3, 0.5f, 1, 0.5f / N, 0.5f / N + 2.0f, 0, 0, -1}};
+    is_vertex_buffer *vb;
+    assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
+    memcpy(vb_lock(vb), verts, sizeof verts);
+    vb_unlock(vb);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {0, 16, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0},
+                                    {0, 24, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_NORMAL, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
+    float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+    is_vs_constants c;
+    memset(&c, 0, sizeof c);
+    vs_set_constants(&c, &id, &id, (float4){0.25f, 0.5f, 0.75f, 1}, NULL);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, 10), IS_OK);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_shader_fixed), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
+    return dev;
+}
+
+/* Draw once into a cleared target; the colour plane's bytes into out. */
+static void draw(is_device *dev, uint32_t *out)
+{
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff000000u, 1.0f), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, out, N * N), IS_OK);
+}
+
+/* oC0 = c5. */
+static void ps_constant(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    (void)in;
+    for (int k = 0; k < 4; k++) out->color[k] = c->c[5];
+}
+static const is_pixel_shader PS_CONSTANT = {"constant", ps_constant};
+
+/* oC0 = tex2D(s0, TEXCOORD0). */
+static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    float2 uv[4];
+    for (int k = 0; k < 4; k++) uv[k] = (float2){in->v[k][RS_ATTR_TEXCOORD0].x, in->v[k][RS_ATTR_TEXCOORD0].y};
+    for (int k = 0; k < 4; k++) out->color[k] = ps_tex2D(&c->s[0], uv, k);
+}
+static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture};
+
+static void test_arguments(void **state)
+{
+    (void)state;
+    float data[4 * (IS_MAX_PS_CONSTANTS + 1)];
+    const is_pixel_shader *got = &PS_CONSTANT;
+    assert_int_equal(dev_set_pixel_shader(NULL, &PS_CONSTANT), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_pixel_shader(NULL, &got), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_pixel_shader_constant_f(NULL, 0, data, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_pixel_shader_constant_f(NULL, 0, data, 1), IS_ERR_INVALIDCALL);
+    is_device *dev = device();
+    assert_int_equal(dev_get_pixel_shader(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
+    assert_null(got);   /* the default: the fixed path */
+    const is_pixel_shader empty = {"empty", NULL};
+    assert_int_equal(dev_set_pixel_shader(dev, &empty), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
+    assert_null(got);
+    for (int k = 0; k < 4 * (IS_MAX_PS_CONSTANTS + 1); k++) data[k] = (float)k;
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, 0, data, IS_MAX_PS_CONSTANTS + 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, IS_MAX_PS_CONSTANTS, data, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, UINT_MAX, data, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, 0, NULL, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, 0, NULL, 0), IS_OK);   /* nothing to copy */
+    float back[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+    assert_int_equal(dev_get_pixel_shader_constant_f(dev, IS_MAX_PS_CONSTANTS - 2, back, 2), IS_OK);
+    for (int k = 0; k < 8; k++) assert_true(back[k] == 0.0f);   /* refused calls wrote nothing */
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, IS_MAX_PS_CONSTANTS - 1, data, 1), IS_OK);
+    assert_int_equal(dev_get_pixel_shader_constant_f(dev, IS_MAX_PS_CONSTANTS - 1, back, 1), IS_OK);
+    assert_memory_equal(back, data, 4 * sizeof(float));
+    assert_int_equal(dev_get_pixel_shader_constant_f(dev, 0, NULL, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_pixel_shader_constant_f(dev, IS_MAX_PS_CONSTANTS, back, 1), IS_ERR_INVALIDCALL);
+    /* sampling with nothing to sample: (0, 0, 0, 1); a lane out of 0..3 likewise */
+    is_sampler empty_s = tex_sampler_default(NULL);
+    float2 uv[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    float4 t = ps_tex2D(&empty_s, uv, 0);
+    assert_true(t.x == 0 && t.y == 0 && t.z == 0 && t.w == 1);
+    t = ps_tex2D(&empty_s, NULL, 0);
+    assert_true(t.w == 1);
+    t = ps_tex2Dbias(&empty_s, uv, NAN, 7);
+    assert_true(t.x == 0 && t.w == 1);
+    t = ps_tex2Dbias(NULL, uv, 1e30f, -1);
+    assert_true(t.w == 1);
+    dev_destroy(dev);
+}
+
+/* A shader's colour is its constant; clearing it (or dev_reset) gives the fixed path's bytes back. */
+static void test_constant_and_fixed(void **state)
+{
+    (void)state;
+    is_device *dev = device();
+    uint32_t fixed[N * N], shaded[N * N], again[N * N];
+    draw(dev, fixed);
+    assert_int_equal(fixed[0], 0xffbf8040u);   /* COLOR0 = (0.25, 0.5, 0.75, 1): 64, 128, 191 -> ABGR */
+    const float c5[4] = {1.0f, 0.0f, 0.5f, 1.0f};
+    assert_int_equal(dev_set_pixel_shader_constant_f(dev, 5, c5, 1), IS_OK);
+    assert_int_equal(dev_set_pixel_shader(dev, &PS_CONSTANT), IS_OK);
+    draw(dev, shaded);
+    for (int p = 0; p < N * N; p++) assert_int_equal(shaded[p], 0xff8000ffu);
+    assert_int_equal(dev_set_pixel_shader(dev, NULL), IS_OK);
+    draw(dev, again);
+    assert_memory_equal(again, fixed, sizeof fixed);
+    dev_destroy(dev);
+}
+
+/* tex2D through sampler 0: a 4x4 texture drawn 1:1 with point sampling gives each pixel its texel. */
+static void test_texture(void **state)
+{
+    (void)state;
+    is_device *dev = device();
+    is_texture *tex;
+    assert_int_equal(dev_create_texture(dev, N, N, 1, 0, IS_FMT_A8R8G8B8, &tex), IS_OK);
+    is_locked_rect lr;
+    assert_int_equal(tex_lock_rect(tex, 0, &lr, NULL, 0), IS_OK);
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            uint32_t argb = 0xff000000u | (uint32_t)(x * 60) << 16 | (uint32_t)(y * 70) << 8 | 0x33u;
+            memcpy((unsigned char *)lr.bits + (size_t)y * lr.pitch + 4 * x, &argb, 4);
+        }
+    assert_int_equal(tex_unlock_rect(tex, 0), IS_OK);
+    assert_int_equal(dev_set_texture(dev, 0, tex), IS_OK);
+    assert_int_equal(dev_set_sampler_state(dev, 0, IS_SAMP_MINFILTER, IS_TEXF_POINT), IS_OK);
+    assert_int_equal(dev_set_sampler_state(dev, 0, IS_SAMP_MAGFILTER, IS_TEXF_POINT), IS_OK);
+    assert_int_equal(dev_set_pixel_shader(dev, &PS_TEXTURE), IS_OK);
+    uint32_t px[N * N];
+    draw(dev, px);
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++)   /* RGBA8 in memory: R = x * 60, G = y * 70, B = 0x33 */
+            assert_int_equal(px[y * N + x], 0xff330000u | (uint32_t)(y * 70) << 8 | (uint32_t)(x * 60));
+    dev_reset(dev);
+    const is_pixel_shader *got = &PS_TEXTURE;
+    assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
+    assert_null(got);
+    float c[4] = {9, 9, 9, 9};
+    assert_int_equal(dev_get_pixel_shader_constant_f(dev, 5, c, 1), IS_OK);
+    assert_true(c[0] == 0.0f);
+    dev_destroy(dev);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_arguments),
+        cmocka_unit_test(test_constant_and_fixed),
+        cmocka_unit_test(test_texture),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
