@@ -106,7 +106,7 @@ void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const 
             rs_ps_lane(j, a, b1, b2, q.v[k]);
             q.vpos[k][0] = (float)((x & ~1) + (k & 1)), q.vpos[k][1] = (float)((y & ~1) + (k >> 1));
         }
-        q.front = true, q.live = 1u << lane;
+        q.front = true, q.live = q.need = 1u << lane;
         float z[4] = {zs[0], zs[1], zs[2], zs[3]};
         rs_frag_ps(j, t, x, y, cov, z, back, &q, lane, a, b1, b2);
         return;

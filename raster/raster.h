@@ -124,6 +124,8 @@ typedef struct rs_ps_quad {
     float vpos[4][2];           /* vPos: the lane's pixel (integers: D3D9's pixel centres) */
     bool front;                 /* vFace > 0: a clockwise (front) triangle; lines and points are front */
     unsigned live;              /* lanes the primitive covers (bit k: lane k); the others are helpers */
+    unsigned need;              /* lanes whose results are used: a shader that takes no derivatives may compute
+                                   only these (the others' outputs are ignored) */
 } rs_ps_quad;
 typedef struct rs_ps_out {
     rs_vec4 color[4];           /* oC0 per lane (saturated and rounded to 8 bits when written) */

@@ -62,6 +62,7 @@ static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const fl
     }
     q.live |= 1u << lane;   /* covered by a sample, if not at its centre */
     q.front = p->back == 0;
+    q.need = 1u << lane;
     rs_frag_ps(j, t, x, y, cov, zs, p->back != 0, &q, lane, a, b1, b2);
 }
 

@@ -83,6 +83,8 @@ static void test_names_and_options(void **state)
         for (int b = 0; b < N_EDGE; b++) {
             c.c[VS_C_OPTIONS] = (float4){edge[a], edge[b], edge[(a + b) % N_EDGE], edge[(a * b + 1) % N_EDGE]};
             o = vs_options_from_constants(&c);
+            vs_options r = vs_options_from_register(c.c[VS_C_OPTIONS]);
+            assert_memory_equal(&o, &r, sizeof o);   /* the register read alone decodes the same */
             assert_true((unsigned)o.normals < 3);
             assert_true(isfinite(o.phong_alpha) && isfinite(o.quad_factor) && o.quad_factor != 0.0f);
             vs_options odd = {(vs_normals)(a - 3), edge[a], edge[b], (uint32_t)-1};

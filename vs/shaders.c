@@ -30,9 +30,12 @@ void vs_set_constants(is_vs_constants *c, const float4x4 *wvp, const float4x4 *w
 
 vs_options vs_options_from_constants(const is_vs_constants *c)
 {
+    return c ? vs_options_from_register(c->c[VS_C_OPTIONS]) : vs_default_options();
+}
+
+vs_options vs_options_from_register(float4 r)
+{
     vs_options o = vs_default_options();
-    if (!c) return o;
-    float4 r = c->c[VS_C_OPTIONS];
     o.normals = r.x >= 1.5f ? VS_NORMALS_REAL : r.x >= 0.5f ? VS_NORMALS_QUADRATIC : VS_NORMALS_LINEAR;
     o.phong_alpha = isfinite(r.y) ? r.y : 0.75f;
     o.quad_factor = isfinite(r.z) && r.z != 0.0f ? r.z : 2.0f;

@@ -133,6 +133,8 @@ INSTESS_API void vs_set_constants(is_vs_constants *c, const float4x4 *world_view
                       const vs_options *o);
 /* Read c9 back (what the shaders do). */
 INSTESS_API vs_options vs_options_from_constants(const is_vs_constants *c);
+/* The same from the register c9 itself (a pixel shader given the options in its own constants). */
+INSTESS_API vs_options vs_options_from_register(float4 c9);
 /* "linear" | "quadratic" | "real" -> 0 and *out, or -1. */
 INSTESS_API int vs_normals_from_name(const char *name, vs_normals *out);
 INSTESS_API const char *vs_normals_name(vs_normals n);

@@ -22,21 +22,34 @@
 
 enum { C_LIGHT_MODE = VS_C_COUNT, C_LIGHT_DIR = VS_C_COUNT + 1 };
 
+/* The colour of light c10.y (not the headlight) for the world-space unit normal n (c8 the diffuse colour). */
+static float4 lit_unit(const float4 *c, float3 n)
+{
+    float4 d = c[VS_C_DIFFUSE];
+    float3 k;
+    if ((int)c[C_LIGHT_MODE].y == SCENE_LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
+    else {
+        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c[C_LIGHT_DIR])));
+        k = f3(l, l, l);
+    }
+    return f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
+}
+
+float4 scene_light_color(const float4 *c, float3 Normal)
+{
+    if ((int)c[C_LIGHT_MODE].y != SCENE_LIGHT_HEADLIGHT) return lit_unit(c, normalize3(Normal));
+    float d = dot3(Normal, f3(0.0f, 0.0f, -1.0f));   /* the listing's headlight, as vs_write_outputs lights */
+    float4 diffuse = scale4(c[VS_C_DIFFUSE], saturate(isnan(d) ? 0.0f : d));
+    diffuse.w = 1.0f;
+    return diffuse;
+}
+
 /* The wrapped shader (c10.x), then the light of c10.y applied to COLOR0. */
 static void vs_relit(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
 {
     scene_shader_at((int)c->c[C_LIGHT_MODE].x)->main(c, in, out);
-    int light = (int)c->c[C_LIGHT_MODE].y;
-    if (light == SCENE_LIGHT_HEADLIGHT) return;
-    float3 n = f3_of(out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]);
-    float4 d = c->c[VS_C_DIFFUSE];
-    float3 k;
-    if (light == SCENE_LIGHT_NORMALS) k = f3(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f - 0.5f * n.z);
-    else {
-        float l = 0.08f + 0.92f * saturate(dot3(n, f3_of(c->c[C_LIGHT_DIR])));
-        k = f3(l, l, l);
-    }
-    out->attr[RS_ATTR_COLOR0] = f4(k.x * d.x, k.y * d.y, k.z * d.z, 1.0f);
+    if ((int)c->c[C_LIGHT_MODE].y == SCENE_LIGHT_HEADLIGHT) return;
+    out->attr[RS_ATTR_COLOR0] = lit_unit(c->c, f3_of(out->attr[RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]));
 }
 /* The wrapped shader's published values (the inspector's view of the patch under the light). */
 static unsigned vs_relit_explain(const is_vs_constants *c, const is_vs_input *in, is_vs_value *vals, unsigned max)

@@ -48,6 +48,10 @@ static const char *stats_choices(const char *sep, char *buf, size_t len)
 {
     return scene_join_names(stats_names, sep, buf, len);
 }
+static const char *shading_choices(const char *sep, char *buf, size_t len)
+{
+    return scene_join_names(scene_shading_names, sep, buf, len);
+}
 static const char *cull_choices(const char *sep, char *buf, size_t len)
 {
     return scene_join_names(scene_cull_names, sep, buf, len);
@@ -133,6 +137,13 @@ static const char *opt_light(scene_opts *o, const char *a)
     static const char msg[] = "--light takes headlight, grazing, normals or a direction X,Y,Z of finite numbers, not "
                               "all zero";
     return scene_parse_light(a, o) ? NULL : msg;
+}
+static const char *opt_shading(scene_opts *o, const char *a)
+{
+    int k;
+    if (!scene_parse_name(a, scene_shading_names, &k)) return CHOICE_ERROR;
+    o->shading = (scene_shading)k;
+    return NULL;
 }
 static const char *opt_color(scene_opts *o, const char *a)
 {
@@ -301,6 +312,10 @@ static const char *val_max_level(const scene_opts *o, char *b, size_t n)
     return val_printf(b, n, "%d", scene_lod_max_level(o));
 }
 static const char *val_light(const scene_opts *o, char *b, size_t n) { return scene_light_name(o, b, n); }
+static const char *val_shading(const scene_opts *o, char *b, size_t n)
+{
+    return val_printf(b, n, "%s", scene_shading_names[o->shading]);
+}
 static const char *val_color(const scene_opts *o, char *b, size_t n)
 {
     return val_printf(b, n, "%g,%g,%g", (double)o->diffuse[0], (double)o->diffuse[1], (double)o->diffuse[2]);
@@ -373,6 +388,9 @@ const scene_option scene_options[] = {
     {"light", 0, "L", "headlight: the listing's saturate(dot(N, (0,0,-1))); X,Y,Z: a light from that world-space "
      "direction (x right, y up, -z towards the camera) with 0.08 ambient; grazing: 0.62,0.62,-0.48 (ridges show); "
      "normals: colour by the unit normal", "headlight", opt_light, NULL, val_light},
+    {"shading", 0, "S", "where the light is computed: vertex (the listings: per grid vertex, Gouraud in between) or "
+     "pixel (a pixel shader evaluates the patch's --normals normal at each pixel's barycentrics and lights it; "
+     "--path instanced, --lod uniform, no --displace)", "vertex", opt_shading, shading_choices, val_shading},
     {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL, val_color},
     {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL, val_background},
     {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "

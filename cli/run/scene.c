@@ -233,6 +233,9 @@ const char *scene_check_opts(const scene_opts *o)
     if (!o->displace && o->displace_scale != SCENE_DISPLACE_SCALE) return "--displace-scale needs --displace FILE";
     if (o->displace && o->export_obj)
         return "--export-obj writes the patch without its displacement: it cannot be combined with --displace";
+    if (o->shading == SCENE_SHADING_PIXEL && (o->path != SCENE_PATH_INSTANCED || o->lod != TESS_LOD_UNIFORM || o->displace))
+        return "--shading pixel evaluates the patch of the instanced path's grid points: it needs --path instanced "
+               "and --lod uniform, without --displace";
     return o->lod == TESS_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
 
@@ -511,8 +514,10 @@ static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_came
     static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
     set_constants(dev, o, cam, o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
+    if (o->shading == SCENE_SHADING_PIXEL) scene_shading_constants(dev, o);
     is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
+    dev_set_pixel_shader(dev, NULL);   /* the wire overlay keeps its colour */
     set_overlay_states(dev);
     set_constants(dev, o, cam, o->wire_color);
     return dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
@@ -698,13 +703,16 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
         return draw_adaptive(dev, o, m, shader, NULL, why, sizeof why);   /* the reason: dev_last_error's, or lost */
     scene_camera cam = make_camera(o, m);
     tess_resources r = {0};
-    is_texture *dmap = NULL;
+    is_texture *dmap = NULL, *itex = NULL;
     is_result e = set_scene_shader(dev, o, &cam, path_shader(o), shader, &dmap);
     if (e == IS_OK) e = build_path(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
+    if (e == IS_OK && o->shading == SCENE_SHADING_PIXEL) e = scene_shading_bind(dev, o, m, &itex);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
+    if (itex) dev_set_pixel_shader(dev, NULL), dev_set_texture(dev, 0, NULL);
     tess_resources_free(&r);
     tex_release(dmap);
+    tex_release(itex);
     return e == IS_OK ? 0 : -1;
 }
 

@@ -46,6 +46,10 @@ typedef enum { SCENE_FILL_SOLID, SCENE_FILL_WIRE, SCENE_FILL_SOLID_WIRE, SCENE_F
 typedef enum { SCENE_PATH_INSTANCED, SCENE_PATH_NPATCH_MODE, SCENE_PATH_CPU } scene_path;
 /* The light (--light): the listing's headlight, a direction (with a little ambient), or colour by normal. */
 typedef enum { SCENE_LIGHT_HEADLIGHT = 0, SCENE_LIGHT_DIRECTION = 1, SCENE_LIGHT_NORMALS = 2 } scene_light;
+/* --shading: where the light is computed -- per vertex by the patch shader (the listings, Gouraud in between) or
+ * per pixel by a pixel shader evaluating the patch's normal at the pixel's barycentrics (cli/run/shading.c). */
+typedef enum { SCENE_SHADING_VERTEX = 0, SCENE_SHADING_PIXEL = 1 } scene_shading;
+extern const char *const scene_shading_names[];   /* "vertex", "pixel", NULL */
 /* --d3d9-adaptive: D3D9's adaptive N-patch mode (core.h) on the npatch-mode path.  "depth": Mdm = the view-depth
  * column of World * View divided by the depth of the object's nearest point (distance - 1 bounding radii), so
  * T = level * ref_depth / depth per vertex: --level at the nearest point, less farther away; "X,Y,Z,W": Mdm as
@@ -101,6 +105,7 @@ typedef struct scene_opts {
     int min_level, max_level;   /* per-edge levels are clamped to these (1..CORE_LOD_MAX_LEVEL); max 0: --level */
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
     bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */
+    scene_shading shading;      /* --shading: vertex (the listings') or pixel (cli/run/shading.c) */
     const char *displace;       /* --displace: the height map (cli/run/displace.c), or NULL */
     float displace_scale;       /* --displace-scale: bounding radii per unit of height (SCENE_DISPLACE_SCALE) */
     const is_image *displace_map; /* the map already read (scene_load_displacement), or NULL: read per draw */
@@ -195,6 +200,16 @@ const is_vertex_shader *scene_shader_at(int k);
 /* ------------- displacement by a vertex texture fetch (cli/run/displace.c) ------------- */
 /* Read the height map of --displace into img: 0, or -1 with a message naming the file. */
 int scene_load_displacement(const char *path, is_image *img, char *err, size_t errlen);
+/* (cli/run/shading.c) --shading pixel on dev for o's patch of mesh m: the instances' registers in a float texture
+ * bound to pixel sampler 0 (*tex: the caller releases it after the draw) and the pixel shader set; IS_OK or the
+ * device's error.  scene_shading_constants copies the vertex shader's c0..c11 (matrices, colour, options, light)
+ * into the pixel shader's, with the patch in c12.x: call it after each change of the vertex constants. */
+is_result scene_shading_bind(is_device *dev, const scene_opts *o, const is_mesh *m, is_texture **tex);
+void scene_shading_constants(is_device *dev, const scene_opts *o);
+/* (cli/run/lighting.c) The colour of o's light as the registers c hold it (c8 the diffuse colour, c10.y the light,
+ * c11 its direction) for the world-space normal Normal (the listing's headlight takes it as it is, the others
+ * normalise it): what the patch shaders and the light's wrapper write to COLOR0. */
+float4 scene_light_color(const float4 *c, float3 Normal);
 /* The shader that draws o's scene displaced: the wrapper scene_displaced_shader around inner (the path's shader,
  * a shader of scene_shader_index) when o->displace, else inner itself; the light's wrapper goes around it. */
 extern const is_vertex_shader scene_displaced_shader;

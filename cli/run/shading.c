@@ -1,0 +1,112 @@
+/* cli/run/shading.c -- --shading pixel: the patch lit per pixel by a pixel shader (core/pixel.h).
+ *
+ * The listings light each grid vertex and let the rasterizer interpolate the colour (Gouraud): between grid
+ * points the N-Patch's creases and ripples blur.  With --shading pixel the patch shader runs as before (positions,
+ * and the outputs the pixel shader reads: TEXCOORD2 = the grid point's barycentrics b, TEXCOORD3 = the instance,
+ * the mesh triangle's index), and a pixel shader evaluates, at every pixel, the patch's own normal of --normals at
+ * the pixel's barycentrics (b interpolated perspective-correct across the grid triangle) and lights it with the
+ * scene's light -- for real normals the derivative normal of the patch at that point, not an interpolated vertex
+ * normal.  The pixel shader reads the mesh triangle's registers (Listing 1.1.2's per-instance data, as the vertex
+ * shader fetches them from stream 1) from a float texture, the D3D9 way of giving a pixel shader per-instance
+ * data: texel (instance % PER_ROW) * REGS + r, row instance / PER_ROW holds register r (A32B32G32R32F, point
+ * sampling at texel centres, so the floats come back exactly).
+ *
+ * Constants of the pixel shader: c0..c11 as the vertex shader's (vs.h and lighting.c: matrices, diffuse colour,
+ * options, light), c12.x the patch. */
+#include "scene.h"
+
+#include "../../core/hlsl.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define REGS IS_VS_INPUT_REGS          /* registers per instance: all of is_vs_input */
+#define PER_ROW (4096 / REGS)          /* instances per texture row */
+#define C_PATCH 12                     /* c12.x: the patch (vs_patch) */
+
+const char *const scene_shading_names[] = {"vertex", "pixel", NULL};
+
+/* Centre of the texel of register r of instance id in a w x h texture, in texture coordinates (tex2Dlod's). */
+static float4 texel_of(uint32_t id, int r, unsigned w, unsigned h)
+{
+    unsigned x = (id % PER_ROW) * REGS + (unsigned)r, y = id / PER_ROW;
+    return f4(((float)x + 0.5f) / (float)w, ((float)y + 0.5f) / (float)h, 0.0f, 0.0f);
+}
+
+/* Lane k's colour: the patch normal at the lane's barycentrics, in the world, lit. */
+static float4 lit_lane(const is_ps_constants *c, const is_ps_input *in, int k, vs_patch p, const vs_options *o,
+                       const float4x4 *world)
+{
+    const is_sampler *s = &c->s[0];
+    float4 bb = in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_BARY];
+    float sum = bb.x + bb.y + bb.z;
+    float3 b = sum > 0.0f ? f3(bb.x / sum, bb.y / sum, bb.z / sum) : f3(1.0f / 3, 1.0f / 3, 1.0f / 3);
+    float id = in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE].x;
+    uint32_t i = id > 0.0f ? (uint32_t)(id + 0.5f) : 0u;   /* the same at all three vertices: rounding is exact */
+    is_texture_desc d = {0};
+    if (!s->tex || tex_get_level_desc(s->tex, 0, &d) != IS_OK) return f4(0, 0, 0, 1);
+    is_vs_input regs;
+    float4 *r = (float4 *)&regs;
+    for (int q = 0; q < REGS; q++) r[q] = tex_sample_lod(s, texel_of(i, q, d.width, d.height));
+    vs_triangle tri;
+    vs_triangle_from_input(&regs, &tri);
+    float3 normal;
+    vs_patch_eval(p, &tri, b, o, NULL, &normal, NULL);
+    return scene_light_color(c->c, mul3x3(normal, world));
+}
+
+/* The pixel shader: the lanes the rasterizer uses (no derivatives are taken), lit per pixel. */
+static void ps_patch_lit(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    vs_patch p = (vs_patch)(int)c->c[C_PATCH].x;
+    vs_options o = vs_options_from_register(c->c[VS_C_OPTIONS]);
+    float4x4 world;
+    for (int i = 0; i < 4; i++) world.m[i][0] = c->c[VS_C_WORLD + i].x, world.m[i][1] = c->c[VS_C_WORLD + i].y,
+                                world.m[i][2] = c->c[VS_C_WORLD + i].z, world.m[i][3] = c->c[VS_C_WORLD + i].w;
+    for (int k = 0; k < 4; k++)
+        if (in->need & (1u << k)) out->color[k] = lit_lane(c, in, k, p, &o, &world);
+}
+static const is_pixel_shader patch_lit = {"patch-lit", ps_patch_lit};
+
+void scene_shading_constants(is_device *dev, const scene_opts *o)
+{
+    float c[4 * (C_PATCH + 1)];
+    if (dev_get_vertex_shader_constant_f(dev, 0, c, C_PATCH) != IS_OK) return;
+    c[4 * C_PATCH] = (float)o->patch, c[4 * C_PATCH + 1] = c[4 * C_PATCH + 2] = c[4 * C_PATCH + 3] = 0.0f;
+    dev_set_pixel_shader_constant_f(dev, 0, c, C_PATCH + 1);
+}
+
+is_result scene_shading_bind(is_device *dev, const scene_opts *o, const is_mesh *m, is_texture **tex)
+{
+    *tex = NULL;
+    size_t n = m->n_triangles;
+    unsigned w = PER_ROW * REGS, h = (unsigned)((n + PER_ROW - 1) / PER_ROW);
+    if (h == 0) h = 1;
+    if (h > IS_MAX_TEXTURE_SIZE) return IS_ERR_INVALIDCALL;
+    is_patch_instance *inst = malloc(n * sizeof *inst);
+    float3 (*nadj)[3][2] = o->patch == VS_PATCH_PN_AEN ? malloc(n * sizeof *nadj) : NULL;
+    is_result e = inst && (o->patch != VS_PATCH_PN_AEN || nadj) ? IS_OK : IS_ERR_OUTOFMEMORY;
+    if (e == IS_OK) mesh_build_instances(m, inst);
+    if (e == IS_OK && nadj && tess_adjacent_normals(m, nadj) != 0) e = IS_ERR_OUTOFMEMORY;
+    if (e == IS_OK) e = dev_create_texture(dev, w, h, 1, 0, IS_FMT_A32B32G32R32F, tex);
+    is_locked_rect lr;
+    if (e == IS_OK) e = tex_lock_rect(*tex, 0, &lr, NULL, 0);
+    if (e == IS_OK) {
+        for (size_t i = 0; i < n; i++) {
+            is_vs_input in;
+            tess_input_from_instance(&inst[i], nadj ? (const float3 (*)[2])nadj[i] : NULL, f3(0, 0, 0), &in);
+            unsigned char *row = (unsigned char *)lr.bits + (size_t)(i / PER_ROW) * (size_t)lr.pitch;
+            memcpy(row + (i % PER_ROW) * REGS * sizeof(float4), &in, REGS * sizeof(float4));
+        }
+        e = tex_unlock_rect(*tex, 0);
+    }
+    free(inst);
+    free(nadj);
+    if (e == IS_OK) e = dev_set_texture(dev, 0, *tex);
+    for (int k = 0; e == IS_OK && k < 3; k++)   /* point sampling of level 0: the registers' floats exactly */
+        e = dev_set_sampler_state(dev, 0, k == 0 ? IS_SAMP_MINFILTER : k == 1 ? IS_SAMP_MAGFILTER : IS_SAMP_MIPFILTER,
+                                  k == 2 ? IS_TEXF_NONE : IS_TEXF_POINT);
+    if (e == IS_OK) e = dev_set_pixel_shader(dev, &patch_lit);
+    if (e != IS_OK) tex_release(*tex), *tex = NULL;
+    return e;
+}
