@@ -89,6 +89,9 @@ static const key_case key_cases[] = {
     {"--size 140x100 --patch pn-aen", "g,],PageUp,n,n,Left", "--size 140x100 --patch pn-aen --grid pg-equal --level 9 "
      "--distance 2.909091 --normals quadratic --yaw 45"},
     {"--size 96x96 --mesh icosahedron --fill point", "m,w,t,Up", "--size 96x96 --mesh icosahedron --msaa 1 --pitch 35"},
+    /* --cull is the render's, on every frame: a reused device's reset must not bring back D3D9's ccw */
+    {"--size 96x96 --cull cw", "],Left", "--size 96x96 --cull cw --level 9 --yaw 45"},
+    {"--size 96x96 --cull none --mesh cylinder", "Tab,Tab,Up", "--size 96x96 --cull none --mesh cylinder --pitch 35"},
 };
 
 /* For several states and key sequences: the --no-hud capture is the CLI's file for the same state, byte for

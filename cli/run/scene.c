@@ -713,7 +713,6 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
-    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
@@ -732,6 +731,9 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
                     char *err, size_t errlen)
 {
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
+    /* the cull mode is the render's, set on every draw: a device reset between frames (the viewer's) is back at
+     * D3D9's ccw, so setting it only when the device is made drew the first frame alone as --cull says */
+    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     char why[600] = "";
     if (draw_scene(dev, o, m, g, NULL, st, why, sizeof why) != 0)
         return why[0] ? snprintf(err, errlen, "%s", why)

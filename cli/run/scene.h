@@ -228,8 +228,8 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, s
  * scene_check_limits: the limits a render of m with g must respect (the vertex limit and the memory budget): 0,
  * or -1 with the CLI's message.  scene_create_device: a device of o's size and threads with `samples` samples
  * and the AOV planes `aovs` (SCENE_AOV_*, samples 1 only), or NULL with a message.  scene_render_on: clear dev
- * and draw (dev's states as a new device's: dev_reset a device that drew before); 0, or -1 with a message; st
- * gets the counters added. */
+ * and draw, setting o's cull mode (dev's other states as a new device's: dev_reset a device that drew before);
+ * 0, or -1 with a message; st gets the counters added. */
 const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy);
 int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen);
 is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen);
