@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +44,14 @@ static bool selected(const char *id)
     return false;
 }
 
+/* A figure's picture in the form its PNG holds (scene_write_picture's): what the goldens are. */
+static void png_form(is_image *img)
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    scene_picture_for_format(img, IS_IMAGE_PNG, o.background);
+}
+
 /* Render every figure of table t small and compare with its golden; the failures are listed, then asserted. */
 static void check_table(const figure *t)
 {
@@ -53,6 +62,7 @@ static void check_table(const figure *t)
         is_image img = {0};
         char err[1024] = "";
         int rc = f->render(&ctx, &img, err, sizeof err);
+        if (rc == 0) png_form(&img);
         if (rc != 0) fprintf(stderr, "figures: %s: render failed: %s\n", f->id, err);
         else if (img.width > 1024 || img.height > 1200)
             fprintf(stderr, "figures: %s: the small size is %dx%d, too large\n", f->id, img.width, img.height), rc = -1;
@@ -144,7 +154,7 @@ static void test_reproduce_lines(void **state)
         if (rc != 0) fprintf(stderr, "figures: %s: the Reproduce line failed (%d): %s\n", f->id, rc, perr);
         is_image img = {0};
         if (rc == 0 && (rc = f->render(&ctx, &img, err, sizeof err)) == 0)
-            rc = image_write(&img, fig_png, NULL, err, sizeof err);
+            png_form(&img), rc = image_write(&img, fig_png, NULL, err, sizeof err);
         image_free(&img);
         if (rc == 0 && !prog_same_pixels(fig_png, cli_png)) {
             fprintf(stderr, "figures: %s: the Reproduce line gives other pixels than the figure\n", f->id);
@@ -157,6 +167,74 @@ static void test_reproduce_lines(void **state)
     fprintf(stderr, "figures: %d Reproduce lines run, %d differ\n", checked, failed);
     if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 10);   /* every single rendering of the table */
     assert_int_equal(failed, 0);
+}
+
+/* The sRGB transfer function's inverse (what an EXR's linear colour is of the PNG's display value). */
+static float linear_of(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* The gallery's files are written by `instess -o`'s writer: a single rendering's ID.png and ID.exr are the bytes
+ * its Reproduce line writes to a .png, and with --aov normal (the figure's N channels) to an .exr -- channels,
+ * formats, colour space and description; the EXR holds linear colour premultiplied by the coverage (0 and
+ * transparent on the background, the PNG's display values decoded from sRGB where the mesh covers the pixel),
+ * and a composite's background is transparent too. */
+static void test_files_like_cli(void **state)
+{
+    (void)state;
+    char dir[256], out[512], a[600], b[600], name[160];
+    assert_int_equal(prog_mkdtemp(dir, "files"), 0);
+    prog_path(dir, "gallery", out, sizeof out);
+    const char *perr;
+    static const char *const ids[] = {"fig-1.1.8b", "fig-1.1.10b"};
+    int rc = prog_run(dir, &perr, "", "figures --only %s,%s,fig-001-5 --out '%s'", ids[0], ids[1], out);
+    if (rc != 0) fprintf(stderr, "figures: exit %d: %s\n", rc, perr);
+    assert_int_equal(rc, 0);
+    for (size_t k = 0; k < sizeof ids / sizeof ids[0]; k++) {
+        const figure *f = fig_renders;
+        while (f->id && strcmp(f->id, ids[k])) f++;
+        assert_non_null(f->id);
+        const char *args = f->command + strlen("instess "), *o = strstr(args, " -o ");
+        assert_non_null(o);
+        char cli_png[600], cli_exr[600];
+        prog_path(dir, "cli.png", cli_png, sizeof cli_png);
+        prog_path(dir, "cli.exr", cli_exr, sizeof cli_exr);
+        assert_int_equal(prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - args), args, cli_png), 0);
+        assert_int_equal(prog_run(dir, &perr, "", "%.*s -q --aov normal -o '%s'", (int)(o - args), args, cli_exr), 0);
+        for (int e = 0; e < 2; e++) {
+            snprintf(name, sizeof name, "gallery/%s.%s", ids[k], e ? "exr" : "png");
+            prog_path(dir, name, a, sizeof a);
+            prog_path(dir, e ? "cli.exr" : "cli.png", b, sizeof b);
+            if (!prog_same_bytes(a, b)) fprintf(stderr, "figures: %s differs from the Reproduce line's file\n", name);
+            assert_true(prog_same_bytes(a, b));
+        }
+        is_image exr = {0}, png = {0};
+        char err[512];
+        assert_int_equal(image_read(&exr, b, err, sizeof err), 0);
+        prog_path(dir, "cli.png", a, sizeof a);
+        assert_int_equal(image_read(&png, a, err, sizeof err), 0);
+        assert_int_equal(exr.channels, 8);
+        assert_string_equal(exr.channel_names[5], "N.X");
+        long covered = 0;
+        for (size_t p = 0; p < (size_t)exr.width * exr.height; p++) {
+            const float *x = &exr.data[p * exr.channels], *g = &png.data[p * png.channels];
+            assert_true(g[3] == 1.0f);                          /* the PNG: opaque, over the background */
+            if (x[3] == 0.0f) assert_true(x[0] == 0.0f && x[1] == 0.0f && x[2] == 0.0f && x[4] == 1.0f);
+            if (x[3] != 1.0f) continue;
+            covered++;
+            for (int c = 0; c < 3; c++) assert_true(fabsf(x[c] - linear_of(g[c])) <= 1e-3f + 1e-3f * x[c]);
+        }
+        assert_true(covered > 10000);
+        assert_true(exr.data[3] == 0.0f);                       /* the corner: background */
+        image_free(&exr), image_free(&png);
+    }
+    is_image comp = {0};
+    char err[512];
+    assert_int_equal(image_read(&comp, prog_path(dir, "gallery/fig-001-5.exr", a, sizeof a), err, sizeof err), 0);
+    assert_true(comp.data[3] == 0.0f && comp.data[0] == 0.0f);  /* a composite's background: transparent */
+    image_free(&comp);
+    prog_rmdir(dir);
 }
 
 /* Whether the pixels of p appear unchanged somewhere in big (same channels): the first pixel of p that is not its
@@ -191,7 +269,9 @@ static int check_panels(const figure *f, const char *dir, int *checked)
     is_image img = {0}, big = {0};
     snprintf(name, sizeof name, "%s-figure.png", f->id);
     prog_path(dir, name, path, sizeof path);
-    if (f->render(&ctx, &img, err, sizeof err) != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
+    int made = f->render(&ctx, &img, err, sizeof err);
+    if (made == 0) png_form(&img);
+    if (made != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
         image_read(&big, path, err, sizeof err) != 0) {
         fprintf(stderr, "figures: %s: %s\n", f->id, err);
         image_free(&img);
@@ -408,6 +488,7 @@ int main(void)
         cmocka_unit_test(test_reproduce_lines),
         cmocka_unit_test(test_views_honour_cull),
         cmocka_unit_test(test_index_odd_targets),
+        cmocka_unit_test(test_files_like_cli),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),

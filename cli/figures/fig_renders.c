@@ -136,7 +136,8 @@ static void background_rgb(float rgb[3])
     for (int k = 0; k < 3; k++) rgb[k] = (float)((o.background >> (16 - 8 * k)) & 0xffu) / 255.0f;
 }
 
-/* A composite image w x h filled with the background: colour, A = 1, Z = 1 (far), N = 0; 0 or -1. */
+/* A composite picture w x h filled with the background: its colour, A = 0 (no mesh: transparent in the EXR),
+ * Z = 1 (far), N = 0; 0 or -1. */
 static int composite_alloc(is_image *img, int w, int h, char *err, size_t errlen)
 {
     if (image_alloc(img, w, h, FIG_CHANNELS, err, errlen) != 0) return -1;
@@ -145,7 +146,7 @@ static int composite_alloc(is_image *img, int w, int h, char *err, size_t errlen
     for (size_t p = 0; p < (size_t)w * h; p++) {
         float *px = &img->data[p * FIG_NCH];
         memset(px, 0, FIG_NCH * sizeof *px);
-        px[0] = bg[0], px[1] = bg[1], px[2] = bg[2], px[3] = 1.0f, px[4] = 1.0f;
+        px[0] = bg[0], px[1] = bg[1], px[2] = bg[2], px[3] = 0.0f, px[4] = 1.0f;
     }
     return 0;
 }
@@ -234,11 +235,32 @@ static int render_grid(const fig_ctx *ctx, const char *title, const fig_panel *p
 
 /* ---------------------------------------- single renderings ---------------------------------------- */
 
-/* One view at the single size (512x512; 256x256 small). */
+/* What `instess -o` stores as the descriptions of view v's PNG and of its EXR with the normal AOV (the
+ * channels of a rendering, img), into ctx's pointers when it asks; 0, or -1 when out of memory. */
+static int describe_view(const fig_ctx *ctx, const fig_view *v, const is_mesh *m, const is_image *img, char *err,
+                         size_t errlen)
+{
+    if (!ctx->describe_png || !ctx->describe_exr) return 0;
+    scene_opts o = v->o;
+    o.output = "figure.png", o.aovs = 0;
+    *ctx->describe_png = scene_describe_file(&o, m, img, IS_IMAGE_PNG);
+    o.output = "figure.exr", o.aovs = SCENE_AOV_NORMAL;
+    *ctx->describe_exr = scene_describe_file(&o, m, img, IS_IMAGE_EXR);
+    if (*ctx->describe_png && *ctx->describe_exr) return 0;
+    return snprintf(err, errlen, "out of memory for the figure's descriptions"), -1;
+}
+
+/* One view at the single size (512x512; 256x256 small), its descriptions into ctx's buffers. */
 static int render_single(const fig_ctx *ctx, const char *spec, is_image *out, char *err, size_t errlen)
 {
     fig_sizes s = sizes_of(ctx);
-    return fig_render_spec(ctx, spec, s.single, s.single, out, err, errlen);
+    fig_view v;
+    is_mesh m = {0};
+    if (view_parse(&v, spec, err, errlen) != 0 || load_mesh(v.mesh, v.recompute, &m, err, errlen) != 0) return -1;
+    int rc = render_mesh_view(ctx, &v, &m, s.single, s.single, out, err, errlen);
+    if (rc == 0 && (rc = describe_view(ctx, &v, &m, out, err, errlen)) != 0) image_free(out);
+    mesh_free(&m);
+    return rc;
 }
 
 /* The views of the single renderings.  Real normals (seed 001, 3.2.2: the normal of the surface itself) under the
@@ -466,7 +488,7 @@ static int heat_legend(is_image *img, int x, int y, int w, float px, char *err, 
         for (int c = 0; c < w; c++) {
             float3 col = heat_colour((float)c / (float)(w - 1));
             float *d = &img->data[((size_t)(y + r) * img->width + x + c) * FIG_NCH];
-            d[0] = col.x, d[1] = col.y, d[2] = col.z;
+            d[0] = col.x, d[1] = col.y, d[2] = col.z, d[3] = 1.0f;
         }
     char txt[64];
     snprintf(txt, sizeof txt, "%g deg", (double)HEAT_MAX_DEG);
