@@ -237,6 +237,179 @@ static void test_files_like_cli(void **state)
     prog_rmdir(dir);
 }
 
+/* ---------------------------------------- the smoothness numbers the documents quote ---------------------------------------- */
+
+/* tess_smoothness of patch p on the built-in (welded) cube, as instess smoothness measures it (16 samples). */
+static vs_smoothness_result cube_smoothness(vs_patch p)
+{
+    is_mesh m;
+    char err[256];
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);
+    vs_options o = vs_default_options();
+    o.normals = VS_NORMALS_REAL;
+    vs_smoothness_result r;
+    assert_int_equal(tess_smoothness(&m, p, &o, 16, &r), 0);
+    mesh_free(&m);
+    return r;
+}
+
+/* The cube's numbers the captions of fig-1.1.1d, fig-1.1.8b and fig-1.1.10b, the README and docs/smoothness.md
+ * state: the final patch across the cube's 12 edges (not the 18 shared edges, which count the 6 face diagonals
+ * too), and the valley the final patch leaves beside the face diagonals (the N-Patch's faces lean apart: none). */
+static void test_smoothness_cube(void **state)
+{
+    (void)state;
+    vs_smoothness_result sm = cube_smoothness(VS_PATCH_SMOOTH), si = cube_smoothness(VS_PATCH_SMOOTH_INITIAL);
+    vs_smoothness_result np = cube_smoothness(VS_PATCH_NPATCH), fl = cube_smoothness(VS_PATCH_FLAT);
+    assert_true(fabs(sm.max_angle_feature_deg - 9.20) < 0.005);
+    assert_true(fabs(sm.mean_angle_feature_deg - 2.10) < 0.005);
+    assert_true(fabs(sm.mean_angle_deg - 1.44) < 0.005);
+    assert_true(fabs(sm.max_angle_coplanar_deg - 0.28) < 0.005);
+    assert_true(fabs(sm.max_valley_deg - 5.30) < 0.005);
+    assert_true(fabs(si.max_valley_deg - 21.82) < 0.005);
+    assert_true(np.max_valley_deg == 0.0 && fl.max_valley_deg == 0.0);
+}
+
+/* The caption ("shows") of the figure called id. */
+static const char *shows_of(const char *id)
+{
+    for (const figure *f = fig_renders; f->id; f++)
+        if (!strcmp(f->id, id)) return f->shows;
+    fail_msg("no figure %s", id);
+    return NULL;
+}
+
+/* Whether caption `shows` of figure id states the measurement (formatted as it is written there). */
+static bool states(const char *id, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static bool states(const char *id, const char *fmt, ...)
+{
+    char phrase[300];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(phrase, sizeof phrase, fmt, ap);
+    va_end(ap);
+    bool ok = strstr(shows_of(id), phrase) != NULL;
+    if (!ok) fprintf(stderr, "figures: %s does not say \"%s\" (measured now)\n", id, phrase);
+    return ok;
+}
+
+/* The numbers the cube's captions quote are those tess_smoothness measures (instess smoothness,
+ * docs/smoothness.md): fig-1.1.1d across the cube's 12 edges (their mean, not the mean over all 18 shared edges)
+ * and across the face diagonals; fig-1.1.10b the diagonals and the valley beside them; fig-1.1.8b the
+ * intermediate patch's. */
+static void test_caption_numbers(void **state)
+{
+    (void)state;
+    vs_smoothness_result sm = cube_smoothness(VS_PATCH_SMOOTH), si = cube_smoothness(VS_PATCH_SMOOTH_INITIAL);
+    assert_true(states("fig-1.1.1d", "%.1f degrees at worst and %.1f on average across the cube's 12 edges",
+                       sm.max_angle_feature_deg, sm.mean_angle_feature_deg));
+    assert_true(states("fig-1.1.1d", "%.2f across the 6 face diagonals", sm.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.1d", "its mean over all 18 shared edges, %.2f,", sm.mean_angle_deg));
+    assert_true(states("fig-1.1.10b", "differ by only %.2f degrees", sm.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.10b", "lean towards each other by up to %.1f degrees", sm.max_valley_deg));
+    assert_true(states("fig-1.1.8b", "differ by %.1f degrees", si.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.8b", "by up to %.1f degrees apart", si.max_valley_deg));
+}
+
+/* One face of the welded cube: its two triangles (edge ka of A is edge kb of B, the face's diagonal). */
+static void cube_face(vs_triangle *A, vs_triangle *B, int *ka, int *kb)
+{
+    is_mesh m;
+    char err[256];
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);   /* the built-in: welded, as rendered */
+    vs_triangle T[2];
+    for (int t = 0; t < 2; t++) {
+        const uint32_t *i = &m.indices[3 * t];
+        float3 v[3] = {m.positions[i[0]], m.positions[i[1]], m.positions[i[2]]};
+        float3 n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
+        T[t] = vs_triangle_make(v, n);
+    }
+    mesh_free(&m);
+    *A = T[0], *B = T[1], *ka = *kb = -1;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (!memcmp(&A->v[i], &B->v[(j + 1) % 3], sizeof(float3)) &&
+                !memcmp(&A->v[(i + 1) % 3], &B->v[j], sizeof(float3)))
+                *ka = i, *kb = j;
+    assert_true(*ka >= 0);
+}
+
+/* Ridge or valley (docs/smoothness.md): the intermediate patch across the diagonal of a cube face, a quarter of
+ * the way along it, on the diagonal and 1/64 of the way to each side's opposite corner (0.022 off the diagonal on
+ * the cube of side 2).  Both sides' normals lean 9.53 degrees towards the diagonal and the surface there stands
+ * 0.0054 higher than on the diagonal (0.2554 against 0.2500 above the face's plane): a concave fold, a valley --
+ * the word the README, the captions and --help use.  The N-Patch's normals at the same points lean 0.42 degrees
+ * apart (its face bulges). */
+static void test_diagonal_valley(void **state)
+{
+    (void)state;
+    vs_triangle A, B;
+    int ka, kb;
+    cube_face(&A, &B, &ka, &kb);
+    vs_options o = vs_default_options();
+    o.normals = VS_NORMALS_REAL;
+    float3 face = normalize3(cross3(sub3(A.v[1], A.v[0]), sub3(A.v[2], A.v[0])));
+    if (dot3(face, A.v[0]) < 0) face = scale3(face, -1.0f);              /* outward */
+    const float t = 0.25f, s = 1.0f / 64.0f;
+    float ba[3] = {0, 0, 0}, bb[3] = {0, 0, 0}, be[3] = {0, 0, 0};
+    ba[ka] = (1 - s) * (1 - t), ba[(ka + 1) % 3] = (1 - s) * t, ba[(ka + 2) % 3] = s;
+    bb[kb] = (1 - s) * t, bb[(kb + 1) % 3] = (1 - s) * (1 - t), bb[(kb + 2) % 3] = s;   /* B runs the other way */
+    be[ka] = 1 - t, be[(ka + 1) % 3] = t;
+    float3 pa, pb, pe, na, nb;
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &A, f3(ba[0], ba[1], ba[2]), &o, &pa, &na, NULL);
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &B, f3(bb[0], bb[1], bb[2]), &o, &pb, &nb, NULL);
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &A, f3(be[0], be[1], be[2]), &o, &pe, NULL, NULL);
+    float3 d = sub3(pb, pa);                                            /* across the diagonal, from A to B */
+    d = normalize3(sub3(d, scale3(face, dot3(d, face))));
+    double lean_a = asin(dot3(na, d)) * 57.29577951308232, lean_b = -asin(dot3(nb, d)) * 57.29577951308232;
+    double ha = dot3(sub3(pa, A.v[0]), face), hb = dot3(sub3(pb, A.v[0]), face), he = dot3(sub3(pe, A.v[0]), face);
+    print_message("diagonal of a cube face: normals lean %.3f and %.3f deg towards it; height %.4f on it, %.4f and "
+                  "%.4f beside it\n", lean_a, lean_b, he, ha, hb);
+    assert_true(fabs(lean_a - 9.53) < 0.01 && fabs(lean_b - 9.53) < 0.01);   /* towards each other: concave */
+    assert_true(fabs(he - 0.2500) < 1e-4 && fabs(ha - 0.2554) < 1e-4 && fabs(hb - 0.2554) < 1e-4);
+    vs_patch_eval(VS_PATCH_NPATCH, &A, f3(ba[0], ba[1], ba[2]), &o, NULL, &na, NULL);
+    vs_patch_eval(VS_PATCH_NPATCH, &B, f3(bb[0], bb[1], bb[2]), &o, NULL, &nb, NULL);
+    lean_a = asin(dot3(na, d)) * 57.29577951308232, lean_b = -asin(dot3(nb, d)) * 57.29577951308232;
+    assert_true(fabs(lean_a + 0.42) < 0.01 && fabs(lean_b + 0.42) < 0.01);
+}
+
+/* The smoothness tables of docs/smoothness.md (every row) and of the README (the cube's rows, without the mesh
+ * column) are what `instess smoothness` prints: the numbers the documents state are the command's. */
+static void test_smoothness_tables(void **state)
+{
+    (void)state;
+    char dir[256], cmd[2400];
+    assert_int_equal(prog_mkdtemp(dir, "smooth"), 0);
+    snprintf(cmd, sizeof cmd, "'%s' smoothness > %s/t.md && grep '^|' docs/smoothness.md | cmp -s - %s/t.md",
+             prog_bin(), dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "docs/smoothness.md's table is not what instess smoothness prints\n");
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep '^| cube |' %s/t.md | sed 's/^| cube |/|/' > %s/cube.md && test $(wc -l < "
+                              "%s/cube.md) -eq 6 && test $(grep -c -x -F -f %s/cube.md README.md) -eq 6", dir, dir,
+             dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "README's cube table is not what instess smoothness prints\n");
+    assert_int_equal(system(cmd), 0);
+    prog_rmdir(dir);
+}
+
+/* One word for the fold along the cube's face diagonals, the one the measured normals justify (a valley,
+ * test_diagonal_valley): --help says valley, and every line of the README and of the documents this part of the
+ * project writes (docs/smoothness.md, docs/errata.md) that says ridge quotes Gruen or sets it against the valley;
+ * so do the captions. */
+static void test_valley_word(void **state)
+{
+    (void)state;
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "'%s' --help | grep -q 'valleys show' && ! '%s' --help | grep -qiw 'ridges\\?'",
+             prog_bin(), prog_bin());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(system("! grep -iw 'ridges\\?' README.md docs/smoothness.md docs/errata.md | "
+                            "grep -v -e Gruen -e valley"), 0);
+    for (const figure *f = fig_renders; f->id; f++)
+        if (f->shows && strstr(f->shows, "ridge") && !strstr(f->shows, "valley"))
+            fail_msg("%s's caption says ridge without the valley", f->id);
+}
+
 /* Whether the pixels of p appear unchanged somewhere in big (same channels): the first pixel of p that is not its
  * top-left pixel picks the candidates, then the whole panel is compared. */
 static bool contains_panel(const is_image *big, const is_image *p)
@@ -489,6 +662,11 @@ int main(void)
         cmocka_unit_test(test_views_honour_cull),
         cmocka_unit_test(test_index_odd_targets),
         cmocka_unit_test(test_files_like_cli),
+        cmocka_unit_test(test_smoothness_cube),
+        cmocka_unit_test(test_caption_numbers),
+        cmocka_unit_test(test_diagonal_valley),
+        cmocka_unit_test(test_smoothness_tables),
+        cmocka_unit_test(test_valley_word),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),

@@ -651,15 +651,16 @@ const figure fig_renders[] = {
      "That is why the final patch is rougher here than the intermediate one, which ignores fn (22.3 degrees, "
      "fig-1.1.7b), and likewise on the octahedron (|dot| = 1/3: 18.6 against 0.04 degrees) and the icosahedron "
      "(|dot| = 0.75: 12.2 against 2.4). The blend is made for meshes like the cube, whose neighbours meet at "
-     "|dot| = 0 (fully smoothed) or 1 (coplanar: the N-Patch, no ridge).",
+     "|dot| = 0 (fully smoothed) or 1 (coplanar: the N-Patch, no valley).",
      CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b, 0},
     {"fig-1.1.1c", "fig-1.1.1", GRUEN "1.1.1c", "A cube refined using the original N-Patch.",
      "The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16: creases along "
      "the cube's edges, 50.2 degrees at worst.",
      CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c, 0},
     {"fig-1.1.1d", "fig-1.1.1", GRUEN "1.1.1d", "A cube refined using the new N-Patch.",
-     "The cube of fig-1.1.1c with the final smoothed patch: 9.2 degrees at worst (1.4 on average) across the "
-     "cube's edges, 0.3 across the face diagonals.",
+     "The cube of fig-1.1.1c with the final smoothed patch: 9.2 degrees at worst and 2.1 on average across the "
+     "cube's 12 edges, 0.28 across the 6 face diagonals (instess smoothness; its mean over all 18 shared edges, "
+     "1.44, counts the diagonals too).",
      CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d, 0},
     {"fig-1.1.7a", "fig-1.1.7", GRUEN "1.1.7a", "A tetrahedron refined using the original N-Patch.",
      "The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0) and lit from the "
@@ -679,15 +680,22 @@ const figure fig_renders[] = {
      "Refined cube showing ridges along the coplanar triangles that form the faces of the cube.",
      "The intermediate patch at level 32, straight at a face, under a light grazing it from the upper right "
      "(--light grazing: towards (0.62, 0.62, -0.48), ambient 0.08): the valley along the diagonal shared by the "
-     "face's two coplanar triangles, where the normals of the two sides differ by 22.3 degrees.",
+     "face's two coplanar triangles, where the normals of the two sides differ by 22.3 degrees. Gruen's caption "
+     "calls them ridges, his text a valley; the normals settle it: on both sides of the diagonal they lean towards "
+     "it (by up to 21.8 degrees apart within 1/16 of the way to the opposite corners), and the diagonal lies below "
+     "its sides -- a concave fold, a valley (docs/smoothness.md).",
      CMD_SINGLE(V_1_1_8B, "fig-1.1.8b"), true, fig_1_1_8b, 0},
     {"fig-1.1.10a", "fig-1.1.10", GRUEN "1.1.10a", "A cube refined using the original N-Patch.",
      "The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30): no valleys on the faces "
      "(coplanar neighbours share their border curve), creases along the edges.",
      CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a, 0},
     {"fig-1.1.10b", "fig-1.1.10", GRUEN "1.1.10b", "A cube refined using the final new patch.",
-     "The final patch in that view: coplanar neighbours (fn = 1) keep the N-Patch, so the faces stay free of "
-     "valleys, and the cube's edges are smooth.",
+     "The final patch in that view: the cube's edges are smooth, and coplanar neighbours (fn = 1) keep the "
+     "N-Patch along their shared diagonal, where the normals of the two sides differ by only 0.28 degrees. But "
+     "the faces are not quite free of valleys: beside each diagonal the other two edges' patches P_k still bend "
+     "the surface, and within a few pixels of it the normals of the two sides lean towards each other by up to "
+     "5.3 degrees (instess smoothness, 'max valley'). The soft band this leaves along the diagonal is faint under "
+     "the headlight and plain under a grazing light (the view of fig-1.1.8b with --patch smooth).",
      CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b, 0},
     {"fig-patches", NULL, "Comparison added by instess (no figure of the documents): every patch on one mesh",
      "Flat, N-Patch, intermediate and final smoothed patch, Phong tessellation and PN-AEN on the same cube.",
