@@ -490,6 +490,36 @@ static void test_panel_lines(void **state)
     assert_int_equal(failed, 0);
 }
 
+/* Every reproduction of a document's figure says where to find the original (fig_original, shown in the gallery
+ * beside it): the figure number and the document's citation; the others (comparisons, companions, figures the
+ * text only describes, adaptive LOD) claim none. */
+static void test_originals(void **state)
+{
+    (void)state;
+    static const char *const docs[3] = {"Smoothed N-Patches", "A Discussion of Curved Point-Normal Triangles",
+                                        "Bezier Triangles and N-Patches"};
+    const figure *const tables[2] = {fig_renders, fig_diagrams};
+    int cited = 0;
+    for (int t = 0; t < 2; t++)
+        for (const figure *f = tables[t]; f->id; f++) {
+            char buf[600];
+            const char *o = fig_original(f, buf, sizeof buf), *num = strstr(f->source, ", Figure ");
+            if (!num || f->section > 2) {
+                assert_null(o);
+                continue;
+            }
+            assert_non_null(o);
+            char want[64];
+            snprintf(want, sizeof want, "Figure %s of ", num + 9);
+            if (strncmp(o, want, strlen(want)) != 0 || !strstr(o, docs[f->section]))
+                fail_msg("%s: '%s' does not cite %s%s", f->id, o, want, docs[f->section]);
+            assert_null(strchr(o, '/'));   /* a citation, never a path */
+            cited++;
+        }
+    print_message("%d reproductions cite their original\n", cited);
+    assert_true(cited >= 27);   /* 14 renderings and 13 diagrams */
+}
+
 /* Sentence k of text (split after ". "), copied into buf; false when there is none. */
 static bool sentence(const char *text, int k, char *buf, size_t len)
 {
@@ -562,6 +592,8 @@ static void test_only_index(void **state)
     assert_int_equal(count_in_file(index, "<img src="), 1);
     assert_int_equal(count_in_file(index, "href=\"#fig-"), 1);
     assert_int_equal(count_in_file(index, "<h2 id=\"section-"), 1);
+    assert_int_equal(count_in_file(index, "The original (not shown here): Figure 1.1.3 of H. Gruen, &quot;Smoothed "
+                                          "N-Patches&quot;, article 1.1 of ShaderX5"), 1);
     rc = prog_run(dir, &err, "", "figures --only fig-003-4 --out '%s'", sub);
     assert_int_equal(rc, 0);
     assert_int_equal(count_in_file(index, "<figure id="), 2);
@@ -656,6 +688,7 @@ int main(void)
         cmocka_unit_test(test_tables_complete),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_no_repeated_sentences),
+        cmocka_unit_test(test_originals),
         cmocka_unit_test(test_only_index),
         cmocka_unit_test(test_gallery_viewer),
         cmocka_unit_test(test_reproduce_lines),

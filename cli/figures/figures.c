@@ -56,6 +56,24 @@ static const char *const section_intros[FIG_SECTIONS] = {
     "What none of the documents shows: a level per mesh edge, drawn the instancing way with one instanced draw "
     "per refinement pattern, crack-free by construction."};
 
+/* Where each document's own figures are found (fig_original), by section; NULL: no document. */
+static const char *const section_originals[FIG_SECTIONS] = {
+    "H. Gruen, \"Smoothed N-Patches\", article 1.1 of ShaderX5: Advanced Rendering Techniques, W. Engel (ed.), "
+    "Charles River Media, 2006",
+    "R. van Veen and L. E. N. Baakman, \"A Discussion of Curved Point-Normal Triangles\", a draft of the "
+    "Computing Science Department, University of Groningen (not published; the figure numbers are the draft's)",
+    "T. Akenine-Moller and E. Haines, \"Bezier Triangles and N-Patches\", Gamasutra, 15 July 2002, an excerpt of "
+    "Real-Time Rendering, 2nd edition, A K Peters, 2002 (the figure numbers are the excerpt's)",
+    NULL};
+
+const char *fig_original(const figure *f, char *buf, size_t len)
+{
+    const char *fig = strstr(f->source, ", Figure ");
+    if (!fig || f->section < 0 || f->section >= FIG_SECTIONS || !section_originals[f->section]) return NULL;
+    snprintf(buf, len, "Figure %s of %s", fig + strlen(", Figure "), section_originals[f->section]);
+    return buf;
+}
+
 #define MAX_FIGURES 128
 
 /* The options of the command. */
@@ -397,7 +415,14 @@ static void html_figure(FILE *f, const char *dir, const figure *fg, const fig_re
         fprintf(f, "<span class=\"kind\"><a href=\"%s.exr\">EXR</a></span>", fg->id);
     fputs("<br><span class=\"src\">", f);
     html_text(f, fg->source);
-    fputs("</span>\n<blockquote>", f);
+    fputs("</span>\n", f);
+    char orig[600];
+    if (fig_original(fg, orig, sizeof orig)) {
+        fputs("<br><span class=\"src\">The original (not shown here): ", f);
+        html_text(f, orig);
+        fputs("</span>\n", f);
+    }
+    fputs("<blockquote>", f);
     html_text(f, fg->caption);
     fputs("</blockquote>\n<p>", f);
     html_text(f, fg->shows);
@@ -522,6 +547,7 @@ static int capture_viewer(const char *dir)
 static const char gallery_lead[] =
     "The figures of three documents on curved triangle patches, rendered on the CPU by instess %s: tessellation "
     "through instancing on a device modelled on Direct3D 9. Each entry names its document and figure number, "
+    "says where to find the document's own figure (not shown here: every image is instess's), "
     "quotes the document's caption, says what the image shows and gives the command that reproduces it: a "
     "rendering's command gives the same pixels; a composite lists the command of each panel (the labels are "
     "added by instess figures); a diagram is drawn by instess figures from the project's own formulas and has no "

@@ -57,6 +57,12 @@ typedef struct figure {
 extern const figure fig_renders[];   /* cli/figures/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
 extern const figure fig_diagrams[];  /* cli/figures/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
 
+/* Where to find the document's own figure that f reproduces (the documents' figures are not shown: their
+ * copyright is not the project's): "Figure N of <the document's citation>" into buf (returned), or NULL when f
+ * reproduces no figure of a document (a comparison, a companion, a figure the text describes but does not
+ * have, or section 3).  A reproduction's source ends in ", Figure N". */
+const char *fig_original(const figure *f, char *buf, size_t len);
+
 /* ---- a small drawing kit for diagrams and labels (cli/figures/canvas.c) ---- */
 typedef struct fig_canvas fig_canvas;
 /* A w x h canvas with 4x MSAA, background colour bg (RGBA in [0,1]); a 2D coordinate frame maps
