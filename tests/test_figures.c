@@ -10,12 +10,14 @@
  *
  * INSTESS_REGENERATE_GOLDENS=1 (make goldens) rewrites the goldens; INSTESS_FIGURES_ONLY=ID[,ID...] restricts the
  * test to those figures (to regenerate only one's own goldens). */
+#define _DEFAULT_SOURCE  /* realpath */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -392,6 +394,30 @@ static void test_smoothness_tables(void **state)
     prog_rmdir(dir);
 }
 
+/* The README's "render both and compare" example shows what it says: its three lines (two renders of assimp's
+ * Cube.off and their comparison) run in a fresh folder, compare exits 1 (they differ), and the two lines it
+ * prints are the ones the README quotes, number for number.  (The example was the MD2 faerie, whose two
+ * images differ by 0.0002 on average: nothing to see.) */
+static void test_readme_compare(void **state)
+{
+    (void)state;
+    char dir[256], cmd[2400 + PATH_MAX], bin[PATH_MAX];
+    assert_non_null(realpath(prog_bin(), bin));   /* the commands run in dir */
+    assert_int_equal(prog_mkdtemp(dir, "readme"), 0);
+    snprintf(cmd, sizeof cmd, "mkdir %s/out && grep -E '^build/instess (/usr/share/assimp/models/OFF/Cube.off "
+             "|compare out/cube-)' README.md | sed \"s|^build/instess|'%s' -q|; s|-q compare|compare|\" > %s/run.sh && "
+             "test $(wc -l < %s/run.sh) -eq 3", dir, bin, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "cd %s && sh run.sh > said.txt 2>&1; test $? -eq 1", dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep -e '^largest difference' -e '^failing pixels' %s/said.txt | sed 's/^/  /' > "
+             "%s/lines.txt && test $(wc -l < %s/lines.txt) -eq 2 && test $(grep -c -x -F -f %s/lines.txt README.md) "
+             "-eq 2", dir, dir, dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "figures: the README does not quote what its compare example prints\n");
+    assert_int_equal(system(cmd), 0);
+    prog_rmdir(dir);
+}
+
 /* One word for the fold along the cube's face diagonals, the one the measured normals justify (a valley,
  * test_diagonal_valley): --help says valley, and every line of the README and of the documents this part of the
  * project writes (docs/smoothness.md, docs/errata.md) that says ridge quotes Gruen or sets it against the valley;
@@ -700,6 +726,7 @@ int main(void)
         cmocka_unit_test(test_diagonal_valley),
         cmocka_unit_test(test_smoothness_tables),
         cmocka_unit_test(test_valley_word),
+        cmocka_unit_test(test_readme_compare),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),
