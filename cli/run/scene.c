@@ -1361,6 +1361,8 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     scene_progress_start(&pr, o->mesh, o->quiet);
     scene_progress_phase(&pr, "reading the mesh");
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
+    char misfit[1000];
+    if (rc == 0 && scene_normals_misfit(&m, misfit, sizeof misfit)) warn_stderr(&pr, misfit);
     if (rc == 0) rc = render_outputs(&od, &m, &outs, &pr, err, errlen);
     scene_progress_stop(&pr);
     outputs_abort(&outs);

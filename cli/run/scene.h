@@ -258,7 +258,13 @@ is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_g
  * each pixel into img's channels 0..4 (R, G, B, A, Z; img has rt's size and at least 5 channels).  0, or -1
  * when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
-/* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
+/* Whether the file's normals of m do not fit its surface (cli/run/normals_fit.c: across the edges where the
+ * file's normals are shared, the N-Patch creases more than twice, and 1 degree more, than over normals computed
+ * from the triangles -- the shading looks quilted); then the warning, naming --recompute-normals, into msg.
+ * False for computed normals (and when out of memory: it is only a warning). */
+bool scene_normals_misfit(const is_mesh *m, char *msg, size_t len);
+/* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet; warn
+ * (scene_normals_misfit) when the file's normals do not fit its surface. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 /* (cli/run/render_call.c) What `instess ARGV -o FILE` writes into a file of format fmt (IS_IMAGE_PNG or
  * IS_IMAGE_EXR: the colour of that format), rendered into img (allocated: image_free it) and not written: the

@@ -788,6 +788,9 @@ static int view_load(view_state *v)
     if (rc == 0 && v->o.displace && (rc = scene_load_displacement(v->o.displace, &v->displace_map, err, sizeof err)) == 0)
         v->o.displace_map = &v->displace_map;
     if (rc == 0) rc = mesh_open(v->o.mesh, &mo, &v->mesh, err, sizeof err);
+    char misfit[1000];
+    if (rc == 0 && scene_normals_misfit(&v->mesh, misfit, sizeof misfit))   /* also with -q, as the CLI */
+        fprintf(stderr, "instess: warning: %s\n", misfit);
     if (rc == 0) v->draw = scene_fit_mesh(&v->mesh, &v->fit_copy);
     if (rc == 0 && !within_limits(v, &v->o, err, sizeof err)) rc = -1;
     if (rc == 0 && !(v->frame = calloc((size_t)v->o.width * v->o.height, sizeof *v->frame)))
