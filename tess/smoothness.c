@@ -8,6 +8,41 @@
 
 static bool same3(float3 a, float3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
+/* The band across an edge where tess_smoothness looks for valleys: offsets j / VALLEY_STEPS_INV, j = 1 ..
+ * VALLEY_STEPS, of the way from the edge to each side's opposite corner (up to 1/16). */
+#define VALLEY_STEPS 8
+#define VALLEY_STEPS_INV 128.0f
+
+/* The angle in degrees between unit vectors a and b (in double, clamped). */
+static double angle_deg(float3 a, float3 b)
+{
+    double d = (double)a.x * b.x + (double)a.y * b.y + (double)a.z * b.z;
+    return acos(d > 1.0 ? 1.0 : d < -1.0 ? -1.0 : d) * (180.0 / 3.14159265358979323846);
+}
+
+/* The largest valley across the shared edge k of A (edge mk of B, reversed or not) at edge parameter wt: for the
+ * points of the two sides s = j / 128 of the way to their opposite corners (j = 1..8), the angle between their
+ * real normals where the normals lean towards each other (dot(nA - nB, PB - PA) > 0: a concave fold), else 0. */
+static double valley_at(vs_patch p, const vs_triangle *A, int k, const vs_triangle *B, int mk, bool reversed,
+                        float wt, const vs_options *ro)
+{
+    double worst = 0.0;
+    float ws = 1.0f - wt;
+    for (int j = 1; j <= VALLEY_STEPS; j++) {
+        float s = (float)j / VALLEY_STEPS_INV, r = 1.0f - s;
+        float ba[3] = {0, 0, 0}, bb[3] = {0, 0, 0};
+        ba[k] = r * ws, ba[(k + 1) % 3] = r * wt, ba[(k + 2) % 3] = s;
+        bb[mk] = r * (reversed ? wt : ws), bb[(mk + 1) % 3] = r * (reversed ? ws : wt), bb[(mk + 2) % 3] = s;
+        float3 pa, pb, na, nb;
+        vs_patch_eval(p, A, f3(ba[0], ba[1], ba[2]), ro, &pa, &na, NULL);
+        vs_patch_eval(p, B, f3(bb[0], bb[1], bb[2]), ro, &pb, &nb, NULL);
+        if (dot3(sub3(na, nb), sub3(pb, pa)) <= 0.0f) continue;   /* leaning apart, or parallel */
+        double ang = angle_deg(na, nb);
+        if (ang > worst) worst = ang;
+    }
+    return worst;
+}
+
 /* The half-edge (3 t' + k') across edge k of triangle t from the mesh's edge table, or -1 when the edge has not
  * exactly two triangles. */
 static int32_t mate_of(const is_mesh *m, size_t t, int k)
@@ -71,8 +106,9 @@ int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int spe, 
                 T[t].nadj[k][e] = same3(N->v[mk], at) ? N->n[mk] : N->n[(mk + 1) % 3];
             }
         }
-    /* normals across shared edges */
-    double sum = 0.0;
+    /* normals across shared edges, and in a band across them */
+    double sum = 0.0, sum_feature = 0.0;
+    size_t n_feature = 0;
     for (size_t t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t mt = mate[3 * t + k];
@@ -92,15 +128,18 @@ int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int spe, 
                 float3 na, nb;
                 vs_patch_eval(p, A, f3(ba[0], ba[1], ba[2]), &ro, NULL, &na, NULL);
                 vs_patch_eval(p, B, f3(bb[0], bb[1], bb[2]), &ro, NULL, &nb, NULL);
-                double d = (double)na.x * nb.x + (double)na.y * nb.y + (double)na.z * nb.z;
-                double ang = acos(d > 1.0 ? 1.0 : d < -1.0 ? -1.0 : d) * (180.0 / 3.14159265358979323846);
+                double ang = angle_deg(na, nb);
                 if (ang > res->max_angle_deg) res->max_angle_deg = ang;
                 if (ang > *edge_max) *edge_max = ang;
                 sum += ang;
+                if (!coplanar) sum_feature += ang, n_feature++;
                 res->samples++;
+                double valley = valley_at(p, A, k, B, mk, reversed, wt, &ro);
+                if (valley > res->max_valley_deg) res->max_valley_deg = valley;
             }
         }
     res->mean_angle_deg = res->samples ? sum / (double)res->samples : 0.0;
+    res->mean_angle_feature_deg = n_feature ? sum_feature / (double)n_feature : 0.0;
     /* distance from the flat triangle: interior points of the level-8 grid */
     const int L = 8;
     for (size_t t = 0; t < nt && diag > 0.0; t++) {

@@ -149,14 +149,22 @@ typedef struct vs_smoothness_result {
     size_t boundary_edges;  /* edges with one triangle */
     size_t nonmanifold_edges; /* edges with more than two triangles (not sampled) */
     size_t samples;         /* edge samples taken */
+    double mean_angle_feature_deg; /* mean of the angles at feature edges alone (max_angle_feature_deg's edges) */
+    double max_valley_deg;  /* the largest valley in a band across the shared edges: at each edge sample, the
+                               points 1/128, 2/128, ..., 8/128 (up to 1/16) of the way from the edge to each
+                               side's opposite corner are paired, and where their real normals lean towards each
+                               other (dot(nA - nB, PB - PA) > 0, a concave fold) the angle between them counts;
+                               normals leaning apart (a convex surface, a ridge) count 0.  It sees the valleys
+                               that lie beside an edge rather than on it (the final patch's soft band along the
+                               cube's face diagonals), and on a mesh with concave regions their curvature too */
 } vs_smoothness_result;
 
 /* The most samples per edge tess_smoothness takes (more would not end in reasonable time on a large mesh). */
 #define TESS_SMOOTHNESS_MAX_SAMPLES 4096
 /* Sample every shared edge of m (the mesh's welded-edge table: edges with exactly two triangles) at
  * `samples_per_edge` points (i + 1/2) / samples_per_edge and compare the derivative normals of the two sides
- * (patch p with options o, real normals); sample each triangle at the interior points of the level-8 grid for
- * the distance.  The neighbours (opposite vertices, PN-AEN's normals) come from the same table.  Returns 0, or
+ * (patch p with options o, real normals), on the edge and in the band of max_valley_deg; sample each triangle at
+ * the interior points of the level-8 grid for the distance.  The neighbours (opposite vertices, PN-AEN's normals) come from the same table.  Returns 0, or
  * -1 for bad arguments (samples_per_edge outside 1..TESS_SMOOTHNESS_MAX_SAMPLES) or when out of memory. */
 INSTESS_API int tess_smoothness(const is_mesh *m, vs_patch p, const vs_options *o, int samples_per_edge,
                                 vs_smoothness_result *res);

@@ -12,6 +12,50 @@
 #include "util/pn_ref.h"
 
 #include "../core/hlsl.h"
+#include <stdio.h>
+#include <stdlib.h>
+
+/* x as docs/errata.md writes a measurement: two significant digits, "1.4e-7". */
+static const char *sci(double x, char buf[24])
+{
+    char e[24];
+    snprintf(e, sizeof e, "%.1e", x);                      /* "1.4e-07" */
+    char *p = strchr(e, 'e');
+    if (!p) return strcpy(buf, e);
+    int exp = atoi(p + 1);
+    *p = 0;
+    snprintf(buf, 24, "%.4se%d", e, exp);   /* "-1.4" at most, then the exponent */
+    return buf;
+}
+
+/* Whether docs/errata.md states the phrase (printf-formatted), line breaks read as spaces: the numbers the
+ * document quotes are the ones these tests measure (README, docs/errata.md: "can be checked"). */
+static bool doc_says(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static bool doc_says(const char *fmt, ...)
+{
+    char phrase[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(phrase, sizeof phrase, fmt, ap);
+    va_end(ap);
+    FILE *f = fopen("docs/errata.md", "r");
+    if (!f) return fprintf(stderr, "docs/errata.md: cannot read it (run from the repository's root)\n"), false;
+    static char text[65536];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = 0;
+    size_t w = 0;
+    for (size_t r = 0; r < n; r++) {
+        char c = text[r] == '\n' ? ' ' : text[r];
+        if (c == ' ' && w > 0 && text[w - 1] == ' ') continue;
+        text[w++] = c;
+    }
+    text[w] = 0;
+    bool ok = strstr(text, phrase) != NULL;
+    if (!ok) fprintf(stderr, "docs/errata.md does not say \"%s\" (measured now)\n", phrase);
+    return ok;
+}
+
 /* Erratum 1: evaluateCurve / evaluateNPatch drop the /3 of the control points and the 3 of the weights: the same
  * surface as the canonical Bernstein form (double); Eq. 1.1.1's printed b111 (five tangent points) is not. */
 static void test_erratum1_missing_thirds(void **state)
@@ -51,6 +95,9 @@ static void test_erratum1_missing_thirds(void **state)
                   worst_curve, worst_patch, printed_min);
     assert_true(worst_curve < 1e-5 && worst_patch < 1e-5);
     assert_true(printed_min > 1e-3);
+    char a[24], b[24], c[24];
+    assert_true(doc_says("measured %s for the curve, %s for the N-Patch", sci(worst_curve, a), sci(worst_patch, b)));
+    assert_true(doc_says("off by at least %s at the centre", sci(printed_min, c)));
 }
 
 /* The intermediate patch as printed in Listing 1.1.1 with a chosen reading of the typos: norm1's parameter
@@ -98,6 +145,10 @@ static void test_erratum2_typos(void **state)
     print_message("erratum 2: ours %.2g; reading c.v as c.x off by >= %.2g, c2.z as c.y by >= %.2g; centre %.2g\n",
                   ours, wrong_y, wrong_z, centre);
     assert_true(ours < 1e-5 && centre < 1e-5);
+    char a[24], b[24], c[24];
+    assert_true(doc_says("within 1e-5 (measured %s)", sci(ours, a)));
+    assert_true(doc_says("by at least %s and %s", sci(wrong_y, b), sci(wrong_z, c)));
+    assert_true(centre == 0 && doc_says("(measured difference 0)"));
     assert_true(wrong_y > 1e-6 && wrong_z > 1e-6); /* (some triangles barely notice; the minimum is still > 0) */
 }
 
@@ -138,6 +189,9 @@ static void test_erratum3_fn_pairing(void **state)
         }
     print_message("erratum 3: ours %.2g from the reference, garbled pairing %.2g\n", ours, garbled);
     assert_true(ours < 1e-5 && garbled > 1e-3);
+    char a[24], b[24];
+    assert_true(doc_says("matches the reference (%s) and a shifted pairing gives a different surface (%s)",
+                         sci(ours, a), sci(garbled, b)));
 }
 
 /* The listing's unguarded Gregory weight at a corner, as C computes it: 0/0 = NaN.  Computing that NaN is the
@@ -189,6 +243,9 @@ static void test_erratum4_division_guards(void **state)
     float ours = length3(sub3(pa, pb)), listing = length3(sub3(pos2, pb));
     print_message("erratum 4: step across b0 = 0.999: ours %.2g, listing's snap %.2g\n", ours, listing);
     assert_true(ours < 1e-6f && listing < 1e-5f);
+    char a[24], b[24];
+    assert_true(doc_says("moves the surface by %s (continuous; the listing's snap to the vertex there moves it by %s)",
+                         sci(ours, a), sci(listing, b)));
 }
 
 /* Erratum 5: a boundary (or non-manifold) edge gives opp_k = own third vertex, and then fn_k is exactly 1 (the
@@ -218,6 +275,7 @@ static void test_erratum5_boundary(void **state)
     assert_true(vs_smooth_fn(&t).y == 1.0f);
     print_message("erratum 5: naive |dot| of a triangle with itself is not exactly 1 in %d of 500\n", naive_not_one);
     assert_true(naive_not_one > 0);
+    assert_true(doc_says("not exactly 1 for %d of 500 random triangles", naive_not_one));
 }
 
 /* Erratum 6: the naive evaluation of the same edge point from the two triangles differs in the last bits; the
@@ -250,6 +308,8 @@ static void test_erratum6_watertight(void **state)
                   points, naive_np, naive_sm, ours);
     assert_true(naive_np > points / 10 && naive_sm > points / 10);
     assert_int_equal(ours, 0);
+    assert_true(doc_says("over %ld shared-edge points", points));
+    assert_true(doc_says("differs in the bits at %ld and %ld points; ours at 0", naive_np, naive_sm));
 }
 
 int main(void)

@@ -10,12 +10,15 @@
  *
  * INSTESS_REGENERATE_GOLDENS=1 (make goldens) rewrites the goldens; INSTESS_FIGURES_ONLY=ID[,ID...] restricts the
  * test to those figures (to regenerate only one's own goldens). */
+#define _DEFAULT_SOURCE  /* realpath */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +46,14 @@ static bool selected(const char *id)
     return false;
 }
 
+/* A figure's picture in the form its PNG holds (scene_write_picture's): what the goldens are. */
+static void png_form(is_image *img)
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    scene_picture_for_format(img, IS_IMAGE_PNG, o.background);
+}
+
 /* Render every figure of table t small and compare with its golden; the failures are listed, then asserted. */
 static void check_table(const figure *t)
 {
@@ -53,6 +64,7 @@ static void check_table(const figure *t)
         is_image img = {0};
         char err[1024] = "";
         int rc = f->render(&ctx, &img, err, sizeof err);
+        if (rc == 0) png_form(&img);
         if (rc != 0) fprintf(stderr, "figures: %s: render failed: %s\n", f->id, err);
         else if (img.width > 1024 || img.height > 1200)
             fprintf(stderr, "figures: %s: the small size is %dx%d, too large\n", f->id, img.width, img.height), rc = -1;
@@ -144,7 +156,7 @@ static void test_reproduce_lines(void **state)
         if (rc != 0) fprintf(stderr, "figures: %s: the Reproduce line failed (%d): %s\n", f->id, rc, perr);
         is_image img = {0};
         if (rc == 0 && (rc = f->render(&ctx, &img, err, sizeof err)) == 0)
-            rc = image_write(&img, fig_png, NULL, err, sizeof err);
+            png_form(&img), rc = image_write(&img, fig_png, NULL, err, sizeof err);
         image_free(&img);
         if (rc == 0 && !prog_same_pixels(fig_png, cli_png)) {
             fprintf(stderr, "figures: %s: the Reproduce line gives other pixels than the figure\n", f->id);
@@ -157,6 +169,271 @@ static void test_reproduce_lines(void **state)
     fprintf(stderr, "figures: %d Reproduce lines run, %d differ\n", checked, failed);
     if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 10);   /* every single rendering of the table */
     assert_int_equal(failed, 0);
+}
+
+/* The sRGB transfer function's inverse (what an EXR's linear colour is of the PNG's display value). */
+static float linear_of(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* The gallery's files are written by `instess -o`'s writer: a single rendering's ID.png and ID.exr are the bytes
+ * its Reproduce line writes to a .png, and with --aov normal (the figure's N channels) to an .exr -- channels,
+ * formats, colour space and description; the EXR holds linear colour premultiplied by the coverage (0 and
+ * transparent on the background, the PNG's display values decoded from sRGB where the mesh covers the pixel),
+ * and a composite's background is transparent too. */
+static void test_files_like_cli(void **state)
+{
+    (void)state;
+    char dir[256], out[512], a[600], b[600], name[160];
+    assert_int_equal(prog_mkdtemp(dir, "files"), 0);
+    prog_path(dir, "gallery", out, sizeof out);
+    const char *perr;
+    static const char *const ids[] = {"fig-1.1.8b", "fig-1.1.10b"};
+    int rc = prog_run(dir, &perr, "", "figures --only %s,%s,fig-001-5 --out '%s'", ids[0], ids[1], out);
+    if (rc != 0) fprintf(stderr, "figures: exit %d: %s\n", rc, perr);
+    assert_int_equal(rc, 0);
+    for (size_t k = 0; k < sizeof ids / sizeof ids[0]; k++) {
+        const figure *f = fig_renders;
+        while (f->id && strcmp(f->id, ids[k])) f++;
+        assert_non_null(f->id);
+        const char *args = f->command + strlen("instess "), *o = strstr(args, " -o ");
+        assert_non_null(o);
+        char cli_png[600], cli_exr[600];
+        prog_path(dir, "cli.png", cli_png, sizeof cli_png);
+        prog_path(dir, "cli.exr", cli_exr, sizeof cli_exr);
+        assert_int_equal(prog_run(dir, &perr, "", "%.*s -q -o '%s'", (int)(o - args), args, cli_png), 0);
+        assert_int_equal(prog_run(dir, &perr, "", "%.*s -q --aov normal -o '%s'", (int)(o - args), args, cli_exr), 0);
+        for (int e = 0; e < 2; e++) {
+            snprintf(name, sizeof name, "gallery/%s.%s", ids[k], e ? "exr" : "png");
+            prog_path(dir, name, a, sizeof a);
+            prog_path(dir, e ? "cli.exr" : "cli.png", b, sizeof b);
+            if (!prog_same_bytes(a, b)) fprintf(stderr, "figures: %s differs from the Reproduce line's file\n", name);
+            assert_true(prog_same_bytes(a, b));
+        }
+        is_image exr = {0}, png = {0};
+        char err[512];
+        assert_int_equal(image_read(&exr, b, err, sizeof err), 0);
+        prog_path(dir, "cli.png", a, sizeof a);
+        assert_int_equal(image_read(&png, a, err, sizeof err), 0);
+        assert_int_equal(exr.channels, 8);
+        assert_string_equal(exr.channel_names[5], "N.X");
+        long covered = 0;
+        for (size_t p = 0; p < (size_t)exr.width * exr.height; p++) {
+            const float *x = &exr.data[p * exr.channels], *g = &png.data[p * png.channels];
+            assert_true(g[3] == 1.0f);                          /* the PNG: opaque, over the background */
+            if (x[3] == 0.0f) assert_true(x[0] == 0.0f && x[1] == 0.0f && x[2] == 0.0f && x[4] == 1.0f);
+            if (x[3] != 1.0f) continue;
+            covered++;
+            for (int c = 0; c < 3; c++) assert_true(fabsf(x[c] - linear_of(g[c])) <= 1e-3f + 1e-3f * x[c]);
+        }
+        assert_true(covered > 10000);
+        assert_true(exr.data[3] == 0.0f);                       /* the corner: background */
+        image_free(&exr), image_free(&png);
+    }
+    is_image comp = {0};
+    char err[512];
+    assert_int_equal(image_read(&comp, prog_path(dir, "gallery/fig-001-5.exr", a, sizeof a), err, sizeof err), 0);
+    assert_true(comp.data[3] == 0.0f && comp.data[0] == 0.0f);  /* a composite's background: transparent */
+    image_free(&comp);
+    prog_rmdir(dir);
+}
+
+/* ---------------------------------------- the smoothness numbers the documents quote ---------------------------------------- */
+
+/* tess_smoothness of patch p on the built-in (welded) cube, as instess smoothness measures it (16 samples). */
+static vs_smoothness_result cube_smoothness(vs_patch p)
+{
+    is_mesh m;
+    char err[256];
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);
+    vs_options o = vs_default_options();
+    o.normals = VS_NORMALS_REAL;
+    vs_smoothness_result r;
+    assert_int_equal(tess_smoothness(&m, p, &o, 16, &r), 0);
+    mesh_free(&m);
+    return r;
+}
+
+/* The cube's numbers the captions of fig-1.1.1d, fig-1.1.8b and fig-1.1.10b, the README and docs/smoothness.md
+ * state: the final patch across the cube's 12 edges (not the 18 shared edges, which count the 6 face diagonals
+ * too), and the valley the final patch leaves beside the face diagonals (the N-Patch's faces lean apart: none). */
+static void test_smoothness_cube(void **state)
+{
+    (void)state;
+    vs_smoothness_result sm = cube_smoothness(VS_PATCH_SMOOTH), si = cube_smoothness(VS_PATCH_SMOOTH_INITIAL);
+    vs_smoothness_result np = cube_smoothness(VS_PATCH_NPATCH), fl = cube_smoothness(VS_PATCH_FLAT);
+    assert_true(fabs(sm.max_angle_feature_deg - 9.20) < 0.005);
+    assert_true(fabs(sm.mean_angle_feature_deg - 2.10) < 0.005);
+    assert_true(fabs(sm.mean_angle_deg - 1.44) < 0.005);
+    assert_true(fabs(sm.max_angle_coplanar_deg - 0.28) < 0.005);
+    assert_true(fabs(sm.max_valley_deg - 5.30) < 0.005);
+    assert_true(fabs(si.max_valley_deg - 21.82) < 0.005);
+    assert_true(np.max_valley_deg == 0.0 && fl.max_valley_deg == 0.0);
+}
+
+/* The caption ("shows") of the figure called id. */
+static const char *shows_of(const char *id)
+{
+    for (const figure *f = fig_renders; f->id; f++)
+        if (!strcmp(f->id, id)) return f->shows;
+    fail_msg("no figure %s", id);
+    return NULL;
+}
+
+/* Whether caption `shows` of figure id states the measurement (formatted as it is written there). */
+static bool states(const char *id, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static bool states(const char *id, const char *fmt, ...)
+{
+    char phrase[300];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(phrase, sizeof phrase, fmt, ap);
+    va_end(ap);
+    bool ok = strstr(shows_of(id), phrase) != NULL;
+    if (!ok) fprintf(stderr, "figures: %s does not say \"%s\" (measured now)\n", id, phrase);
+    return ok;
+}
+
+/* The numbers the cube's captions quote are those tess_smoothness measures (instess smoothness,
+ * docs/smoothness.md): fig-1.1.1d across the cube's 12 edges (their mean, not the mean over all 18 shared edges)
+ * and across the face diagonals; fig-1.1.10b the diagonals and the valley beside them; fig-1.1.8b the
+ * intermediate patch's. */
+static void test_caption_numbers(void **state)
+{
+    (void)state;
+    vs_smoothness_result sm = cube_smoothness(VS_PATCH_SMOOTH), si = cube_smoothness(VS_PATCH_SMOOTH_INITIAL);
+    assert_true(states("fig-1.1.1d", "%.1f degrees at worst and %.1f on average across the cube's 12 edges",
+                       sm.max_angle_feature_deg, sm.mean_angle_feature_deg));
+    assert_true(states("fig-1.1.1d", "%.2f across the 6 face diagonals", sm.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.1d", "its mean over all 18 shared edges, %.2f,", sm.mean_angle_deg));
+    assert_true(states("fig-1.1.10b", "differ by only %.2f degrees", sm.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.10b", "lean towards each other by up to %.1f degrees", sm.max_valley_deg));
+    assert_true(states("fig-1.1.8b", "differ by %.1f degrees", si.max_angle_coplanar_deg));
+    assert_true(states("fig-1.1.8b", "by up to %.1f degrees apart", si.max_valley_deg));
+}
+
+/* One face of the welded cube: its two triangles (edge ka of A is edge kb of B, the face's diagonal). */
+static void cube_face(vs_triangle *A, vs_triangle *B, int *ka, int *kb)
+{
+    is_mesh m;
+    char err[256];
+    assert_int_equal(mesh_builtin("cube", &m, err, sizeof err), 0);   /* the built-in: welded, as rendered */
+    vs_triangle T[2];
+    for (int t = 0; t < 2; t++) {
+        const uint32_t *i = &m.indices[3 * t];
+        float3 v[3] = {m.positions[i[0]], m.positions[i[1]], m.positions[i[2]]};
+        float3 n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
+        T[t] = vs_triangle_make(v, n);
+    }
+    mesh_free(&m);
+    *A = T[0], *B = T[1], *ka = *kb = -1;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (!memcmp(&A->v[i], &B->v[(j + 1) % 3], sizeof(float3)) &&
+                !memcmp(&A->v[(i + 1) % 3], &B->v[j], sizeof(float3)))
+                *ka = i, *kb = j;
+    assert_true(*ka >= 0);
+}
+
+/* Ridge or valley (docs/smoothness.md): the intermediate patch across the diagonal of a cube face, a quarter of
+ * the way along it, on the diagonal and 1/64 of the way to each side's opposite corner (0.022 off the diagonal on
+ * the cube of side 2).  Both sides' normals lean 9.53 degrees towards the diagonal and the surface there stands
+ * 0.0054 higher than on the diagonal (0.2554 against 0.2500 above the face's plane): a concave fold, a valley --
+ * the word the README, the captions and --help use.  The N-Patch's normals at the same points lean 0.42 degrees
+ * apart (its face bulges). */
+static void test_diagonal_valley(void **state)
+{
+    (void)state;
+    vs_triangle A, B;
+    int ka, kb;
+    cube_face(&A, &B, &ka, &kb);
+    vs_options o = vs_default_options();
+    o.normals = VS_NORMALS_REAL;
+    float3 face = normalize3(cross3(sub3(A.v[1], A.v[0]), sub3(A.v[2], A.v[0])));
+    if (dot3(face, A.v[0]) < 0) face = scale3(face, -1.0f);              /* outward */
+    const float t = 0.25f, s = 1.0f / 64.0f;
+    float ba[3] = {0, 0, 0}, bb[3] = {0, 0, 0}, be[3] = {0, 0, 0};
+    ba[ka] = (1 - s) * (1 - t), ba[(ka + 1) % 3] = (1 - s) * t, ba[(ka + 2) % 3] = s;
+    bb[kb] = (1 - s) * t, bb[(kb + 1) % 3] = (1 - s) * (1 - t), bb[(kb + 2) % 3] = s;   /* B runs the other way */
+    be[ka] = 1 - t, be[(ka + 1) % 3] = t;
+    float3 pa, pb, pe, na, nb;
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &A, f3(ba[0], ba[1], ba[2]), &o, &pa, &na, NULL);
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &B, f3(bb[0], bb[1], bb[2]), &o, &pb, &nb, NULL);
+    vs_patch_eval(VS_PATCH_SMOOTH_INITIAL, &A, f3(be[0], be[1], be[2]), &o, &pe, NULL, NULL);
+    float3 d = sub3(pb, pa);                                            /* across the diagonal, from A to B */
+    d = normalize3(sub3(d, scale3(face, dot3(d, face))));
+    double lean_a = asin(dot3(na, d)) * 57.29577951308232, lean_b = -asin(dot3(nb, d)) * 57.29577951308232;
+    double ha = dot3(sub3(pa, A.v[0]), face), hb = dot3(sub3(pb, A.v[0]), face), he = dot3(sub3(pe, A.v[0]), face);
+    print_message("diagonal of a cube face: normals lean %.3f and %.3f deg towards it; height %.4f on it, %.4f and "
+                  "%.4f beside it\n", lean_a, lean_b, he, ha, hb);
+    assert_true(fabs(lean_a - 9.53) < 0.01 && fabs(lean_b - 9.53) < 0.01);   /* towards each other: concave */
+    assert_true(fabs(he - 0.2500) < 1e-4 && fabs(ha - 0.2554) < 1e-4 && fabs(hb - 0.2554) < 1e-4);
+    vs_patch_eval(VS_PATCH_NPATCH, &A, f3(ba[0], ba[1], ba[2]), &o, NULL, &na, NULL);
+    vs_patch_eval(VS_PATCH_NPATCH, &B, f3(bb[0], bb[1], bb[2]), &o, NULL, &nb, NULL);
+    lean_a = asin(dot3(na, d)) * 57.29577951308232, lean_b = -asin(dot3(nb, d)) * 57.29577951308232;
+    assert_true(fabs(lean_a + 0.42) < 0.01 && fabs(lean_b + 0.42) < 0.01);
+}
+
+/* The smoothness tables of docs/smoothness.md (every row) and of the README (the cube's rows, without the mesh
+ * column) are what `instess smoothness` prints: the numbers the documents state are the command's. */
+static void test_smoothness_tables(void **state)
+{
+    (void)state;
+    char dir[256], cmd[2400];
+    assert_int_equal(prog_mkdtemp(dir, "smooth"), 0);
+    snprintf(cmd, sizeof cmd, "'%s' smoothness > %s/t.md && grep '^|' docs/smoothness.md | cmp -s - %s/t.md",
+             prog_bin(), dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "docs/smoothness.md's table is not what instess smoothness prints\n");
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep '^| cube |' %s/t.md | sed 's/^| cube |/|/' > %s/cube.md && test $(wc -l < "
+                              "%s/cube.md) -eq 6 && test $(grep -c -x -F -f %s/cube.md README.md) -eq 6", dir, dir,
+             dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "README's cube table is not what instess smoothness prints\n");
+    assert_int_equal(system(cmd), 0);
+    prog_rmdir(dir);
+}
+
+/* The README's "render both and compare" example shows what it says: its three lines (two renders of assimp's
+ * Cube.off and their comparison) run in a fresh folder, compare exits 1 (they differ), and the two lines it
+ * prints are the ones the README quotes, number for number.  (The example was the MD2 faerie, whose two
+ * images differ by 0.0002 on average: nothing to see.) */
+static void test_readme_compare(void **state)
+{
+    (void)state;
+    char dir[256], cmd[2400 + PATH_MAX], bin[PATH_MAX];
+    assert_non_null(realpath(prog_bin(), bin));   /* the commands run in dir */
+    assert_int_equal(prog_mkdtemp(dir, "readme"), 0);
+    snprintf(cmd, sizeof cmd, "mkdir %s/out && grep -E '^build/instess (/usr/share/assimp/models/OFF/Cube.off "
+             "|compare out/cube-)' README.md | sed \"s|^build/instess|'%s' -q|; s|-q compare|compare|\" > %s/run.sh && "
+             "test $(wc -l < %s/run.sh) -eq 3", dir, bin, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "cd %s && sh run.sh > said.txt 2>&1; test $? -eq 1", dir);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep -e '^largest difference' -e '^failing pixels' %s/said.txt | sed 's/^/  /' > "
+             "%s/lines.txt && test $(wc -l < %s/lines.txt) -eq 2 && test $(grep -c -x -F -f %s/lines.txt README.md) "
+             "-eq 2", dir, dir, dir, dir);
+    if (system(cmd) != 0) fprintf(stderr, "figures: the README does not quote what its compare example prints\n");
+    assert_int_equal(system(cmd), 0);
+    prog_rmdir(dir);
+}
+
+/* One word for the fold along the cube's face diagonals, the one the measured normals justify (a valley,
+ * test_diagonal_valley): --help says valley, and every line of the README and of the documents this part of the
+ * project writes (docs/smoothness.md, docs/errata.md) that says ridge quotes Gruen or sets it against the valley;
+ * so do the captions. */
+static void test_valley_word(void **state)
+{
+    (void)state;
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "'%s' --help | grep -q 'valleys show' && ! '%s' --help | grep -qiw 'ridges\\?'",
+             prog_bin(), prog_bin());
+    assert_int_equal(system(cmd), 0);
+    assert_int_equal(system("! grep -iw 'ridges\\?' README.md docs/smoothness.md docs/errata.md | "
+                            "grep -v -e Gruen -e valley"), 0);
+    for (const figure *f = fig_renders; f->id; f++)
+        if (f->shows && strstr(f->shows, "ridge") && !strstr(f->shows, "valley"))
+            fail_msg("%s's caption says ridge without the valley", f->id);
 }
 
 /* Whether the pixels of p appear unchanged somewhere in big (same channels): the first pixel of p that is not its
@@ -191,7 +468,9 @@ static int check_panels(const figure *f, const char *dir, int *checked)
     is_image img = {0}, big = {0};
     snprintf(name, sizeof name, "%s-figure.png", f->id);
     prog_path(dir, name, path, sizeof path);
-    if (f->render(&ctx, &img, err, sizeof err) != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
+    int made = f->render(&ctx, &img, err, sizeof err);
+    if (made == 0) png_form(&img);
+    if (made != 0 || image_write(&img, path, NULL, err, sizeof err) != 0 ||
         image_read(&big, path, err, sizeof err) != 0) {
         fprintf(stderr, "figures: %s: %s\n", f->id, err);
         image_free(&img);
@@ -235,6 +514,36 @@ static void test_panel_lines(void **state)
     fprintf(stderr, "figures: %d panel lines run, %d not found in their figure\n", checked, failed);
     if (!getenv("INSTESS_FIGURES_ONLY")) assert_true(checked >= 20);
     assert_int_equal(failed, 0);
+}
+
+/* Every reproduction of a document's figure says where to find the original (fig_original, shown in the gallery
+ * beside it): the figure number and the document's citation; the others (comparisons, companions, figures the
+ * text only describes, adaptive LOD) claim none. */
+static void test_originals(void **state)
+{
+    (void)state;
+    static const char *const docs[3] = {"Smoothed N-Patches", "A Discussion of Curved Point-Normal Triangles",
+                                        "Bezier Triangles and N-Patches"};
+    const figure *const tables[2] = {fig_renders, fig_diagrams};
+    int cited = 0;
+    for (int t = 0; t < 2; t++)
+        for (const figure *f = tables[t]; f->id; f++) {
+            char buf[600];
+            const char *o = fig_original(f, buf, sizeof buf), *num = strstr(f->source, ", Figure ");
+            if (!num || f->section > 2) {
+                assert_null(o);
+                continue;
+            }
+            assert_non_null(o);
+            char want[64];
+            snprintf(want, sizeof want, "Figure %s of ", num + 9);
+            if (strncmp(o, want, strlen(want)) != 0 || !strstr(o, docs[f->section]))
+                fail_msg("%s: '%s' does not cite %s%s", f->id, o, want, docs[f->section]);
+            assert_null(strchr(o, '/'));   /* a citation, never a path */
+            cited++;
+        }
+    print_message("%d reproductions cite their original\n", cited);
+    assert_true(cited >= 27);   /* 14 renderings and 13 diagrams */
 }
 
 /* Sentence k of text (split after ". "), copied into buf; false when there is none. */
@@ -313,6 +622,8 @@ static void test_only_index(void **state)
     assert_int_equal(count_in_file(index, "<a href=\"web/index.html\">"), 1);
     assert_int_equal(count_in_file(index, "href=\"#browser\""), 1);
     assert_int_equal(count_in_file(index, "Not built in this folder yet"), 1);
+    assert_int_equal(count_in_file(index, "The original (not shown here): Figure 1.1.3 of H. Gruen, &quot;Smoothed "
+                                          "N-Patches&quot;, article 1.1 of ShaderX5"), 1);
     rc = prog_run(dir, &err, "", "figures --only fig-003-4 --out '%s'", sub);
     assert_int_equal(rc, 0);
     assert_int_equal(count_in_file(index, "<figure id="), 2);
@@ -407,11 +718,19 @@ int main(void)
         cmocka_unit_test(test_tables_complete),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_no_repeated_sentences),
+        cmocka_unit_test(test_originals),
         cmocka_unit_test(test_only_index),
         cmocka_unit_test(test_gallery_viewer),
         cmocka_unit_test(test_reproduce_lines),
         cmocka_unit_test(test_views_honour_cull),
         cmocka_unit_test(test_index_odd_targets),
+        cmocka_unit_test(test_files_like_cli),
+        cmocka_unit_test(test_smoothness_cube),
+        cmocka_unit_test(test_caption_numbers),
+        cmocka_unit_test(test_diagonal_valley),
+        cmocka_unit_test(test_smoothness_tables),
+        cmocka_unit_test(test_valley_word),
+        cmocka_unit_test(test_readme_compare),
         cmocka_unit_test(test_panel_lines),
         cmocka_unit_test(test_render_figures),
         cmocka_unit_test(test_diagram_figures),

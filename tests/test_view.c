@@ -79,7 +79,7 @@ typedef struct key_case {
     const char *start, *keys, *cli;
 } key_case;
 static const key_case key_cases[] = {
-    {"", NULL, ""},
+    {"", NULL, "--size 1280x720"},   /* the viewer's default size: room for the split screen, HUD and key table */
     {"--size 160x120", "],p,w,m", "--size 160x120 --level 9 --patch phong --fill solid+wire --msaa 1"},
     {"--size 150x110 --patch npatch", "t,w,t,n,m,Right,Down,],]",
      "--size 150x110 --patch npatch --path cpu --fill solid+wire --normals quadratic --msaa 1 --yaw 15 --pitch 5 "
@@ -89,6 +89,9 @@ static const key_case key_cases[] = {
     {"--size 140x100 --patch pn-aen", "g,],PageUp,n,n,Left", "--size 140x100 --patch pn-aen --grid pg-equal --level 9 "
      "--distance 2.909091 --normals quadratic --yaw 45"},
     {"--size 96x96 --mesh icosahedron --fill point", "m,w,t,Up", "--size 96x96 --mesh icosahedron --msaa 1 --pitch 35"},
+    /* --cull is the render's, on every frame: a reused device's reset must not bring back D3D9's ccw */
+    {"--size 96x96 --cull cw", "],Left", "--size 96x96 --cull cw --level 9 --yaw 45"},
+    {"--size 96x96 --cull none --mesh cylinder", "Tab,Tab,Up", "--size 96x96 --cull none --mesh cylinder --pitch 35"},
 };
 
 /* For several states and key sequences: the --no-hud capture is the CLI's file for the same state, byte for
@@ -148,6 +151,46 @@ static void test_hud(void **state)
     image_free(&hud), image_free(&plain), image_free(&keys);
 }
 
+/* A refused key's reason is on the HUD at once: the frame is not drawn again (nothing changed), but the overlay
+ * is, with the status line (and "h: keys" moves a line down) -- before, it waited for the next frame. */
+static void test_refusal_shown_at_once(void **state)
+{
+    const char *err;
+    clean();
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --patch smooth --keys t --capture refused.png"), 0);
+    assert_non_null(strstr(err, "path refused"));
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --patch smooth --capture hud.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --size 400x300 --patch smooth --no-hud --capture plain.png"), 0);
+    is_image refused, hud, plain;
+    read_image("refused.png", &refused), read_image("hud.png", &hud), read_image("plain.png", &plain);
+    /* below the HUD box of 6 lines (17 px each, 6 px margins: to y 114), the frame; with the status line the
+     * box holds 7 and "h: keys" is there */
+    assert_int_equal(differing(&hud, &plain, 0, 116, 60, 128), 0);
+    assert_true(differing(&refused, &plain, 0, 116, 60, 128) > 30);
+    image_free(&refused), image_free(&hud), image_free(&plain);
+}
+
+/* The split screen's halves are labelled with their patches at the bottom left of each (with the HUD; h hides
+ * them with it), and at the default size the HUD with the key table and the labels fit the window: its right
+ * columns and the band above the labels are the frame's. */
+static void test_split_labels_fit(void **state)
+{
+    const char *err;
+    clean();
+    assert_int_equal(run_in_dir(&err, "view -q --keys Tab,h --capture keys.png"), 0);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud --keys Tab --capture plain.png"), 0);
+    is_image keys, plain;
+    read_image("keys.png", &keys), read_image("plain.png", &plain);
+    assert_int_equal(keys.width, 1280), assert_int_equal(keys.height, 720);
+    const int W = 1280, H = 720;
+    assert_true(differing(&keys, &plain, 0, H - 25, 80, H) > 30);            /* "left: smooth" */
+    assert_true(differing(&keys, &plain, W / 2 + 1, H - 25, W / 2 + 80, H) > 30); /* "right: npatch" */
+    assert_int_equal(differing(&keys, &plain, W - 20, 0, W, H), 0);          /* the key table ends before */
+    assert_int_equal(differing(&keys, &plain, 0, H - 80, W / 2 - 1, H - 40), 0);
+    assert_true(differing(&keys, &plain, 0, 0, W, H / 2) > 5000);            /* the key table is there */
+    image_free(&keys), image_free(&plain);
+}
+
 /* Tab: the left half is the CLI's image of the state at half the width, the right half the same with the other
  * patch (npatch by default, then o's next one). */
 static void test_split(void **state)
@@ -200,6 +243,20 @@ static void test_views(void **state)
     assert_true(covered > 10000);
     assert_int_equal(red_pixels("pnaen.png", &covered), 0);   /* p four times: npatch -> pn-aen */
     assert_true(covered > 10000);
+    /* the README's sequence is this one (it said "then p to PN-AEN", which p once does not do) */
+    char readme[PATH_MAX];
+    size_t len = 0;
+    snprintf(readme, sizeof readme, "%s/README.md", getenv("PWD") ? getenv("PWD") : ".");
+    char *text = (char *)prog_slurp(readme, &len);
+    assert_non_null(text);
+    char *grown = realloc(text, len + 1);
+    assert_non_null(grown);
+    text = grown, text[len] = 0;
+    for (char *c = text; *c; c++)
+        if (*c == '\n') *c = ' ';
+    assert_non_null(strstr(text, "`--mesh cylinder --patch npatch`: `c` five times shows the N-Patch's cracks at the "
+                                 "rims, then `p` four times -- smooth-initial, smooth, phong, pn-aen"));
+    free(text);
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 120x120 --keys c,s,c,s,c,s,c,s"), 0);
     is_image img[4];
     for (int k = 0; k < 4; k++) {
@@ -432,10 +489,13 @@ static void test_scripted_runs_end(void **state)
     assert_int_equal(run_in_dir(&err, "%s", many), 2);
     assert_non_null(strstr(err, "--keys: 1000 key names in 1999 characters; at most 64 names"));
     assert_true(strlen(err) < 400);
-    /* a refused key says why at once (the next value's reason), not only that nothing else works */
+    /* a refused key says why (the CLI's reason for the values it would take), not that nothing else works */
     assert_int_equal(run_in_dir(&err, "view --no-hud --size 48x48 --patch smooth --keys t"), 0);
-    assert_non_null(strstr(err, "path: no other value works with the rest of this state (--path npatch-mode and cpu "
-                                "draw the N-Patch"));
+    assert_non_null(strstr(err, "instess view: path refused: --path npatch-mode and cpu draw the N-Patch (or flat): "
+                                "use --patch npatch or flat\n"));
+    assert_null(strstr(err, "no other value works"));
+    assert_int_equal(run_in_dir(&err, "view --no-hud --size 48x48 --patch npatch --path cpu --keys l"), 0);
+    assert_non_null(strstr(err, "instess view: lod refused: --lod distance and screen draw through instancing"));
     /* capture paths: a symbolic link or a folder is refused before the window opens, and left as it was */
     assert_true(prog_write_text(dir, "target.txt", "keep\n"));
     char link[600], target[600], folder[600];
@@ -489,6 +549,33 @@ static void test_capture_inputs(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* A file whose normals do not fit its surface (the README's Blender human: shared normals tilted against the
+ * triangles, quilted shading) gets a warning naming --recompute-normals from instess and instess view, also with
+ * -q, and is rendered; with --recompute-normals, and for files whose normals fit (assimp's OFF cube, which has
+ * none, its X Wuson and MD2 faerie with their own, the built-ins), nothing is said. */
+static void test_normals_misfit(void **state)
+{
+    (void)state;
+    clean();
+    const char *err;
+    const char *human = "/usr/share/assimp/models/BLEND/HUMAN.blend --up z --fit box -q --size 48x64";
+    assert_int_equal(run_in_dir(&err, "%s -o human.png", human), 0);
+    assert_non_null(strstr(err, "HUMAN.blend: the file's normals do not fit its surface"));
+    assert_non_null(strstr(err, "creases by 9.2 degrees on average with them, by 1.0 with normals computed"));
+    assert_non_null(strstr(err, "--recompute-normals"));
+    assert_true(prog_exists(dir, "human.png"));
+    assert_int_equal(run_in_dir(&err, "view --no-hud %s --capture view.png", human), 0);
+    assert_non_null(strstr(err, "HUMAN.blend: the file's normals do not fit its surface"));
+    assert_int_equal(run_in_dir(&err, "%s --recompute-normals -o human.png", human), 0);
+    assert_null(strstr(err, "do not fit"));
+    static const char *const fit[] = {"/usr/share/assimp/models/OFF/Cube.off", "/usr/share/assimp/models/X/Testwuson.X",
+                                      "/usr/share/assimp/models/MD2/faerie.md2", "cube", "cylinder", "cube-split"};
+    for (size_t k = 0; k < sizeof fit / sizeof fit[0]; k++) {
+        assert_int_equal(run_in_dir(&err, "%s -q --size 32x32 -o fit.png", fit[k]), 0);
+        if (strstr(err, "do not fit")) fail_msg("%s: %s", fit[k], err);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -496,6 +583,8 @@ int main(void)
         cmocka_unit_test(test_capture_is_cli),
         cmocka_unit_test(test_hud),
         cmocka_unit_test(test_split),
+        cmocka_unit_test(test_refusal_shown_at_once),
+        cmocka_unit_test(test_split_labels_fit),
         cmocka_unit_test(test_views),
         cmocka_unit_test(test_every_key_acts),
         cmocka_unit_test(test_errors),
@@ -504,6 +593,7 @@ int main(void)
         cmocka_unit_test(test_sigterm),
         cmocka_unit_test(test_scripted_runs_end),
         cmocka_unit_test(test_capture_inputs),
+        cmocka_unit_test(test_normals_misfit),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);
 }

@@ -136,7 +136,8 @@ static void background_rgb(float rgb[3])
     for (int k = 0; k < 3; k++) rgb[k] = (float)((o.background >> (16 - 8 * k)) & 0xffu) / 255.0f;
 }
 
-/* A composite image w x h filled with the background: colour, A = 1, Z = 1 (far), N = 0; 0 or -1. */
+/* A composite picture w x h filled with the background: its colour, A = 0 (no mesh: transparent in the EXR),
+ * Z = 1 (far), N = 0; 0 or -1. */
 static int composite_alloc(is_image *img, int w, int h, char *err, size_t errlen)
 {
     if (image_alloc(img, w, h, FIG_CHANNELS, err, errlen) != 0) return -1;
@@ -145,7 +146,7 @@ static int composite_alloc(is_image *img, int w, int h, char *err, size_t errlen
     for (size_t p = 0; p < (size_t)w * h; p++) {
         float *px = &img->data[p * FIG_NCH];
         memset(px, 0, FIG_NCH * sizeof *px);
-        px[0] = bg[0], px[1] = bg[1], px[2] = bg[2], px[3] = 1.0f, px[4] = 1.0f;
+        px[0] = bg[0], px[1] = bg[1], px[2] = bg[2], px[3] = 0.0f, px[4] = 1.0f;
     }
     return 0;
 }
@@ -234,11 +235,32 @@ static int render_grid(const fig_ctx *ctx, const char *title, const fig_panel *p
 
 /* ---------------------------------------- single renderings ---------------------------------------- */
 
-/* One view at the single size (512x512; 256x256 small). */
+/* What `instess -o` stores as the descriptions of view v's PNG and of its EXR with the normal AOV (the
+ * channels of a rendering, img), into ctx's pointers when it asks; 0, or -1 when out of memory. */
+static int describe_view(const fig_ctx *ctx, const fig_view *v, const is_mesh *m, const is_image *img, char *err,
+                         size_t errlen)
+{
+    if (!ctx->describe_png || !ctx->describe_exr) return 0;
+    scene_opts o = v->o;
+    o.output = "figure.png", o.aovs = 0;
+    *ctx->describe_png = scene_describe_file(&o, m, img, IS_IMAGE_PNG);
+    o.output = "figure.exr", o.aovs = SCENE_AOV_NORMAL;
+    *ctx->describe_exr = scene_describe_file(&o, m, img, IS_IMAGE_EXR);
+    if (*ctx->describe_png && *ctx->describe_exr) return 0;
+    return snprintf(err, errlen, "out of memory for the figure's descriptions"), -1;
+}
+
+/* One view at the single size (512x512; 256x256 small), its descriptions into ctx's buffers. */
 static int render_single(const fig_ctx *ctx, const char *spec, is_image *out, char *err, size_t errlen)
 {
     fig_sizes s = sizes_of(ctx);
-    return fig_render_spec(ctx, spec, s.single, s.single, out, err, errlen);
+    fig_view v;
+    is_mesh m = {0};
+    if (view_parse(&v, spec, err, errlen) != 0 || load_mesh(v.mesh, v.recompute, &m, err, errlen) != 0) return -1;
+    int rc = render_mesh_view(ctx, &v, &m, s.single, s.single, out, err, errlen);
+    if (rc == 0 && (rc = describe_view(ctx, &v, &m, out, err, errlen)) != 0) image_free(out);
+    mesh_free(&m);
+    return rc;
 }
 
 /* The views of the single renderings.  Real normals (seed 001, 3.2.2: the normal of the surface itself) under the
@@ -466,7 +488,7 @@ static int heat_legend(is_image *img, int x, int y, int w, float px, char *err, 
         for (int c = 0; c < w; c++) {
             float3 col = heat_colour((float)c / (float)(w - 1));
             float *d = &img->data[((size_t)(y + r) * img->width + x + c) * FIG_NCH];
-            d[0] = col.x, d[1] = col.y, d[2] = col.z;
+            d[0] = col.x, d[1] = col.y, d[2] = col.z, d[3] = 1.0f;
         }
     char txt[64];
     snprintf(txt, sizeof txt, "%g deg", (double)HEAT_MAX_DEG);
@@ -629,15 +651,16 @@ const figure fig_renders[] = {
      "That is why the final patch is rougher here than the intermediate one, which ignores fn (22.3 degrees, "
      "fig-1.1.7b), and likewise on the octahedron (|dot| = 1/3: 18.6 against 0.04 degrees) and the icosahedron "
      "(|dot| = 0.75: 12.2 against 2.4). The blend is made for meshes like the cube, whose neighbours meet at "
-     "|dot| = 0 (fully smoothed) or 1 (coplanar: the N-Patch, no ridge).",
+     "|dot| = 0 (fully smoothed) or 1 (coplanar: the N-Patch, no valley).",
      CMD_SINGLE(V_1_1_1B, "fig-1.1.1b"), true, fig_1_1_1b, 0},
     {"fig-1.1.1c", "fig-1.1.1", GRUEN "1.1.1c", "A cube refined using the original N-Patch.",
      "The welded built-in cube (12 triangles, averaged corner normals) as N-Patches at level 16: creases along "
      "the cube's edges, 50.2 degrees at worst.",
      CMD_SINGLE(V_1_1_1C, "fig-1.1.1c"), true, fig_1_1_1c, 0},
     {"fig-1.1.1d", "fig-1.1.1", GRUEN "1.1.1d", "A cube refined using the new N-Patch.",
-     "The cube of fig-1.1.1c with the final smoothed patch: 9.2 degrees at worst (1.4 on average) across the "
-     "cube's edges, 0.3 across the face diagonals.",
+     "The cube of fig-1.1.1c with the final smoothed patch: 9.2 degrees at worst and 2.1 on average across the "
+     "cube's 12 edges, 0.28 across the 6 face diagonals (instess smoothness; its mean over all 18 shared edges, "
+     "1.44, counts the diagonals too).",
      CMD_SINGLE(V_1_1_1D, "fig-1.1.1d"), true, fig_1_1_1d, 0},
     {"fig-1.1.7a", "fig-1.1.7", GRUEN "1.1.7a", "A tetrahedron refined using the original N-Patch.",
      "The tetrahedron as N-Patches at level 16, looking straight at one edge (yaw 0, pitch 0) and lit from the "
@@ -657,15 +680,22 @@ const figure fig_renders[] = {
      "Refined cube showing ridges along the coplanar triangles that form the faces of the cube.",
      "The intermediate patch at level 32, straight at a face, under a light grazing it from the upper right "
      "(--light grazing: towards (0.62, 0.62, -0.48), ambient 0.08): the valley along the diagonal shared by the "
-     "face's two coplanar triangles, where the normals of the two sides differ by 22.3 degrees.",
+     "face's two coplanar triangles, where the normals of the two sides differ by 22.3 degrees. Gruen's caption "
+     "calls them ridges, his text a valley; the normals settle it: on both sides of the diagonal they lean towards "
+     "it (by up to 21.8 degrees apart within 1/16 of the way to the opposite corners), and the diagonal lies below "
+     "its sides -- a concave fold, a valley (docs/smoothness.md).",
      CMD_SINGLE(V_1_1_8B, "fig-1.1.8b"), true, fig_1_1_8b, 0},
     {"fig-1.1.10a", "fig-1.1.10", GRUEN "1.1.10a", "A cube refined using the original N-Patch.",
      "The welded cube as N-Patches at level 16, seen from above left (yaw -35, pitch 30): no valleys on the faces "
      "(coplanar neighbours share their border curve), creases along the edges.",
      CMD_SINGLE(V_1_1_10A, "fig-1.1.10a"), true, fig_1_1_10a, 0},
     {"fig-1.1.10b", "fig-1.1.10", GRUEN "1.1.10b", "A cube refined using the final new patch.",
-     "The final patch in that view: coplanar neighbours (fn = 1) keep the N-Patch, so the faces stay free of "
-     "valleys, and the cube's edges are smooth.",
+     "The final patch in that view: the cube's edges are smooth, and coplanar neighbours (fn = 1) keep the "
+     "N-Patch along their shared diagonal, where the normals of the two sides differ by only 0.28 degrees. But "
+     "the faces are not quite free of valleys: beside each diagonal the other two edges' patches P_k still bend "
+     "the surface, and within a few pixels of it the normals of the two sides lean towards each other by up to "
+     "5.3 degrees (instess smoothness, 'max valley'). The soft band this leaves along the diagonal is faint under "
+     "the headlight and plain under a grazing light (the view of fig-1.1.8b with --patch smooth).",
      CMD_SINGLE(V_1_1_10B, "fig-1.1.10b"), true, fig_1_1_10b, 0},
     {"fig-patches", NULL, "Comparison added by instess (no figure of the documents): every patch on one mesh",
      "Flat, N-Patch, intermediate and final smoothed patch, Phong tessellation and PN-AEN on the same cube.",

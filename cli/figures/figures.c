@@ -56,6 +56,24 @@ static const char *const section_intros[FIG_SECTIONS] = {
     "What none of the documents shows: a level per mesh edge, drawn the instancing way with one instanced draw "
     "per refinement pattern, crack-free by construction."};
 
+/* Where each document's own figures are found (fig_original), by section; NULL: no document. */
+static const char *const section_originals[FIG_SECTIONS] = {
+    "H. Gruen, \"Smoothed N-Patches\", article 1.1 of ShaderX5: Advanced Rendering Techniques, W. Engel (ed.), "
+    "Charles River Media, 2006",
+    "R. van Veen and L. E. N. Baakman, \"A Discussion of Curved Point-Normal Triangles\", a draft of the "
+    "Computing Science Department, University of Groningen (not published; the figure numbers are the draft's)",
+    "T. Akenine-Moller and E. Haines, \"Bezier Triangles and N-Patches\", Gamasutra, 15 July 2002, an excerpt of "
+    "Real-Time Rendering, 2nd edition, A K Peters, 2002 (the figure numbers are the excerpt's)",
+    NULL};
+
+const char *fig_original(const figure *f, char *buf, size_t len)
+{
+    const char *fig = strstr(f->source, ", Figure ");
+    if (!fig || f->section < 0 || f->section >= FIG_SECTIONS || !section_originals[f->section]) return NULL;
+    snprintf(buf, len, "Figure %s of %s", fig + strlen(", Figure "), section_originals[f->section]);
+    return buf;
+}
+
 #define MAX_FIGURES 128
 
 /* The options of the command. */
@@ -199,22 +217,48 @@ static double now_s(void)
 
 /* ---------------------------------------- rendering ---------------------------------------- */
 
-/* Render figure f and write DIR/<id>.png (and .exr for renderings) atomically into *res. */
-static void render_figure(const figure *f, const fig_ctx *ctx, const char *dir, fig_result *res)
+/* The scene's default background, which every figure's picture is rendered over. */
+static uint32_t default_background(void)
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    return o.background;
+}
+
+/* Write picture img of figure f as DIR/<id>.png (and .exr for renderings) through scene_write_picture, both or
+ * neither; the descriptions are those `instess -o` stores for a single rendering (ctx's), else the command. */
+static int write_figure(const figure *f, const fig_ctx *ctx, const is_image *img, const char *dir, char *err,
+                        size_t errlen)
+{
+    char png[4096], exr[4096];
+    snprintf(png, sizeof png, "%s/%s.png", dir, f->id);
+    snprintf(exr, sizeof exr, "%s/%s.exr", dir, f->id);
+    is_image_meta mp = {"instess " INSTESS_VERSION, *ctx->describe_png ? *ctx->describe_png : f->command};
+    is_image_meta me = {"instess " INSTESS_VERSION, *ctx->describe_exr ? *ctx->describe_exr : f->command};
+    is_outputs outs;
+    outputs_init(&outs);
+    uint32_t bg = default_background();
+    int rc = outputs_add(&outs, png, err, errlen) == 0 ? 0 : -1;
+    if (rc == 0 && f->rendering && outputs_add(&outs, exr, err, errlen) != 1) rc = -1;
+    if (rc == 0) rc = scene_write_picture(&outs, 0, img, bg, &mp, err, errlen);
+    if (rc == 0 && f->rendering) rc = scene_write_picture(&outs, 1, img, bg, &me, err, errlen);
+    if (rc == 0) rc = outputs_commit(&outs, err, errlen);
+    outputs_abort(&outs);
+    return rc;
+}
+
+/* Render figure f and write its files into DIR atomically; the outcome into *res. */
+static void render_figure(const figure *f, const fig_ctx *shared, const char *dir, fig_result *res)
 {
     double t0 = now_s();
     is_image img = {0};
-    char path[4096];
-    is_image_meta meta = {"instess " INSTESS_VERSION, f->command};
-    res->rc = f->render(ctx, &img, res->err, sizeof res->err);
-    if (res->rc == 0) {
-        snprintf(path, sizeof path, "%s/%s.png", dir, f->id);
-        res->rc = outputs_write_image(&img, path, &meta, res->err, sizeof res->err);
-    }
-    if (res->rc == 0 && f->rendering) {
-        snprintf(path, sizeof path, "%s/%s.exr", dir, f->id);
-        res->rc = outputs_write_image(&img, path, &meta, res->err, sizeof res->err);
-    }
+    char *png_desc = NULL, *exr_desc = NULL;
+    fig_ctx ctx = *shared;
+    ctx.describe_png = &png_desc, ctx.describe_exr = &exr_desc;
+    res->rc = f->render(&ctx, &img, res->err, sizeof res->err);
+    if (res->rc == 0) res->rc = write_figure(f, &ctx, &img, dir, res->err, sizeof res->err);
+    free(png_desc);
+    free(exr_desc);
     if (res->rc != 0 && !res->err[0]) snprintf(res->err, sizeof res->err, "failed without a message");
     image_free(&img);
     res->seconds = now_s() - t0;
@@ -371,7 +415,14 @@ static void html_figure(FILE *f, const char *dir, const figure *fg, const fig_re
         fprintf(f, "<span class=\"kind\"><a href=\"%s.exr\">EXR</a></span>", fg->id);
     fputs("<br><span class=\"src\">", f);
     html_text(f, fg->source);
-    fputs("</span>\n<blockquote>", f);
+    fputs("</span>\n", f);
+    char orig[600];
+    if (fig_original(fg, orig, sizeof orig)) {
+        fputs("<br><span class=\"src\">The original (not shown here): ", f);
+        html_text(f, orig);
+        fputs("</span>\n", f);
+    }
+    fputs("<blockquote>", f);
     html_text(f, fg->caption);
     fputs("</blockquote>\n<p>", f);
     html_text(f, fg->shows);
@@ -510,11 +561,14 @@ static int capture_viewer(const char *dir)
 static const char gallery_lead[] =
     "The figures of three documents on curved triangle patches, rendered on the CPU by instess %s: tessellation "
     "through instancing on a device modelled on Direct3D 9. Each entry names its document and figure number, "
+    "says where to find the document's own figure (not shown here: every image is instess's), "
     "quotes the document's caption, says what the image shows and gives the command that reproduces it: a "
     "rendering's command gives the same pixels; a composite lists the command of each panel (the labels are "
     "added by instess figures); a diagram is drawn by instess figures from the project's own formulas and has no "
     "render command of its own. Renderings also come as OpenEXR files with depth (Z) and normal (N.X, N.Y, N.Z) "
-    "channels. The commands are written as run in a clone of the repository after make (build/instess); after "
+    "channels, written as instess -o writes an EXR: linear colour premultiplied by the coverage A, the background "
+    "transparent (a single rendering's EXR is the file its Reproduce line writes with --aov normal and an .exr "
+    "name). The commands are written as run in a clone of the repository after make (build/instess); after "
     "make install the program is instess. This page lists the figures whose images are in its folder; "
     "build/instess figures --out DIR writes them all (make figures in the repository).";
 

@@ -2,12 +2,15 @@
  * rendered by `instess figures` (cli/figures/figures.c) into out/<id>.png (+ .exr for renderings) and out/index.html, and
  * by tests/test_figures.c at a small size against golden images.
  *
- * Conventions: a figure's render function fills an image (allocated by it with image_alloc: "R,G,B,A" for
- * diagrams; "R,G,B,A,Z,N.X,N.Y,N.Z" for renderings, where Z and N come from an AOV pass of the main view) and
- * returns 0, or -1 with a message in err.  It must be deterministic (same bytes for any thread count) and use
- * only the project's device for drawing (lines, points, triangles) and image_draw_text for labels (printable
- * ASCII only: write "b0", "alpha").  `small` asks for the test size: the same picture at about 1/4 of the pixels
- * (goldens stay small).  No globals except the const tables. */
+ * Conventions: a figure's render function fills an image (allocated by it with image_alloc: "R,G,B,A" for diagrams;
+ * "R,G,B,A,Z,N.X,N.Y,N.Z" for renderings, where Z and N come from an AOV pass of the main view) and returns 0, or
+ * -1 with a message in err.  The image is a picture (cli/run/scene.h): display values over the scene's default
+ * background, A the coverage (0 on the background of a composite, 1 for diagrams); the files are written by
+ * scene_write_picture, the writer of `instess -o`, so a figure's PNG and EXR hold what that command's do (the
+ * golden images are the PNG's form).  It must be deterministic (same bytes for any thread count) and use only the
+ * project's device for drawing (lines, points, triangles) and image_draw_text for labels (printable ASCII only:
+ * write "b0", "alpha").  `small` asks for the test size: the same picture at about 1/4 of the pixels (goldens stay
+ * small).  No globals except the const tables. */
 #ifndef INSTESS_FIGURES_H
 #define INSTESS_FIGURES_H
 
@@ -18,6 +21,10 @@
 typedef struct fig_ctx {
     bool small;   /* test size */
     int threads;  /* threads for each render (0: all cores) */
+    /* Optional out (NULL: not asked): a single rendering sets these to what `instess -o` stores as the
+     * description of its PNG and of its EXR with the normal AOV (scene_describe_file of the figure's view,
+     * malloc'd: the caller frees them); composites and diagrams leave them as they are. */
+    char **describe_png, **describe_exr;
 } fig_ctx;
 
 typedef int (*fig_fn)(const fig_ctx *ctx, is_image *out, char *err, size_t errlen);
@@ -49,6 +56,12 @@ typedef struct figure {
  * render function (README, "Extending instess"); the gallery orders them by section, then by id. */
 extern const figure fig_renders[];   /* cli/figures/fig_renders.c: surfaces of meshes (Figs 1.1.1, 1.1.7, 1.1.8, ...) */
 extern const figure fig_diagrams[];  /* cli/figures/fig_diagrams.c: the explanatory drawings (Figs 1.1.2-1.1.6, ...) */
+
+/* Where to find the document's own figure that f reproduces (the documents' figures are not shown: their
+ * copyright is not the project's): "Figure N of <the document's citation>" into buf (returned), or NULL when f
+ * reproduces no figure of a document (a comparison, a companion, a figure the text describes but does not
+ * have, or section 3).  A reproduction's source ends in ", Figure N". */
+const char *fig_original(const figure *f, char *buf, size_t len);
 
 /* ---- a small drawing kit for diagrams and labels (cli/figures/canvas.c) ---- */
 typedef struct fig_canvas fig_canvas;

@@ -7,7 +7,7 @@
  *   --light X,Y,Z   (0.08 + 0.92 saturate(dot(n, normalize(X, Y, Z)))) * g_vDiffuse, n the world-space unit
  *                   normal the shader wrote to TEXCOORD1 (a little ambient so faces turned away stay visible);
  *   --light grazing the direction (0.62, 0.62, -0.48): from the upper right, grazing a face turned to the camera,
- *                   so ridges and valleys show in the shading (fig-1.1.8b);
+ *                   so creases and valleys show in the shading (fig-1.1.8b);
  *   --light normals colour = 0.5 + 0.5 (n.x, n.y, -n.z) (facing the camera is blue; fig-001-1), times
  *                   g_vDiffuse, which the scene sets to white for the surface (the wireframe keeps its colour).
  * Constant registers of the wrapper, after the listing's c0..c9: c10.x = index of the wrapped shader in

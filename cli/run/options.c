@@ -386,7 +386,7 @@ const scene_option scene_options[] = {
     {"fov", 0, "DEG", "vertical field of view", "45", opt_fov, NULL, val_fov},
     {"fill", 0, "F", "what is drawn", "solid", opt_fill, fill_choices, val_fill},
     {"light", 0, "L", "headlight: the listing's saturate(dot(N, (0,0,-1))); X,Y,Z: a light from that world-space "
-     "direction (x right, y up, -z towards the camera) with 0.08 ambient; grazing: 0.62,0.62,-0.48 (ridges show); "
+     "direction (x right, y up, -z towards the camera) with 0.08 ambient; grazing: 0.62,0.62,-0.48 (valleys show); "
      "normals: colour by the unit normal", "headlight", opt_light, NULL, val_light},
     {"shading", 0, "S", "where the light is computed: vertex (the listings: per grid vertex, Gouraud in between) or "
      "pixel (a pixel shader evaluates the patch's --normals normal at each pixel's barycentrics and lights it; "

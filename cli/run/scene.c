@@ -721,7 +721,6 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
-    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
         {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
         {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
@@ -740,6 +739,9 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
                     char *err, size_t errlen)
 {
     dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f);
+    /* the cull mode is the render's, set on every draw: a device reset between frames (the viewer's) is back at
+     * D3D9's ccw, so setting it only when the device is made drew the first frame alone as --cull says */
+    dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     char why[600] = "";
     if (draw_scene(dev, o, m, g, NULL, st, why, sizeof why) != 0)
         return why[0] ? snprintf(err, errlen, "%s", why)
@@ -780,8 +782,11 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
     image_from_rgba8(img, rgba);
     free(rgba);
     for (size_t p = 0; p < n; p++) {
-        float z = rt->depth[p * rt->samples];
-        for (int s = 1; s < rt->samples; s++) z = fminf(z, rt->depth[p * rt->samples + s]);
+        const float *d = &rt->depth[p * rt->samples];
+        float z = d[0];
+        int covered = d[0] < 1.0f;
+        for (int s = 1; s < rt->samples; s++) z = fminf(z, d[s]), covered += d[s] < 1.0f;
+        img->data[p * img->channels + 3] = (float)covered / (float)rt->samples;
         img->data[p * img->channels + 4] = z;
     }
     return 0;
@@ -818,24 +823,40 @@ static float srgb_to_linear(float c)
     return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
 }
 
-/* An EXR's colour (see scene_render_mesh): A = the fraction of each pixel's samples of rt that the mesh covers
- * (depth below the clear value 1), R, G, B = the mesh's colour without the background (the resolved colour C =
- * a F + (1 - a) B solved for F), decoded from sRGB to linear and premultiplied by A. */
-static void exr_colour(const rs_target *rt, uint32_t background, is_image *img)
+void scene_picture_for_format(is_image *img, is_image_format fmt, uint32_t background)
 {
     const float bg[3] = {(float)((background >> 16) & 0xffu) / 255.0f, (float)((background >> 8) & 0xffu) / 255.0f,
                          (float)(background & 0xffu) / 255.0f};
-    size_t n = (size_t)rt->width * rt->height;
+    size_t n = (size_t)img->width * img->height;
     for (size_t p = 0; p < n; p++) {
-        int covered = 0;
-        for (int s = 0; s < rt->samples; s++) covered += rt->depth[p * rt->samples + s] < 1.0f;
-        float a = (float)covered / (float)rt->samples, *px = &img->data[p * img->channels];
+        float *px = &img->data[p * img->channels], a = px[3];
+        if (fmt != IS_IMAGE_EXR) {
+            px[3] = 1.0f;   /* PNG: the display values over the background, opaque */
+            continue;
+        }
+        /* EXR: the resolved colour C = a F + (1 - a) B solved for F, decoded from sRGB, premultiplied by a */
         for (int k = 0; k < 3; k++) {
             float f = a > 0.0f ? (px[k] - (1.0f - a) * bg[k]) / a : 0.0f;
             px[k] = srgb_to_linear(saturate(f)) * a;
         }
-        px[3] = a;
     }
+}
+
+int scene_write_picture(is_outputs *outs, int k, const is_image *img, uint32_t background, const is_image_meta *meta,
+                        char *err, size_t errlen)
+{
+    is_image file = {0};
+    char names[IS_IMAGE_MAX_CHANNELS * 17] = "";
+    for (int c = 0; c < img->channels; c++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", c ? "," : "", img->channel_names[c]);
+    if (img->channels < 4 || strcmp(img->channel_names[3], "A") != 0)
+        return snprintf(err, errlen, "%s: not a picture (R, G, B, A first)", outs->f[k].path), -1;
+    if (image_alloc(&file, img->width, img->height, names, err, errlen) != 0) return -1;
+    memcpy(file.data, img->data, (size_t)img->width * img->height * img->channels * sizeof *file.data);
+    scene_picture_for_format(&file, image_format_of(outs->f[k].path), background);
+    int rc = image_write_output(outs, k, &file, meta, err, errlen);
+    image_free(&file);
+    return rc;
 }
 
 /* Coordinates beyond 1e6 or a bounding radius below 1e-6: the shaders' float intermediates (squared edge
@@ -876,14 +897,23 @@ const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy)
     return rescaled_copy(mesh, copy, &scale) == 0 ? copy : mesh;
 }
 
-int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
-                      size_t errlen)
+int scene_render_picture(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
+                         size_t errlen)
 {
     is_mesh copy = {0};
     float scale = 1.0f;
     const is_mesh *m = rescaled_copy(mesh, &copy, &scale) == 0 ? &copy : mesh;
     int rc = render_mesh(o, m, m == &copy ? scale : 1.0f, img, st, err, errlen);
     mesh_free(&copy);
+    return rc;
+}
+
+int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
+                      size_t errlen)
+{
+    int rc = scene_render_picture(o, mesh, img, st, err, errlen);
+    is_image_format fmt = o->output ? image_format_of(o->output) : IS_IMAGE_PNG;
+    if (rc == 0) scene_picture_for_format(img, fmt, o->background);
     return rc;
 }
 
@@ -941,8 +971,6 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_ima
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
-        if (rc == 0 && o->output && image_format_of(o->output) == IS_IMAGE_EXR)
-            exr_colour(dev_render_target(dev), o->background, img);
         if (rc == 0 && o->aovs) {
             is_device *adev = scene_render_view(o, m, &g, 1, o->aovs, NULL, err, errlen);
             scene_camera cam = make_camera(o, m);
@@ -1299,13 +1327,13 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     is_image img = {0};
     scene_stats st;
     scene_progress_phase(pr, "rendering");
-    int rc = scene_render_mesh(o, m, &img, &st, err, errlen);
+    int rc = scene_render_picture(o, m, &img, &st, err, errlen);
     double t1 = now_seconds();
     scene_progress_phase(pr, "writing");
     if (rc == 0) {
         char *desc = scene_describe_file(o, m, &img, image_format_of(o->output));
         is_image_meta meta = {"instess " INSTESS_VERSION, desc};
-        rc = desc ? image_write_output(outs, 0, &img, &meta, err, errlen)
+        rc = desc ? scene_write_picture(outs, 0, &img, o->background, &meta, err, errlen)
                   : (snprintf(err, errlen, "out of memory for the image's description"), -1);
         free(desc);
     }
@@ -1341,6 +1369,8 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     scene_progress_start(&pr, o->mesh, o->quiet);
     scene_progress_phase(&pr, "reading the mesh");
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
+    char misfit[1000];
+    if (rc == 0 && scene_normals_misfit(&m, misfit, sizeof misfit)) warn_stderr(&pr, misfit);
     if (rc == 0) rc = render_outputs(&od, &m, &outs, &pr, err, errlen);
     scene_progress_stop(&pr);
     outputs_abort(&outs);

@@ -230,11 +230,24 @@ void scene_displace_apply(const is_vs_constants *c, is_vs_output *out);
  * (dev_last_error tells why). */
 int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
                const is_vertex_shader *shader);
-/* Render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOV channels asked for).  R, G, B are
- * the display (sRGB) values of the PNG and A = 1, unless o->output names an .exr: then A is the pixel's
- * coverage (the fraction of its samples the mesh covers) and R, G, B the linear colour premultiplied by it, the
- * background transparent black (OpenEXR's associated alpha).  Z is D3D9's depth z/w in [MinZ, MaxZ] = [0, 1] of
- * the nearest sample (1 on the background). */
+/* A picture: what `instess -o` and `instess figures` hold before they write a file.  R, G, B are display (sRGB)
+ * values over the background colour, A the coverage: the fraction of the pixel's samples the mesh covers (0 on
+ * the background; text drawn over a picture with image_draw_text adds its opacity), then Z -- D3D9's depth z/w
+ * in [MinZ, MaxZ] = [0, 1] of the nearest sample, 1 on the background -- and the AOV channels.
+ * scene_render_picture: render a loaded mesh into img (allocated here: R, G, B, A, Z, then the AOVs asked for).
+ * scene_picture_for_format: in place, what a file of format fmt holds of picture img (background the colour the
+ * picture was rendered over): a PNG the display values with A = 1 (opaque over the background); an EXR
+ * R, G, B = the colour without the background (C = a F + (1 - a) B solved for F), decoded from sRGB to linear
+ * and premultiplied by A, so the background is transparent black (OpenEXR's associated alpha, tagged linear),
+ * the other channels as they are.  scene_write_picture: the one writer of image files -- that form of img for
+ * the format of output k's path, encoded into output k of outs (a copy: img is unchanged); 0 or -1.
+ * scene_render_mesh: scene_render_picture, then the form of o->output's format (a PNG's when o->output is
+ * NULL). */
+int scene_render_picture(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
+                         size_t errlen);
+void scene_picture_for_format(is_image *img, is_image_format fmt, uint32_t background);
+int scene_write_picture(is_outputs *outs, int k, const is_image *img, uint32_t background, const is_image_meta *meta,
+                        char *err, size_t errlen);
 int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, scene_stats *st, char *err,
                       size_t errlen);
 /* The pieces of scene_render_mesh for programs that render frame after frame (instess view, cli/view/view_state.c).
@@ -243,8 +256,8 @@ int scene_render_mesh(const scene_opts *o, const is_mesh *mesh, is_image *img, s
  * scene_check_limits: the limits a render of m with g must respect (the vertex limit and the memory budget): 0,
  * or -1 with the CLI's message.  scene_create_device: a device of o's size and threads with `samples` samples
  * and the AOV planes `aovs` (SCENE_AOV_*, samples 1 only), or NULL with a message.  scene_render_on: clear dev
- * and draw (dev's states as a new device's: dev_reset a device that drew before); 0, or -1 with a message; st
- * gets the counters added. */
+ * and draw, setting o's cull mode (dev's other states as a new device's: dev_reset a device that drew before);
+ * 0, or -1 with a message; st gets the counters added. */
 const is_mesh *scene_fit_mesh(const is_mesh *mesh, is_mesh *copy);
 int scene_check_limits(const scene_opts *o, const is_mesh *m, const core_grid *g, char *err, size_t errlen);
 is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, char *err, size_t errlen);
@@ -256,10 +269,17 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
  * or NULL with a message; st gets the counters added. */
 is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_grid *g, int samples, unsigned aovs,
                              scene_stats *st, char *err, size_t errlen);
-/* The resolved colour of rt and the nearest sample's depth of each pixel into img's channels 0..4 (R, G, B, A,
- * Z; img has rt's size and at least 5 channels).  0, or -1 when out of memory. */
+/* The picture's first channels from rt: the resolved colour, the coverage and the nearest sample's depth of
+ * each pixel into img's channels 0..4 (R, G, B, A, Z; img has rt's size and at least 5 channels).  0, or -1
+ * when out of memory. */
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen);
-/* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet. */
+/* Whether the file's normals of m do not fit its surface (cli/run/normals_fit.c: across the edges where the
+ * file's normals are shared, the N-Patch creases more than twice, and 1 degree more, than over normals computed
+ * from the triangles -- the shading looks quilted); then the warning, naming --recompute-normals, into msg.
+ * False for computed normals (and when out of memory: it is only a warning). */
+bool scene_normals_misfit(const is_mesh *m, char *msg, size_t len);
+/* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet; warn
+ * (scene_normals_misfit) when the file's normals do not fit its surface. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);
 /* (cli/run/render_call.c) What `instess ARGV -o FILE` writes into a file of format fmt (IS_IMAGE_PNG or
  * IS_IMAGE_EXR: the colour of that format), rendered into img (allocated: image_free it) and not written: the

@@ -1,6 +1,7 @@
 /* cli/run/smoothness.c -- `instess smoothness`: for each patch on each built-in mesh (or the meshes given with
  * --mesh), the largest and mean angle between the surface normals on the two sides of shared edges (from the
- * derivatives) and the largest distance from the flat triangle (relative to the bounding-box diagonal).
+ * derivatives), their mean at feature edges, the largest valley in a band beside the edges, and the largest
+ * distance from the flat triangle (relative to the bounding-box diagonal).
  * Prints a Markdown table. */
 #include <stdbool.h>
 #include <stdio.h>
@@ -32,8 +33,9 @@ static int print_mesh_rows(const char *spec, bool recompute, int samples, FILE *
             mesh_free(&m);
             return 1;
         }
-        fprintf(f, "| %s | %s | %.2f | %.2f | %.2f | %.2f | %.4f |\n", spec, vs_patch_name((vs_patch)p),
-                r.max_angle_deg, r.mean_angle_deg, r.max_angle_coplanar_deg, r.max_angle_feature_deg, r.max_distance);
+        fprintf(f, "| %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.4f |\n", spec, vs_patch_name((vs_patch)p),
+                r.max_angle_deg, r.mean_angle_deg, r.max_angle_coplanar_deg, r.max_angle_feature_deg,
+                r.mean_angle_feature_deg, r.max_valley_deg, r.max_distance);
     }
     mesh_free(&m);
     return 0;
@@ -43,8 +45,8 @@ static int print_mesh_rows(const char *spec, bool recompute, int samples, FILE *
 static int print_table(const char *const *specs, int n, bool recompute, int samples, FILE *f)
 {
     fprintf(f, "| mesh | patch | max angle (deg) | mean angle (deg) | max at coplanar edges | max at feature "
-               "edges | max distance / diagonal |\n");
-    fprintf(f, "|---|---|---:|---:|---:|---:|---:|\n");
+               "edges | mean at feature edges | max valley within 1/16 of an edge | max distance / diagonal |\n");
+    fprintf(f, "|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     if (n == 0) {
         for (const char *const *name = mesh_builtin_names(); *name; name++)
             if (print_mesh_rows(*name, recompute, samples, f) != 0) return 1;
@@ -68,7 +70,10 @@ int scene_cmd_smoothness(int argc, char **argv)
             printf(SMOOTHNESS_USAGE "\n"
                    "For every built-in mesh, or each mesh given with --mesh (a built-in or a file assimp reads), and\n"
                    "every patch: the largest and mean angle between the real normals on the two sides of shared\n"
-                   "edges (N samples per edge, 16 by default), split into coplanar and feature edges, and the\n"
+                   "edges (N samples per edge, 16 by default), split into coplanar and feature edges (where the\n"
+                   "faces meet at an angle; their mean too); the largest valley beside the edges: at each sample,\n"
+                   "the angle between the normals of the points 1/128 .. 8/128 of the way to the two opposite\n"
+                   "corners where they lean towards each other (a concave fold; 0 where they lean apart); and the\n"
                    "largest distance from the flat triangle; a Markdown table.  --recompute-normals ignores the\n"
                    "files' normals.\n");
             return 0;

@@ -61,6 +61,14 @@ static int open_window(view_window *w, view_state *v, char *err, size_t errlen)
     if (!scripted && driver && (!strcmp(driver, "dummy") || !strcmp(driver, "offscreen")))
         return snprintf(err, errlen, "SDL's video driver %s shows nothing and takes no input: without --keys, "
                         "--frames or --capture the window could not be closed", driver), -1;
+    if (v->size_default && driver && strcmp(driver, "dummy") && strcmp(driver, "offscreen")) {
+        SDL_Rect r;   /* the default size, smaller where the display is (room for the window's title bar) */
+        if (SDL_GetDisplayUsableBounds(0, &r) == 0 && r.w > 0 && r.h > 64 &&
+            (r.w < v->o.width || r.h - 48 < v->o.height) &&
+            view_resize(v, r.w < v->o.width ? r.w : v->o.width, r.h - 48 < v->o.height ? r.h - 48 : v->o.height,
+                        err, errlen) != 0)
+            return -1;
+    }
     char title[300];
     snprintf(title, sizeof title, "instess view: %s", v->mesh.name);
     w->win = SDL_CreateWindow(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, v->o.width, v->o.height,
@@ -119,14 +127,30 @@ static int draw_text(view_window *w, int W, int H, int x, int y, const char *tex
     return width;
 }
 
-/* w->shown = v->frame with the HUD (and the split screen's divider) drawn over it. */
+/* Label each half of the split screen at its bottom left ("left: smooth", "right: npatch") in w->shown. */
+static void label_halves(view_window *w, const view_state *v, int W, int H)
+{
+    const int step = TTF_FontLineSkip(w->font), y = H - step - 2 * HUD_MARGIN;
+    for (int half = 0; half < 2; half++) {
+        char label[64];
+        int tw = 0, x = half ? W / 2 + 1 : 0;
+        view_split_label(v, half, label, sizeof label);
+        TTF_SizeUTF8(w->font, label, &tw, NULL);
+        darken(w, W, H, x, y, tw + 2 * HUD_MARGIN, step + 2 * HUD_MARGIN);
+        draw_text(w, W, H, x + HUD_MARGIN, y + HUD_MARGIN, label);
+    }
+}
+
+/* w->shown = v->frame with the HUD (and the split screen's divider and labels) drawn over it. */
 static void compose(view_window *w, const view_state *v, double ms_frame)
 {
     const int W = v->o.width, H = v->o.height;
     memcpy(w->shown, v->frame, (size_t)W * H * sizeof *w->shown);
     if (v->hud == VIEW_HUD_OFF || !w->font) return;
-    if (v->split)
+    if (v->split) {
         for (int y = 0; y < H; y++) w->shown[(size_t)y * W + W / 2] = 0xffd0d0d0u;
+        label_halves(w, v, W, H);
+    }
     char lines[HUD_MAX_LINES][160];
     int n = view_hud_lines(v, ms_frame, lines, HUD_MAX_LINES), step = TTF_FontLineSkip(w->font), width = 0;
     for (int k = 0; k < n; k++) {
@@ -199,7 +223,7 @@ static void handle(view_state *v, view_window *w, const SDL_Event *e)
 static int show_frame(view_state *v, view_window *w, double *ms_frame, char *err, size_t errlen)
 {
     Uint64 t0 = SDL_GetPerformanceCounter();
-    v->dirty = false;
+    v->dirty = v->overlay_dirty = false;
     if (view_render(v, err, errlen) != 0) return -1;
     compose(w, v, *ms_frame);
     present(w);
@@ -213,7 +237,7 @@ static int show_frame(view_state *v, view_window *w, double *ms_frame, char *err
 static bool script_done(const view_state *v, int next_key)
 {
     const view_script *s = &v->script;
-    return (s->frames || s->n_keys || s->capture) && next_key >= s->n_keys && !v->dirty;
+    return (s->frames || s->n_keys || s->capture) && next_key >= s->n_keys && !v->dirty && !v->overlay_dirty;
 }
 
 /* The event loop until v->quit, the frame limit or the end of the script; 0 or 1 (the first frame failed). */
@@ -228,8 +252,13 @@ static int loop(view_state *v, view_window *w)
                 fprintf(stderr, "instess: %s\n", err);
                 if (frames == 0) return 1;
                 snprintf(v->status, sizeof v->status, "%.300s", err);
+                v->overlay_dirty = true;
             }
             if (++frames == v->script.frames) break;
+        } else if (v->overlay_dirty) {   /* a refusal or a notice: shown at once, over the frame as it was */
+            v->overlay_dirty = false;
+            compose(w, v, ms_frame);
+            present(w);
         }
         if (frames >= 1 && next_key < v->script.n_keys) push_key(w, v->script.keys[next_key++]);
         else if (script_done(v, next_key)) {
@@ -262,6 +291,8 @@ int view_module_run(view_state *v)
     double ms = 0;
     if (rc == 0 && v->script.capture && v->dirty && show_frame(v, &w, &ms, err, sizeof err) != 0) /* keys since */
         fprintf(stderr, "instess: %s\n", err), rc = 1;   /* the last frame: capture their state */
+    else if (rc == 0 && v->script.capture && v->overlay_dirty)   /* a refusal at the close: its text */
+        compose(&w, v, ms);
     if (rc == 0 && v->script.capture) {
         bool cli = v->hud == VIEW_HUD_OFF && view_frame_is_cli(v);
         if (view_write_png(v, w.shown, cli, v->script.capture, err, sizeof err) != 0)

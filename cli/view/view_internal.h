@@ -45,9 +45,12 @@ typedef struct view_state {
     double ms_render, ms_setup, ms_tile; /* the last frame: all of it, the set-up regions, the tile passes */
     float times[512][3];    /* per frame (the first 512): render, set-up, tile pass, ms */
     int n_times;
-    char status[320];       /* the last refusal or notice ("" if none) */
+    char status[480];       /* the last refusal or notice ("" if none) */
     int shots;              /* screenshots written */
     bool dirty, quit;
+    bool overlay_dirty;     /* the overlay's text changed (a refusal, a notice, h): compose and show the frame
+                               again, without rendering it */
+    bool size_default;      /* no --size: the window is VIEW_DEFAULT_WIDTH x _HEIGHT (or fits the display) */
     view_script script;
 } view_state;
 
@@ -61,6 +64,10 @@ typedef struct view_key {
 } view_key;
 extern const view_key view_keys[];
 extern const size_t view_key_count;
+/* The window's size without --size: room for the split screen's halves, the HUD with the key table and the split
+ * labels (the key table's longest line is about 840 pixels wide, the HUD with it about 440 high). */
+#define VIEW_DEFAULT_WIDTH 1280
+#define VIEW_DEFAULT_HEIGHT 720
 /* The key row answering to the SDL key name `name`, or NULL. */
 const view_key *view_find_key(const char *name);
 /* Apply the key called name (a no-op for keys without a row); true if it had a row. */
@@ -75,6 +82,8 @@ int view_resize(view_state *v, int width, int height, char *err, size_t errlen);
 int view_render(view_state *v, char *err, size_t errlen);
 /* Free v's devices, frame and meshes. */
 void view_free(view_state *v);
+/* The label of the split screen's half `half` (0 left, 1 right): "left: smooth", "right: npatch". */
+void view_split_label(const view_state *v, int half, char *buf, size_t len);
 /* The overlay's lines for v's state (the HUD, and with VIEW_HUD_KEYS the key table) into lines; their count. */
 int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int max);
 /* Write pixels (v's size, RGBA8) to path as PNG, described as the CLI describes its render when cli_equal (the

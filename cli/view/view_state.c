@@ -39,11 +39,30 @@ static bool within_limits(const view_state *v, const scene_opts *o, char *err, s
     return rc == 0;
 }
 
-/* Say msg on the HUD and on stderr (also with -q: it is a refusal or a change of what was asked). */
+/* Say msg on the HUD at once (the frame shown again with it, without rendering it again) and on stderr (also
+ * with -q: it is a refusal or a change of what was asked). */
 static void notice(view_state *v, const char *msg)
 {
-    snprintf(v->status, sizeof v->status, "%.319s", msg);
+    snprintf(v->status, sizeof v->status, "%.479s", msg);
+    v->overlay_dirty = true;
     fprintf(stderr, "instess view: %s\n", msg);
+}
+
+/* Add reason to the "; "-separated list in buf[len] unless it is there already (the refusals of a key's
+ * candidates: often one reason for all). */
+static void add_reason(char *buf, size_t len, const char *reason)
+{
+    size_t n = strlen(buf);
+    if (!reason || strstr(buf, reason) || n + 1 >= len) return;
+    snprintf(buf + n, len - n, "%s%s", n ? "; " : "", reason);
+}
+
+/* Say that the key changing `what` was refused, with the reasons the CLI gives for its candidates. */
+static void refuse(view_state *v, const char *what, const char *reasons)
+{
+    char msg[480];
+    snprintf(msg, sizeof msg, "%.60s refused: %.380s", what, reasons[0] ? reasons : "it has no other value");
+    notice(v, msg);
 }
 
 /* Take the candidate render o if the CLI would accept it and it is within limits (a new frame follows), else
@@ -65,7 +84,7 @@ static bool commit(view_state *v, const scene_opts *o, const char *what)
 static void cycle(view_state *v, void (*next)(scene_opts *o), int n, const char *what)
 {
     scene_opts o = v->o;
-    const char *first = NULL;   /* why the next value was refused: the reason the student needs */
+    char reasons[380] = "";   /* why the other values were refused: the CLI's reasons, the student's answer */
     for (int k = 1; k < n; k++) {
         next(&o);
         const char *why = state_error(v, &o);
@@ -73,12 +92,9 @@ static void cycle(view_state *v, void (*next)(scene_opts *o), int n, const char 
             commit(v, &o, what);
             return;
         }
-        if (!first) first = why;
+        add_reason(reasons, sizeof reasons, why);
     }
-    char msg[400];
-    snprintf(msg, sizeof msg, "%s: no other value works with the rest of this state (%.300s)", what,
-             first ? first : "it is the only one");
-    notice(v, msg);
+    refuse(v, what, reasons);
 }
 
 /* A primitive-generator grid's level clamped as the CLI clamps it, said as the CLI says it. */
@@ -135,12 +151,17 @@ static void act_path(view_state *v)
 static void act_grid(view_state *v)
 {
     scene_opts o = v->o;
+    char reasons[380] = "";
     for (int k = 1; k < 4; k++) {
         o.grid = (core_grid_kind)((o.grid + 1) % 4);
         scene_opts t = o;
         if (t.grid == CORE_GRID_REGULAR) t.level = fmaxf(1.0f, roundf(t.level));
         else t.level = core_grid_pg_clamp(t.grid, t.level);
-        if (state_error(v, &t)) continue;
+        const char *why = state_error(v, &t);
+        if (why) {
+            add_reason(reasons, sizeof reasons, why);
+            continue;
+        }
         if (t.level != v->o.level) {
             char msg[160];
             snprintf(msg, sizeof msg, "grid %s renders level %g", scene_grid_name(t.grid), (double)t.level);
@@ -150,7 +171,7 @@ static void act_grid(view_state *v)
         }
         return;
     }
-    notice(v, "grid: no other value works with the rest of this state");
+    refuse(v, "grid", reasons);
 }
 
 /* Fill in the order solid, solid+wire, wire, point. */
@@ -179,31 +200,39 @@ static void act_split(view_state *v)
         return;
     }
     v->split = true;
-    for (int k = 0; k < VS_PATCH_COUNT; k++, v->other = (vs_patch)((v->other + 1) % VS_PATCH_COUNT))
-        if (!state_error(v, &v->o)) {
+    char reasons[380] = "";
+    for (int k = 0; k < VS_PATCH_COUNT; k++, v->other = (vs_patch)((v->other + 1) % VS_PATCH_COUNT)) {
+        const char *why = state_error(v, &v->o);
+        if (!why) {
             v->dirty = true;
             return;
         }
+        add_reason(reasons, sizeof reasons, why);
+    }
     v->split = false;
-    notice(v, "split refused: no second patch works with this path and normals");
+    refuse(v, "split (a second patch)", reasons);
 }
 
 /* The right half's next patch that the state accepts. */
 static void act_other(view_state *v)
 {
     vs_patch was = v->other;
+    char reasons[380] = "";
     for (int k = 1; k < VS_PATCH_COUNT; k++) {
         v->other = (vs_patch)((was + k) % VS_PATCH_COUNT);
-        if (!state_error(v, &v->o)) {
+        const char *why = state_error(v, &v->o);
+        if (!why) {
             v->dirty = v->split;
             return;
         }
+        add_reason(reasons, sizeof reasons, why);
     }
     v->other = was;
+    if (v->split) refuse(v, "right half's patch", reasons);
 }
 
 static void act_show(view_state *v) { v->show = (view_show)((v->show + 1) % VIEW_SHOW_COUNT), v->dirty = true; }
-static void act_hud(view_state *v) { v->hud = (view_hud)((v->hud + 1) % VIEW_HUD_COUNT), v->dirty = true; }
+static void act_hud(view_state *v) { v->hud = (view_hud)((v->hud + 1) % VIEW_HUD_COUNT), v->overlay_dirty = true; }
 static void act_quit(view_state *v) { v->quit = true; }
 static void act_left(view_state *v) { view_orbit(v, -60, 0); }
 static void act_right(view_state *v) { view_orbit(v, 60, 0); }
@@ -224,7 +253,7 @@ const view_key view_keys[] = {
     {"L", "l", "next level of detail: uniform, distance, screen (a level per mesh edge, --lod)", act_lod},
     {"W", "w", "next fill: solid, solid+wire, wire, point", act_fill},
     {"M", "m", "4x multisampling on / off", act_msaa},
-    {"Tab", "Tab", "split screen: two patches side by side on one camera", act_split},
+    {"Tab", "Tab", "split screen: two patches side by side on one camera (labelled at the bottom)", act_split},
     {"C", "c", "next view: colour, normals, barycentrics, instance id, Gregory weights, cracks (odd counts red)",
      act_show},
     {"S", "s", "screenshot: instess-view-NNNN.png (the CLI's bytes for the colour view)", view_screenshot},
@@ -478,6 +507,30 @@ static void report_times(const view_state *v)
 static const char *const show_names[VIEW_SHOW_COUNT] = {"colour", "normals", "barycentrics", "instance id",
                                                         "Gregory weights", "cracks (odd counts red)"};
 
+/* The status (a refusal, a notice) as lines[n..] of at most HUD_WRAP characters, broken at spaces (whole: a
+ * refusal's reason is the point of it); the new count of lines, at most max. */
+static int status_lines(const char *status, char lines[][160], int n, int max)
+{
+    enum { HUD_WRAP = 96 };
+    for (const char *s = status; *s && n < max;) {
+        size_t len = strlen(s);
+        if (len > HUD_WRAP) {
+            len = HUD_WRAP;
+            while (len > HUD_WRAP / 2 && s[len] != ' ') len--;
+            if (s[len] != ' ') len = HUD_WRAP;
+        }
+        snprintf(lines[n++], 160, "%s%.*s", s == status ? "" : "  ", (int)len, s);
+        s += len;
+        while (*s == ' ') s++;
+    }
+    return n;
+}
+
+void view_split_label(const view_state *v, int half, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s: %s", half ? "right" : "left", vs_patch_name(half ? v->other : v->o.patch));
+}
+
 int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int max)
 {
     int n = 0;
@@ -497,7 +550,7 @@ int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int 
     snprintf(lines[n++], 160, "%.1f ms: shading+set-up %.1f  raster %.1f  other %.1f", v->ms_render, v->ms_setup,
              v->ms_tile, other > 0 ? other : 0.0);
     snprintf(lines[n++], 160, "%.1f ms per frame shown (%.0f fps)", ms_frame, ms_frame > 0 ? 1e3 / ms_frame : 0.0);
-    if (v->status[0] && n < max) snprintf(lines[n++], 160, "%.159s", v->status);
+    n = status_lines(v->status, lines, n, max);
     if (v->hud != VIEW_HUD_KEYS) {
         if (n < max) snprintf(lines[n++], 160, "h: keys");
         return n;
@@ -561,7 +614,7 @@ void view_screenshot(view_state *v)
     v->shots = k;
     snprintf(v->status, sizeof v->status, "wrote %s", path);
     if (!v->o.quiet) fprintf(stderr, "instess view: wrote %s\n", path);
-    v->dirty |= v->hud != VIEW_HUD_OFF;   /* the HUD shows the notice */
+    v->overlay_dirty = true;   /* the HUD shows the notice */
 }
 
 /* ------------------------------------ the command line ------------------------------------ */
@@ -692,8 +745,10 @@ static int view_options_parse(int argc, char **argv, view_state *v)
     bool no_hud = false;
     const char *msg = take_view_options(argc, argv, &v->script, &no_hud, &n_rest, rest, err, sizeof err);
     scene_args_result res = SCENE_ARGS_RUN;
+    v->o.width = v->o.height = 0;   /* still 0 after the options: no --size */
     if (!msg && scene_parse_args(n_rest, rest, &v->o, &res, err, sizeof err) != 0) msg = err;
     free(rest);
+    if ((v->size_default = v->o.width == 0)) v->o.width = VIEW_DEFAULT_WIDTH, v->o.height = VIEW_DEFAULT_HEIGHT;
     if (msg) return view_usage_error(msg, NULL);
     if (res == SCENE_ARGS_HELP) return view_usage(stdout), -1;
     if (res == SCENE_ARGS_VERSION) return printf("instess %s\n", INSTESS_VERSION), -1;
@@ -733,6 +788,9 @@ static int view_load(view_state *v)
     if (rc == 0 && v->o.displace && (rc = scene_load_displacement(v->o.displace, &v->displace_map, err, sizeof err)) == 0)
         v->o.displace_map = &v->displace_map;
     if (rc == 0) rc = mesh_open(v->o.mesh, &mo, &v->mesh, err, sizeof err);
+    char misfit[1000];
+    if (rc == 0 && scene_normals_misfit(&v->mesh, misfit, sizeof misfit))   /* also with -q, as the CLI */
+        fprintf(stderr, "instess: warning: %s\n", misfit);
     if (rc == 0) v->draw = scene_fit_mesh(&v->mesh, &v->fit_copy);
     if (rc == 0 && !within_limits(v, &v->o, err, sizeof err)) rc = -1;
     if (rc == 0 && !(v->frame = calloc((size_t)v->o.width * v->o.height, sizeof *v->frame)))
