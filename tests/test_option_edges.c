@@ -109,6 +109,7 @@ static const char *const junk[] = {"''", "nan", "NaN", "inf", "-inf", "infinity"
 /* The options that take a value that is not a number (names, files, lists). */
 static const char *const non_numeric[] = {"mesh", "patch", "normals", "grid", "path", "up", "fill", "fit", "cull",
                                           "lod", "wire-levels", "aov", "displace", "export-obj", "output", "stats",
+                                          "shading", "texture",
                                           NULL};
 
 /* Every option of the table that takes a value is either here or in non_numeric. */

@@ -147,6 +147,51 @@ static void test_refused(void **state)
     prog_rmdir(dir);
 }
 
+/* --texture: a texture of one colour t multiplies every pixel by t (within an 8-bit step), per vertex and per
+ * pixel; a missing file is refused by name before anything is written. */
+static void test_texture(void **state)
+{
+    (void)state;
+    char dir[256], tpath[512], a[512], b[512];
+    assert_int_equal(prog_mkdtemp(dir, "texture"), 0);
+    is_image t;
+    char err[256];
+    assert_int_equal(image_alloc(&t, 4, 4, "R,G,B,A", err, sizeof err), 0);
+    for (int p = 0; p < 16; p++) t.data[4 * p] = 0.4f, t.data[4 * p + 1] = 1.0f, t.data[4 * p + 2] = 0.2f, t.data[4 * p + 3] = 1;
+    assert_int_equal(image_write(&t, prog_path(dir, "t.png", tpath, sizeof tpath), NULL, err, sizeof err), 0);
+    image_free(&t);
+    const float k[3] = {102.0f / 255, 1.0f, 51.0f / 255};   /* the PNG's 8-bit values */
+    const char *shadings[] = {"vertex", "pixel"};
+    for (int s = 0; s < 2; s++) {
+        const char *e;
+        assert_int_equal(prog_run(dir, &e, "", "sphere --level 3 --size 64x64 --msaa 1 --shading %s -q -o %s",
+                                  shadings[s], prog_path(dir, "a.png", a, sizeof a)), 0);
+        assert_int_equal(prog_run(dir, &e, "", "sphere --level 3 --size 64x64 --msaa 1 --shading %s --texture %s -q -o %s",
+                                  shadings[s], tpath, prog_path(dir, "b.png", b, sizeof b)), 0);
+        is_image ia, ib;
+        assert_int_equal(image_read(&ia, a, err, sizeof err), 0);
+        assert_int_equal(image_read(&ib, b, err, sizeof err), 0);
+        int lit = 0;
+        for (int p = 0; p < 64 * 64; p++) {
+            const float *pa = ia.data + p * ia.channels, *pb = ib.data + p * ib.channels;
+            if (lrintf(pa[0] * 255) == 0x2e && lrintf(pa[1] * 255) == 0x34 && lrintf(pa[2] * 255) == 0x40)
+                continue;   /* the background (--msaa 1: no edge pixel mixes it in) */
+            for (int c = 0; c < 3; c++)
+                if (fabsf(pa[c] * k[c] - pb[c]) > 1.5f / 255)
+                    fail_msg("pixel %d channel %d: %g * %g != %g", p, c, pa[c], k[c], pb[c]);
+            lit++;
+        }
+        assert_true(lit > 1000);
+        image_free(&ia);
+        image_free(&ib);
+    }
+    const char *e;
+    assert_int_equal(prog_run(dir, &e, "", "cube --texture %s/none.png -q -o %s", dir, prog_path(dir, "c.png", a, sizeof a)), 1);
+    assert_non_null(strstr(e, "none.png"));
+    assert_false(prog_exists(dir, "c.png"));
+    prog_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -154,6 +199,7 @@ int main(void)
         cmocka_unit_test(test_smooth_linear),
         cmocka_unit_test(test_differs_from_vertex),
         cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_texture),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -354,7 +354,7 @@ return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
       html: () => `<p><b>N-Patch</b> (<code>npatch</code>): a cubic B&eacute;zier triangle from the corners and
         their normals; watertight where neighbours agree on normals, but only C0 across edges: the cube shows
         creases. <b>Intermediate smoothed patch</b> (<code>smooth-initial</code>, Listing 1.1.1): smooth across
-        edges, but coplanar triangles sweep a ridge. <b>Final smoothed patch</b> (<code>smooth</code>, Listing
+        edges, but coplanar triangles sweep a valley. <b>Final smoothed patch</b> (<code>smooth</code>, Listing
         1.1.2): each curve blended towards the N-Patch by fn + bl: smooth on both. For comparison:
         <code>phong</code> and <code>pn-aen</code>.</p>
         <p>Left ${live(state.patch)}, right ${live(state.other)}: change either. Normals: <code>real</code> (the
@@ -367,7 +367,7 @@ return vs_lerp3(g.x pos2 + g.y pos0 + g.z pos1, posN, bl);</pre>
         lack their /3, <code>fn0..fn2</code> use an undefined <code>n</code> and pair opposite vertices with the
         wrong edges, Gregory coordinates are 0/0 at the corners, curve parameters divide by zero on edges, and a
         naive evaluation is not watertight. <code>docs/errata.md</code> lists each with its resolution and
-        test.</p><p>Under a grazing light the intermediate patch's ridge along the cube's diagonals (left, fig
+        test.</p><p>Under a grazing light the intermediate patch's valley along the cube's diagonals (left, fig
         1.1.8b) is gone in the final patch (right).</p>` },
     { title: "7. Crack-free, to the bit",
       preset: { mesh: "cylinder", patch: "npatch", other: "pn-aen", split: true, level: "8", normals: "linear",

@@ -145,6 +145,11 @@ static const char *opt_shading(scene_opts *o, const char *a)
     o->shading = (scene_shading)k;
     return NULL;
 }
+static const char *opt_texture(scene_opts *o, const char *a)
+{
+    o->texture = a;
+    return NULL;
+}
 static const char *opt_color(scene_opts *o, const char *a)
 {
     return scene_parse_color(a, o->diffuse) ? NULL : "--color takes R,G,B (each 0..1) or #rrggbb";
@@ -316,6 +321,10 @@ static const char *val_shading(const scene_opts *o, char *b, size_t n)
 {
     return val_printf(b, n, "%s", scene_shading_names[o->shading]);
 }
+static const char *val_texture(const scene_opts *o, char *b, size_t n)
+{
+    return o->texture ? val_printf(b, n, "%s", o->texture) : NULL;
+}
 static const char *val_color(const scene_opts *o, char *b, size_t n)
 {
     return val_printf(b, n, "%g,%g,%g", (double)o->diffuse[0], (double)o->diffuse[1], (double)o->diffuse[2]);
@@ -391,6 +400,9 @@ const scene_option scene_options[] = {
     {"shading", 0, "S", "where the light is computed: vertex (the listings: per grid vertex, Gouraud in between) or "
      "pixel (a pixel shader evaluates the patch's --normals normal at each pixel's barycentrics and lights it; "
      "--path instanced, --lod uniform, no --displace)", "vertex", opt_shading, shading_choices, val_shading},
+    {"texture", 0, "FILE", "multiply the colour by this image (PNG, BMP, TGA, EXR) at the mesh's texture "
+     "coordinates, in a pixel shader: mip-mapped, trilinear, wrapping (an MD2 model's skin, say)", NULL, opt_texture,
+     NULL, val_texture},
     {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL, val_color},
     {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL, val_background},
     {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "

@@ -514,7 +514,7 @@ static is_result draw_fill(is_device *dev, const scene_opts *o, const scene_came
     static const float white[4] = {1, 1, 1, 1};   /* --light normals: the normal is the colour */
     dev_set_render_state(dev, IS_RS_FILLMODE, (uint32_t)fills[o->fill]);
     set_constants(dev, o, cam, o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
-    if (o->shading == SCENE_SHADING_PIXEL) scene_shading_constants(dev, o);
+    if (o->shading == SCENE_SHADING_PIXEL || o->texture) scene_shading_constants(dev, o);
     is_result e = dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r->n_vertices, 0, r->n_prims);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
     dev_set_pixel_shader(dev, NULL);   /* the wire overlay keeps its colour */
@@ -537,9 +537,11 @@ static is_result draw_buckets(is_device *dev, const scene_opts *o, const scene_c
 {
     is_result e = IS_OK;
     if (!by_level) set_constants(dev, o, cam, color);
+    if (!by_level && o->texture) scene_shading_constants(dev, o);
     for (size_t k = 0; k < a->n_buckets && e == IS_OK; k++) {
         float c[4];
         if (by_level) level_color(a->buckets[k].level[2], c), set_constants(dev, o, cam, c);
+        if (by_level && o->texture) scene_shading_constants(dev, o);
         e = tess_draw_bucket(dev, a, k);
     }
     return e;
@@ -555,6 +557,7 @@ static is_result draw_fill_adaptive(is_device *dev, const scene_opts *o, const s
     is_result e = draw_buckets(dev, o, cam, a, o->fill == SCENE_FILL_WIRE && o->wire_by_level,
                                o->light == SCENE_LIGHT_NORMALS ? white : o->diffuse);
     if (e != IS_OK || o->fill != SCENE_FILL_SOLID_WIRE) return e;
+    dev_set_pixel_shader(dev, NULL);   /* the wire overlay keeps its colour */
     set_overlay_states(dev);
     return draw_buckets(dev, o, cam, a, o->wire_by_level, o->wire_color);
 }
@@ -651,6 +654,17 @@ static bool patterns_fit(const scene_opts *o, const is_mesh *m, const tess_lod_e
     return false;
 }
 
+/* The pixel shader and the textures of --shading pixel (itex) and --texture (ttex) off dev, and released. */
+static void unbind_pixel_stage(is_device *dev, is_texture *itex, is_texture *ttex)
+{
+    if (!itex && !ttex) return;
+    dev_set_pixel_shader(dev, NULL);
+    dev_set_texture(dev, 0, NULL);
+    dev_set_texture(dev, SCENE_TEXTURE_SAMPLER, NULL);
+    tex_release(itex);
+    tex_release(ttex);
+}
+
 /* The adaptive draw: 0, or -1 with the reason in err (or, when err is empty, in dev_last_error). */
 static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, const is_vertex_shader *shader,
                          scene_stats *st, char *err, size_t errlen)
@@ -669,11 +683,13 @@ static int draw_adaptive(is_device *dev, const scene_opts *o, const is_mesh *m, 
         core_pattern_cache_destroy(cache);
         return -1;
     }
-    is_texture *dmap = NULL;
+    is_texture *dmap = NULL, *ttex = NULL;
     is_result r = set_scene_shader(dev, o, &cam, vs_patch_shader(o->patch), shader, &dmap);
     if (r == IS_OK) r = tess_bind_adaptive(dev, m, &e, cache, &a);
     if (r == IS_OK && o->patch == VS_PATCH_PN_AEN) r = tess_bind_adjacent_normals(dev, m, &a.r, &a);
+    if (r == IS_OK && o->texture) r = scene_texture_bind(dev, o, &ttex);
     if (r == IS_OK) r = draw_fill_adaptive(dev, o, &cam, &a);
+    unbind_pixel_stage(dev, NULL, ttex);
     if (st) {
         memcpy(st->level_hist, hist, sizeof hist);
         st->n_buckets = a.n_buckets, st->n_patterns = a.n_patterns, st->tessellated_triangles = a.n_triangles;
@@ -703,16 +719,16 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
         return draw_adaptive(dev, o, m, shader, NULL, why, sizeof why);   /* the reason: dev_last_error's, or lost */
     scene_camera cam = make_camera(o, m);
     tess_resources r = {0};
-    is_texture *dmap = NULL, *itex = NULL;
+    is_texture *dmap = NULL, *itex = NULL, *ttex = NULL;
     is_result e = set_scene_shader(dev, o, &cam, path_shader(o), shader, &dmap);
     if (e == IS_OK) e = build_path(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK && o->shading == SCENE_SHADING_PIXEL) e = scene_shading_bind(dev, o, m, &itex);
+    if (e == IS_OK && o->texture) e = scene_texture_bind(dev, o, &ttex);
     if (e == IS_OK) e = draw_fill(dev, o, &cam, &r);
-    if (itex) dev_set_pixel_shader(dev, NULL), dev_set_texture(dev, 0, NULL);
+    unbind_pixel_stage(dev, itex, ttex);
     tess_resources_free(&r);
     tex_release(dmap);
-    tex_release(itex);
     return e == IS_OK ? 0 : -1;
 }
 

@@ -106,6 +106,8 @@ typedef struct scene_opts {
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
     bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */
     scene_shading shading;      /* --shading: vertex (the listings') or pixel (cli/run/shading.c) */
+    const char *texture;        /* --texture: the image multiplied in at TEXCOORD0 (cli/run/shading.c), or NULL */
+    const is_image *texture_map; /* the image already read, or NULL: read per draw */
     const char *displace;       /* --displace: the height map (cli/run/displace.c), or NULL */
     float displace_scale;       /* --displace-scale: bounding radii per unit of height (SCENE_DISPLACE_SCALE) */
     const is_image *displace_map; /* the map already read (scene_load_displacement), or NULL: read per draw */
@@ -206,6 +208,11 @@ int scene_load_displacement(const char *path, is_image *img, char *err, size_t e
  * into the pixel shader's, with the patch in c12.x: call it after each change of the vertex constants. */
 is_result scene_shading_bind(is_device *dev, const scene_opts *o, const is_mesh *m, is_texture **tex);
 void scene_shading_constants(is_device *dev, const scene_opts *o);
+/* --texture on dev: o's image (texture_map, or the file) as a mip-mapped texture on pixel sampler
+ * SCENE_TEXTURE_SAMPLER (trilinear, wrapping; *tex: the caller releases it after the draw), and with --shading
+ * vertex the pixel shader that multiplies COLOR0 by it.  IS_OK or the device's error. */
+#define SCENE_TEXTURE_SAMPLER 1
+is_result scene_texture_bind(is_device *dev, const scene_opts *o, is_texture **tex);
 /* (cli/run/lighting.c) The colour of o's light as the registers c hold it (c8 the diffuse colour, c10.y the light,
  * c11 its direction) for the world-space normal Normal (the listing's headlight takes it as it is, the others
  * normalise it): what the patch shaders and the light's wrapper write to COLOR0. */

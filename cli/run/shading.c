@@ -1,4 +1,4 @@
-/* cli/run/shading.c -- --shading pixel: the patch lit per pixel by a pixel shader (core/pixel.h).
+/* cli/run/shading.c -- --shading pixel and --texture: the pixel shaders of a render (core/pixel.h).
  *
  * The listings light each grid vertex and let the rasterizer interpolate the colour (Gouraud): between grid
  * points the N-Patch's creases and ripples blur.  With --shading pixel the patch shader runs as before (positions,
@@ -11,8 +11,12 @@
  * data: texel (instance % PER_ROW) * REGS + r, row instance / PER_ROW holds register r (A32B32G32R32F, point
  * sampling at texel centres, so the floats come back exactly).
  *
+ * --texture FILE multiplies the colour (the vertex shader's, or the per-pixel light) by the image at the patch's
+ * texture coordinates (TEXCOORD0, the mesh's own, D3D's origin at the top left), sampled from pixel sampler 1
+ * with a mip chain, trilinear filtering and wrapping, the level of detail from the quad's derivatives.
+ *
  * Constants of the pixel shader: c0..c11 as the vertex shader's (vs.h and lighting.c: matrices, diffuse colour,
- * options, light), c12.x the patch. */
+ * options, light), c12.x the patch, c12.y 1 when a texture is bound. */
 #include "scene.h"
 
 #include "../../core/hlsl.h"
@@ -55,7 +59,21 @@ static float4 lit_lane(const is_ps_constants *c, const is_ps_input *in, int k, v
     return scene_light_color(c->c, mul3x3(normal, world));
 }
 
-/* The pixel shader: the lanes the rasterizer uses (no derivatives are taken), lit per pixel. */
+/* oC0 *= tex2D(s1, TEXCOORD0) in the lanes used (D3DTOP_MODULATE), when c12.y says a texture is bound; the
+ * coordinates of all four lanes give the level of detail. */
+static void modulate(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    if (c->c[C_PATCH].y == 0.0f) return;
+    float2 uv[4];
+    for (int k = 0; k < 4; k++) uv[k] = f2(in->v[k][RS_ATTR_TEXCOORD0].x, in->v[k][RS_ATTR_TEXCOORD0].y);
+    for (int k = 0; k < 4; k++) {
+        if (!(in->need & (1u << k))) continue;
+        float4 t = ps_tex2D(&c->s[SCENE_TEXTURE_SAMPLER], uv, k);
+        out->color[k] = f4(out->color[k].x * t.x, out->color[k].y * t.y, out->color[k].z * t.z, out->color[k].w);
+    }
+}
+
+/* The pixel shader of --shading pixel: the lanes the rasterizer uses, lit per pixel (times the texture). */
 static void ps_patch_lit(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
 {
     vs_patch p = (vs_patch)(int)c->c[C_PATCH].x;
@@ -65,15 +83,41 @@ static void ps_patch_lit(const is_ps_constants *c, const is_ps_input *in, is_ps_
                                 world.m[i][2] = c->c[VS_C_WORLD + i].z, world.m[i][3] = c->c[VS_C_WORLD + i].w;
     for (int k = 0; k < 4; k++)
         if (in->need & (1u << k)) out->color[k] = lit_lane(c, in, k, p, &o, &world);
+    modulate(c, in, out);
 }
 static const is_pixel_shader patch_lit = {"patch-lit", ps_patch_lit};
+
+/* The pixel shader of --texture with --shading vertex: COLOR0 (the vertex shader's light) times the texture. */
+static void ps_textured(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    for (int k = 0; k < 4; k++) out->color[k] = in->v[k][RS_ATTR_COLOR0];
+    modulate(c, in, out);
+}
+static const is_pixel_shader textured = {"textured", ps_textured};
 
 void scene_shading_constants(is_device *dev, const scene_opts *o)
 {
     float c[4 * (C_PATCH + 1)];
     if (dev_get_vertex_shader_constant_f(dev, 0, c, C_PATCH) != IS_OK) return;
-    c[4 * C_PATCH] = (float)o->patch, c[4 * C_PATCH + 1] = c[4 * C_PATCH + 2] = c[4 * C_PATCH + 3] = 0.0f;
+    c[4 * C_PATCH] = (float)o->patch, c[4 * C_PATCH + 1] = o->texture ? 1.0f : 0.0f;
+    c[4 * C_PATCH + 2] = c[4 * C_PATCH + 3] = 0.0f;
     dev_set_pixel_shader_constant_f(dev, 0, c, C_PATCH + 1);
+}
+
+is_result scene_texture_bind(is_device *dev, const scene_opts *o, is_texture **tex)
+{
+    *tex = NULL;   /* with its mip chain; read here when the caller did not read it first (the device says why not) */
+    is_result e = o->texture_map ? dev_create_texture_from_image(dev, o->texture_map, IS_FMT_A8R8G8B8, 0, tex)
+                                 : dev_create_texture_from_file(dev, o->texture, IS_FMT_A8R8G8B8, 0, tex);
+    if (e == IS_OK) e = dev_set_texture(dev, SCENE_TEXTURE_SAMPLER, *tex);
+    static const struct { is_samp state; uint32_t value; } states[] = {
+        {IS_SAMP_MINFILTER, IS_TEXF_LINEAR}, {IS_SAMP_MAGFILTER, IS_TEXF_LINEAR}, {IS_SAMP_MIPFILTER, IS_TEXF_LINEAR},
+        {IS_SAMP_ADDRESSU, IS_TADDRESS_WRAP}, {IS_SAMP_ADDRESSV, IS_TADDRESS_WRAP}};
+    for (size_t k = 0; e == IS_OK && k < sizeof states / sizeof states[0]; k++)
+        e = dev_set_sampler_state(dev, SCENE_TEXTURE_SAMPLER, states[k].state, states[k].value);
+    if (e == IS_OK && o->shading == SCENE_SHADING_VERTEX) e = dev_set_pixel_shader(dev, &textured);
+    if (e != IS_OK) tex_release(*tex), *tex = NULL;
+    return e;
 }
 
 is_result scene_shading_bind(is_device *dev, const scene_opts *o, const is_mesh *m, is_texture **tex)
