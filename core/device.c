@@ -91,6 +91,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     dev_samplers_default(dev);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
+    dev_viewport_update(dev);
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
     return dev;
 }
@@ -107,6 +108,7 @@ void dev_reset(is_device *dev)
     dev_samplers_default(dev); /* no texture bound; the textures themselves stay the device's */
     dev->npatch_segments = 0, dev->npatch_eval = NULL;
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
+    dev_viewport_update(dev);
 }
 
 void dev_res_add(is_device *dev, dev_res *r, dev_res_kind kind)
@@ -388,18 +390,43 @@ is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *valu
     return IS_OK;
 }
 
-/* SetViewport: must lie inside the target, with 0 <= MinZ <= MaxZ <= 1. */
+/* SetViewport as the runtime takes it: any position and size of at least one pixel (a viewport reaching beyond
+ * the target is clipped to it when drawing and clearing), MinZ and MaxZ in [0, 1] in either order; stored as given
+ * (GetViewport reads it back), with MinZ >= MaxZ drawn as [MinZ, MinZ + 0.001] (dev_viewport_update). */
 is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!vp || vp->width == 0 || vp->height == 0 || vp->x > (uint32_t)dev->rt.width ||
-        vp->width > (uint32_t)dev->rt.width - vp->x || vp->y > (uint32_t)dev->rt.height ||
-        vp->height > (uint32_t)dev->rt.height - vp->y || !(vp->min_z >= 0.0f) || !(vp->max_z <= 1.0f) ||
-        !(vp->min_z <= vp->max_z))
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: viewport outside the %dx%d target or bad depth range",
-                        dev->rt.width, dev->rt.height);
+    if (!vp || vp->width == 0 || vp->height == 0 || !(vp->min_z >= 0.0f && vp->min_z <= 1.0f) ||
+        !(vp->max_z >= 0.0f && vp->max_z <= 1.0f))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: %s", !vp ? "NULL viewport" :
+                        (vp->width == 0 || vp->height == 0) ? "a width or height of 0" :
+                        "MinZ or MaxZ outside [0, 1]");
     dev->viewport = *vp;
+    dev_viewport_update(dev);
     return IS_OK;
+}
+
+/* The rasterizer's viewport of dev (dev->rs_vp) and the clip-space map (dev->remap) from the set viewport: the
+ * viewport clipped to the target (one that misses the target entirely becomes a 1x1 viewport that every vertex
+ * is mapped outside of: nothing is drawn), and MaxZ = MinZ + 0.001 when MinZ >= MaxZ, as the runtime draws it
+ * (DXVK's D3D9DeviceEx::SetViewport). */
+void dev_viewport_update(is_device *dev)
+{
+    const is_viewport *v = &dev->viewport;
+    const double X = v->x, Y = v->y, W = v->width, H = v->height, tw = dev->rt.width, th = dev->rt.height;
+    const double x0 = X < tw ? X : tw, x1 = X + W < tw ? X + W : tw, y0 = Y < th ? Y : th, y1 = Y + H < th ? Y + H : th;
+    float max_z = v->min_z < v->max_z ? v->max_z : v->min_z + 0.001f;
+    dev->remap = (vp_remap){false, 1.0f, 0.0f, 1.0f, 0.0f};
+    if (x0 >= x1 || y0 >= y1) {   /* outside the target: x' = 4w lies outside -w..w for every w > 0 */
+        dev->rs_vp = (rs_viewport){0, 0, 1, 1, v->min_z, max_z};
+        dev->remap = (vp_remap){true, 0.0f, 4.0f, 0.0f, 4.0f};
+        return;
+    }
+    dev->rs_vp = (rs_viewport){(int)x0, (int)y0, (int)(x1 - x0), (int)(y1 - y0), v->min_z, max_z};
+    if (x0 == X && x1 == X + W && y0 == Y && y1 == Y + H) return;
+    const double w = x1 - x0, h = y1 - y0;
+    dev->remap = (vp_remap){true, (float)(W / w), (float)((2.0 * (X - x0) + W) / w - 1.0), (float)(H / h),
+                            (float)(1.0 - (2.0 * (Y - y0) + H) / h)};
 }
 
 is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
@@ -445,9 +472,10 @@ is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, 
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
     uint32_t rgba = r | g << 8 | b << 16 | a << 24;
     const is_viewport *vp = &dev->viewport;   /* the area: the viewport, within the target */
-    is_rect area = {(int32_t)vp->x, (int32_t)vp->y, (int32_t)(vp->x + vp->width), (int32_t)(vp->y + vp->height)};
-    area.right = area.right > dev->rt.width ? dev->rt.width : area.right;
-    area.bottom = area.bottom > dev->rt.height ? dev->rt.height : area.bottom;
+    const int64_t vx1 = (int64_t)vp->x + vp->width, vy1 = (int64_t)vp->y + vp->height;
+    is_rect area = {vp->x < (uint32_t)dev->rt.width ? (int32_t)vp->x : dev->rt.width,
+                    vp->y < (uint32_t)dev->rt.height ? (int32_t)vp->y : dev->rt.height,
+                    vx1 < dev->rt.width ? (int32_t)vx1 : dev->rt.width, vy1 < dev->rt.height ? (int32_t)vy1 : dev->rt.height};
     bool whole = area.left == 0 && area.top == 0 && area.right == dev->rt.width && area.bottom == dev->rt.height;
     if (!rects) count = 0;
     if (whole && count == 0) {   /* the whole target: deferred per tile, and a new frame */
@@ -545,8 +573,7 @@ rs_state dev_rs_state(const is_device *dev)
         .depth_bias = bits_float(s[IS_RS_DEPTHBIAS]),
         .slope_scale_depth_bias = bits_float(s[IS_RS_SLOPESCALEDEPTHBIAS]),
         .attr_mask = dev->vs ? dev->vs->outputs : 0,
-        .viewport = {(int)dev->viewport.x, (int)dev->viewport.y, (int)dev->viewport.width,
-                     (int)dev->viewport.height, dev->viewport.min_z, dev->viewport.max_z},
+        .viewport = dev->rs_vp,
     };
     return st;
 }

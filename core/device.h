@@ -354,6 +354,11 @@ INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, ui
  *   | IS_RS_ADAPTIVETESS_Z             | 1.0f (as its bits)       |
  *   | IS_RS_ADAPTIVETESS_W             | 0.0f (as its bits)       |
  */
+/* SetViewport, as the runtime takes it: any x, y and any width and height of at least 1 (a viewport reaching beyond
+ * the target is drawn and cleared clipped to the target, each vertex where the whole viewport puts it; one wholly
+ * outside draws nothing), MinZ and MaxZ in [0, 1] in either order.  GetViewport reads it back as given; draws use
+ * MaxZ = MinZ + 0.001 when MinZ >= MaxZ (the runtime's rule, as DXVK's SetViewport records it).  Refused: NULL, a
+ * width or height of 0, a depth outside [0, 1] or NaN. */
 INSTESS_API is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
 INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
 /* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */

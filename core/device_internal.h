@@ -65,6 +65,15 @@ struct is_vertex_declaration {
     uint32_t stream_mask;   /* streams the declaration reads */
 };
 
+/* The viewport as the rasterizer gets it (dev_rs_state): the set viewport clipped to the target, and the affine map
+ * of clip-space x and y that places a vertex through the clipped viewport where the set one would put it
+ * (x' = ax x + bx w, y' = ay y + by w); `on` false when the set viewport lies inside the target (no map: the
+ * shaded bytes are untouched).  dev_viewport_update computes it whenever the viewport changes. */
+typedef struct vp_remap {
+    bool on;
+    float ax, bx, ay, by;
+} vp_remap;
+
 typedef struct stream_source {
     is_vertex_buffer *vb;
     unsigned offset, stride;
@@ -118,7 +127,9 @@ struct is_device {
     bool timing;            /* dev_set_timing: phase times into stats (setup_ms, tile_ms) */
     bool patch_cull;        /* dev_set_patch_cull */
     uint32_t rs_state[IS_RS_COUNT];
-    is_viewport viewport;
+    is_viewport viewport;   /* as set (and read back by GetViewport) */
+    rs_viewport rs_vp;      /* the rasterizer's: clipped to the target, MaxZ fixed (dev_viewport_update) */
+    vp_remap remap;         /* the clip-space map that the clipping needs (vp_remap) */
     stream_source streams[IS_MAX_STREAMS];
     is_index_buffer *ib;
     is_vertex_declaration *decl;
@@ -159,6 +170,8 @@ is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...) __attri
 
 /* The rasterizer's copy of the device's render states and viewport. */
 rs_state dev_rs_state(const is_device *dev);
+/* dev->rs_vp and dev->remap from dev->viewport and the target's size (device.c). */
+void dev_viewport_update(is_device *dev);
 
 /* Expand one element at src into a float4 register (D3D9 defaults fill missing components). */
 float4 decl_fetch(uint8_t type, const unsigned char *src);
@@ -186,6 +199,20 @@ static inline void saturate_colors(rs_vertex *out, size_t n)
             float x = c[k] >= 0.0f ? c[k] : 0.0f;
             c[k] = x <= 1.0f ? x : 1.0f;
         }
+    }
+}
+
+/* What every draw path does to shaded vertices out[0..n) before the rasterizer sees them: the colours saturated
+ * (saturate_colors) and, when the viewport reaches beyond the target, oPos mapped for the clipped viewport
+ * (vp_remap; checked once per batch, so a viewport inside the target costs nothing per vertex). */
+static inline void post_shade(const vp_remap *m, rs_vertex *out, size_t n)
+{
+    saturate_colors(out, n);
+    if (!m->on) return;
+    for (size_t v = 0; v < n; v++) {
+        float4 *p = &out[v].pos;
+        p->x = m->ax * p->x + m->bx * p->w;
+        p->y = m->ay * p->y + m->by * p->w;
     }
 }
 

@@ -123,7 +123,7 @@ static void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
 {
     memset(out, 0, sizeof *out);
     dev->vs->main(&dev->consts, in, out);
-    saturate_colors(out, 1);
+    post_shade(&dev->remap, out, 1);
 }
 
 /* Scratch s with room for n elements of `size` bytes (device_internal.h): a larger block replaces a smaller one
@@ -279,7 +279,7 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
         if (vs->batch) vs->batch(&dev->consts, in, m, live, 0, out);
         else
             for (uint32_t k = 0; k < m; k++) vs->main(&dev->consts, &in[k], &out[k]);
-        saturate_colors(out, m);
+        post_shade(&dev->remap, out, m);
     }
 }
 

