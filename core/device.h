@@ -47,6 +47,9 @@ typedef enum is_decltype {
     IS_DECLTYPE_D3DCOLOR = 4, IS_DECLTYPE_UBYTE4 = 5, IS_DECLTYPE_SHORT2 = 6, IS_DECLTYPE_SHORT4 = 7,
     IS_DECLTYPE_UBYTE4N = 8, IS_DECLTYPE_SHORT2N = 9, IS_DECLTYPE_SHORT4N = 10,
     IS_DECLTYPE_USHORT2N = 11, IS_DECLTYPE_USHORT4N = 12,
+    /* UDEC3: three unsigned 10-bit fields (x in bits 0..9) -> (x, y, z, 1); DEC3N: three signed 10-bit fields / 511
+     * -> (x, y, z, 1), -512 read as -1 (the SNORM rule of SHORTnN); FLOAT16_2/4: IEEE half floats, exactly */
+    IS_DECLTYPE_UDEC3 = 13, IS_DECLTYPE_DEC3N = 14, IS_DECLTYPE_FLOAT16_2 = 15, IS_DECLTYPE_FLOAT16_4 = 16,
     IS_DECLTYPE_UNUSED = 17
 } is_decltype;
 

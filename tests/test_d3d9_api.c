@@ -155,11 +155,58 @@ static void test_viewport_beyond_target(void **state)
     dev_destroy(dev);
 }
 
+/* ---------------- element types ---------------- */
+
+/* FLOAT16_2 / FLOAT16_4 convert every half exactly (normal, subnormal, signed zero, infinities, NaN), UDEC3 and
+ * DEC3N unpack 10-bit fields (x in the low bits, the top two bits ignored) to (x, y, z, 1): values by hand. */
+static void test_decl_types_float16_dec3(void **state)
+{
+    (void)state;
+    const uint16_t h[8] = {0x3C00, 0xC000, 0x7BFF, 0x0001, 0x03FF, 0x8000, 0x3555, 0x0400};
+    const float want[8] = {1.0f, -2.0f, 65504.0f, 0x1p-24f, 1023.0f * 0x1p-24f, -0.0f, 0.333251953125f, 0x1p-14f};
+    for (int k = 0; k < 8; k += 4) {
+        float4 r = decl_fetch(IS_DECLTYPE_FLOAT16_4, (const unsigned char *)&h[k]);
+        const float got[4] = {r.x, r.y, r.z, r.w};
+        for (int c = 0; c < 4; c++) {
+            if (memcmp(&got[c], &want[k + c], 4) != 0)
+                fail_msg("half 0x%04x: %a, want %a", h[k + c], (double)got[c], (double)want[k + c]);
+        }
+    }
+    float4 r = decl_fetch(IS_DECLTYPE_FLOAT16_2, (const unsigned char *)&h[2]);
+    assert_true(r.x == 65504.0f && r.y == 0x1p-24f && r.z == 0.0f && r.w == 1.0f);
+    const uint16_t special[4] = {0x7C00, 0xFC00, 0x7E00, 0xFE01};
+    r = decl_fetch(IS_DECLTYPE_FLOAT16_4, (const unsigned char *)special);
+    assert_true(isinf(r.x) && r.x > 0 && isinf(r.y) && r.y < 0 && isnan(r.z) && isnan(r.w));
+    uint32_t u = 1023u | 0u << 10 | 512u << 20 | 3u << 30;
+    r = decl_fetch(IS_DECLTYPE_UDEC3, (const unsigned char *)&u);
+    assert_true(r.x == 1023.0f && r.y == 0.0f && r.z == 512.0f && r.w == 1.0f);
+    u = 511u | 512u << 10 | 1023u << 20 | 1u << 31;   /* 511, -512, -1 */
+    r = decl_fetch(IS_DECLTYPE_DEC3N, (const unsigned char *)&u);
+    assert_true(r.x == 1.0f && r.y == -1.0f && r.z == -1.0f / 511.0f && r.w == 1.0f);
+    u = 1u | 513u << 10 | 0u << 20;                     /* 1, -511, 0 */
+    r = decl_fetch(IS_DECLTYPE_DEC3N, (const unsigned char *)&u);
+    assert_true(r.x == 1.0f / 511.0f && r.y == -1.0f && r.z == 0.0f);
+    /* declarations take them with their sizes: FLOAT16_4 reads 8 bytes (an element at +4 overlaps it) */
+    is_device *dev = dev_create(4, 4, 1, NULL, 0);
+    is_vertex_declaration *d;
+    const is_vertex_element ok[] = {{0, 0, IS_DECLTYPE_FLOAT16_4, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {0, 8, IS_DECLTYPE_UDEC3, 0, IS_DECLUSAGE_TEXCOORD, 0},
+                                    {0, 12, IS_DECLTYPE_DEC3N, 0, IS_DECLUSAGE_NORMAL, 0},
+                                    {0, 16, IS_DECLTYPE_FLOAT16_2, 0, IS_DECLUSAGE_TEXCOORD, 1}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(dev, ok, &d), IS_OK);
+    decl_release(d);
+    const is_vertex_element overlap[] = {{0, 0, IS_DECLTYPE_FLOAT16_4, 0, IS_DECLUSAGE_POSITION, 0},
+                                         {0, 4, IS_DECLTYPE_UDEC3, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(dev, overlap, &d), IS_ERR_INVALIDCALL);
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_viewport_depth_range),
         cmocka_unit_test(test_viewport_beyond_target),
+        cmocka_unit_test(test_decl_types_float16_dec3),
     };
     return cmocka_run_group_tests_name("d3d9_api", tests, NULL, NULL);
 }
