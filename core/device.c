@@ -29,6 +29,30 @@ is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...)
     return code;
 }
 
+/* Append a line to the debug log (device_internal.h), dropping the oldest lines when it is full. */
+void dev_debug(is_device *dev, const char *fmt, ...)
+{
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(line, sizeof line - 1, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    size_t len = strlen(line);
+    line[len++] = '\n', line[len] = 0;
+    char *log = dev->debug_log;
+    size_t have = strlen(log);
+    while (have + len >= sizeof dev->debug_log) {   /* drop the oldest line */
+        char *nl = strchr(log, '\n');
+        size_t drop = nl ? (size_t)(nl - log) + 1 : have;
+        memmove(log, log + drop, have - drop + 1);
+        have -= drop;
+    }
+    memcpy(log + have, line, len + 1);
+}
+
+const char *dev_debug_log(const is_device *dev) { return dev_live(dev) ? dev->debug_log : ""; }
+
 /* Bits of a float, as D3D9 passes float render states through a DWORD. */
 static uint32_t float_bits(float f) { uint32_t u; memcpy(&u, &f, 4); return u; }
 static float bits_float(uint32_t u) { float f; memcpy(&f, &u, 4); return f; }

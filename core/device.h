@@ -277,6 +277,11 @@ INSTESS_API void dev_destroy(is_device *dev);
 INSTESS_API void dev_reset(is_device *dev);
 /* The message of the last failed call ("" if none). */
 INSTESS_API const char *dev_last_error(const is_device *dev);
+/* The device's debug log (D3D9's debug runtime output, for this device): notes about calls that succeeded but did
+ * something a program may not expect, one line each, the latest ~2 KB (older lines dropped); "" for a NULL
+ * device.  A draw that reads past a vertex buffer's end or from a stream without a buffer (those reads return
+ * zeros: D3D10's robust buffer access) adds one line per draw. */
+INSTESS_API const char *dev_debug_log(const is_device *dev);
 /* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
 INSTESS_API void dev_set_threads(is_device *dev, int threads);
 /* Phase times on or off (default off): dev_stats' setup_ms and tile_ms then sum the frame's set-up regions

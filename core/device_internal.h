@@ -143,6 +143,7 @@ struct is_device {
     uint64_t shaded;
     uint64_t instances_culled; /* dev_instances_culled */
     char err[512];
+    char debug_log[2048];      /* dev_debug_log: the latest notes, one line each, oldest dropped first */
     /* scratch of draw calls, kept between draws and grown only, so that a frame like the last one allocates
      * nothing and touches no fresh pages (out_v, out_i: bounded by DRAW_CHUNK_VERTICES) */
     rs_vertex *out_v;
@@ -167,6 +168,9 @@ static inline double dev_clock(const is_device *dev) { return dev->timing ? omp_
 
 /* Record a message for dev_last_error and return code. */
 is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* Append one line (printf-style, without its newline) to dev's debug log, dropping the oldest lines to make room. */
+void dev_debug(is_device *dev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* The rasterizer's copy of the device's render states and viewport. */
 rs_state dev_rs_state(const is_device *dev);
@@ -216,15 +220,24 @@ static inline void post_shade(const vp_remap *m, rs_vertex *out, size_t n)
     }
 }
 
-/* How one declaration element is read during a draw. */
+/* How one declaration element is read during a draw.  Reads are robust (D3D10's robust buffer access, which a
+ * software device needs: it must never read outside its buffers): an element whose bytes would lie past its
+ * buffer's end, or on a stream without a buffer, reads as zero bytes.  max_off is the largest fetch offset whose
+ * element lies inside the buffer; an unbound stream (or one too short for a single element) has base fetch_zeros,
+ * stride 0 and max_off 0.  The bound is checked once per fetch of an element's address (fetch_at): once per vertex
+ * per draw for per-vertex data (fetch_cache), once per instance for per-instance data. */
 typedef struct fetch_elem {
     const unsigned char *base; /* buffer + stream offset + element offset */
     size_t stride;
+    uint64_t max_off;
     uint32_t divider;
     bool per_instance;
     uint8_t type;
     unsigned reg_offset;
 } fetch_elem;
+
+/* What a read outside a buffer sees: zero bytes, as many as the largest element (FLOAT4) reads. */
+static const unsigned char fetch_zeros[16] = {0};
 
 /* The elements of a draw, checked against their buffers (draw.c's plan_fetch). */
 typedef struct fetch_plan {
@@ -241,7 +254,8 @@ typedef struct fetch_plan {
 /* Where element e of vertex (per-vertex element) or instance (per-instance element) `index` is read. */
 static inline const unsigned char *fetch_at(const fetch_elem *e, uint32_t index)
 {
-    return e->base + fetch_offset(index, e->divider, e->stride);
+    const uint64_t off = fetch_offset(index, e->divider, e->stride);
+    return off <= e->max_off ? e->base + off : fetch_zeros;   /* past the buffer's end: zeros (fetch_elem) */
 }
 
 /* The input registers before fetch: every register (0, 0, 0, 1). */

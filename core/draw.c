@@ -66,8 +66,26 @@ static size_t prim_vertex(is_primtype type, size_t p, unsigned c)
     }
 }
 
-/* Check that the shader, declaration and bound streams allow a draw; fill the fetch plan. max_vertex is the
- * largest per-vertex index the draw reads. */
+/* Element k of declaration element de on stream s, read robustly (fetch_elem): the buffer's bounds for its reads.
+ * Returns the number of the first vertex (or instance, after the divider) that lies past the buffer's end, or
+ * UINT64_MAX when every read up to `last` (the last index the draw reads) is inside it. */
+static uint64_t plan_element(const stream_source *s, const decl_element *de, uint64_t last, uint32_t div,
+                             fetch_elem *fe)
+{
+    const uint64_t start = (uint64_t)s->offset + de->e.offset, need = start + de->size;
+    const size_t size = s->vb ? s->vb->size : 0;
+    if (!s->vb || need > size) {   /* no buffer, or not even one element in it: every read is zeros */
+        fe->base = fetch_zeros, fe->stride = 0, fe->max_off = 0;
+        return 0;
+    }
+    fe->base = s->vb->data + start, fe->stride = s->stride, fe->max_off = size - need;
+    if (fetch_offset(last, div, s->stride) <= fe->max_off) return UINT64_MAX;
+    return s->stride ? fe->max_off / s->stride + 1 : UINT64_MAX;
+}
+
+/* Check that the shader and declaration allow a draw; fill the fetch plan. max_vertex is the largest per-vertex
+ * index the draw reads.  Elements past their buffer's end or on streams without one read zeros (fetch_elem); the
+ * draw goes on, and the debug log gets one line for the draw (dev_debug_log). */
 static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_vertex, unsigned n_instances,
                             fetch_plan *fp)
 {
@@ -79,28 +97,36 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     fp->n_vert = 0;
     uint32_t vert_regs = 0;
     bool any_inst = false;
+    int outside = -1;            /* the first element that reads past its buffer (for the log) */
+    uint64_t outside_from = 0;
     for (unsigned k = 0; k < d->n; k++) {
         const decl_element *de = &d->el[k];
         const stream_source *s = &dev->streams[de->e.stream];
-        if (!s->vb) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: stream %u has no vertex buffer", call, de->e.stream);
         bool inst = (s->freq & IS_STREAMSOURCE_INSTANCEDATA) != 0;
         uint32_t div = inst ? (s->freq & ~IS_STREAMSOURCE_INSTANCEDATA)
                             : ((s->freq & IS_STREAMSOURCE_INDEXEDDATA) ? 1 : s->freq);
         if (inst && n_instances <= 1 && !(dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA))
             inst = false, div = 1; /* INSTANCEDATA without an instanced draw: D3D9 reads it per vertex */
-        uint64_t index = inst ? n_instances - 1 : max_vertex; /* the last vertex or instance read */
-        uint64_t end = s->offset + de->e.offset + fetch_offset(index, div, s->stride) + de->size;
-        if (end > s->vb->size)
-            return dev_fail(dev, IS_ERR_INVALIDCALL,
-                            "%s: element %u reads stream %u vertex %llu, beyond its %zu-byte buffer", call, k,
-                            de->e.stream, (unsigned long long)(index / div), s->vb->size);
-        fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
-                                 de->reg_offset};
+        fetch_elem *fe = &fp->el[k];
+        uint64_t from = plan_element(s, de, inst ? n_instances - 1 : max_vertex, div, fe);
+        if (from != UINT64_MAX && outside < 0) outside = (int)k, outside_from = from;
+        fe->divider = div, fe->per_instance = inst, fe->type = de->e.type, fe->reg_offset = de->reg_offset;
         if (!inst) {
             fp->vert[fp->n_vert++] = (uint8_t)k;
             vert_regs |= 1u << (de->reg_offset / sizeof(float4));
         }
         any_inst |= inst;
+    }
+    if (outside >= 0) {
+        const decl_element *de = &d->el[outside];
+        if (!dev->streams[de->e.stream].vb)
+            dev_debug(dev, "%s: element %d reads stream %u, which has no vertex buffer: it reads zeros", call,
+                      outside, de->e.stream);
+        else
+            dev_debug(dev, "%s: element %d reads stream %u past its %zu-byte buffer from %s %llu on: zeros", call,
+                      outside, de->e.stream, dev->streams[de->e.stream].vb->size,
+                      fp->el[outside].per_instance ? "instance element" : "vertex",
+                      (unsigned long long)outside_from);
     }
     /* without per-instance elements every entry of a batch is complete: nothing to share */
     fp->shared = any_inst ? IS_VS_REGS_ALL & ~vert_regs : 0u;

@@ -155,6 +155,118 @@ static void test_viewport_beyond_target(void **state)
     dev_destroy(dev);
 }
 
+/* ---------------- robust reads ---------------- */
+
+/* Lines in s. */
+static int count_lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++) n += *s == '\n';
+    return n;
+}
+
+/* Points at pixel x = 2k (k the vertex), y = TEXCOORD0.x, colour R = POSITION0.y (a per-vertex tag, / 255) and G =
+ * TEXCOORD0.y (a per-instance tag, / 255) on a 32 x 8 target. */
+static void vs_tagged_main(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    out->pos = f4((2.0f * in->position[0].x + 0.25f) / 16.0f - 1.0f, 1.0f - 2.0f * (in->texcoord[0].x + 0.25f) / 8.0f,
+                  0.5f, 1.0f);
+    out->attr[RS_ATTR_COLOR0] = f4(in->position[0].y / 255.0f, in->texcoord[0].y / 255.0f, 0, 1);
+}
+static const is_vertex_shader vs_tagged = {.name = "tagged", .main = vs_tagged_main, .outputs = IS_OUT_COLOR0};
+
+/* Reads past a vertex buffer's end, or from a stream without a buffer, return zeros and the draw succeeds; the
+ * debug log gets one line per such draw, whatever the number of reads outside; the instanced path (fused, and
+ * the reference path) reads zeros for the instances past the per-instance buffer's end. */
+static void test_robust_reads(void **state)
+{
+    (void)state;
+    for (int reference = 0; reference < 2; reference++) {
+        is_device *dev = dev_create(32, 8, 1, NULL, 0);
+        dev_set_reference_path(dev, reference != 0);
+        is_vertex_buffer *vb0, *vb1;
+        /* stream 0: 3 vertices (x = k, tag 100 + k) of the 8 the draw reads; stream 1: 2 instances (y, tag) of 4 */
+        assert_int_equal(dev_create_vertex_buffer(dev, 3 * 8, &vb0), IS_OK);
+        assert_int_equal(dev_create_vertex_buffer(dev, 2 * 8, &vb1), IS_OK);
+        float (*v0)[2] = vb_lock(vb0), (*v1)[2] = vb_lock(vb1);
+        for (int k = 0; k < 3; k++) v0[k][0] = (float)(k + 1), v0[k][1] = (float)(100 + k);
+        for (int i = 0; i < 2; i++) v1[i][0] = (float)(2 + 2 * i), v1[i][1] = (float)(50 + i);
+        static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                               {1, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0}, IS_DECL_END};
+        is_vertex_declaration *decl;
+        assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+        dev_set_vertex_declaration(dev, decl);
+        dev_set_vertex_shader(dev, &vs_tagged);
+        dev_set_stream_source(dev, 0, vb0, 0, 8);
+        dev_set_stream_source(dev, 1, vb1, 0, 8);
+        assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+        assert_string_equal(dev_debug_log(dev), "");
+        /* 5 points, vertices 0..4: 3 and 4 read zeros (x 0, tag 0); stream 1 per vertex: 2..4 read zeros */
+        assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 5), IS_OK);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 1);
+        assert_non_null(strstr(dev_debug_log(dev), "past its 24-byte buffer from vertex 3"));
+        const rs_target *rt = dev_render_target(dev);
+        for (int k = 0; k < 3; k++) assert_int_equal(rt->color[(k < 2 ? 2 + 2 * k : 0) * 32 + 2 * (k + 1)] & 0xff,
+                                                     100 + k);
+        assert_int_equal(rt->color[0] & 0xffff, 0);   /* vertices 3 and 4: (0, 0), black */
+        /* instanced: 4 instances of vertices 0..1 (indexed); instances 2, 3 read zeros: y = 0, tag 0 */
+        assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+        is_index_buffer *ib;
+        assert_int_equal(dev_create_index_buffer(dev, 4, IS_FMT_INDEX16, &ib), IS_OK);
+        const uint16_t idx[2] = {0, 1};
+        memcpy(ib_lock(ib), idx, 4);
+        dev_set_indices(dev, ib);
+        dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 4);
+        dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1);
+        assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 2, 0, 2), IS_OK);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 2);
+        assert_non_null(strstr(dev_debug_log(dev), "from instance element 2"));
+        rt = dev_render_target(dev);
+        for (int i = 0; i < 2; i++)
+            for (int k = 0; k < 2; k++) {
+                uint32_t px = rt->color[(2 + 2 * i) * 32 + 2 * (k + 1)];
+                assert_int_equal(px & 0xff, 100 + k);
+                assert_int_equal((px >> 8) & 0xff, 50 + i);
+            }
+        for (int k = 0; k < 2; k++) assert_int_equal(rt->color[0 * 32 + 2 * (k + 1)] & 0xffff, 100 + k);
+        /* an unbound stream: every read zeros, one line */
+        dev_set_stream_source(dev, 1, NULL, 0, 0);
+        assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 2, 0, 2), IS_OK);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 3);
+        assert_non_null(strstr(dev_debug_log(dev), "stream 1, which has no vertex buffer"));
+        /* in bounds: nothing logged */
+        dev_set_stream_source(dev, 1, vb1, 0, 8);
+        dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 2);
+        assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 2, 0, 2), IS_OK);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 3);
+        decl_release(decl);
+        vb_release(vb0);
+        vb_release(vb1);
+        ib_release(ib);
+        dev_destroy(dev);
+    }
+    assert_string_equal(dev_debug_log(NULL), "");
+}
+
+/* The debug log keeps the latest lines: many draws leave it bounded, ending with a whole line. */
+static void test_debug_log_bounded(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(4, 4, 1, NULL, 0);
+    static const is_vertex_element el[] = {{3, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_tagged);
+    for (int k = 0; k < 200; k++) assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 1), IS_OK);
+    const char *log = dev_debug_log(dev);
+    size_t len = strlen(log);
+    assert_true(len > 0 && len < 2048 && log[len - 1] == '\n' && strncmp(log, "DrawPrimitive:", 14) == 0);
+    assert_true(count_lines(log) > 10 && count_lines(log) < 200);
+    decl_release(decl);
+    dev_destroy(dev);
+}
+
 /* ---------------- element types ---------------- */
 
 /* FLOAT16_2 / FLOAT16_4 convert every half exactly (normal, subnormal, signed zero, infinities, NaN), UDEC3 and
@@ -207,6 +319,8 @@ int main(void)
         cmocka_unit_test(test_viewport_depth_range),
         cmocka_unit_test(test_viewport_beyond_target),
         cmocka_unit_test(test_decl_types_float16_dec3),
+        cmocka_unit_test(test_robust_reads),
+        cmocka_unit_test(test_debug_log_bounded),
     };
     return cmocka_run_group_tests_name("d3d9_api", tests, NULL, NULL);
 }
