@@ -388,6 +388,18 @@ INSTESS_API is_result dev_draw_primitive(is_device *dev, is_primtype type, unsig
 INSTESS_API is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count);
+/* DrawPrimitiveUP / DrawIndexedPrimitiveUP: the vertices (and indices) from the caller's memory instead of buffers,
+ * read during the call only.  The vertices are stream 0 (stride bytes apart: prim_count primitives' worth, or
+ * MinVertexIndex + NumVertices of them; an element reaching past that reads zeros, as past a buffer's end), the
+ * other streams as bound.  Afterwards stream 0 is unset (no buffer, offset 0, stride 0) and, for the indexed call,
+ * the indices too (NULL), as the runtime leaves them; a count of 0 draws nothing, changes nothing and succeeds.
+ * Refused: NULL data, a stride of 0, an index format other than INDEX16 / INDEX32, no declaration, and what
+ * DrawPrimitive / DrawIndexedPrimitive refuse. */
+INSTESS_API is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_count,
+                                            const void *vertices, unsigned stride);
+INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsigned min_vertex_index,
+                                                    unsigned num_vertices, unsigned prim_count, const void *indices,
+                                                    is_format index_format, const void *vertices, unsigned stride);
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
  * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,

@@ -132,6 +132,8 @@ struct is_device {
     vp_remap remap;         /* the clip-space map that the clipping needs (vp_remap) */
     stream_source streams[IS_MAX_STREAMS];
     is_index_buffer *ib;
+    is_vertex_buffer up_vb;    /* the caller's memory during a UP draw (not in the registry; never handed out) */
+    is_index_buffer up_ib;
     is_vertex_declaration *decl;
     const is_vertex_shader *vs;
     is_vs_constants consts;    /* c0..c255 and the vertex samplers s0..s3 */

@@ -404,24 +404,37 @@ static unsigned instance_count(const is_device *dev)
     return instanced && n > 1 ? n : 1;
 }
 
+static is_result draw_primitive(is_device *dev, const char *call, is_primtype type, unsigned start_vertex,
+                                unsigned prim_count);
+static is_result draw_indexed(is_device *dev, const char *call, is_primtype type, int base_vertex_index,
+                              unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                              unsigned prim_count);
+
 /* DrawPrimitive: non-indexed, one instance whatever the stream frequencies say (the runtime does not instance
  * non-indexed draws; it draws the one instance and succeeds). */
 is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: no vertex declaration set");
+    return draw_primitive(dev, "DrawPrimitive", type, start_vertex, prim_count);
+}
+
+/* DrawPrimitive under the name `call` (for its messages), on a live device. */
+static is_result draw_primitive(is_device *dev, const char *call, is_primtype type, unsigned start_vertex,
+                                unsigned prim_count)
+{
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
-    is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
+    is_result r = check_prims(dev, call, type, prim_count);
     if (r != IS_OK) return r;
     size_t n_idx = prim_index_count(type, prim_count);
     if (n_idx > DRAW_MAX_VERTICES)   /* the device's MaxPrimitiveCount: D3D9 refuses a draw beyond its caps */
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: %zu vertices, more than the %u one draw may read",
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %zu vertices, more than the %u one draw may read", call,
                         n_idx, DRAW_MAX_VERTICES);
     fetch_plan fp;
-    r = plan_fetch(dev, "DrawPrimitive", (uint64_t)start_vertex + n_idx - 1, 1, &fp);
+    r = plan_fetch(dev, call, (uint64_t)start_vertex + n_idx - 1, 1, &fp);
     if (r != IS_OK) return r;
     uint32_t *seq = scratch_get(&dev->idx, n_idx, sizeof *seq);
-    if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: out of memory");
+    if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory", call);
     for (size_t k = 0; k < n_idx; k++) seq[k] = (uint32_t)k;
     if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
         return draw_npatch(dev, &fp, prim_count, seq, start_vertex);
@@ -430,27 +443,27 @@ is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_ve
 
 /* Whether indices start..start+n_idx-1 lie in the bound index buffer; else the error (checked before the draw
  * allocates room for them: a count beyond the buffer never sizes an allocation). */
-static is_result check_index_range(is_device *dev, unsigned start, size_t n_idx)
+static is_result check_index_range(is_device *dev, const char *call, unsigned start, size_t n_idx)
 {
     const is_index_buffer *ib = dev->ib;
     size_t isz = ib->format == IS_FMT_INDEX16 ? 2 : 4;
     if (start > ib->size / isz || n_idx > ib->size / isz - start)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawIndexedPrimitive: indices %u..%zu beyond the %zu-index buffer",
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: indices %u..%zu beyond the %zu-index buffer", call,
                         start, start + n_idx - 1, ib->size / isz);
     return IS_OK;
 }
 
 /* Read the draw's indices (in the buffer: check_index_range), check them against [min, min + num) and rebase
  * them to min. */
-static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsigned min, unsigned num,
-                              uint32_t *out)
+static is_result read_indices(is_device *dev, const char *call, unsigned start, size_t n_idx, unsigned min,
+                              unsigned num, uint32_t *out)
 {
     const is_index_buffer *ib = dev->ib;
     for (size_t k = 0; k < n_idx; k++) {
         uint32_t v = read_index(ib, start + k);
         if (v < min || v - min >= num)
             return dev_fail(dev, IS_ERR_INVALIDCALL,
-                            "DrawIndexedPrimitive: index %u at position %zu outside MinVertexIndex %u + NumVertices %u",
+                            "%s: index %u at position %zu outside MinVertexIndex %u + NumVertices %u", call,
                             v, start + k, min, num);
         out[k] = v - min;
     }
@@ -462,8 +475,16 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count)
 {
-    const char *call = "DrawIndexedPrimitive";
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    return draw_indexed(dev, "DrawIndexedPrimitive", type, base_vertex_index, min_vertex_index, num_vertices,
+                        start_index, prim_count);
+}
+
+/* DrawIndexedPrimitive under the name `call`, on a live device. */
+static is_result draw_indexed(is_device *dev, const char *call, is_primtype type, int base_vertex_index,
+                              unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                              unsigned prim_count)
+{
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0 || num_vertices == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, call, type, prim_count);
@@ -478,11 +499,11 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                         base_vertex_index, min_vertex_index);
     unsigned n_inst = instance_count(dev);
     size_t n_idx = prim_index_count(type, prim_count);
-    if ((r = check_index_range(dev, start_index, n_idx)) != IS_OK) return r;
+    if ((r = check_index_range(dev, call, start_index, n_idx)) != IS_OK) return r;
     uint32_t *idx = scratch_get(&dev->idx, n_idx, sizeof *idx);
     if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);
     fetch_plan fp;
-    r = read_indices(dev, start_index, n_idx, min_vertex_index, num_vertices, idx);
+    r = read_indices(dev, call, start_index, n_idx, min_vertex_index, num_vertices, idx);
     if (r == IS_OK) r = plan_fetch(dev, call, (uint64_t)first + num_vertices - 1, n_inst, &fp);
     if (r == IS_OK) {
         if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
@@ -491,6 +512,69 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
         else
             r = draw_shaded(dev, &fp, type, prim_count, (uint32_t)first, num_vertices, idx);
     }
+    return r;
+}
+
+/* ---------------------------------------- UP draws ---------------------------------------- */
+
+/* Stream 0 unset (no buffer, offset and stride 0), as a UP draw leaves it. */
+static void unset_stream0(is_device *dev)
+{
+    dev->streams[0].vb = NULL, dev->streams[0].offset = 0, dev->streams[0].stride = 0;
+}
+
+/* DrawPrimitiveUP: the vertices from the caller's memory (prim_count primitives' worth, stride bytes apart) as
+ * stream 0; afterwards stream 0 is unset, as the runtime leaves it (DXVK's DrawPrimitiveUP; a count of 0 draws
+ * nothing and changes nothing). */
+is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_count, const void *vertices,
+                                unsigned stride)
+{
+    const char *call = "DrawPrimitiveUP";
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (!vertices || stride == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %s", call, vertices ? "a stride of 0" : "NULL vertex data");
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    if (prim_count == 0) return IS_OK;
+    is_result r = check_prims(dev, call, type, prim_count);
+    if (r != IS_OK) return r;
+    dev->up_vb.data = (unsigned char *)(uintptr_t)vertices;   /* read only */
+    dev->up_vb.size = prim_index_count(type, prim_count) * (size_t)stride;
+    dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
+    r = draw_primitive(dev, call, type, 0, prim_count);
+    unset_stream0(dev);
+    dev->up_vb.data = NULL, dev->up_vb.size = 0;
+    return r;
+}
+
+/* DrawIndexedPrimitiveUP: the indices (prim_count primitives' worth, INDEX16 or INDEX32) and the vertices
+ * (MinVertexIndex + NumVertices of them, stride bytes apart) from the caller's memory; afterwards stream 0 and the
+ * indices are unset, as the runtime leaves them (DXVK's DrawIndexedPrimitiveUP).  Instancing as
+ * DrawIndexedPrimitive. */
+is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsigned min_vertex_index,
+                                        unsigned num_vertices, unsigned prim_count, const void *indices,
+                                        is_format index_format, const void *vertices, unsigned stride)
+{
+    const char *call = "DrawIndexedPrimitiveUP";
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (!vertices || !indices || stride == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %s", call, stride ? "NULL index or vertex data" : "a stride of 0");
+    if (index_format != IS_FMT_INDEX16 && index_format != IS_FMT_INDEX32)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: index format %d is not INDEX16 or INDEX32", call, index_format);
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    if (prim_count == 0 || num_vertices == 0) return IS_OK;
+    is_result r = check_prims(dev, call, type, prim_count);
+    if (r != IS_OK) return r;
+    dev->up_vb.data = (unsigned char *)(uintptr_t)vertices;
+    dev->up_vb.size = ((size_t)min_vertex_index + num_vertices) * stride;
+    dev->up_ib.data = (unsigned char *)(uintptr_t)indices;
+    dev->up_ib.size = prim_index_count(type, prim_count) * (index_format == IS_FMT_INDEX16 ? 2u : 4u);
+    dev->up_ib.format = index_format;
+    dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
+    dev->ib = &dev->up_ib;
+    r = draw_indexed(dev, call, type, 0, min_vertex_index, num_vertices, 0, prim_count);
+    unset_stream0(dev);
+    dev->ib = NULL;
+    dev->up_vb.data = NULL, dev->up_vb.size = 0, dev->up_ib.data = NULL, dev->up_ib.size = 0;
     return r;
 }
 

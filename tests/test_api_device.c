@@ -106,6 +106,9 @@ static void test_null_device(void **state)
     assert_int_equal(dev_clear(NULL, IS_CLEAR_TARGET, 0, 1.0f), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_primitive(NULL, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_indexed_primitive(NULL, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive_up(NULL, IS_PT_TRIANGLELIST, 1, f, 16), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive_up(NULL, IS_PT_TRIANGLELIST, 0, 3, 1, &u, IS_FMT_INDEX16, f, 16),
+                     IS_ERR_INVALIDCALL);
     assert_null(dev_render_target(NULL));
     assert_int_equal(dev_get_render_target_data(NULL, px, 4), IS_ERR_INVALIDCALL);
     const rs_stats *st = dev_stats(NULL);
@@ -414,6 +417,27 @@ static void test_draw_edges(void **state)
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, 0, starts[k], 0, 1)));
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, starts[k], starts[k], 0, 1)));
         }
+        /* the UP draws: strides of 0 and up to what the array holds (a UP draw reads the count's worth of the
+         * caller's memory, which the caller must own, as in D3D9), counts beyond the device's caps (refused
+         * before anything is read), NULL data, bad index formats; each leaves stream 0 unset, so rebind */
+        static const float up_v[6][4] = {{0}};
+        static const uint16_t up_i[6] = {0, 1, 2, 3, 4, 65535};
+        const unsigned up_strides[] = {0, 4, 8, 16};
+        for (size_t k = 0; k < sizeof up_strides / sizeof up_strides[0]; k++) {
+            assert_true(ok_or_invalid(dev_draw_primitive_up(dev, (is_primtype)t, 1, up_v, up_strides[k])));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, up_i, IS_FMT_INDEX16,
+                                                                    up_v, up_strides[k])));
+            fixture_bind(&f);
+        }
+        assert_int_equal(dev_draw_primitive_up(dev, (is_primtype)t, UINT_MAX, up_v, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, UINT_MAX, UINT_MAX, 1, up_i,
+                                                       IS_FMT_INDEX16, up_v, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_primitive_up(dev, (is_primtype)t, 1, NULL, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, up_i, (is_format)0, up_v, 16),
+                         IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, NULL, IS_FMT_INDEX32, up_v, 16),
+                         IS_ERR_INVALIDCALL);
+        fixture_bind(&f);
         const int bases[] = {-1, -3, -6, 1, 3, 100, INT_MAX, INT_MIN};
         for (size_t k = 0; k < sizeof bases / sizeof bases[0]; k++)
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, bases[k], 0, 6, 0, 2)));

@@ -267,6 +267,80 @@ static void test_debug_log_bounded(void **state)
     dev_destroy(dev);
 }
 
+/* ---------------- UP draws ---------------- */
+
+/* DrawPrimitiveUP and DrawIndexedPrimitiveUP draw the caller's memory exactly as the same data in buffers does;
+ * afterwards stream 0 is unset (and the indices, for the indexed call), as the runtime leaves them; a count of 0
+ * changes nothing; NULL data, a stride of 0 and a bad index format are refused, changing nothing. */
+static void test_up_draws(void **state)
+{
+    (void)state;
+    uint32_t want[16 * 16], got[16 * 16];
+    is_vertex_buffer *vb, *other, *gvb;
+    is_vertex_declaration *decl;
+    is_index_buffer *ib, *gib;
+    unsigned off, stride;
+    /* the reference: the scene from a vertex buffer, indexed through a buffer */
+    is_device *dev = clip_device(16, 16, scene, 6, &vb, &decl);
+    const uint16_t idx16[6] = {3, 4, 5, 0, 1, 2};
+    assert_int_equal(dev_create_index_buffer(dev, sizeof idx16, IS_FMT_INDEX16, &ib), IS_OK);
+    memcpy(ib_lock(ib), idx16, sizeof idx16);
+    dev_set_indices(dev, ib);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, want, 16 * 16), IS_OK);
+    /* DrawIndexedPrimitiveUP with 32-bit indices: the same pixels; stream 0 and the indices unset */
+    assert_int_equal(dev_create_vertex_buffer(dev, 64, &other), IS_OK);
+    dev_set_stream_source(dev, 0, other, 16, 32);
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    const uint32_t idx32[6] = {3, 4, 5, 0, 1, 2};
+    assert_int_equal(dev_draw_indexed_primitive_up(dev, IS_PT_TRIANGLELIST, 0, 6, 2, idx32, IS_FMT_INDEX32, scene,
+                                                   sizeof scene[0]), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, got, 16 * 16), IS_OK);
+    assert_memory_equal(got, want, sizeof want);
+    assert_int_equal(dev_get_stream_source(dev, 0, &gvb, &off, &stride), IS_OK);
+    assert_true(gvb == NULL && off == 0 && stride == 0);
+    assert_int_equal(dev_get_indices(dev, &gib), IS_OK);
+    assert_null(gib);
+    assert_string_equal(dev_debug_log(dev), "");
+    /* DrawPrimitiveUP in the index order above: the same pixels; stream 0 unset, the indices kept */
+    const clip_vertex in_order[6] = {scene[3], scene[4], scene[5], scene[0], scene[1], scene[2]};
+    dev_set_stream_source(dev, 0, other, 0, 32);
+    dev_set_indices(dev, ib);
+    dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f);
+    assert_int_equal(dev_draw_primitive_up(dev, IS_PT_TRIANGLELIST, 2, in_order, sizeof in_order[0]), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, got, 16 * 16), IS_OK);
+    assert_memory_equal(got, want, sizeof want);
+    assert_int_equal(dev_get_stream_source(dev, 0, &gvb, &off, &stride), IS_OK);
+    assert_true(gvb == NULL && off == 0 && stride == 0);
+    assert_int_equal(dev_get_indices(dev, &gib), IS_OK);
+    assert_ptr_equal(gib, ib);
+    /* refused or empty: nothing changes */
+    dev_set_stream_source(dev, 0, other, 16, 32);
+    assert_int_equal(dev_draw_primitive_up(dev, IS_PT_TRIANGLELIST, 2, NULL, 32), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive_up(dev, IS_PT_TRIANGLELIST, 2, scene, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive_up(dev, (is_primtype)9, 2, scene, 32), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive_up(dev, IS_PT_TRIANGLELIST, 0, scene, 32), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive_up(dev, IS_PT_TRIANGLELIST, 0, 6, 2, idx32, IS_FMT_A8R8G8B8, scene,
+                                                   32), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive_up(dev, IS_PT_TRIANGLELIST, 0, 6, 2, NULL, IS_FMT_INDEX16, scene,
+                                                   32), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive_up(dev, IS_PT_TRIANGLELIST, 0, 0, 2, idx16, IS_FMT_INDEX16, scene,
+                                                   32), IS_OK);
+    assert_int_equal(dev_get_stream_source(dev, 0, &gvb, &off, &stride), IS_OK);
+    assert_true(gvb == other && off == 16 && stride == 32);
+    assert_int_equal(dev_get_indices(dev, &gib), IS_OK);
+    assert_ptr_equal(gib, ib);
+    /* an index outside MinVertexIndex + NumVertices is refused as DrawIndexedPrimitive refuses it */
+    assert_int_equal(dev_draw_indexed_primitive_up(dev, IS_PT_TRIANGLELIST, 0, 5, 2, idx16, IS_FMT_INDEX16, scene,
+                                                   32), IS_ERR_INVALIDCALL);
+    assert_non_null(strstr(dev_last_error(dev), "DrawIndexedPrimitiveUP"));
+    dev_set_vertex_declaration(dev, NULL);
+    assert_int_equal(dev_draw_primitive_up(dev, IS_PT_TRIANGLELIST, 2, scene, 32), IS_ERR_INVALIDCALL);
+    vb_release(other);
+    ib_release(ib);
+    clip_release(dev, vb, decl);
+}
+
 /* ---------------- element types ---------------- */
 
 /* FLOAT16_2 / FLOAT16_4 convert every half exactly (normal, subnormal, signed zero, infinities, NaN), UDEC3 and
@@ -320,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_viewport_beyond_target),
         cmocka_unit_test(test_decl_types_float16_dec3),
         cmocka_unit_test(test_robust_reads),
+        cmocka_unit_test(test_up_draws),
         cmocka_unit_test(test_debug_log_bounded),
     };
     return cmocka_run_group_tests_name("d3d9_api", tests, NULL, NULL);
