@@ -372,17 +372,15 @@ static int state_check(is_rs state, uint32_t v)
     case IS_RS_FILLMODE: ok = v >= IS_FILL_POINT && v <= IS_FILL_SOLID; break;
     case IS_RS_SHADEMODE: ok = v >= IS_SHADE_FLAT && v <= IS_SHADE_PHONG; break;
     case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: ok = v <= 1; break;
-    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR; break;
+    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_BOTHINVSRCALPHA; break;
     case IS_RS_CULLMODE: ok = v >= IS_CULL_NONE && v <= IS_CULL_CCW; break;
     case IS_RS_ZFUNC: ok = v >= IS_CMP_NEVER && v <= IS_CMP_ALWAYS; break;
     case IS_RS_POSITIONDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_CUBIC; break;
-    case IS_RS_NORMALDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC; break;
+    case IS_RS_NORMALDEGREE: ok = v >= IS_DEGREE_LINEAR && v <= IS_DEGREE_CUBIC; break;   /* CUBIC: the runtime's */
     case IS_RS_PATCHEDGESTYLE: ok = v <= 1; break;
     case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: ok = isfinite(bits_float(v)); break;
     case IS_RS_ENABLEADAPTIVETESSELLATION: ok = v <= 1; break;
-    case IS_RS_MINTESSELLATIONLEVEL: case IS_RS_MAXTESSELLATIONLEVEL: /* finite, >= 1 */
-        ok = isfinite(bits_float(v)) && bits_float(v) >= 1.0f;
-        break;
+    case IS_RS_MINTESSELLATIONLEVEL: case IS_RS_MAXTESSELLATIONLEVEL: /* finite; below 1 as the runtime takes it */
     case IS_RS_ADAPTIVETESS_X: case IS_RS_ADAPTIVETESS_Y: case IS_RS_ADAPTIVETESS_Z: case IS_RS_ADAPTIVETESS_W:
         ok = isfinite(bits_float(v));
         break;
@@ -460,12 +458,10 @@ is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
     return IS_OK;
 }
 
-/* SetNPatchMode: segments < 1 disables; non-finite or huge values are invalid. */
+/* SetNPatchMode: every value stored as the runtime stores it (below 1 or NaN disables; draws cap it, device.h). */
 is_result dev_set_npatch_mode(is_device *dev, float segments)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!isfinite(segments) || segments > 256.0f)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetNPatchMode: %g segments (at most 256)", (double)segments);
     dev->npatch_segments = segments;
     return IS_OK;
 }
@@ -579,10 +575,20 @@ _Static_assert(SAME(IS_CLEAR_TARGET, RS_CLEAR_COLOR) && SAME(IS_CLEAR_ZBUFFER, R
                "clear flags: IS_CLEAR_* == RS_CLEAR_*");
 #undef SAME
 
+/* A blend factor as the rasterizer has it: SRCALPHASAT as SRCALPHA, BOTH(INV)SRCALPHA as (INV)SRCALPHA (device.h). */
+static int blend_factor(uint32_t f)
+{
+    if (f == IS_BLEND_SRCALPHASAT || f == IS_BLEND_BOTHSRCALPHA) return RS_BLEND_SRCALPHA;
+    if (f == IS_BLEND_BOTHINVSRCALPHA) return RS_BLEND_INVSRCALPHA;
+    return (int)f;
+}
+
 /* The rasterizer's copy of the current states. */
 rs_state dev_rs_state(const is_device *dev)
 {
     const uint32_t *s = dev->rs_state;
+    const uint32_t src = s[IS_RS_SRCBLEND];   /* BOTH(INV)SRCALPHA as SRCBLEND sets both factors */
+    const bool both = src == IS_BLEND_BOTHSRCALPHA || src == IS_BLEND_BOTHINVSRCALPHA;
     rs_state st = {
         .cull_mode = (int)s[IS_RS_CULLMODE],
         .fill_mode = (int)s[IS_RS_FILLMODE],
@@ -591,8 +597,9 @@ rs_state dev_rs_state(const is_device *dev)
         .z_write = s[IS_RS_ZWRITEENABLE] != 0,
         .z_func = (int)s[IS_RS_ZFUNC],
         .blend_enable = s[IS_RS_ALPHABLENDENABLE] != 0,
-        .src_blend = (int)s[IS_RS_SRCBLEND],
-        .dst_blend = (int)s[IS_RS_DESTBLEND],
+        .src_blend = blend_factor(src),
+        .dst_blend = both ? (src == IS_BLEND_BOTHSRCALPHA ? RS_BLEND_INVSRCALPHA : RS_BLEND_SRCALPHA)
+                          : blend_factor(s[IS_RS_DESTBLEND]),
         .multisample = s[IS_RS_MULTISAMPLEANTIALIAS] != 0 && dev->rt.samples > 1,
         .depth_bias = bits_float(s[IS_RS_DEPTHBIAS]),
         .slope_scale_depth_bias = bits_float(s[IS_RS_SLOPESCALEDEPTHBIAS]),

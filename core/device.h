@@ -118,8 +118,16 @@ enum {
 enum {
     IS_BLEND_ZERO = 1, IS_BLEND_ONE = 2, IS_BLEND_SRCCOLOR = 3, IS_BLEND_INVSRCCOLOR = 4,
     IS_BLEND_SRCALPHA = 5, IS_BLEND_INVSRCALPHA = 6, IS_BLEND_DESTALPHA = 7, IS_BLEND_INVDESTALPHA = 8,
-    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10
+    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10,
+    /* values the runtime takes beyond those ten, with their effect here: SRCALPHASAT blends as SRCALPHA (the
+     * rasterizer has no min(As, 1 - Ad) factor: the same colour factor while Ad <= 1 - As, e.g. on a target
+     * cleared with alpha 0; alpha's factor As instead of 1); BOTHSRCALPHA as SRCBLEND means SRCBLEND SRCALPHA and
+     * DESTBLEND INVSRCALPHA, BOTHINVSRCALPHA the reverse (DESTBLEND overridden, as D3D9 documents and DXVK does),
+     * and as DESTBLEND they read as SRCALPHA and INVSRCALPHA.  GetRenderState reads back what was set. */
+    IS_BLEND_SRCALPHASAT = 11, IS_BLEND_BOTHSRCALPHA = 12, IS_BLEND_BOTHINVSRCALPHA = 13
 };
+/* NORMALDEGREE takes LINEAR, QUADRATIC and (as the runtime does) CUBIC, which the N-patch evaluator gets as
+ * QUADRATIC (the highest degree of normals it has); POSITIONDEGREE takes LINEAR and CUBIC. */
 enum { IS_DEGREE_LINEAR = 1, IS_DEGREE_QUADRATIC = 2, IS_DEGREE_CUBIC = 3 };
 enum { IS_PATCHEDGE_DISCRETE = 0, IS_PATCHEDGE_CONTINUOUS = 1 };
 enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2 };
@@ -369,7 +377,10 @@ INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, ui
  * width or height of 0, a depth outside [0, 1] or NaN. */
 INSTESS_API is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
 INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
-/* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
+/* SetNPatchMode(segments): below 1 (or NaN) disables N-patches (see vs/ for the patch the device evaluates).  Every
+ * float is stored and read back, as the runtime stores it; draws take more than IS_NPATCH_MAX_SEGMENTS (infinity
+ * too) as that many, as a driver caps the level at its D3DCAPS9.MaxNpatchTessellationLevel. */
+#define IS_NPATCH_MAX_SEGMENTS 256.0f
 INSTESS_API is_result dev_set_npatch_mode(is_device *dev, float segments);
 INSTESS_API float dev_get_npatch_mode(const is_device *dev);
 
@@ -443,7 +454,8 @@ INSTESS_API is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn
  *    MINTESSELLATIONLEVEL becomes MINTESSELLATIONLEVEL (so MIN wins when MIN > MAX).
  * An edge's level depends on its two vertices alone (the mean is symmetric), so both triangles of an edge agree.
  * Defaults (the documentation's): ENABLEADAPTIVETESSELLATION FALSE, MIN = MAX = 1.0f, Mdm = (0, 0, 1, 0); MIN and
- * MAX must be finite and >= 1 ("cannot be less than 1"), X..W finite.  Disabled, the mode draws as above, bit
+ * MAX must be finite (the documentation adds "cannot be less than 1"; the runtime takes less, and so does this
+ * device: an edge level below 1 draws as 1, one segment), X..W finite.  Disabled, the mode draws as above, bit
  * for bit as before these states existed.
  * The tessellation of a triangle with edge levels (e0, e1, e2) (edge k from v[k] to v[k+1 mod 3]): DISCRETE
  * truncates each to an integer, CONTINUOUS keeps them; levels above CORE_PG_MAX_LEVEL (64) are taken as 64 (the

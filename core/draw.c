@@ -589,6 +589,19 @@ static void lerp_inputs(const is_vs_input *a, const is_vs_input *b, const is_vs_
     for (size_t k = 0; k < sizeof *in / sizeof(float); k++) po[k] = w.x * pa[k] + w.y * pb[k] + w.z * pc[k];
 }
 
+/* NORMALDEGREE as the evaluator takes it: CUBIC (which the runtime accepts) as QUADRATIC (device.h). */
+static uint32_t normal_degree(const is_device *dev)
+{
+    const uint32_t d = dev->rs_state[IS_RS_NORMALDEGREE];
+    return d == IS_DEGREE_CUBIC ? IS_DEGREE_QUADRATIC : d;
+}
+
+/* N-patch segments as draws take them: at most IS_NPATCH_MAX_SEGMENTS (NaN stays NaN: the mode is off). */
+static float npatch_segments(const is_device *dev)
+{
+    return dev->npatch_segments > IS_NPATCH_MAX_SEGMENTS ? IS_NPATCH_MAX_SEGMENTS : dev->npatch_segments;
+}
+
 /* Shade the grid points of triangle t: the evaluator gives POSITION0 / NORMAL0, the rest is interpolated. */
 static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const uint32_t *tri, const float3 *bary,
                             size_t n_pts, rs_vertex *out)
@@ -603,8 +616,7 @@ static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const ui
         is_vs_input in;
         float3 pos, nrm;
         lerp_inputs(&v[0], &v[1], &v[2], bary[g], &in);
-        dev->npatch_eval(p, n, bary[g], dev->rs_state[IS_RS_POSITIONDEGREE], dev->rs_state[IS_RS_NORMALDEGREE], &pos,
-                         &nrm);
+        dev->npatch_eval(p, n, bary[g], dev->rs_state[IS_RS_POSITIONDEGREE], normal_degree(dev), &pos, &nrm);
         in.position[0] = f4_of(pos, 1.0f), in.normal[0] = f4_of(nrm, 0.0f);
         shade(dev, &in, &out[g]);
     }
@@ -631,7 +643,7 @@ static float state_float(const is_device *dev, is_rs state)
 /* The device's states in, the draw's adaptive parameters out. */
 static adaptive_params adaptive_params_of(const is_device *dev)
 {
-    adaptive_params a = {dev->npatch_segments, state_float(dev, IS_RS_MINTESSELLATIONLEVEL),
+    adaptive_params a = {npatch_segments(dev), state_float(dev, IS_RS_MINTESSELLATIONLEVEL),
                          state_float(dev, IS_RS_MAXTESSELLATIONLEVEL),
                          f4(state_float(dev, IS_RS_ADAPTIVETESS_X), state_float(dev, IS_RS_ADAPTIVETESS_Y),
                             state_float(dev, IS_RS_ADAPTIVETESS_Z), state_float(dev, IS_RS_ADAPTIVETESS_W)),
@@ -652,6 +664,8 @@ static void adaptive_edge_levels(const adaptive_params *a, const fetch_plan *fp,
                                           a->mdm);
     }
     for (int k = 0; k < 3; k++) {
+        /* MIN / MAX below 1 (which the runtime takes) can give an edge less than one segment: the grids take it as
+         * one (core_grid_make, core_grid_pg) */
         float e = fminf(core_adaptive_edge_level(t[k], t[(k + 1) % 3], a->min_level, a->max_level), CORE_PG_MAX_LEVEL);
         lv[k] = a->continuous ? e : floorf(e);
     }
@@ -751,7 +765,8 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
         return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
     core_grid grid;
     bool continuous = dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS;
-    float level = continuous ? dev->npatch_segments : (float)(int)dev->npatch_segments;
+    const float seg = npatch_segments(dev);
+    float level = continuous ? seg : (float)(int)seg;
     if (core_grid_make(continuous ? CORE_GRID_PG_FRACTIONAL_EVEN : CORE_GRID_REGULAR, level, &grid) != 0)
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for the grid");
     const size_t n_pts = grid.n_points, n_grid = grid.n_triangles;

@@ -341,6 +341,140 @@ static void test_up_draws(void **state)
     clip_release(dev, vb, decl);
 }
 
+/* ---------------- render-state values the runtime takes ---------------- */
+
+/* The scene drawn with blending on, SRCBLEND src and DESTBLEND dst, over a target cleared to a half-transparent
+ * grey with alpha 0 (so that SRCALPHASAT's min(As, 1 - Ad) is As): pixels into px; the states read back as set. */
+static void draw_blended(uint32_t src, uint32_t dst, uint32_t *px)
+{
+    clip_vertex v[6];
+    memcpy(v, scene, sizeof v);
+    for (int k = 0; k < 6; k++) v[k].col[3] = 0.25f + 0.1f * (float)k;   /* varied source alpha */
+    is_vertex_buffer *vb;
+    is_vertex_declaration *decl;
+    is_device *dev = clip_device(16, 16, v, 6, &vb, &decl);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(0, 90, 140, 200), 1.0f), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 1), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_SRCBLEND, src), IS_OK);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_DESTBLEND, dst), IS_OK);
+    uint32_t a = 0, b = 0;
+    assert_int_equal(dev_get_render_state(dev, IS_RS_SRCBLEND, &a), IS_OK);
+    assert_int_equal(dev_get_render_state(dev, IS_RS_DESTBLEND, &b), IS_OK);
+    assert_true(a == src && b == dst);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2), IS_OK);
+    assert_int_equal(dev_get_render_target_data(dev, px, 16 * 16), IS_OK);
+    clip_release(dev, vb, decl);
+}
+
+/* Blend factors the runtime takes beyond the ten the rasterizer has: BOTHSRCALPHA / BOTHINVSRCALPHA as SRCBLEND
+ * set both factors (DESTBLEND overridden), as DESTBLEND they read as SRCALPHA / INVSRCALPHA; SRCALPHASAT blends as
+ * SRCALPHA (the documented fallback; its colour factor on a target with alpha 0).  BLENDFACTOR (14) is refused. */
+static void test_blend_values(void **state)
+{
+    (void)state;
+    uint32_t want[256], got[256], plain[256];
+    draw_blended(IS_BLEND_ONE, IS_BLEND_ZERO, plain);
+    draw_blended(IS_BLEND_SRCALPHA, IS_BLEND_INVSRCALPHA, want);
+    assert_memory_not_equal(want, plain, sizeof want);   /* the blend shows */
+    draw_blended(IS_BLEND_BOTHSRCALPHA, IS_BLEND_ZERO, got);
+    assert_memory_equal(got, want, sizeof want);
+    draw_blended(IS_BLEND_INVSRCALPHA, IS_BLEND_SRCALPHA, want);
+    draw_blended(IS_BLEND_BOTHINVSRCALPHA, IS_BLEND_ONE, got);
+    assert_memory_equal(got, want, sizeof want);
+    draw_blended(IS_BLEND_ONE, IS_BLEND_SRCALPHA, want);
+    draw_blended(IS_BLEND_ONE, IS_BLEND_BOTHSRCALPHA, got);
+    assert_memory_equal(got, want, sizeof want);
+    draw_blended(IS_BLEND_SRCALPHA, IS_BLEND_ONE, want);
+    draw_blended(IS_BLEND_SRCALPHASAT, IS_BLEND_ONE, got);
+    assert_memory_equal(got, want, sizeof want);
+    is_device *dev = dev_create(4, 4, 1, NULL, 0);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_SRCBLEND, 14), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_DESTBLEND, 0), IS_ERR_INVALIDCALL);
+    dev_destroy(dev);
+}
+
+/* What the N-patch evaluator saw: calls, and the degrees of the last call. */
+typedef struct eval_seen { unsigned long calls; uint32_t pos_degree, normal_degree; } eval_seen;
+static eval_seen seen;
+static void eval_record(const float3 v[3], const float3 n[3], float3 b, uint32_t pd, uint32_t nd, float3 *pos,
+                        float3 *nrm)
+{
+    seen.calls++, seen.pos_degree = pd, seen.normal_degree = nd;
+    *pos = add3(add3(scale3(v[0], b.x), scale3(v[1], b.y)), scale3(v[2], b.z));
+    *nrm = n[0];
+}
+
+/* One triangle in N-patch mode with `segments`, NORMALDEGREE nd, adaptive when max_level is not 0 (MIN and MAX
+ * then min_level, max_level): seen records the evaluator's calls; the states read back as set. */
+static void draw_npatch(float segments, uint32_t nd, float min_level, float max_level)
+{
+    const float tri[3][6] = {{0, 0, 0.5f, 0, 0, -1}, {0.5f, 0, 0.5f, 0, 0, -1}, {0, 0.5f, 0.5f, 0, 0, -1}};
+    is_device *dev = dev_create(16, 16, 1, NULL, 0);
+    dev_set_threads(dev, 1);
+    is_vertex_buffer *vb;
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_buffer(dev, sizeof tri, &vb), IS_OK);
+    memcpy(vb_lock(vb), tri, sizeof tri);
+    assert_int_equal(dev_create_index_buffer(dev, 6, IS_FMT_INDEX16, &ib), IS_OK);
+    const uint16_t idx[3] = {0, 1, 2};
+    memcpy(ib_lock(ib), idx, sizeof idx);
+    static const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0},
+                                           {0, 12, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_NORMAL, 0}, IS_DECL_END};
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_stream_source(dev, 0, vb, 0, sizeof tri[0]);
+    dev_set_indices(dev, ib);
+    dev_set_vertex_shader(dev, &vs_clip);
+    dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
+    dev_set_npatch_evaluator(dev, eval_record);
+    assert_int_equal(dev_set_npatch_mode(dev, segments), IS_OK);
+    float back = dev_get_npatch_mode(dev);
+    assert_memory_equal(&back, &segments, sizeof back);
+    assert_int_equal(dev_set_render_state(dev, IS_RS_NORMALDEGREE, nd), IS_OK);
+    uint32_t got;
+    assert_int_equal(dev_get_render_state(dev, IS_RS_NORMALDEGREE, &got), IS_OK);
+    assert_int_equal(got, nd);
+    if (max_level != 0.0f) {
+        uint32_t mn, mx;
+        memcpy(&mn, &min_level, 4), memcpy(&mx, &max_level, 4);
+        assert_int_equal(dev_set_render_state(dev, IS_RS_ENABLEADAPTIVETESSELLATION, 1), IS_OK);
+        assert_int_equal(dev_set_render_state(dev, IS_RS_MINTESSELLATIONLEVEL, mn), IS_OK);
+        assert_int_equal(dev_set_render_state(dev, IS_RS_MAXTESSELLATIONLEVEL, mx), IS_OK);
+        assert_int_equal(dev_get_render_state(dev, IS_RS_MAXTESSELLATIONLEVEL, &got), IS_OK);
+        assert_int_equal(got, mx);
+    }
+    memset(&seen, 0, sizeof seen);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_OK);
+    decl_release(decl), vb_release(vb), ib_release(ib);
+    dev_destroy(dev);
+}
+
+/* NORMALDEGREE CUBIC is stored and evaluated as QUADRATIC; SetNPatchMode beyond 256 is stored and drawn at 256;
+ * MIN / MAXTESSELLATIONLEVEL below 1 are stored and an edge gets at least one segment. */
+static void test_npatch_values(void **state)
+{
+    (void)state;
+    draw_npatch(4.0f, IS_DEGREE_CUBIC, 0, 0);
+    assert_int_equal(seen.calls, 15);   /* level 4: 5 * 6 / 2 points */
+    assert_int_equal(seen.normal_degree, IS_DEGREE_QUADRATIC);
+    assert_int_equal(seen.pos_degree, IS_DEGREE_CUBIC);
+    draw_npatch(4.0f, IS_DEGREE_LINEAR, 0, 0);
+    assert_int_equal(seen.normal_degree, IS_DEGREE_LINEAR);
+    draw_npatch(1000.0f, IS_DEGREE_LINEAR, 0, 0);
+    assert_int_equal(seen.calls, 257ul * 258ul / 2ul);   /* level 256 */
+    draw_npatch(INFINITY, IS_DEGREE_LINEAR, 0, 0);
+    assert_int_equal(seen.calls, 257ul * 258ul / 2ul);
+    draw_npatch(NAN, IS_DEGREE_LINEAR, 0, 0);
+    assert_int_equal(seen.calls, 0);   /* off: drawn as plain triangles */
+    draw_npatch(8.0f, IS_DEGREE_LINEAR, 0.25f, 0.5f);   /* every edge level 0.5: one segment, the triangle */
+    assert_int_equal(seen.calls, 3);
+    draw_npatch(8.0f, IS_DEGREE_LINEAR, -3.0f, 0.75f);
+    assert_int_equal(seen.calls, 3);
+    draw_npatch(8.0f, IS_DEGREE_LINEAR, 0.5f, 2.0f);    /* the levels still clamp as D3D9's rule says: 2 */
+    assert_int_equal(seen.calls, 6);
+}
+
 /* ---------------- element types ---------------- */
 
 /* FLOAT16_2 / FLOAT16_4 convert every half exactly (normal, subnormal, signed zero, infinities, NaN), UDEC3 and
@@ -395,6 +529,8 @@ int main(void)
         cmocka_unit_test(test_decl_types_float16_dec3),
         cmocka_unit_test(test_robust_reads),
         cmocka_unit_test(test_up_draws),
+        cmocka_unit_test(test_blend_values),
+        cmocka_unit_test(test_npatch_values),
         cmocka_unit_test(test_debug_log_bounded),
     };
     return cmocka_run_group_tests_name("d3d9_api", tests, NULL, NULL);
