@@ -123,6 +123,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
 void dev_reset(is_device *dev)
 {
     if (!dev_live(dev)) return;
+    sb_abort_recording(dev);
     memset(dev->rs_state, 0, sizeof dev->rs_state);
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);
@@ -177,6 +178,7 @@ static void res_free_contents(dev_res *r)
 void dev_destroy(is_device *dev)
 {
     if (!dev || dev->destroyed) return;
+    sb_abort_recording(dev);
     dev_release_textures(dev);
     for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
@@ -242,7 +244,8 @@ is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl
     if (decl && !dev_res_owns(dev, decl, DEV_RES_DECL))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: not a live declaration of this device (another "
                         "device's, or released)");
-    dev->decl = decl;
+    if (dev->recording) dev->recording->decl = decl, dev->recording->has_decl = true;
+    else dev->decl = decl;
     return IS_OK;
 }
 
@@ -258,9 +261,9 @@ is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffe
     if (vb && !dev_res_owns(dev, vb, DEV_RES_VB))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: not a live vertex buffer of this device (another "
                         "device's, or released)");
-    dev->streams[stream].vb = vb;
-    dev->streams[stream].offset = offset;
-    dev->streams[stream].stride = stride;
+    stream_source *d = dev->recording ? &dev->recording->streams[stream] : &dev->streams[stream];
+    d->vb = vb, d->offset = offset, d->stride = stride;
+    if (dev->recording) dev->recording->has_source |= 1u << stream;
     return IS_OK;
 }
 
@@ -281,6 +284,10 @@ is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t s
     if ((flags & IS_STREAMSOURCE_INSTANCEDATA) && stream == 0)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INSTANCEDATA on stream 0");
     if (setting == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: a setting of 0", stream);
+    if (dev->recording) {
+        dev->recording->streams[stream].freq = setting, dev->recording->has_freq |= 1u << stream;
+        return IS_OK;
+    }
     dev->streams[stream].freq = setting;
     return IS_OK;
 }
@@ -298,7 +305,8 @@ is_result dev_set_indices(is_device *dev, is_index_buffer *ib)
     if (ib && !dev_res_owns(dev, ib, DEV_RES_IB))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetIndices: not a live index buffer of this device (another "
                         "device's, or released)");
-    dev->ib = ib;
+    if (dev->recording) dev->recording->ib = ib, dev->recording->has_ib = true;
+    else dev->ib = ib;
     return IS_OK;
 }
 
@@ -307,7 +315,8 @@ is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs)
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (vs && !vs->main) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShader: shader '%s' has no function",
                                          vs->name ? vs->name : "?");
-    dev->vs = vs;
+    if (dev->recording) dev->recording->vs = vs, dev->recording->has_vs = true;
+    else dev->vs = vs;
     return IS_OK;
 }
 
@@ -318,6 +327,11 @@ is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const
     if (!data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShaderConstantF: registers c%u..c%u out of c0..c%d", start,
                         start + count4 - 1, IS_MAX_VS_CONSTANTS - 1);
+    if (dev->recording) {
+        memcpy(&dev->recording->c[start], data, count4 * sizeof(float4));
+        for (unsigned k = 0; k < count4; k++) dev->recording->has_c[start + k] = true;
+        return IS_OK;
+    }
     memcpy(&dev->consts.c[start], data, count4 * sizeof(float4));
     return IS_OK;
 }
@@ -400,7 +414,8 @@ is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
                         "the states listed in core.h)", (int)state);
     if (r == STATE_BAD_VALUE)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: state %d does not take value %u", state, value);
-    dev->rs_state[state] = value;
+    if (dev->recording) dev->recording->rs[state] = value, dev->recording->has_rs[state] = true;
+    else dev->rs_state[state] = value;
     return IS_OK;
 }
 
@@ -423,6 +438,10 @@ is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: %s", !vp ? "NULL viewport" :
                         (vp->width == 0 || vp->height == 0) ? "a width or height of 0" :
                         "MinZ or MaxZ outside [0, 1]");
+    if (dev->recording) {
+        dev->recording->viewport = *vp, dev->recording->has_viewport = true;
+        return IS_OK;
+    }
     dev->viewport = *vp;
     dev_viewport_update(dev);
     return IS_OK;

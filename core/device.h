@@ -384,6 +384,29 @@ INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
 INSTESS_API is_result dev_set_npatch_mode(is_device *dev, float segments);
 INSTESS_API float dev_get_npatch_mode(const is_device *dev);
 
+/* --- stateblocks (IDirect3DStateBlock9) --- */
+typedef struct is_state_block is_state_block;
+typedef enum is_state_block_type { IS_SBT_ALL = 1, IS_SBT_PIXELSTATE = 2, IS_SBT_VERTEXSTATE = 3 } is_state_block_type;
+/* BeginStateBlock / EndStateBlock: between them the setters (render states, viewport, stream sources and
+ * frequencies, indices, declaration, shader, constants, textures and sampler states) write into the block being
+ * recorded, not into the device (the getters still read the device); End hands out the block, which holds what was
+ * set.  CreateStateBlock: a block holding D3D9's list for `type` (PIXELSTATE: the pixel render states and the pixel
+ * samplers' states; VERTEXSTATE: the vertex render states, the vertex samplers' DMAPOFFSET, the declaration, the
+ * shader, its constants and the stream frequencies; ALL: both, and the textures, stream buffers, indices and the
+ * viewport), captured from the device now.  sb_capture refreshes what a block holds from the device, sb_apply
+ * sets the device to it.  Refused (IS_ERR_INVALIDCALL, nothing changed): Begin while recording, End while not (its
+ * output untouched), CreateStateBlock, Capture and Apply while recording, an unknown type, NULL outputs, a NULL
+ * block or one whose device is destroyed -- as the runtime does (Wine's stateblock tests, DXVK).  A block belongs to
+ * its device like a buffer (sb_release; safe after dev_destroy).  Unlike D3D9 a block holds no reference: a buffer,
+ * declaration or texture released while a block holds it is dropped from the block (Apply binds nothing there).
+ * SetNPatchMode and the evaluator are not stateblock state (nor in D3D9). */
+INSTESS_API is_result dev_begin_state_block(is_device *dev);
+INSTESS_API is_result dev_end_state_block(is_device *dev, is_state_block **out);
+INSTESS_API is_result dev_create_state_block(is_device *dev, is_state_block_type type, is_state_block **out);
+INSTESS_API is_result sb_capture(is_state_block *sb);
+INSTESS_API is_result sb_apply(is_state_block *sb);
+INSTESS_API void sb_release(is_state_block *sb);
+
 /* RECT (and D3DRECT, the same four numbers): the pixels left <= x < right, top <= y < bottom. */
 typedef struct is_rect { int32_t left, top, right, bottom; } is_rect;
 /* Clear(Count, pRects, Flags, Color (D3DCOLOR ARGB), Z), as the runtime does it: the viewport is cleared, not the

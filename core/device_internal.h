@@ -19,7 +19,7 @@
  * resources' reference to their device (D3D9's): dev_destroy frees the device's memory and the memory of every
  * resource still listed (their data: lock returns NULL, size 0), and the small structs themselves stay until each
  * is released -- the device's last few bytes with its last -- so releasing after dev_destroy is safe. */
-typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL } dev_res_kind;
+typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL, DEV_RES_SB } dev_res_kind;
 typedef struct dev_res {
     struct dev_res *prev, *next;
     is_device *dev;
@@ -104,6 +104,41 @@ struct is_texture {
  * the displacement-map sampler. */
 #define DEV_PS_SAMPLERS (IS_MAX_PS_SAMPLERS + 1)
 
+/* Every sampler of a device, numbered for stateblocks: 0..15 the pixel samplers, 16 D3DDMAPSAMPLER, 17..20 the
+ * vertex samplers (D3DVERTEXTEXTURESAMPLER0..3). */
+#define DEV_ALL_SAMPLERS (DEV_PS_SAMPLERS + IS_MAX_VS_SAMPLERS)
+
+/* A stateblock (core/stateblock.c): values of the device's state and which of them it holds (D3D9's lists for
+ * ALL, PIXELSTATE and VERTEXSTATE, or what was set while it was recorded).  Its buffers, declaration and textures
+ * are pointers the device forgets from every stateblock when they are released (sb_forget). */
+typedef struct is_state_block {
+    dev_res res;                               /* first: the registry's link (DEV_RES_SB) */
+    uint32_t rs[IS_RS_COUNT];
+    is_viewport viewport;
+    stream_source streams[IS_MAX_STREAMS];
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    const is_vertex_shader *vs;
+    float4 c[IS_MAX_VS_CONSTANTS];
+    is_sampler samplers[DEV_ALL_SAMPLERS];
+    /* what it holds */
+    bool has_rs[IS_RS_COUNT];
+    bool has_c[IS_MAX_VS_CONSTANTS];
+    uint32_t has_samp[DEV_ALL_SAMPLERS];       /* bit t: sampler state t */
+    uint32_t has_tex;                          /* bit k: sampler k's texture */
+    uint32_t has_source;                       /* bit s: stream s's buffer, offset and stride */
+    uint32_t has_freq;                         /* bit s: stream s's frequency */
+    bool has_viewport, has_ib, has_decl, has_vs;
+} is_state_block;
+
+/* Sampler k of dev in stateblock numbering (DEV_ALL_SAMPLERS), and the number of sampler s of dev. */
+is_sampler *dev_sampler_at(is_device *dev, unsigned k);
+unsigned dev_sampler_number(const is_device *dev, const is_sampler *s);
+/* Drop a released buffer, declaration or texture p from every stateblock of dev (the recorded one included). */
+void sb_forget(is_device *dev, const void *p);
+/* Free the stateblock dev is recording, if any (dev_reset, dev_destroy). */
+void sb_abort_recording(is_device *dev);
+
 /* Every sampler of dev back to D3D9's defaults, without a texture (core/texture.c). */
 void dev_samplers_default(is_device *dev);
 /* Release every texture dev still owns (dev_destroy). */
@@ -144,6 +179,7 @@ struct is_device {
     rs_stats stats;
     uint64_t shaded;
     uint64_t instances_culled; /* dev_instances_culled */
+    is_state_block *recording; /* BeginStateBlock .. EndStateBlock: setters write here, not into the device */
     char err[512];
     char debug_log[2048];      /* dev_debug_log: the latest notes, one line each, oldest dropped first */
     /* scratch of draw calls, kept between draws and grown only, so that a frame like the last one allocates

@@ -62,6 +62,7 @@ void vb_release(is_vertex_buffer *vb)
     is_device *dev = vb->res.dev;
     for (int s = 0; s < IS_MAX_STREAMS; s++)
         if (dev->streams[s].vb == vb) dev->streams[s].vb = NULL;
+    sb_forget(dev, vb);
     dev_res_remove(&vb->res);   /* may free a destroyed device: dev is not read after it */
     free(vb->data);
     free(vb);
@@ -72,6 +73,7 @@ void ib_release(is_index_buffer *ib)
 {
     if (!ib) return;
     if (ib->res.dev->ib == ib) ib->res.dev->ib = NULL;
+    sb_forget(ib->res.dev, ib);
     dev_res_remove(&ib->res);
     free(ib->data);
     free(ib);
@@ -186,6 +188,7 @@ void decl_release(is_vertex_declaration *decl)
 {
     if (!decl) return;
     if (decl->res.dev->decl == decl) decl->res.dev->decl = NULL;
+    sb_forget(decl->res.dev, decl);
     dev_res_remove(&decl->res);
     free(decl);
 }

@@ -109,6 +109,14 @@ static void test_null_device(void **state)
     assert_int_equal(dev_draw_primitive_up(NULL, IS_PT_TRIANGLELIST, 1, f, 16), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_indexed_primitive_up(NULL, IS_PT_TRIANGLELIST, 0, 3, 1, &u, IS_FMT_INDEX16, f, 16),
                      IS_ERR_INVALIDCALL);
+    is_state_block *sb = (is_state_block *)0x1;
+    assert_int_equal(dev_begin_state_block(NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(NULL, &sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_state_block(NULL, IS_SBT_ALL, &sb), IS_ERR_INVALIDCALL);
+    assert_null(sb);
+    assert_int_equal(sb_capture(NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(sb_apply(NULL), IS_ERR_INVALIDCALL);
+    sb_release(NULL);
     assert_null(dev_render_target(NULL));
     assert_int_equal(dev_get_render_target_data(NULL, px, 4), IS_ERR_INVALIDCALL);
     const rs_stats *st = dev_stats(NULL);
@@ -556,6 +564,50 @@ static void test_draw_instancing(void **state)
     fixture_free(&f);
 }
 
+/* Stateblocks with every kind of bad argument: NULL outputs, types out of range, calls in the wrong order, and a
+ * long recording of every setter with extreme values (refused ones record nothing); blocks outliving their
+ * device. */
+static void test_state_blocks(void **state)
+{
+    (void)state;
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    is_device *dev = f.dev;
+    is_state_block *sb = NULL, *rec = NULL;
+    const int types[] = {0, 4, -1, 100, INT_MAX, INT_MIN};
+    for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
+        assert_int_equal(dev_create_state_block(dev, (is_state_block_type)types[k], &sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_state_block(dev, IS_SBT_VERTEXSTATE, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(dev, &rec), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_begin_state_block(dev), IS_OK);
+    assert_int_equal(dev_begin_state_block(dev), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(dev, NULL), IS_ERR_INVALIDCALL);
+    fixture_bind(&f);
+    const float c[4] = {1, 2, 3, 4};
+    for (unsigned r = 0; r < 300; r += 7) (void)dev_set_render_state(dev, (is_rs)r, UINT32_MAX);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, IS_MAX_VS_CONSTANTS - 1, c, 1), IS_OK);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, IS_MAX_VS_CONSTANTS, c, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source_freq(dev, IS_MAX_STREAMS - 1, UINT32_MAX >> 2), IS_OK);
+    assert_int_equal(dev_end_state_block(dev, &rec), IS_OK);
+    assert_non_null(rec);
+    assert_int_equal(dev_create_state_block(dev, IS_SBT_ALL, &sb), IS_OK);
+    assert_int_equal(sb_apply(rec), IS_OK);
+    assert_int_equal(sb_capture(rec), IS_OK);
+    assert_int_equal(sb_apply(sb), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_ERR_INVALIDCALL);
+    fixture_bind(&f);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
+    dev_destroy(dev);   /* the blocks outlive it: refused, then released safely */
+    f.dev = NULL;
+    assert_int_equal(sb_capture(sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(sb_apply(rec), IS_ERR_INVALIDCALL);
+    sb_release(sb);
+    sb_release(rec);
+    vb_release(f.vb);
+    ib_release(f.ib);
+    decl_release(f.decl);
+}
+
 /* The adaptive levels' formula at its edges: never NaN out of the edge rule, whatever goes in. */
 static void test_adaptive_levels(void **state)
 {
@@ -661,7 +713,7 @@ int main(void)
         cmocka_unit_test(test_resources),     cmocka_unit_test(test_state_edges),
         cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
         cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
-        cmocka_unit_test(test_ownership),
+        cmocka_unit_test(test_ownership),     cmocka_unit_test(test_state_blocks),
     };
     return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
 }
