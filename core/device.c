@@ -51,6 +51,7 @@ void dev_debug(is_device *dev, const char *fmt, ...)
     memcpy(log + have, line, len + 1);
 }
 
+/* The debug log's text ("" for a NULL or destroyed device). */
 const char *dev_debug_log(const is_device *dev) { return dev_live(dev) ? dev->debug_log : ""; }
 
 /* Bits of a float, as D3D9 passes float render states through a DWORD. */

@@ -36,11 +36,13 @@ static const uint8_t vertex_states[] = {
 #define PIXEL_SAMP_BITS (((1u << (IS_SAMP_ELEMENTINDEX + 1)) - 1u) & ~1u)
 #define VERTEX_SAMP_BITS (1u << IS_SAMP_DMAPOFFSET)
 
+/* Sampler k (stateblock numbering) of dev in, its struct out. */
 is_sampler *dev_sampler_at(is_device *dev, unsigned k)
 {
     return k < DEV_PS_SAMPLERS ? &dev->ps_samplers[k] : &dev->consts.s[k - DEV_PS_SAMPLERS];
 }
 
+/* One of dev's samplers in, its stateblock number out. */
 unsigned dev_sampler_number(const is_device *dev, const is_sampler *s)
 {
     if (s >= dev->ps_samplers && s < dev->ps_samplers + DEV_PS_SAMPLERS) return (unsigned)(s - dev->ps_samplers);
@@ -137,6 +139,7 @@ static is_state_block *sb_new(void)
     return calloc(1, sizeof(is_state_block));
 }
 
+/* BeginStateBlock: a new, empty block that the setters fill from now on. */
 is_result dev_begin_state_block(is_device *dev)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
@@ -145,6 +148,7 @@ is_result dev_begin_state_block(is_device *dev)
     return IS_OK;
 }
 
+/* EndStateBlock: the recorded block out, registered with its device; the setters write the device again. */
 is_result dev_end_state_block(is_device *dev, is_state_block **out)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
@@ -156,6 +160,7 @@ is_result dev_end_state_block(is_device *dev, is_state_block **out)
     return IS_OK;
 }
 
+/* CreateStateBlock: a block holding D3D9's list for type, captured from the device now. */
 is_result dev_create_state_block(is_device *dev, is_state_block_type type, is_state_block **out)
 {
     if (out) *out = NULL;
@@ -186,6 +191,7 @@ static is_device *sb_device(is_state_block *sb, const char *call)
     return sb->res.dev;
 }
 
+/* Capture: what sb holds, refreshed from its device. */
 is_result sb_capture(is_state_block *sb)
 {
     is_device *dev = sb_device(sb, "Capture");
@@ -194,6 +200,7 @@ is_result sb_capture(is_state_block *sb)
     return IS_OK;
 }
 
+/* Apply: its device set to what sb holds. */
 is_result sb_apply(is_state_block *sb)
 {
     is_device *dev = sb_device(sb, "Apply");
@@ -202,6 +209,7 @@ is_result sb_apply(is_state_block *sb)
     return IS_OK;
 }
 
+/* Release: sb unregistered and freed (after dev_destroy too). */
 void sb_release(is_state_block *sb)
 {
     if (!sb) return;
@@ -220,6 +228,7 @@ static void forget_in(is_state_block *sb, const void *p)
         if ((const void *)sb->samplers[k].tex == p) sb->samplers[k].tex = NULL;
 }
 
+/* A released resource p dropped from every block of dev (device_internal.h). */
 void sb_forget(is_device *dev, const void *p)
 {
     if (dev->recording) forget_in(dev->recording, p);
@@ -227,6 +236,7 @@ void sb_forget(is_device *dev, const void *p)
         if (r->kind == DEV_RES_SB) forget_in((is_state_block *)r, p);
 }
 
+/* The block being recorded freed, recording over. */
 void sb_abort_recording(is_device *dev)
 {
     free(dev->recording);
