@@ -430,6 +430,9 @@ static is_result draw_primitive(is_device *dev, const char *call, is_primtype ty
     if (n_idx > DRAW_MAX_VERTICES)   /* the device's MaxPrimitiveCount: D3D9 refuses a draw beyond its caps */
         return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %zu vertices, more than the %u one draw may read", call,
                         n_idx, DRAW_MAX_VERTICES);
+    if ((uint64_t)start_vertex + n_idx - 1 > UINT32_MAX)   /* vertex numbers are 32-bit, as D3D9's */
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: StartVertex %u + %zu vertices pass vertex 2^32 - 1", call,
+                        start_vertex, n_idx);
     fetch_plan fp;
     r = plan_fetch(dev, call, (uint64_t)start_vertex + n_idx - 1, 1, &fp);
     if (r != IS_OK) return r;

@@ -234,11 +234,15 @@ static void test_robust_reads(void **state)
         assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 2, 0, 2), IS_OK);
         assert_int_equal(count_lines(dev_debug_log(dev)), 3);
         assert_non_null(strstr(dev_debug_log(dev), "stream 1, which has no vertex buffer"));
+        /* vertex numbers past 2^32 - 1 are refused, not wrapped to vertex 0 */
+        assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, UINT32_MAX - 1, 2), IS_OK);
+        assert_int_equal(dev_draw_primitive(dev, IS_PT_POINTLIST, UINT32_MAX - 1, 3), IS_ERR_INVALIDCALL);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 4);
         /* in bounds: nothing logged */
         dev_set_stream_source(dev, 1, vb1, 0, 8);
         dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 2);
         assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_POINTLIST, 0, 0, 2, 0, 2), IS_OK);
-        assert_int_equal(count_lines(dev_debug_log(dev)), 3);
+        assert_int_equal(count_lines(dev_debug_log(dev)), 4);
         decl_release(decl);
         vb_release(vb0);
         vb_release(vb1);
