@@ -36,12 +36,6 @@ static const is_vertex_shader shader = {.name = "pos", .main = vs_pos, .outputs 
 
 static const is_vertex_element pos_decl[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
 
-static float bits_float(uint32_t u)
-{
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
 static uint32_t float_bits(float f)
 {
     uint32_t u;
