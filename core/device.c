@@ -29,6 +29,31 @@ is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...)
     return code;
 }
 
+/* Append a line to the debug log (device_internal.h), dropping the oldest lines when it is full. */
+void dev_debug(is_device *dev, const char *fmt, ...)
+{
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(line, sizeof line - 1, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    size_t len = strlen(line);
+    line[len++] = '\n', line[len] = 0;
+    char *log = dev->debug_log;
+    size_t have = strlen(log);
+    while (have + len >= sizeof dev->debug_log) {   /* drop the oldest line */
+        char *nl = strchr(log, '\n');
+        size_t drop = nl ? (size_t)(nl - log) + 1 : have;
+        memmove(log, log + drop, have - drop + 1);
+        have -= drop;
+    }
+    memcpy(log + have, line, len + 1);
+}
+
+/* The debug log's text ("" for a NULL or destroyed device). */
+const char *dev_debug_log(const is_device *dev) { return dev_live(dev) ? dev->debug_log : ""; }
+
 /* Bits of a float, as D3D9 passes float render states through a DWORD. */
 static uint32_t float_bits(float f) { uint32_t u; memcpy(&u, &f, 4); return u; }
 static float bits_float(uint32_t u) { float f; memcpy(&f, &u, 4); return f; }
@@ -92,6 +117,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     dev->ps_consts.s = dev->ps_samplers;
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
+    dev_viewport_update(dev);
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
     return dev;
 }
@@ -99,6 +125,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
 void dev_reset(is_device *dev)
 {
     if (!dev_live(dev)) return;
+    sb_abort_recording(dev);
     memset(dev->rs_state, 0, sizeof dev->rs_state);
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);
@@ -110,6 +137,7 @@ void dev_reset(is_device *dev)
     dev_samplers_default(dev); /* no texture bound; the textures themselves stay the device's */
     dev->npatch_segments = 0, dev->npatch_eval = NULL;
     dev->viewport = (is_viewport){0, 0, (uint32_t)dev->rt.width, (uint32_t)dev->rt.height, 0.0f, 1.0f};
+    dev_viewport_update(dev);
 }
 
 void dev_res_add(is_device *dev, dev_res *r, dev_res_kind kind)
@@ -155,6 +183,7 @@ void dev_destroy(is_device *dev)
 {
     if (!dev || dev->destroyed) return;
     inspect_stop(dev);
+    sb_abort_recording(dev);
     dev_release_textures(dev);
     for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
@@ -220,7 +249,8 @@ is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl
     if (decl && !dev_res_owns(dev, decl, DEV_RES_DECL))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: not a live declaration of this device (another "
                         "device's, or released)");
-    dev->decl = decl;
+    if (dev->recording) dev->recording->decl = decl, dev->recording->has_decl = true;
+    else dev->decl = decl;
     return IS_OK;
 }
 
@@ -236,9 +266,9 @@ is_result dev_set_stream_source(is_device *dev, unsigned stream, is_vertex_buffe
     if (vb && !dev_res_owns(dev, vb, DEV_RES_VB))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSource: not a live vertex buffer of this device (another "
                         "device's, or released)");
-    dev->streams[stream].vb = vb;
-    dev->streams[stream].offset = offset;
-    dev->streams[stream].stride = stride;
+    stream_source *d = dev->recording ? &dev->recording->streams[stream] : &dev->streams[stream];
+    d->vb = vb, d->offset = offset, d->stride = stride;
+    if (dev->recording) dev->recording->has_source |= 1u << stream;
     return IS_OK;
 }
 
@@ -259,6 +289,10 @@ is_result dev_set_stream_source_freq(is_device *dev, unsigned stream, uint32_t s
     if ((flags & IS_STREAMSOURCE_INSTANCEDATA) && stream == 0)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: INSTANCEDATA on stream 0");
     if (setting == 0) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetStreamSourceFreq: stream %u: a setting of 0", stream);
+    if (dev->recording) {
+        dev->recording->streams[stream].freq = setting, dev->recording->has_freq |= 1u << stream;
+        return IS_OK;
+    }
     dev->streams[stream].freq = setting;
     return IS_OK;
 }
@@ -276,7 +310,8 @@ is_result dev_set_indices(is_device *dev, is_index_buffer *ib)
     if (ib && !dev_res_owns(dev, ib, DEV_RES_IB))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetIndices: not a live index buffer of this device (another "
                         "device's, or released)");
-    dev->ib = ib;
+    if (dev->recording) dev->recording->ib = ib, dev->recording->has_ib = true;
+    else dev->ib = ib;
     return IS_OK;
 }
 
@@ -285,7 +320,8 @@ is_result dev_set_vertex_shader(is_device *dev, const is_vertex_shader *vs)
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (vs && !vs->main) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShader: shader '%s' has no function",
                                          vs->name ? vs->name : "?");
-    dev->vs = vs;
+    if (dev->recording) dev->recording->vs = vs, dev->recording->has_vs = true;
+    else dev->vs = vs;
     return IS_OK;
 }
 
@@ -296,6 +332,11 @@ is_result dev_set_vertex_shader_constant_f(is_device *dev, unsigned start, const
     if (!data || start >= IS_MAX_VS_CONSTANTS || count4 > IS_MAX_VS_CONSTANTS - start)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexShaderConstantF: registers c%u..c%u out of c0..c%d", start,
                         start + count4 - 1, IS_MAX_VS_CONSTANTS - 1);
+    if (dev->recording) {
+        memcpy(&dev->recording->c[start], data, count4 * sizeof(float4));
+        for (unsigned k = 0; k < count4; k++) dev->recording->has_c[start + k] = true;
+        return IS_OK;
+    }
     memcpy(&dev->consts.c[start], data, count4 * sizeof(float4));
     return IS_OK;
 }
@@ -350,17 +391,15 @@ static int state_check(is_rs state, uint32_t v)
     case IS_RS_FILLMODE: ok = v >= IS_FILL_POINT && v <= IS_FILL_SOLID; break;
     case IS_RS_SHADEMODE: ok = v >= IS_SHADE_FLAT && v <= IS_SHADE_PHONG; break;
     case IS_RS_ZWRITEENABLE: case IS_RS_ALPHABLENDENABLE: case IS_RS_MULTISAMPLEANTIALIAS: ok = v <= 1; break;
-    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_INVDESTCOLOR; break;
+    case IS_RS_SRCBLEND: case IS_RS_DESTBLEND: ok = v >= IS_BLEND_ZERO && v <= IS_BLEND_BOTHINVSRCALPHA; break;
     case IS_RS_CULLMODE: ok = v >= IS_CULL_NONE && v <= IS_CULL_CCW; break;
     case IS_RS_ZFUNC: ok = v >= IS_CMP_NEVER && v <= IS_CMP_ALWAYS; break;
     case IS_RS_POSITIONDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_CUBIC; break;
-    case IS_RS_NORMALDEGREE: ok = v == IS_DEGREE_LINEAR || v == IS_DEGREE_QUADRATIC; break;
+    case IS_RS_NORMALDEGREE: ok = v >= IS_DEGREE_LINEAR && v <= IS_DEGREE_CUBIC; break;   /* CUBIC: the runtime's */
     case IS_RS_PATCHEDGESTYLE: ok = v <= 1; break;
     case IS_RS_DEPTHBIAS: case IS_RS_SLOPESCALEDEPTHBIAS: ok = isfinite(bits_float(v)); break;
     case IS_RS_ENABLEADAPTIVETESSELLATION: ok = v <= 1; break;
-    case IS_RS_MINTESSELLATIONLEVEL: case IS_RS_MAXTESSELLATIONLEVEL: /* finite, >= 1 */
-        ok = isfinite(bits_float(v)) && bits_float(v) >= 1.0f;
-        break;
+    case IS_RS_MINTESSELLATIONLEVEL: case IS_RS_MAXTESSELLATIONLEVEL: /* finite; below 1 as the runtime takes it */
     case IS_RS_ADAPTIVETESS_X: case IS_RS_ADAPTIVETESS_Y: case IS_RS_ADAPTIVETESS_Z: case IS_RS_ADAPTIVETESS_W:
         ok = isfinite(bits_float(v));
         break;
@@ -380,7 +419,8 @@ is_result dev_set_render_state(is_device *dev, is_rs state, uint32_t value)
                         "the states listed in core.h)", (int)state);
     if (r == STATE_BAD_VALUE)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetRenderState: state %d does not take value %u", state, value);
-    dev->rs_state[state] = value;
+    if (dev->recording) dev->recording->rs[state] = value, dev->recording->has_rs[state] = true;
+    else dev->rs_state[state] = value;
     return IS_OK;
 }
 
@@ -392,18 +432,47 @@ is_result dev_get_render_state(const is_device *dev, is_rs state, uint32_t *valu
     return IS_OK;
 }
 
-/* SetViewport: must lie inside the target, with 0 <= MinZ <= MaxZ <= 1. */
+/* SetViewport as the runtime takes it: any position and size of at least one pixel (a viewport reaching beyond
+ * the target is clipped to it when drawing and clearing), MinZ and MaxZ in [0, 1] in either order; stored as given
+ * (GetViewport reads it back), with MinZ >= MaxZ drawn as [MinZ, MinZ + 0.001] (dev_viewport_update). */
 is_result dev_set_viewport(is_device *dev, const is_viewport *vp)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!vp || vp->width == 0 || vp->height == 0 || vp->x > (uint32_t)dev->rt.width ||
-        vp->width > (uint32_t)dev->rt.width - vp->x || vp->y > (uint32_t)dev->rt.height ||
-        vp->height > (uint32_t)dev->rt.height - vp->y || !(vp->min_z >= 0.0f) || !(vp->max_z <= 1.0f) ||
-        !(vp->min_z <= vp->max_z))
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: viewport outside the %dx%d target or bad depth range",
-                        dev->rt.width, dev->rt.height);
+    if (!vp || vp->width == 0 || vp->height == 0 || !(vp->min_z >= 0.0f && vp->min_z <= 1.0f) ||
+        !(vp->max_z >= 0.0f && vp->max_z <= 1.0f))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetViewport: %s", !vp ? "NULL viewport" :
+                        (vp->width == 0 || vp->height == 0) ? "a width or height of 0" :
+                        "MinZ or MaxZ outside [0, 1]");
+    if (dev->recording) {
+        dev->recording->viewport = *vp, dev->recording->has_viewport = true;
+        return IS_OK;
+    }
     dev->viewport = *vp;
+    dev_viewport_update(dev);
     return IS_OK;
+}
+
+/* The rasterizer's viewport of dev (dev->rs_vp) and the clip-space map (dev->remap) from the set viewport: the
+ * viewport clipped to the target (one that misses the target entirely becomes a 1x1 viewport that every vertex
+ * is mapped outside of: nothing is drawn), and MaxZ = MinZ + 0.001 when MinZ >= MaxZ, as the runtime draws it
+ * (DXVK's D3D9DeviceEx::SetViewport). */
+void dev_viewport_update(is_device *dev)
+{
+    const is_viewport *v = &dev->viewport;
+    const double X = v->x, Y = v->y, W = v->width, H = v->height, tw = dev->rt.width, th = dev->rt.height;
+    const double x0 = X < tw ? X : tw, x1 = X + W < tw ? X + W : tw, y0 = Y < th ? Y : th, y1 = Y + H < th ? Y + H : th;
+    float max_z = v->min_z < v->max_z ? v->max_z : v->min_z + 0.001f;
+    dev->remap = (vp_remap){false, 1.0f, 0.0f, 1.0f, 0.0f};
+    if (x0 >= x1 || y0 >= y1) {   /* outside the target: x' = 4w lies outside -w..w for every w > 0 */
+        dev->rs_vp = (rs_viewport){0, 0, 1, 1, v->min_z, max_z};
+        dev->remap = (vp_remap){true, 0.0f, 4.0f, 0.0f, 4.0f};
+        return;
+    }
+    dev->rs_vp = (rs_viewport){(int)x0, (int)y0, (int)(x1 - x0), (int)(y1 - y0), v->min_z, max_z};
+    if (x0 == X && x1 == X + W && y0 == Y && y1 == Y + H) return;
+    const double w = x1 - x0, h = y1 - y0;
+    dev->remap = (vp_remap){true, (float)(W / w), (float)((2.0 * (X - x0) + W) / w - 1.0), (float)(H / h),
+                            (float)(1.0 - (2.0 * (Y - y0) + H) / h)};
 }
 
 is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
@@ -413,12 +482,10 @@ is_result dev_get_viewport(const is_device *dev, is_viewport *vp)
     return IS_OK;
 }
 
-/* SetNPatchMode: segments < 1 disables; non-finite or huge values are invalid. */
+/* SetNPatchMode: every value stored as the runtime stores it (below 1 or NaN disables; draws cap it, device.h). */
 is_result dev_set_npatch_mode(is_device *dev, float segments)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!isfinite(segments) || segments > 256.0f)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "SetNPatchMode: %g segments (at most 256)", (double)segments);
     dev->npatch_segments = segments;
     return IS_OK;
 }
@@ -449,9 +516,10 @@ is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, 
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
     uint32_t rgba = r | g << 8 | b << 16 | a << 24;
     const is_viewport *vp = &dev->viewport;   /* the area: the viewport, within the target */
-    is_rect area = {(int32_t)vp->x, (int32_t)vp->y, (int32_t)(vp->x + vp->width), (int32_t)(vp->y + vp->height)};
-    area.right = area.right > dev->rt.width ? dev->rt.width : area.right;
-    area.bottom = area.bottom > dev->rt.height ? dev->rt.height : area.bottom;
+    const int64_t vx1 = (int64_t)vp->x + vp->width, vy1 = (int64_t)vp->y + vp->height;
+    is_rect area = {vp->x < (uint32_t)dev->rt.width ? (int32_t)vp->x : dev->rt.width,
+                    vp->y < (uint32_t)dev->rt.height ? (int32_t)vp->y : dev->rt.height,
+                    vx1 < dev->rt.width ? (int32_t)vx1 : dev->rt.width, vy1 < dev->rt.height ? (int32_t)vy1 : dev->rt.height};
     bool whole = area.left == 0 && area.top == 0 && area.right == dev->rt.width && area.bottom == dev->rt.height;
     if (!rects) count = 0;
     if (whole && count == 0) {   /* the whole target: deferred per tile, and a new frame */
@@ -531,10 +599,20 @@ _Static_assert(SAME(IS_CLEAR_TARGET, RS_CLEAR_COLOR) && SAME(IS_CLEAR_ZBUFFER, R
                "clear flags: IS_CLEAR_* == RS_CLEAR_*");
 #undef SAME
 
+/* A blend factor as the rasterizer has it: SRCALPHASAT as SRCALPHA, BOTH(INV)SRCALPHA as (INV)SRCALPHA (device.h). */
+static int blend_factor(uint32_t f)
+{
+    if (f == IS_BLEND_SRCALPHASAT || f == IS_BLEND_BOTHSRCALPHA) return RS_BLEND_SRCALPHA;
+    if (f == IS_BLEND_BOTHINVSRCALPHA) return RS_BLEND_INVSRCALPHA;
+    return (int)f;
+}
+
 /* The rasterizer's copy of the current states. */
 rs_state dev_rs_state(const is_device *dev)
 {
     const uint32_t *s = dev->rs_state;
+    const uint32_t src = s[IS_RS_SRCBLEND];   /* BOTH(INV)SRCALPHA as SRCBLEND sets both factors */
+    const bool both = src == IS_BLEND_BOTHSRCALPHA || src == IS_BLEND_BOTHINVSRCALPHA;
     rs_state st = {
         .cull_mode = (int)s[IS_RS_CULLMODE],
         .fill_mode = (int)s[IS_RS_FILLMODE],
@@ -543,16 +621,16 @@ rs_state dev_rs_state(const is_device *dev)
         .z_write = s[IS_RS_ZWRITEENABLE] != 0,
         .z_func = (int)s[IS_RS_ZFUNC],
         .blend_enable = s[IS_RS_ALPHABLENDENABLE] != 0,
-        .src_blend = (int)s[IS_RS_SRCBLEND],
-        .dst_blend = (int)s[IS_RS_DESTBLEND],
+        .src_blend = blend_factor(src),
+        .dst_blend = both ? (src == IS_BLEND_BOTHSRCALPHA ? RS_BLEND_INVSRCALPHA : RS_BLEND_SRCALPHA)
+                          : blend_factor(s[IS_RS_DESTBLEND]),
         .multisample = s[IS_RS_MULTISAMPLEANTIALIAS] != 0 && dev->rt.samples > 1,
         .depth_bias = bits_float(s[IS_RS_DEPTHBIAS]),
         .slope_scale_depth_bias = bits_float(s[IS_RS_SLOPESCALEDEPTHBIAS]),
         .attr_mask = dev->vs ? dev->vs->outputs : 0,
         .ps = dev->ps ? dev_ps_run : NULL,
         .ps_ctx = dev,
-        .viewport = {(int)dev->viewport.x, (int)dev->viewport.y, (int)dev->viewport.width,
-                     (int)dev->viewport.height, dev->viewport.min_z, dev->viewport.max_z},
+        .viewport = dev->rs_vp,
     };
     return st;
 }

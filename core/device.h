@@ -47,6 +47,9 @@ typedef enum is_decltype {
     IS_DECLTYPE_D3DCOLOR = 4, IS_DECLTYPE_UBYTE4 = 5, IS_DECLTYPE_SHORT2 = 6, IS_DECLTYPE_SHORT4 = 7,
     IS_DECLTYPE_UBYTE4N = 8, IS_DECLTYPE_SHORT2N = 9, IS_DECLTYPE_SHORT4N = 10,
     IS_DECLTYPE_USHORT2N = 11, IS_DECLTYPE_USHORT4N = 12,
+    /* UDEC3: three unsigned 10-bit fields (x in bits 0..9) -> (x, y, z, 1); DEC3N: three signed 10-bit fields / 511
+     * -> (x, y, z, 1), -512 read as -1 (the SNORM rule of SHORTnN); FLOAT16_2/4: IEEE half floats, exactly */
+    IS_DECLTYPE_UDEC3 = 13, IS_DECLTYPE_DEC3N = 14, IS_DECLTYPE_FLOAT16_2 = 15, IS_DECLTYPE_FLOAT16_4 = 16,
     IS_DECLTYPE_UNUSED = 17
 } is_decltype;
 
@@ -115,8 +118,16 @@ enum {
 enum {
     IS_BLEND_ZERO = 1, IS_BLEND_ONE = 2, IS_BLEND_SRCCOLOR = 3, IS_BLEND_INVSRCCOLOR = 4,
     IS_BLEND_SRCALPHA = 5, IS_BLEND_INVSRCALPHA = 6, IS_BLEND_DESTALPHA = 7, IS_BLEND_INVDESTALPHA = 8,
-    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10
+    IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10,
+    /* values the runtime takes beyond those ten, with their effect here: SRCALPHASAT blends as SRCALPHA (the
+     * rasterizer has no min(As, 1 - Ad) factor: the same colour factor while Ad <= 1 - As, e.g. on a target
+     * cleared with alpha 0; alpha's factor As instead of 1); BOTHSRCALPHA as SRCBLEND means SRCBLEND SRCALPHA and
+     * DESTBLEND INVSRCALPHA, BOTHINVSRCALPHA the reverse (DESTBLEND overridden, as D3D9 documents and DXVK does),
+     * and as DESTBLEND they read as SRCALPHA and INVSRCALPHA.  GetRenderState reads back what was set. */
+    IS_BLEND_SRCALPHASAT = 11, IS_BLEND_BOTHSRCALPHA = 12, IS_BLEND_BOTHINVSRCALPHA = 13
 };
+/* NORMALDEGREE takes LINEAR, QUADRATIC and (as the runtime does) CUBIC, which the N-patch evaluator gets as
+ * QUADRATIC (the highest degree of normals it has); POSITIONDEGREE takes LINEAR and CUBIC. */
 enum { IS_DEGREE_LINEAR = 1, IS_DEGREE_QUADRATIC = 2, IS_DEGREE_CUBIC = 3 };
 enum { IS_PATCHEDGE_DISCRETE = 0, IS_PATCHEDGE_CONTINUOUS = 1 };
 enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2 };
@@ -282,6 +293,11 @@ INSTESS_API void dev_destroy(is_device *dev);
 INSTESS_API void dev_reset(is_device *dev);
 /* The message of the last failed call ("" if none). */
 INSTESS_API const char *dev_last_error(const is_device *dev);
+/* The device's debug log (D3D9's debug runtime output, for this device): notes about calls that succeeded but did
+ * something a program may not expect, one line each, the latest ~2 KB (older lines dropped); "" for a NULL
+ * device.  A draw that reads past a vertex buffer's end or from a stream without a buffer (those reads return
+ * zeros: D3D10's robust buffer access) adds one line per draw. */
+INSTESS_API const char *dev_debug_log(const is_device *dev);
 /* Threads used by draws (0: all cores).  Output bytes do not depend on it. */
 INSTESS_API void dev_set_threads(is_device *dev, int threads);
 /* Phase times on or off (default off): dev_stats' setup_ms and tile_ms then sum the frame's set-up regions
@@ -362,11 +378,42 @@ INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, ui
  *   | IS_RS_ADAPTIVETESS_Z             | 1.0f (as its bits)       |
  *   | IS_RS_ADAPTIVETESS_W             | 0.0f (as its bits)       |
  */
+/* SetViewport, as the runtime takes it: any x, y and any width and height of at least 1 (a viewport reaching beyond
+ * the target is drawn and cleared clipped to the target, each vertex where the whole viewport puts it; one wholly
+ * outside draws nothing), MinZ and MaxZ in [0, 1] in either order.  GetViewport reads it back as given; draws use
+ * MaxZ = MinZ + 0.001 when MinZ >= MaxZ (the runtime's rule, as DXVK's SetViewport records it).  Refused: NULL, a
+ * width or height of 0, a depth outside [0, 1] or NaN. */
 INSTESS_API is_result dev_set_viewport(is_device *dev, const is_viewport *vp);
 INSTESS_API is_result dev_get_viewport(const is_device *dev, is_viewport *vp);
-/* SetNPatchMode(segments): below 1 disables N-patches (see vs/ for the patch the device evaluates). */
+/* SetNPatchMode(segments): below 1 (or NaN) disables N-patches (see vs/ for the patch the device evaluates).  Every
+ * float is stored and read back, as the runtime stores it; draws take more than IS_NPATCH_MAX_SEGMENTS (infinity
+ * too) as that many, as a driver caps the level at its D3DCAPS9.MaxNpatchTessellationLevel. */
+#define IS_NPATCH_MAX_SEGMENTS 256.0f
 INSTESS_API is_result dev_set_npatch_mode(is_device *dev, float segments);
 INSTESS_API float dev_get_npatch_mode(const is_device *dev);
+
+/* --- stateblocks (IDirect3DStateBlock9) --- */
+typedef struct is_state_block is_state_block;
+typedef enum is_state_block_type { IS_SBT_ALL = 1, IS_SBT_PIXELSTATE = 2, IS_SBT_VERTEXSTATE = 3 } is_state_block_type;
+/* BeginStateBlock / EndStateBlock: between them the setters (render states, viewport, stream sources and
+ * frequencies, indices, declaration, shader, constants, textures and sampler states) write into the block being
+ * recorded, not into the device (the getters still read the device); End hands out the block, which holds what was
+ * set.  CreateStateBlock: a block holding D3D9's list for `type` (PIXELSTATE: the pixel render states and the pixel
+ * samplers' states; VERTEXSTATE: the vertex render states, the vertex samplers' DMAPOFFSET, the declaration, the
+ * shader, its constants and the stream frequencies; ALL: both, and the textures, stream buffers, indices and the
+ * viewport), captured from the device now.  sb_capture refreshes what a block holds from the device, sb_apply
+ * sets the device to it.  Refused (IS_ERR_INVALIDCALL, nothing changed): Begin while recording, End while not (its
+ * output untouched), CreateStateBlock, Capture and Apply while recording, an unknown type, NULL outputs, a NULL
+ * block or one whose device is destroyed -- as the runtime does (Wine's stateblock tests, DXVK).  A block belongs to
+ * its device like a buffer (sb_release; safe after dev_destroy).  Unlike D3D9 a block holds no reference: a buffer,
+ * declaration or texture released while a block holds it is dropped from the block (Apply binds nothing there).
+ * SetNPatchMode and the evaluator are not stateblock state (nor in D3D9). */
+INSTESS_API is_result dev_begin_state_block(is_device *dev);
+INSTESS_API is_result dev_end_state_block(is_device *dev, is_state_block **out);
+INSTESS_API is_result dev_create_state_block(is_device *dev, is_state_block_type type, is_state_block **out);
+INSTESS_API is_result sb_capture(is_state_block *sb);
+INSTESS_API is_result sb_apply(is_state_block *sb);
+INSTESS_API void sb_release(is_state_block *sb);
 
 /* RECT (and D3DRECT, the same four numbers): the pixels left <= x < right, top <= y < bottom. */
 typedef struct is_rect { int32_t left, top, right, bottom; } is_rect;
@@ -383,6 +430,18 @@ INSTESS_API is_result dev_draw_primitive(is_device *dev, is_primtype type, unsig
 INSTESS_API is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count);
+/* DrawPrimitiveUP / DrawIndexedPrimitiveUP: the vertices (and indices) from the caller's memory instead of buffers,
+ * read during the call only.  The vertices are stream 0 (stride bytes apart: prim_count primitives' worth, or
+ * MinVertexIndex + NumVertices of them; an element reaching past that reads zeros, as past a buffer's end), the
+ * other streams as bound.  Afterwards stream 0 is unset (no buffer, offset 0, stride 0) and, for the indexed call,
+ * the indices too (NULL), as the runtime leaves them; a count of 0 draws nothing, changes nothing and succeeds.
+ * Refused: NULL data, a stride of 0, an index format other than INDEX16 / INDEX32, no declaration, and what
+ * DrawPrimitive / DrawIndexedPrimitive refuse. */
+INSTESS_API is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_count,
+                                            const void *vertices, unsigned stride);
+INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsigned min_vertex_index,
+                                                    unsigned num_vertices, unsigned prim_count, const void *indices,
+                                                    is_format index_format, const void *vertices, unsigned stride);
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
  * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,
@@ -426,7 +485,8 @@ INSTESS_API is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn
  *    MINTESSELLATIONLEVEL becomes MINTESSELLATIONLEVEL (so MIN wins when MIN > MAX).
  * An edge's level depends on its two vertices alone (the mean is symmetric), so both triangles of an edge agree.
  * Defaults (the documentation's): ENABLEADAPTIVETESSELLATION FALSE, MIN = MAX = 1.0f, Mdm = (0, 0, 1, 0); MIN and
- * MAX must be finite and >= 1 ("cannot be less than 1"), X..W finite.  Disabled, the mode draws as above, bit
+ * MAX must be finite (the documentation adds "cannot be less than 1"; the runtime takes less, and so does this
+ * device: an edge level below 1 draws as 1, one segment), X..W finite.  Disabled, the mode draws as above, bit
  * for bit as before these states existed.
  * The tessellation of a triangle with edge levels (e0, e1, e2) (edge k from v[k] to v[k+1 mod 3]): DISCRETE
  * truncates each to an integer, CONTINUOUS keeps them; levels above CORE_PG_MAX_LEVEL (64) are taken as 64 (the

@@ -19,7 +19,7 @@
  * resources' reference to their device (D3D9's): dev_destroy frees the device's memory and the memory of every
  * resource still listed (their data: lock returns NULL, size 0), and the small structs themselves stay until each
  * is released -- the device's last few bytes with its last -- so releasing after dev_destroy is safe. */
-typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL } dev_res_kind;
+typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL, DEV_RES_SB } dev_res_kind;
 typedef struct dev_res {
     struct dev_res *prev, *next;
     is_device *dev;
@@ -65,6 +65,15 @@ struct is_vertex_declaration {
     uint32_t stream_mask;   /* streams the declaration reads */
 };
 
+/* The viewport as the rasterizer gets it (dev_rs_state): the set viewport clipped to the target, and the affine map
+ * of clip-space x and y that places a vertex through the clipped viewport where the set one would put it
+ * (x' = ax x + bx w, y' = ay y + by w); `on` false when the set viewport lies inside the target (no map: the
+ * shaded bytes are untouched).  dev_viewport_update computes it whenever the viewport changes. */
+typedef struct vp_remap {
+    bool on;
+    float ax, bx, ay, by;
+} vp_remap;
+
 typedef struct stream_source {
     is_vertex_buffer *vb;
     unsigned offset, stride;
@@ -95,6 +104,41 @@ struct is_texture {
  * the displacement-map sampler. */
 #define DEV_PS_SAMPLERS (IS_MAX_PS_SAMPLERS + 1)
 
+/* Every sampler of a device, numbered for stateblocks: 0..15 the pixel samplers, 16 D3DDMAPSAMPLER, 17..20 the
+ * vertex samplers (D3DVERTEXTEXTURESAMPLER0..3). */
+#define DEV_ALL_SAMPLERS (DEV_PS_SAMPLERS + IS_MAX_VS_SAMPLERS)
+
+/* A stateblock (core/stateblock.c): values of the device's state and which of them it holds (D3D9's lists for
+ * ALL, PIXELSTATE and VERTEXSTATE, or what was set while it was recorded).  Its buffers, declaration and textures
+ * are pointers the device forgets from every stateblock when they are released (sb_forget). */
+typedef struct is_state_block {
+    dev_res res;                               /* first: the registry's link (DEV_RES_SB) */
+    uint32_t rs[IS_RS_COUNT];
+    is_viewport viewport;
+    stream_source streams[IS_MAX_STREAMS];
+    is_index_buffer *ib;
+    is_vertex_declaration *decl;
+    const is_vertex_shader *vs;
+    float4 c[IS_MAX_VS_CONSTANTS];
+    is_sampler samplers[DEV_ALL_SAMPLERS];
+    /* what it holds */
+    bool has_rs[IS_RS_COUNT];
+    bool has_c[IS_MAX_VS_CONSTANTS];
+    uint32_t has_samp[DEV_ALL_SAMPLERS];       /* bit t: sampler state t */
+    uint32_t has_tex;                          /* bit k: sampler k's texture */
+    uint32_t has_source;                       /* bit s: stream s's buffer, offset and stride */
+    uint32_t has_freq;                         /* bit s: stream s's frequency */
+    bool has_viewport, has_ib, has_decl, has_vs;
+} is_state_block;
+
+/* Sampler k of dev in stateblock numbering (DEV_ALL_SAMPLERS), and the number of sampler s of dev. */
+is_sampler *dev_sampler_at(is_device *dev, unsigned k);
+unsigned dev_sampler_number(const is_device *dev, const is_sampler *s);
+/* Drop a released buffer, declaration or texture p from every stateblock of dev (the recorded one included). */
+void sb_forget(is_device *dev, const void *p);
+/* Free the stateblock dev is recording, if any (dev_reset, dev_destroy). */
+void sb_abort_recording(is_device *dev);
+
 /* Every sampler of dev back to D3D9's defaults, without a texture (core/texture.c). */
 void dev_samplers_default(is_device *dev);
 /* Release every texture dev still owns (dev_destroy). */
@@ -118,9 +162,13 @@ struct is_device {
     bool timing;            /* dev_set_timing: phase times into stats (setup_ms, tile_ms) */
     bool patch_cull;        /* dev_set_patch_cull */
     uint32_t rs_state[IS_RS_COUNT];
-    is_viewport viewport;
+    is_viewport viewport;   /* as set (and read back by GetViewport) */
+    rs_viewport rs_vp;      /* the rasterizer's: clipped to the target, MaxZ fixed (dev_viewport_update) */
+    vp_remap remap;         /* the clip-space map that the clipping needs (vp_remap) */
     stream_source streams[IS_MAX_STREAMS];
     is_index_buffer *ib;
+    is_vertex_buffer up_vb;    /* the caller's memory during a UP draw (not in the registry; never handed out) */
+    is_index_buffer up_ib;
     is_vertex_declaration *decl;
     const is_vertex_shader *vs;
     is_vs_constants consts;    /* c0..c255 and the vertex samplers s0..s3 */
@@ -131,7 +179,9 @@ struct is_device {
     rs_stats stats;
     uint64_t shaded;
     uint64_t instances_culled; /* dev_instances_culled */
+    is_state_block *recording; /* BeginStateBlock .. EndStateBlock: setters write here, not into the device */
     char err[512];
+    char debug_log[2048];      /* dev_debug_log: the latest notes, one line each, oldest dropped first */
     /* scratch of draw calls, kept between draws and grown only, so that a frame like the last one allocates
      * nothing and touches no fresh pages (out_v, out_i: bounded by DRAW_CHUNK_VERTICES) */
     rs_vertex *out_v;
@@ -160,8 +210,13 @@ static inline double dev_clock(const is_device *dev) { return dev->timing ? omp_
 /* Record a message for dev_last_error and return code. */
 is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
+/* Append one line (printf-style, without its newline) to dev's debug log, dropping the oldest lines to make room. */
+void dev_debug(is_device *dev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 /* The rasterizer's copy of the device's render states and viewport. */
 rs_state dev_rs_state(const is_device *dev);
+/* dev->rs_vp and dev->remap from dev->viewport and the target's size (device.c). */
+void dev_viewport_update(is_device *dev);
 
 /* Expand one element at src into a float4 register (D3D9 defaults fill missing components). */
 float4 decl_fetch(uint8_t type, const unsigned char *src);
@@ -192,15 +247,38 @@ static inline void saturate_colors(rs_vertex *out, size_t n)
     }
 }
 
-/* How one declaration element is read during a draw. */
+/* What every draw path does to shaded vertices out[0..n) before the rasterizer sees them: the colours saturated
+ * (saturate_colors) and, when the viewport reaches beyond the target, oPos mapped for the clipped viewport
+ * (vp_remap; checked once per batch, so a viewport inside the target costs nothing per vertex). */
+static inline void post_shade(const vp_remap *m, rs_vertex *out, size_t n)
+{
+    saturate_colors(out, n);
+    if (!m->on) return;
+    for (size_t v = 0; v < n; v++) {
+        float4 *p = &out[v].pos;
+        p->x = m->ax * p->x + m->bx * p->w;
+        p->y = m->ay * p->y + m->by * p->w;
+    }
+}
+
+/* How one declaration element is read during a draw.  Reads are robust (D3D10's robust buffer access, which a
+ * software device needs: it must never read outside its buffers): an element whose bytes would lie past its
+ * buffer's end, or on a stream without a buffer, reads as zero bytes.  max_off is the largest fetch offset whose
+ * element lies inside the buffer; an unbound stream (or one too short for a single element) has base fetch_zeros,
+ * stride 0 and max_off 0.  The bound is checked once per fetch of an element's address (fetch_at): once per vertex
+ * per draw for per-vertex data (fetch_cache), once per instance for per-instance data. */
 typedef struct fetch_elem {
     const unsigned char *base; /* buffer + stream offset + element offset */
     size_t stride;
+    uint64_t max_off;
     uint32_t divider;
     bool per_instance;
     uint8_t type;
     unsigned reg_offset;
 } fetch_elem;
+
+/* What a read outside a buffer sees: zero bytes, as many as the largest element (FLOAT4) reads. */
+static const unsigned char fetch_zeros[16] = {0};
 
 /* The elements of a draw, checked against their buffers (draw.c's plan_fetch). */
 typedef struct fetch_plan {
@@ -217,7 +295,8 @@ typedef struct fetch_plan {
 /* Where element e of vertex (per-vertex element) or instance (per-instance element) `index` is read. */
 static inline const unsigned char *fetch_at(const fetch_elem *e, uint32_t index)
 {
-    return e->base + fetch_offset(index, e->divider, e->stride);
+    const uint64_t off = fetch_offset(index, e->divider, e->stride);
+    return off <= e->max_off ? e->base + off : fetch_zeros;   /* past the buffer's end: zeros (fetch_elem) */
 }
 
 /* The input registers before fetch: every register (0, 0, 0, 1). */

@@ -66,8 +66,26 @@ size_t prim_vertex(is_primtype type, size_t p, unsigned c)
     }
 }
 
-/* Check that the shader, declaration and bound streams allow a draw; fill the fetch plan. max_vertex is the
- * largest per-vertex index the draw reads. */
+/* Element k of declaration element de on stream s, read robustly (fetch_elem): the buffer's bounds for its reads.
+ * Returns the number of the first vertex (or instance, after the divider) that lies past the buffer's end, or
+ * UINT64_MAX when every read up to `last` (the last index the draw reads) is inside it. */
+static uint64_t plan_element(const stream_source *s, const decl_element *de, uint64_t last, uint32_t div,
+                             fetch_elem *fe)
+{
+    const uint64_t start = (uint64_t)s->offset + de->e.offset, need = start + de->size;
+    const size_t size = s->vb ? s->vb->size : 0;
+    if (!s->vb || need > size) {   /* no buffer, or not even one element in it: every read is zeros */
+        fe->base = fetch_zeros, fe->stride = 0, fe->max_off = 0;
+        return 0;
+    }
+    fe->base = s->vb->data + start, fe->stride = s->stride, fe->max_off = size - need;
+    if (fetch_offset(last, div, s->stride) <= fe->max_off) return UINT64_MAX;
+    return s->stride ? fe->max_off / s->stride + 1 : UINT64_MAX;
+}
+
+/* Check that the shader and declaration allow a draw; fill the fetch plan. max_vertex is the largest per-vertex
+ * index the draw reads.  Elements past their buffer's end or on streams without one read zeros (fetch_elem); the
+ * draw goes on, and the debug log gets one line for the draw (dev_debug_log). */
 static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_vertex, unsigned n_instances,
                             fetch_plan *fp)
 {
@@ -79,28 +97,36 @@ static is_result plan_fetch(is_device *dev, const char *call, uint64_t max_verte
     fp->n_vert = 0;
     uint32_t vert_regs = 0;
     bool any_inst = false;
+    int outside = -1;            /* the first element that reads past its buffer (for the log) */
+    uint64_t outside_from = 0;
     for (unsigned k = 0; k < d->n; k++) {
         const decl_element *de = &d->el[k];
         const stream_source *s = &dev->streams[de->e.stream];
-        if (!s->vb) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: stream %u has no vertex buffer", call, de->e.stream);
         bool inst = (s->freq & IS_STREAMSOURCE_INSTANCEDATA) != 0;
         uint32_t div = inst ? (s->freq & ~IS_STREAMSOURCE_INSTANCEDATA)
                             : ((s->freq & IS_STREAMSOURCE_INDEXEDDATA) ? 1 : s->freq);
         if (inst && n_instances <= 1 && !(dev->streams[0].freq & IS_STREAMSOURCE_INDEXEDDATA))
             inst = false, div = 1; /* INSTANCEDATA without an instanced draw: D3D9 reads it per vertex */
-        uint64_t index = inst ? n_instances - 1 : max_vertex; /* the last vertex or instance read */
-        uint64_t end = s->offset + de->e.offset + fetch_offset(index, div, s->stride) + de->size;
-        if (end > s->vb->size)
-            return dev_fail(dev, IS_ERR_INVALIDCALL,
-                            "%s: element %u reads stream %u vertex %llu, beyond its %zu-byte buffer", call, k,
-                            de->e.stream, (unsigned long long)(index / div), s->vb->size);
-        fp->el[k] = (fetch_elem){s->vb->data + s->offset + de->e.offset, s->stride, div, inst, de->e.type,
-                                 de->reg_offset};
+        fetch_elem *fe = &fp->el[k];
+        uint64_t from = plan_element(s, de, inst ? n_instances - 1 : max_vertex, div, fe);
+        if (from != UINT64_MAX && outside < 0) outside = (int)k, outside_from = from;
+        fe->divider = div, fe->per_instance = inst, fe->type = de->e.type, fe->reg_offset = de->reg_offset;
         if (!inst) {
             fp->vert[fp->n_vert++] = (uint8_t)k;
             vert_regs |= 1u << (de->reg_offset / sizeof(float4));
         }
         any_inst |= inst;
+    }
+    if (outside >= 0) {
+        const decl_element *de = &d->el[outside];
+        if (!dev->streams[de->e.stream].vb)
+            dev_debug(dev, "%s: element %d reads stream %u, which has no vertex buffer: it reads zeros", call,
+                      outside, de->e.stream);
+        else
+            dev_debug(dev, "%s: element %d reads stream %u past its %zu-byte buffer from %s %llu on: zeros", call,
+                      outside, de->e.stream, dev->streams[de->e.stream].vb->size,
+                      fp->el[outside].per_instance ? "instance element" : "vertex",
+                      (unsigned long long)outside_from);
     }
     /* without per-instance elements every entry of a batch is complete: nothing to share */
     fp->shared = any_inst ? IS_VS_REGS_ALL & ~vert_regs : 0u;
@@ -123,7 +149,7 @@ void shade(const is_device *dev, const is_vs_input *in, rs_vertex *out)
 {
     memset(out, 0, sizeof *out);
     dev->vs->main(&dev->consts, in, out);
-    saturate_colors(out, 1);
+    post_shade(&dev->remap, out, 1);
 }
 
 /* Scratch s with room for n elements of `size` bytes (device_internal.h): a larger block replaces a smaller one
@@ -279,7 +305,7 @@ static void shade_piece(const is_device *dev, const fetch_plan *fp, uint32_t fir
         if (vs->batch) vs->batch(&dev->consts, in, m, live, 0, out);
         else
             for (uint32_t k = 0; k < m; k++) vs->main(&dev->consts, &in[k], &out[k]);
-        saturate_colors(out, m);
+        post_shade(&dev->remap, out, m);
     }
 }
 
@@ -389,24 +415,40 @@ static unsigned instance_count(const is_device *dev)
     return instanced && n > 1 ? n : 1;
 }
 
+static is_result draw_primitive(is_device *dev, const char *call, is_primtype type, unsigned start_vertex,
+                                unsigned prim_count);
+static is_result draw_indexed(is_device *dev, const char *call, is_primtype type, int base_vertex_index,
+                              unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                              unsigned prim_count);
+
 /* DrawPrimitive: non-indexed, one instance whatever the stream frequencies say (the runtime does not instance
  * non-indexed draws; it draws the one instance and succeeds). */
 is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: no vertex declaration set");
+    return draw_primitive(dev, "DrawPrimitive", type, start_vertex, prim_count);
+}
+
+/* DrawPrimitive under the name `call` (for its messages), on a live device. */
+static is_result draw_primitive(is_device *dev, const char *call, is_primtype type, unsigned start_vertex,
+                                unsigned prim_count)
+{
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
-    is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
+    is_result r = check_prims(dev, call, type, prim_count);
     if (r != IS_OK) return r;
     size_t n_idx = prim_index_count(type, prim_count);
     if (n_idx > DRAW_MAX_VERTICES)   /* the device's MaxPrimitiveCount: D3D9 refuses a draw beyond its caps */
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: %zu vertices, more than the %u one draw may read",
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %zu vertices, more than the %u one draw may read", call,
                         n_idx, DRAW_MAX_VERTICES);
+    if ((uint64_t)start_vertex + n_idx - 1 > UINT32_MAX)   /* vertex numbers are 32-bit, as D3D9's */
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: StartVertex %u + %zu vertices pass vertex 2^32 - 1", call,
+                        start_vertex, n_idx);
     fetch_plan fp;
-    r = plan_fetch(dev, "DrawPrimitive", (uint64_t)start_vertex + n_idx - 1, 1, &fp);
+    r = plan_fetch(dev, call, (uint64_t)start_vertex + n_idx - 1, 1, &fp);
     if (r != IS_OK) return r;
     uint32_t *seq = scratch_get(&dev->idx, n_idx, sizeof *seq);
-    if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "DrawPrimitive: out of memory");
+    if (!seq) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory", call);
     for (size_t k = 0; k < n_idx; k++) seq[k] = (uint32_t)k;
     if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
         return draw_npatch(dev, &fp, prim_count, seq, start_vertex);
@@ -415,27 +457,27 @@ is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_ve
 
 /* Whether indices start..start+n_idx-1 lie in the bound index buffer; else the error (checked before the draw
  * allocates room for them: a count beyond the buffer never sizes an allocation). */
-static is_result check_index_range(is_device *dev, unsigned start, size_t n_idx)
+static is_result check_index_range(is_device *dev, const char *call, unsigned start, size_t n_idx)
 {
     const is_index_buffer *ib = dev->ib;
     size_t isz = ib->format == IS_FMT_INDEX16 ? 2 : 4;
     if (start > ib->size / isz || n_idx > ib->size / isz - start)
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawIndexedPrimitive: indices %u..%zu beyond the %zu-index buffer",
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: indices %u..%zu beyond the %zu-index buffer", call,
                         start, start + n_idx - 1, ib->size / isz);
     return IS_OK;
 }
 
 /* Read the draw's indices (in the buffer: check_index_range), check them against [min, min + num) and rebase
  * them to min. */
-static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsigned min, unsigned num,
-                              uint32_t *out)
+static is_result read_indices(is_device *dev, const char *call, unsigned start, size_t n_idx, unsigned min,
+                              unsigned num, uint32_t *out)
 {
     const is_index_buffer *ib = dev->ib;
     for (size_t k = 0; k < n_idx; k++) {
         uint32_t v = read_index(ib, start + k);
         if (v < min || v - min >= num)
             return dev_fail(dev, IS_ERR_INVALIDCALL,
-                            "DrawIndexedPrimitive: index %u at position %zu outside MinVertexIndex %u + NumVertices %u",
+                            "%s: index %u at position %zu outside MinVertexIndex %u + NumVertices %u", call,
                             v, start + k, min, num);
         out[k] = v - min;
     }
@@ -447,8 +489,16 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                                      unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                                      unsigned prim_count)
 {
-    const char *call = "DrawIndexedPrimitive";
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    return draw_indexed(dev, "DrawIndexedPrimitive", type, base_vertex_index, min_vertex_index, num_vertices,
+                        start_index, prim_count);
+}
+
+/* DrawIndexedPrimitive under the name `call`, on a live device. */
+static is_result draw_indexed(is_device *dev, const char *call, is_primtype type, int base_vertex_index,
+                              unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                              unsigned prim_count)
+{
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0 || num_vertices == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, call, type, prim_count);
@@ -463,11 +513,11 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
                         base_vertex_index, min_vertex_index);
     unsigned n_inst = instance_count(dev);
     size_t n_idx = prim_index_count(type, prim_count);
-    if ((r = check_index_range(dev, start_index, n_idx)) != IS_OK) return r;
+    if ((r = check_index_range(dev, call, start_index, n_idx)) != IS_OK) return r;
     uint32_t *idx = scratch_get(&dev->idx, n_idx, sizeof *idx);
     if (!idx) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "%s: out of memory for %zu indices", call, n_idx);
     fetch_plan fp;
-    r = read_indices(dev, start_index, n_idx, min_vertex_index, num_vertices, idx);
+    r = read_indices(dev, call, start_index, n_idx, min_vertex_index, num_vertices, idx);
     if (r == IS_OK) r = plan_fetch(dev, call, (uint64_t)first + num_vertices - 1, n_inst, &fp);
     if (r == IS_OK) {
         if (dev->npatch_segments >= 1.0f && dev->npatch_eval && type == IS_PT_TRIANGLELIST)
@@ -476,6 +526,69 @@ is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_
         else
             r = draw_shaded(dev, &fp, type, prim_count, (uint32_t)first, num_vertices, idx);
     }
+    return r;
+}
+
+/* ---------------------------------------- UP draws ---------------------------------------- */
+
+/* Stream 0 unset (no buffer, offset and stride 0), as a UP draw leaves it. */
+static void unset_stream0(is_device *dev)
+{
+    dev->streams[0].vb = NULL, dev->streams[0].offset = 0, dev->streams[0].stride = 0;
+}
+
+/* DrawPrimitiveUP: the vertices from the caller's memory (prim_count primitives' worth, stride bytes apart) as
+ * stream 0; afterwards stream 0 is unset, as the runtime leaves it (DXVK's DrawPrimitiveUP; a count of 0 draws
+ * nothing and changes nothing). */
+is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_count, const void *vertices,
+                                unsigned stride)
+{
+    const char *call = "DrawPrimitiveUP";
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (!vertices || stride == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %s", call, vertices ? "a stride of 0" : "NULL vertex data");
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    if (prim_count == 0) return IS_OK;
+    is_result r = check_prims(dev, call, type, prim_count);
+    if (r != IS_OK) return r;
+    dev->up_vb.data = (unsigned char *)(uintptr_t)vertices;   /* read only */
+    dev->up_vb.size = prim_index_count(type, prim_count) * (size_t)stride;
+    dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
+    r = draw_primitive(dev, call, type, 0, prim_count);
+    unset_stream0(dev);
+    dev->up_vb.data = NULL, dev->up_vb.size = 0;
+    return r;
+}
+
+/* DrawIndexedPrimitiveUP: the indices (prim_count primitives' worth, INDEX16 or INDEX32) and the vertices
+ * (MinVertexIndex + NumVertices of them, stride bytes apart) from the caller's memory; afterwards stream 0 and the
+ * indices are unset, as the runtime leaves them (DXVK's DrawIndexedPrimitiveUP).  Instancing as
+ * DrawIndexedPrimitive. */
+is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsigned min_vertex_index,
+                                        unsigned num_vertices, unsigned prim_count, const void *indices,
+                                        is_format index_format, const void *vertices, unsigned stride)
+{
+    const char *call = "DrawIndexedPrimitiveUP";
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (!vertices || !indices || stride == 0)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: %s", call, stride ? "NULL index or vertex data" : "a stride of 0");
+    if (index_format != IS_FMT_INDEX16 && index_format != IS_FMT_INDEX32)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: index format %d is not INDEX16 or INDEX32", call, index_format);
+    if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
+    if (prim_count == 0 || num_vertices == 0) return IS_OK;
+    is_result r = check_prims(dev, call, type, prim_count);
+    if (r != IS_OK) return r;
+    dev->up_vb.data = (unsigned char *)(uintptr_t)vertices;
+    dev->up_vb.size = ((size_t)min_vertex_index + num_vertices) * stride;
+    dev->up_ib.data = (unsigned char *)(uintptr_t)indices;
+    dev->up_ib.size = prim_index_count(type, prim_count) * (index_format == IS_FMT_INDEX16 ? 2u : 4u);
+    dev->up_ib.format = index_format;
+    dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
+    dev->ib = &dev->up_ib;
+    r = draw_indexed(dev, call, type, 0, min_vertex_index, num_vertices, 0, prim_count);
+    unset_stream0(dev);
+    dev->ib = NULL;
+    dev->up_vb.data = NULL, dev->up_vb.size = 0, dev->up_ib.data = NULL, dev->up_ib.size = 0;
     return r;
 }
 
@@ -488,6 +601,19 @@ static void lerp_inputs(const is_vs_input *a, const is_vs_input *b, const is_vs_
     const float *pa = (const float *)a, *pb = (const float *)b, *pc = (const float *)c;
     float *po = (float *)in;
     for (size_t k = 0; k < sizeof *in / sizeof(float); k++) po[k] = w.x * pa[k] + w.y * pb[k] + w.z * pc[k];
+}
+
+/* NORMALDEGREE as the evaluator takes it: CUBIC (which the runtime accepts) as QUADRATIC (device.h). */
+static uint32_t normal_degree(const is_device *dev)
+{
+    const uint32_t d = dev->rs_state[IS_RS_NORMALDEGREE];
+    return d == IS_DEGREE_CUBIC ? IS_DEGREE_QUADRATIC : d;
+}
+
+/* N-patch segments as draws take them: at most IS_NPATCH_MAX_SEGMENTS (NaN stays NaN: the mode is off). */
+static float npatch_segments(const is_device *dev)
+{
+    return dev->npatch_segments > IS_NPATCH_MAX_SEGMENTS ? IS_NPATCH_MAX_SEGMENTS : dev->npatch_segments;
 }
 
 /* Shade the grid points of triangle t: the evaluator gives POSITION0 / NORMAL0, the rest is interpolated. */
@@ -504,8 +630,7 @@ static void npatch_triangle(const is_device *dev, const fetch_plan *fp, const ui
         is_vs_input in;
         float3 pos, nrm;
         lerp_inputs(&v[0], &v[1], &v[2], bary[g], &in);
-        dev->npatch_eval(p, n, bary[g], dev->rs_state[IS_RS_POSITIONDEGREE], dev->rs_state[IS_RS_NORMALDEGREE], &pos,
-                         &nrm);
+        dev->npatch_eval(p, n, bary[g], dev->rs_state[IS_RS_POSITIONDEGREE], normal_degree(dev), &pos, &nrm);
         in.position[0] = f4_of(pos, 1.0f), in.normal[0] = f4_of(nrm, 0.0f);
         shade(dev, &in, &out[g]);
     }
@@ -532,7 +657,7 @@ static float state_float(const is_device *dev, is_rs state)
 /* The device's states in, the draw's adaptive parameters out. */
 static adaptive_params adaptive_params_of(const is_device *dev)
 {
-    adaptive_params a = {dev->npatch_segments, state_float(dev, IS_RS_MINTESSELLATIONLEVEL),
+    adaptive_params a = {npatch_segments(dev), state_float(dev, IS_RS_MINTESSELLATIONLEVEL),
                          state_float(dev, IS_RS_MAXTESSELLATIONLEVEL),
                          f4(state_float(dev, IS_RS_ADAPTIVETESS_X), state_float(dev, IS_RS_ADAPTIVETESS_Y),
                             state_float(dev, IS_RS_ADAPTIVETESS_Z), state_float(dev, IS_RS_ADAPTIVETESS_W)),
@@ -553,6 +678,8 @@ static void adaptive_edge_levels(const adaptive_params *a, const fetch_plan *fp,
                                           a->mdm);
     }
     for (int k = 0; k < 3; k++) {
+        /* MIN / MAX below 1 (which the runtime takes) can give an edge less than one segment: the grids take it as
+         * one (core_grid_make, core_grid_pg) */
         float e = fminf(core_adaptive_edge_level(t[k], t[(k + 1) % 3], a->min_level, a->max_level), CORE_PG_MAX_LEVEL);
         lv[k] = a->continuous ? e : floorf(e);
     }
@@ -653,7 +780,8 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
         return draw_npatch_adaptive(dev, fp, n_tris, stream_idx, first);
     core_grid grid;
     bool continuous = dev->rs_state[IS_RS_PATCHEDGESTYLE] == IS_PATCHEDGE_CONTINUOUS;
-    float level = continuous ? dev->npatch_segments : (float)(int)dev->npatch_segments;
+    const float seg = npatch_segments(dev);
+    float level = continuous ? seg : (float)(int)seg;
     if (core_grid_make(continuous ? CORE_GRID_PG_FRACTIONAL_EVEN : CORE_GRID_REGULAR, level, &grid) != 0)
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "N-patch draw: out of memory for the grid");
     const size_t n_pts = grid.n_points, n_grid = grid.n_triangles;

@@ -128,7 +128,7 @@ void cull_prepare(const is_device *dev, const fetch_plan *fp, const float4 *cach
 {
     memset(cv, 0, sizeof *cv);
     const rs_state st = dev_rs_state(dev);
-    if (!dev->patch_cull || dev->reference || !dev->vs || !dev->vs->hull || st.fill_mode != RS_FILL_SOLID || !cache)
+    if (!dev->patch_cull || dev->reference || dev->remap.on || !dev->vs || !dev->vs->hull || st.fill_mode != RS_FILL_SOLID || !cache)
         return;
     analyse_grid(fp, cache, list, n_prims, cv);
     const rs_viewport *vp = &st.viewport;

@@ -76,7 +76,7 @@ static void shade_instance(const fused_ctx *f, const is_vs_input *in, rs_vertex 
     if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
     else
         for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
-    saturate_colors(out, n);
+    post_shade(&f->dev->remap, out, n);
 }
 
 /* rs_produce_fn: shade the piece's instances that the cull keeps into the slot's scratch, one after the other,

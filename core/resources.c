@@ -62,6 +62,7 @@ void vb_release(is_vertex_buffer *vb)
     is_device *dev = vb->res.dev;
     for (int s = 0; s < IS_MAX_STREAMS; s++)
         if (dev->streams[s].vb == vb) dev->streams[s].vb = NULL;
+    sb_forget(dev, vb);
     dev_res_remove(&vb->res);   /* may free a destroyed device: dev is not read after it */
     free(vb->data);
     free(vb);
@@ -72,6 +73,7 @@ void ib_release(is_index_buffer *ib)
 {
     if (!ib) return;
     if (ib->res.dev->ib == ib) ib->res.dev->ib = NULL;
+    sb_forget(ib->res.dev, ib);
     dev_res_remove(&ib->res);
     free(ib->data);
     free(ib);
@@ -88,6 +90,8 @@ static unsigned decltype_size(uint8_t type)
     case IS_DECLTYPE_D3DCOLOR: case IS_DECLTYPE_UBYTE4: case IS_DECLTYPE_UBYTE4N: return 4;
     case IS_DECLTYPE_SHORT2: case IS_DECLTYPE_SHORT2N: case IS_DECLTYPE_USHORT2N: return 4;
     case IS_DECLTYPE_SHORT4: case IS_DECLTYPE_SHORT4N: case IS_DECLTYPE_USHORT4N: return 8;
+    case IS_DECLTYPE_UDEC3: case IS_DECLTYPE_DEC3N: case IS_DECLTYPE_FLOAT16_2: return 4;
+    case IS_DECLTYPE_FLOAT16_4: return 8;
     default: return 0;
     }
 }
@@ -184,6 +188,7 @@ void decl_release(is_vertex_declaration *decl)
 {
     if (!decl) return;
     if (decl->res.dev->decl == decl) decl->res.dev->decl = NULL;
+    sb_forget(decl->res.dev, decl);
     dev_res_remove(&decl->res);
     free(decl);
 }
@@ -194,6 +199,27 @@ static int16_t rd_i16(const unsigned char *p) { int16_t v; memcpy(&v, p, 2); ret
 static uint16_t rd_u16(const unsigned char *p) { uint16_t v; memcpy(&v, p, 2); return v; }
 /* SHORTnN: -32768 and -32767 both map to -1 (D3D9's SNORM rule). */
 static float snorm16(int16_t v) { return v <= -32767 ? -1.0f : (float)v / 32767.0f; }
+
+/* An IEEE 754 half float's value, exactly (every half is a float): subnormals, infinities and NaN included. */
+static float half_float(uint16_t h)
+{
+    const uint32_t sign = (uint32_t)(h >> 15) << 31, e = (h >> 10) & 31u, m = h & 1023u;
+    if (e == 0) {   /* zero or subnormal: m * 2^-24, exact in float */
+        float f = ldexpf((float)m, -24);
+        return sign ? -f : f;
+    }
+    uint32_t bits = sign | (e == 31 ? (255u << 23) | (m << 13) : ((e + 112u) << 23) | (m << 13));
+    float f;
+    memcpy(&f, &bits, 4);
+    return f;
+}
+
+/* DEC3N's field: a signed 10-bit value / 511, -512 and -511 both -1. */
+static float snorm10(uint32_t field)
+{
+    int v = (int)(field & 1023u) - (field & 512u ? 1024 : 0);
+    return v <= -511 ? -1.0f : (float)v / 511.0f;
+}
 
 /* Expand an element of `type` at src into a float4 register; missing components default to (0, 0, 0, 1). */
 float4 decl_fetch(uint8_t type, const unsigned char *src)
@@ -217,6 +243,20 @@ float4 decl_fetch(uint8_t type, const unsigned char *src)
     case IS_DECLTYPE_USHORT4N:
         return f4(rd_u16(src) / 65535.0f, rd_u16(src + 2) / 65535.0f, rd_u16(src + 4) / 65535.0f,
                   rd_u16(src + 6) / 65535.0f);
+    case IS_DECLTYPE_UDEC3: {
+        uint32_t u;
+        memcpy(&u, src, 4);
+        return f4((float)(u & 1023u), (float)((u >> 10) & 1023u), (float)((u >> 20) & 1023u), 1);
+    }
+    case IS_DECLTYPE_DEC3N: {
+        uint32_t u;
+        memcpy(&u, src, 4);
+        return f4(snorm10(u), snorm10(u >> 10), snorm10(u >> 20), 1);
+    }
+    case IS_DECLTYPE_FLOAT16_2: return f4(half_float(rd_u16(src)), half_float(rd_u16(src + 2)), 0, 1);
+    case IS_DECLTYPE_FLOAT16_4:
+        return f4(half_float(rd_u16(src)), half_float(rd_u16(src + 2)), half_float(rd_u16(src + 4)),
+                  half_float(rd_u16(src + 6)));
     default: return f4(0, 0, 0, 1);
     }
 }

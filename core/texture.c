@@ -90,6 +90,7 @@ static void unbind(is_device *dev, const is_texture *t)
         if (dev->consts.s[k].tex == t) dev->consts.s[k].tex = NULL;
     for (int k = 0; k < DEV_PS_SAMPLERS; k++)
         if (dev->ps_samplers[k].tex == t) dev->ps_samplers[k].tex = NULL;
+    sb_forget(dev, t);   /* and from the stateblocks */
 }
 
 void tex_release(is_texture *t)
@@ -261,6 +262,11 @@ is_result dev_set_texture(is_device *dev, unsigned sampler, is_texture *tex)
     if (tex && !owns(dev, tex))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetTexture: sampler %u: the texture is not a live texture of this "
                         "device (created by another device, or released)", sampler);
+    if (dev->recording) {
+        unsigned k = dev_sampler_number(dev, s);
+        dev->recording->samplers[k].tex = tex, dev->recording->has_tex |= 1u << k;
+        return IS_OK;
+    }
     s->tex = tex;
     return IS_OK;
 }
@@ -280,7 +286,12 @@ is_result dev_set_sampler_state(is_device *dev, unsigned sampler, is_samp type, 
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetSamplerState: sampler %u: unknown state %d (D3DSAMP_ADDRESSU 1 .. "
                         "D3DSAMP_DMAPOFFSET 13)", sampler, (int)type);
     is_sampler *s = sampler_slot(dev, sampler);
-    if (s) s->state[type] = value; /* any value, as the runtime stores it */
+    if (s && dev->recording) {
+        unsigned k = dev_sampler_number(dev, s);
+        dev->recording->samplers[k].state[type] = value, dev->recording->has_samp[k] |= 1u << type;
+    } else if (s) {
+        s->state[type] = value; /* any value, as the runtime stores it */
+    }
     return IS_OK;
 }
 

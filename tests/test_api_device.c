@@ -36,12 +36,6 @@ static const is_vertex_shader shader = {.name = "pos", .main = vs_pos, .outputs 
 
 static const is_vertex_element pos_decl[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
 
-static float bits_float(uint32_t u)
-{
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
 static uint32_t float_bits(float f)
 {
     uint32_t u;
@@ -69,6 +63,7 @@ static void test_null_device(void **state)
     dev_destroy(NULL);
     dev_reset(NULL);
     assert_non_null(dev_last_error(NULL));
+    assert_string_equal(dev_debug_log(NULL), "");
     dev_set_threads(NULL, 2);
     dev_set_timing(NULL, true);
     dev_set_patch_cull(NULL, true);
@@ -105,6 +100,17 @@ static void test_null_device(void **state)
     assert_int_equal(dev_clear(NULL, IS_CLEAR_TARGET, 0, 1.0f), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_primitive(NULL, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_draw_indexed_primitive(NULL, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_primitive_up(NULL, IS_PT_TRIANGLELIST, 1, f, 16), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive_up(NULL, IS_PT_TRIANGLELIST, 0, 3, 1, &u, IS_FMT_INDEX16, f, 16),
+                     IS_ERR_INVALIDCALL);
+    is_state_block *sb = (is_state_block *)0x1;
+    assert_int_equal(dev_begin_state_block(NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(NULL, &sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_state_block(NULL, IS_SBT_ALL, &sb), IS_ERR_INVALIDCALL);
+    assert_null(sb);
+    assert_int_equal(sb_capture(NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(sb_apply(NULL), IS_ERR_INVALIDCALL);
+    sb_release(NULL);
     assert_null(dev_render_target(NULL));
     assert_int_equal(dev_get_render_target_data(NULL, px, 4), IS_ERR_INVALIDCALL);
     const rs_stats *st = dev_stats(NULL);
@@ -246,8 +252,8 @@ static void test_state_edges(void **state)
         {IS_RS_FILLMODE, 0}, {IS_RS_FILLMODE, 4}, {IS_RS_FILLMODE, UINT32_MAX}, {IS_RS_CULLMODE, 0},
         {IS_RS_CULLMODE, 4}, {IS_RS_ZFUNC, 0}, {IS_RS_ZFUNC, 9}, {IS_RS_SRCBLEND, 0}, {IS_RS_DESTBLEND, 99},
         {IS_RS_DEPTHBIAS, 0x7fc00000u /* NaN */}, {IS_RS_SLOPESCALEDEPTHBIAS, 0x7f800000u /* inf */},
-        {IS_RS_MINTESSELLATIONLEVEL, 0}, {IS_RS_MAXTESSELLATIONLEVEL, 0xff800000u /* -inf */},
-        {IS_RS_MINTESSELLATIONLEVEL, 0xbf800000u /* -1 */}, {IS_RS_ADAPTIVETESS_X, 0x7fc00000u},
+        {IS_RS_MINTESSELLATIONLEVEL, 0x7fc00000u}, {IS_RS_MAXTESSELLATIONLEVEL, 0xff800000u /* -inf */},
+        {IS_RS_SRCBLEND, 14 /* BLENDFACTOR */}, {IS_RS_ADAPTIVETESS_X, 0x7fc00000u},
         {IS_RS_ADAPTIVETESS_W, 0x7f800000u}, {IS_RS_ENABLEADAPTIVETESSELLATION, 2},
         {IS_RS_POSITIONDEGREE, 0}, {IS_RS_NORMALDEGREE, 7}, {IS_RS_PATCHEDGESTYLE, 2},
     };
@@ -259,10 +265,8 @@ static void test_state_edges(void **state)
         assert_int_equal(before, after);
     }
     /* viewports: NULL, empty, outside the target (also by wrapping x + width), depth ranges out of order or NaN */
-    const is_viewport bad_vp[] = {{0, 0, 0, H, 0, 1}, {0, 0, W, 0, 0, 1}, {W, 0, 1, H, 0, 1},
-                                  {1, 0, UINT32_MAX, H, 0, 1}, {UINT32_MAX, 0, 2, H, 0, 1}, {0, 0, W, H, 0.5f, 0.25f},
-                                  {0, 0, W, H, -0.1f, 1}, {0, 0, W, H, 0, 1.5f}, {0, 0, W, H, NAN, 1},
-                                  {0, 0, W, H, 0, NAN}};
+    const is_viewport bad_vp[] = {{0, 0, 0, H, 0, 1}, {0, 0, W, 0, 0, 1}, {0, 0, W, H, -0.1f, 1},
+                                  {0, 0, W, H, 0, 1.5f}, {0, 0, W, H, NAN, 1}, {0, 0, W, H, 0, NAN}};
     is_viewport vp0, vp1;
     assert_int_equal(dev_get_viewport(dev, &vp0), IS_OK);
     assert_int_equal(dev_set_viewport(dev, NULL), IS_ERR_INVALIDCALL);
@@ -271,11 +275,23 @@ static void test_state_edges(void **state)
         assert_int_equal(dev_set_viewport(dev, &bad_vp[k]), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_viewport(dev, &vp1), IS_OK);
     assert_memory_equal(&vp0, &vp1, sizeof vp0);
-    /* N-patch segments: not finite, huge, negative (below 1: off) */
-    const float bad_seg[] = {NAN, INFINITY, -INFINITY, 1e30f, 257.0f, FLT_MAX};
-    for (size_t k = 0; k < sizeof bad_seg / sizeof bad_seg[0]; k++)
-        assert_int_equal(dev_set_npatch_mode(dev, bad_seg[k]), IS_ERR_INVALIDCALL);
-    assert_int_equal(dev_set_npatch_mode(dev, -5.0f), IS_OK);
+    /* what the runtime takes: beyond the target (also wrapping x + width), MinZ >= MaxZ; read back as given */
+    const is_viewport odd_vp[] = {{W, 0, 1, H, 0, 1}, {1, 0, UINT32_MAX, H, 0, 1}, {UINT32_MAX, 0, 2, H, 0, 1},
+                                  {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX, 1, 1}, {0, 0, W, H, 0.5f, 0.25f}};
+    for (size_t k = 0; k < sizeof odd_vp / sizeof odd_vp[0]; k++) {
+        assert_int_equal(dev_set_viewport(dev, &odd_vp[k]), IS_OK);
+        assert_int_equal(dev_get_viewport(dev, &vp1), IS_OK);
+        assert_memory_equal(&odd_vp[k], &vp1, sizeof vp1);
+        assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, 0, 1.0f), IS_OK);
+    }
+    assert_int_equal(dev_set_viewport(dev, &vp0), IS_OK);
+    /* N-patch segments: every float is stored and read back, as the runtime does (below 1 or NaN: off) */
+    const float odd_seg[] = {NAN, INFINITY, -INFINITY, 1e30f, 257.0f, FLT_MAX, -5.0f};
+    for (size_t k = 0; k < sizeof odd_seg / sizeof odd_seg[0]; k++) {
+        assert_int_equal(dev_set_npatch_mode(dev, odd_seg[k]), IS_OK);
+        float back = dev_get_npatch_mode(dev);
+        assert_memory_equal(&back, &odd_seg[k], sizeof back);
+    }
     assert_int_equal(dev_set_npatch_evaluator(dev, NULL), IS_OK);
     /* threads and ISA out of range */
     dev_set_threads(dev, -7);
@@ -375,7 +391,8 @@ static void test_draw_edges(void **state)
     dev_set_vertex_shader(dev, &shader);
     assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);   /* no declaration */
     dev_set_vertex_declaration(dev, f.decl);
-    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_ERR_INVALIDCALL);   /* no buffer */
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);   /* no buffer: reads zeros */
+    assert_true(strlen(dev_debug_log(dev)) > 0);
     dev_set_stream_source(dev, 0, f.vb, 0, 16);
     assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_ERR_INVALIDCALL);
     fixture_bind(&f);
@@ -404,6 +421,27 @@ static void test_draw_edges(void **state)
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, 0, starts[k], 0, 1)));
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, 0, starts[k], starts[k], 0, 1)));
         }
+        /* the UP draws: strides of 0 and up to what the array holds (a UP draw reads the count's worth of the
+         * caller's memory, which the caller must own, as in D3D9), counts beyond the device's caps (refused
+         * before anything is read), NULL data, bad index formats; each leaves stream 0 unset, so rebind */
+        static const float up_v[6][4] = {{0}};
+        static const uint16_t up_i[6] = {0, 1, 2, 3, 4, 65535};
+        const unsigned up_strides[] = {0, 4, 8, 16};
+        for (size_t k = 0; k < sizeof up_strides / sizeof up_strides[0]; k++) {
+            assert_true(ok_or_invalid(dev_draw_primitive_up(dev, (is_primtype)t, 1, up_v, up_strides[k])));
+            assert_true(ok_or_invalid(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, up_i, IS_FMT_INDEX16,
+                                                                    up_v, up_strides[k])));
+            fixture_bind(&f);
+        }
+        assert_int_equal(dev_draw_primitive_up(dev, (is_primtype)t, UINT_MAX, up_v, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, UINT_MAX, UINT_MAX, 1, up_i,
+                                                       IS_FMT_INDEX16, up_v, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_primitive_up(dev, (is_primtype)t, 1, NULL, 16), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, up_i, (is_format)0, up_v, 16),
+                         IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_draw_indexed_primitive_up(dev, (is_primtype)t, 0, 6, 1, NULL, IS_FMT_INDEX32, up_v, 16),
+                         IS_ERR_INVALIDCALL);
+        fixture_bind(&f);
         const int bases[] = {-1, -3, -6, 1, 3, 100, INT_MAX, INT_MIN};
         for (size_t k = 0; k < sizeof bases / sizeof bases[0]; k++)
             assert_true(ok_or_invalid(dev_draw_indexed_primitive(dev, (is_primtype)t, bases[k], 0, 6, 0, 2)));
@@ -520,6 +558,50 @@ static void test_draw_instancing(void **state)
     fixture_free(&f);
 }
 
+/* Stateblocks with every kind of bad argument: NULL outputs, types out of range, calls in the wrong order, and a
+ * long recording of every setter with extreme values (refused ones record nothing); blocks outliving their
+ * device. */
+static void test_state_blocks(void **state)
+{
+    (void)state;
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    is_device *dev = f.dev;
+    is_state_block *sb = NULL, *rec = NULL;
+    const int types[] = {0, 4, -1, 100, INT_MAX, INT_MIN};
+    for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
+        assert_int_equal(dev_create_state_block(dev, (is_state_block_type)types[k], &sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_state_block(dev, IS_SBT_VERTEXSTATE, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(dev, &rec), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_begin_state_block(dev), IS_OK);
+    assert_int_equal(dev_begin_state_block(dev), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_end_state_block(dev, NULL), IS_ERR_INVALIDCALL);
+    fixture_bind(&f);
+    const float c[4] = {1, 2, 3, 4};
+    for (unsigned r = 0; r < 300; r += 7) (void)dev_set_render_state(dev, (is_rs)r, UINT32_MAX);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, IS_MAX_VS_CONSTANTS - 1, c, 1), IS_OK);
+    assert_int_equal(dev_set_vertex_shader_constant_f(dev, IS_MAX_VS_CONSTANTS, c, 1), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_stream_source_freq(dev, IS_MAX_STREAMS - 1, UINT32_MAX >> 2), IS_OK);
+    assert_int_equal(dev_end_state_block(dev, &rec), IS_OK);
+    assert_non_null(rec);
+    assert_int_equal(dev_create_state_block(dev, IS_SBT_ALL, &sb), IS_OK);
+    assert_int_equal(sb_apply(rec), IS_OK);
+    assert_int_equal(sb_capture(rec), IS_OK);
+    assert_int_equal(sb_apply(sb), IS_OK);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_ERR_INVALIDCALL);
+    fixture_bind(&f);
+    assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
+    dev_destroy(dev);   /* the blocks outlive it: refused, then released safely */
+    f.dev = NULL;
+    assert_int_equal(sb_capture(sb), IS_ERR_INVALIDCALL);
+    assert_int_equal(sb_apply(rec), IS_ERR_INVALIDCALL);
+    sb_release(sb);
+    sb_release(rec);
+    vb_release(f.vb);
+    ib_release(f.ib);
+    decl_release(f.decl);
+}
+
 /* The adaptive levels' formula at its edges: never NaN out of the edge rule, whatever goes in. */
 static void test_adaptive_levels(void **state)
 {
@@ -602,11 +684,11 @@ static void test_ownership(void **state)
     assert_ptr_equal(gdecl, b.decl);
     assert_int_equal(dev_get_vertex_shader(b.dev, &gvs), IS_OK);
     assert_ptr_equal(gvs, &shader);
-    /* releasing bound resources unbinds them: the next draw is refused, not a read of freed memory */
+    /* releasing bound resources unbinds them: the next draw reads zeros (robust reads), not freed memory */
     vb_release(b.vb), b.vb = NULL;
     assert_int_equal(dev_get_stream_source(b.dev, 0, &gvb, &off, &stride), IS_OK);
     assert_null(gvb);
-    assert_int_equal(dev_draw_indexed_primitive(b.dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_draw_indexed_primitive(b.dev, IS_PT_TRIANGLELIST, 0, 0, 6, 0, 2), IS_OK);
     /* a device destroyed with resources never released: dev_destroy frees their memory (LeakSanitizer counts
      * only the handles, released here) */
     draw_fixture c;
@@ -625,7 +707,7 @@ int main(void)
         cmocka_unit_test(test_resources),     cmocka_unit_test(test_state_edges),
         cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
         cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
-        cmocka_unit_test(test_ownership),
+        cmocka_unit_test(test_ownership),     cmocka_unit_test(test_state_blocks),
     };
     return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
 }
