@@ -120,10 +120,14 @@ typedef struct is_state_block {
     is_vertex_declaration *decl;
     const is_vertex_shader *vs;
     float4 c[IS_MAX_VS_CONSTANTS];
+    const is_pixel_shader *ps;
+    float4 pc[IS_MAX_PS_CONSTANTS];
     is_sampler samplers[DEV_ALL_SAMPLERS];
     /* what it holds */
     bool has_rs[IS_RS_COUNT];
     bool has_c[IS_MAX_VS_CONSTANTS];
+    bool has_pc[IS_MAX_PS_CONSTANTS];
+    bool has_ps;
     uint32_t has_samp[DEV_ALL_SAMPLERS];       /* bit t: sampler state t */
     uint32_t has_tex;                          /* bit k: sampler k's texture */
     uint32_t has_source;                       /* bit s: stream s's buffer, offset and stride */

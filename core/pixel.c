@@ -14,7 +14,8 @@ is_result dev_set_pixel_shader(is_device *dev, const is_pixel_shader *ps)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (ps && !ps->main) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetPixelShader: a shader without a main function");
-    dev->ps = ps;
+    if (dev->recording) dev->recording->ps = ps, dev->recording->has_ps = true;   /* into the stateblock recorded */
+    else dev->ps = ps;
     return IS_OK;
 }
 
@@ -37,7 +38,13 @@ is_result dev_set_pixel_shader_constant_f(is_device *dev, unsigned start, const 
     if (!registers_ok(start, data, count4))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetPixelShaderConstantF: %u registers from c%u: out of c0..c%d%s",
                         count4, start, IS_MAX_PS_CONSTANTS - 1, data ? "" : " (or no data)");
-    if (count4) memcpy(&dev->ps_consts.c[start], data, count4 * sizeof(float4));
+    if (!count4) return IS_OK;
+    if (dev->recording) {   /* into the stateblock recorded */
+        memcpy(&dev->recording->pc[start], data, count4 * sizeof(float4));
+        for (unsigned k = 0; k < count4; k++) dev->recording->has_pc[start + k] = true;
+    } else {
+        memcpy(&dev->ps_consts.c[start], data, count4 * sizeof(float4));
+    }
     return IS_OK;
 }
 

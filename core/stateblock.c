@@ -62,6 +62,8 @@ static void mark_type(const is_device *dev, is_state_block *sb, is_state_block_t
     if (type == IS_SBT_ALL || type == IS_SBT_PIXELSTATE) {
         for (size_t k = 0; k < sizeof pixel_states; k++) sb->has_rs[pixel_states[k]] = implemented(dev, pixel_states[k]);
         for (unsigned k = 0; k < DEV_PS_SAMPLERS; k++) sb->has_samp[k] |= PIXEL_SAMP_BITS;   /* DMAP too */
+        sb->has_ps = true;   /* the pixel shader and its constants (core/pixel.h), as DXVK's PIXELSTATE */
+        for (unsigned k = 0; k < IS_MAX_PS_CONSTANTS; k++) sb->has_pc[k] = true;
     }
     if (type == IS_SBT_ALL || type == IS_SBT_VERTEXSTATE) {
         for (size_t k = 0; k < sizeof vertex_states; k++)
@@ -85,6 +87,9 @@ static void capture(const is_device *dev, is_state_block *sb)
         if (sb->has_rs[r]) sb->rs[r] = dev->rs_state[r];
     for (unsigned k = 0; k < IS_MAX_VS_CONSTANTS; k++)
         if (sb->has_c[k]) sb->c[k] = dev->consts.c[k];
+    for (unsigned k = 0; k < IS_MAX_PS_CONSTANTS; k++)
+        if (sb->has_pc[k]) sb->pc[k] = dev->ps_consts.c[k];
+    if (sb->has_ps) sb->ps = dev->ps;
     for (unsigned k = 0; k < DEV_ALL_SAMPLERS; k++) {
         const is_sampler *s = dev_sampler_at((is_device *)dev, k);
         for (unsigned t = 0; t < IS_SAMP_COUNT; t++)
@@ -111,6 +116,9 @@ static void apply(is_device *dev, const is_state_block *sb)
         if (sb->has_rs[r]) dev->rs_state[r] = sb->rs[r];
     for (unsigned k = 0; k < IS_MAX_VS_CONSTANTS; k++)
         if (sb->has_c[k]) dev->consts.c[k] = sb->c[k];
+    for (unsigned k = 0; k < IS_MAX_PS_CONSTANTS; k++)
+        if (sb->has_pc[k]) dev->ps_consts.c[k] = sb->pc[k];
+    if (sb->has_ps) dev->ps = sb->ps;
     for (unsigned k = 0; k < DEV_ALL_SAMPLERS; k++) {
         is_sampler *s = dev_sampler_at(dev, k);
         for (unsigned t = 0; t < IS_SAMP_COUNT; t++)

@@ -234,6 +234,52 @@ static void test_create_types(void **state)
     }
 }
 
+static void ps_a_main(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out) { (void)c, (void)in, (void)out; }
+static const is_pixel_shader ps_a = {"a", ps_a_main};
+
+/* The pixel shader and its constants: recorded into a block (the device keeps its own), in PIXELSTATE and ALL
+ * blocks, not in VERTEXSTATE ones. */
+static void test_pixel_shader(void **state)
+{
+    (void)state;
+    sb_fixture f = fixture();
+    const float one[4] = {1, 2, 3, 4}, two[4] = {5, 6, 7, 8};
+    const is_pixel_shader *got;
+    float c[4];
+    assert_int_equal(dev_begin_state_block(f.dev), IS_OK);
+    assert_int_equal(dev_set_pixel_shader(f.dev, &ps_a), IS_OK);
+    assert_int_equal(dev_set_pixel_shader_constant_f(f.dev, 7, one, 1), IS_OK);
+    is_state_block *rec;
+    assert_int_equal(dev_end_state_block(f.dev, &rec), IS_OK);
+    assert_int_equal(dev_get_pixel_shader(f.dev, &got), IS_OK);
+    assert_null(got);   /* recording left the device alone */
+    assert_int_equal(dev_get_pixel_shader_constant_f(f.dev, 7, c, 1), IS_OK);
+    assert_true(c[0] == 0.0f);
+    assert_int_equal(sb_apply(rec), IS_OK);
+    assert_int_equal(dev_get_pixel_shader(f.dev, &got), IS_OK);
+    assert_ptr_equal(got, &ps_a);
+    assert_int_equal(dev_get_pixel_shader_constant_f(f.dev, 7, c, 1), IS_OK);
+    assert_memory_equal(c, one, sizeof c);
+    const struct { is_state_block_type type; bool holds; } cases[] = {
+        {IS_SBT_PIXELSTATE, true}, {IS_SBT_ALL, true}, {IS_SBT_VERTEXSTATE, false}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        is_state_block *sb;
+        assert_int_equal(dev_set_pixel_shader(f.dev, &ps_a), IS_OK);
+        assert_int_equal(dev_set_pixel_shader_constant_f(f.dev, 7, one, 1), IS_OK);
+        assert_int_equal(dev_create_state_block(f.dev, cases[k].type, &sb), IS_OK);
+        assert_int_equal(dev_set_pixel_shader(f.dev, NULL), IS_OK);
+        assert_int_equal(dev_set_pixel_shader_constant_f(f.dev, 7, two, 1), IS_OK);
+        assert_int_equal(sb_apply(sb), IS_OK);
+        assert_int_equal(dev_get_pixel_shader(f.dev, &got), IS_OK);
+        assert_ptr_equal(got, cases[k].holds ? &ps_a : NULL);
+        assert_int_equal(dev_get_pixel_shader_constant_f(f.dev, 7, c, 1), IS_OK);
+        assert_memory_equal(c, cases[k].holds ? one : two, sizeof c);
+        sb_release(sb);
+    }
+    sb_release(rec);
+    fixture_free(&f);
+}
+
 /* While a block is recorded, CreateStateBlock, Capture and Apply are refused; unknown types, NULL outputs and NULL
  * blocks too; dev_reset drops the recording. */
 static void test_refusals(void **state)
@@ -311,7 +357,7 @@ int main(void)
         cmocka_unit_test(test_begin_end),         cmocka_unit_test(test_record_apply),
         cmocka_unit_test(test_capture_reapply),   cmocka_unit_test(test_recorded_holds_only_what_was_set),
         cmocka_unit_test(test_create_types),      cmocka_unit_test(test_refusals),
-        cmocka_unit_test(test_release_order),
+        cmocka_unit_test(test_release_order),     cmocka_unit_test(test_pixel_shader),
     };
     return cmocka_run_group_tests_name("stateblock", tests, NULL, NULL);
 }
