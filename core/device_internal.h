@@ -63,6 +63,7 @@ struct is_vertex_declaration {
     unsigned n;
     decl_element el[IS_MAX_ELEMENTS];
     uint32_t stream_mask;   /* streams the declaration reads */
+    bool positiont;         /* an element of usage POSITIONT: pre-transformed vertices (core/raster_states.c) */
 };
 
 typedef struct stream_source {
@@ -145,6 +146,9 @@ struct is_device {
     scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
+    /* core/raster_states.c: SetScissorRect, SetClipPlane */
+    is_rect scissor;
+    float clip_plane[IS_MAX_USER_CLIP_PLANES][4];
 };
 
 /* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources
@@ -159,6 +163,23 @@ is_result dev_fail(is_device *dev, is_result code, const char *fmt, ...) __attri
 
 /* The rasterizer's copy of the device's render states and viewport. */
 rs_state dev_rs_state(const is_device *dev);
+
+/* ---- core/raster_states.c: D3D9's scissor, colour write, alpha test, stencil, clipping and pre-transformed
+ * vertices on the device's side ---- */
+/* Whether render state `state` (one of that file's) takes value v: 1 yes, 0 a bad value, -1 not one of them
+ * (device.c's state_check codes). */
+int raster_state_check(is_rs state, uint32_t v);
+/* Those states, the scissor rectangle (the whole target) and the clip planes (zero) to a new device's. */
+void raster_states_default(is_device *dev);
+/* Fill the fields of st (dev_rs_state) that those states drive. */
+void raster_states_apply(const is_device *dev, rs_state *st);
+/* Rectangle r narrowed to the scissor rectangle when the scissor test is on (Clear). */
+is_rect raster_scissor_clip(const is_device *dev, is_rect r);
+/* Whether the draw about to run is of pre-transformed vertices (no vertex shader, a declaration with POSITIONT):
+ * then the device's pass-through shader is bound for it and the bound shader (NULL) returned in *saved for
+ * raster_pretransformed_end; false (nothing changed) otherwise. */
+bool raster_pretransformed_begin(is_device *dev, const is_vertex_shader **saved);
+void raster_pretransformed_end(is_device *dev, const is_vertex_shader *saved);
 
 /* Expand one element at src into a float4 register (D3D9 defaults fill missing components). */
 float4 decl_fetch(uint8_t type, const unsigned char *src);

@@ -380,9 +380,9 @@ static unsigned instance_count(const is_device *dev)
 
 /* DrawPrimitive: non-indexed, one instance whatever the stream frequencies say (the runtime does not instance
  * non-indexed draws; it draws the one instance and succeeds). */
-is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
+/* DrawPrimitive itself (dev_draw_primitive binds the pass-through of pre-transformed vertices around it). */
+static is_result draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
 {
-    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "DrawPrimitive: no vertex declaration set");
     if (prim_count == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, "DrawPrimitive", type, prim_count);
@@ -432,12 +432,11 @@ static is_result read_indices(is_device *dev, unsigned start, size_t n_idx, unsi
 }
 
 /* DrawIndexedPrimitive with D3D9 instancing: see the top of this file. */
-is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
-                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
-                                     unsigned prim_count)
+static is_result draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                        unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                        unsigned prim_count)
 {
     const char *call = "DrawIndexedPrimitive";
-    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!dev->decl) return dev_fail(dev, IS_ERR_INVALIDCALL, "%s: no vertex declaration set", call);
     if (prim_count == 0 || num_vertices == 0) return IS_OK;   /* the runtime: nothing drawn, no error */
     is_result r = check_prims(dev, call, type, prim_count);
@@ -665,5 +664,30 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
         r = rasterize(dev, RS_PRIM_TRIANGLES, (size_t)nt * n_pts, (size_t)nt * n_grid);
     }
     core_grid_free(&grid);
+    return r;
+}
+
+/* The public draws: with no vertex shader and a POSITIONT declaration, the pass-through of pre-transformed
+ * vertices is bound for the draw (core/raster_states.c). */
+is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);
+    is_result r = draw_primitive(dev, type, start_vertex, prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
+    return r;
+}
+
+is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                     unsigned prim_count)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);
+    is_result r = draw_indexed_primitive(dev, type, base_vertex_index, min_vertex_index, num_vertices, start_index,
+                                         prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
     return r;
 }
