@@ -407,13 +407,81 @@ static void test_pretransformed(void **state)
     dev_destroy(dev);
 }
 
+/* An instanced "patch": oPos = b0 t0 + b1 t1 + b2 t2 (b = POSITION0, the grid point; t0..t2 = TEXCOORD0..2, the
+ * instance's clip-space corners), white; its hull is the three corners exactly. */
+static void vs_patch_main(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    (void)c;
+    const float4 b = in->position[0], *t = in->texcoord;
+    out->pos = (rs_vec4){b.x * t[0].x + b.y * t[1].x + b.z * t[2].x, b.x * t[0].y + b.y * t[1].y + b.z * t[2].y,
+                         b.x * t[0].z + b.y * t[1].z + b.z * t[2].z, b.x * t[0].w + b.y * t[1].w + b.z * t[2].w};
+    out->attr[RS_ATTR_COLOR0] = (rs_vec4){1, 1, 1, 1};
+}
+static bool vs_patch_hull(const is_vs_constants *c, const is_vs_input *in, is_patch_hull *h)
+{
+    (void)c;
+    h->n_pos = 3, h->degree = 0, h->err = 1e-6;
+    for (int k = 0; k < 3; k++) {
+        const float4 t = in->texcoord[k];
+        h->pos[k][0] = t.x, h->pos[k][1] = t.y, h->pos[k][2] = t.z, h->pos[k][3] = t.w;
+    }
+    return true;
+}
+static const is_vertex_shader vs_patch = {.name = "patch", .main = vs_patch_main, .outputs = IS_OUT_COLOR0,
+                                          .hull = vs_patch_hull};
+
+/* The pre-tessellation cull (dev_set_patch_cull) proves instances invisible against the near and far planes,
+ * which CLIPPING FALSE does not clip against: an instance wholly before the near plane (z = -0.5 w) is drawn
+ * with CLIPPING FALSE (depth clamped to 0) with the cull on as off; with CLIPPING TRUE it is clipped (and culled). */
+static void test_patch_cull_no_clipping(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    const float grid[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const float inst[12] = {-3, 3, -0.5f, 1, 3, 3, -0.5f, 1, -3, -3, -0.5f, 1};   /* clockwise, the whole screen */
+    const uint16_t idx[3] = {0, 1, 2};
+    is_vertex_buffer *g, *in;
+    is_index_buffer *ib;
+    assert_int_equal(dev_create_vertex_buffer(dev, sizeof grid, &g), IS_OK);
+    assert_int_equal(dev_create_vertex_buffer(dev, sizeof inst, &in), IS_OK);
+    assert_int_equal(dev_create_index_buffer(dev, sizeof idx, IS_FMT_INDEX16, &ib), IS_OK);
+    memcpy(vb_lock(g), grid, sizeof grid), memcpy(vb_lock(in), inst, sizeof inst), memcpy(ib_lock(ib), idx, sizeof idx);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {1, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0},
+                                    {1, 16, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 1},
+                                    {1, 32, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 2}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
+    assert_int_equal(dev_set_vertex_shader(dev, &vs_patch), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 0, g, 0, 12), IS_OK);
+    assert_int_equal(dev_set_stream_source(dev, 1, in, 0, 48), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 1), IS_OK);
+    assert_int_equal(dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1), IS_OK);
+    assert_int_equal(dev_set_indices(dev, ib), IS_OK);
+    for (uint32_t clipping = 0; clipping < 2; clipping++)
+        for (int cull = 0; cull < 2; cull++) {
+            dev_set_patch_cull(dev, cull);
+            assert_int_equal(dev_set_render_state(dev, IS_RS_CLIPPING, clipping), IS_OK);
+            assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, BLACK, 1.0f), IS_OK);
+            assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, 3, 0, 1), IS_OK);
+            uint32_t px[W * H];
+            assert_int_equal(dev_get_render_target_data(dev, px, W * H), IS_OK);
+            assert_int_equal(px[3 * W + 3], clipping ? 0xff000000u : 0xffffffffu);
+            if (!clipping) assert_true(dev_render_target(dev)->depth[3 * W + 3] == 0.0f);
+            if (cull) assert_int_equal(dev_instances_culled(dev), clipping ? 1 : 0);
+        }
+    decl_release(decl), vb_release(g), vb_release(in), ib_release(ib);
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_state_values), cmocka_unit_test(test_scissor),
         cmocka_unit_test(test_clear_scissor_and_stencil), cmocka_unit_test(test_color_write_enable),
         cmocka_unit_test(test_alpha_test), cmocka_unit_test(test_stencil), cmocka_unit_test(test_clip_planes),
-        cmocka_unit_test(test_pretransformed),
+        cmocka_unit_test(test_pretransformed), cmocka_unit_test(test_patch_cull_no_clipping),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

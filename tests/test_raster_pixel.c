@@ -160,6 +160,29 @@ static void test_color_write_mask(void **state)
         }
 }
 
+/* A job with pixel.c's states on a 4-sample target covers samples as the plain walk: a quad whose right edge is
+ * X = 4 covers samples 0 and 2 of pixel 4 (x offsets -2/16 and -6/16 px) and not 1 and 3 (+6/16, +2/16). */
+static void test_ext_sample_coverage(void **state)
+{
+    (void)state;
+    rs_vertex v[6];
+    quad(v, -1, -1, 4, H + 1, 0.5f, WHITE);
+    for (int ext = 0; ext < 2; ext++) {
+        rs_target rt;
+        fresh(&rt, 4, 0);
+        draw d = { test_rs_defaults(W, H), v, 2 };
+        d.st.color_write_disable = ext ? 8u : 0u;   /* alpha not written */
+        draw_all_paths(&rt, &d, 1);
+        uint32_t lit = ext ? 0x11ffffffu : 0xffffffffu;
+        for (int s = 0; s < 4; s++) {
+            assert_int_equal(px(&rt, 3, 3, s), lit);
+            assert_int_equal(px(&rt, 4, 3, s), s == 0 || s == 2 ? lit : CLEAR_RGBA);
+            assert_int_equal(px(&rt, 5, 3, s), CLEAR_RGBA);
+        }
+        rs_target_free(&rt);
+    }
+}
+
 /* The alpha test on the 8-bit alpha: 0.5 is stored as 128 (round to nearest); against ALPHAREF 128 each function
  * passes or fails as D3D9's "alpha func ref"; a failing pixel writes neither colour nor depth nor stencil. */
 static void test_alpha_test(void **state)
@@ -464,7 +487,8 @@ static void test_bad_states(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_scissor), cmocka_unit_test(test_color_write_mask), cmocka_unit_test(test_alpha_test),
+        cmocka_unit_test(test_scissor), cmocka_unit_test(test_color_write_mask),
+        cmocka_unit_test(test_ext_sample_coverage), cmocka_unit_test(test_alpha_test),
         cmocka_unit_test(test_stencil_ops), cmocka_unit_test(test_stencil_func),
         cmocka_unit_test(test_stencil_mark_and_two_sided), cmocka_unit_test(test_clip_planes),
         cmocka_unit_test(test_no_clipping), cmocka_unit_test(test_pretransformed), cmocka_unit_test(test_bad_states),
