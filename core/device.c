@@ -85,6 +85,7 @@ static void set_default_states(is_device *dev)
     s[IS_RS_ADAPTIVETESS_Y] = float_bits(0.0f);
     s[IS_RS_ADAPTIVETESS_Z] = float_bits(1.0f);
     s[IS_RS_ADAPTIVETESS_W] = float_bits(0.0f);
+    raster_states_default(dev);   /* scissor, colour write, alpha test, stencil, clipping (and the rectangles) */
 }
 
 /* Create a device with a w x h target of `samples` samples, cleared to black and depth 1. */
@@ -403,7 +404,7 @@ static int state_check(is_rs state, uint32_t v)
     case IS_RS_ADAPTIVETESS_X: case IS_RS_ADAPTIVETESS_Y: case IS_RS_ADAPTIVETESS_Z: case IS_RS_ADAPTIVETESS_W:
         ok = isfinite(bits_float(v));
         break;
-    default: return STATE_UNKNOWN;
+    default: return raster_state_check(state, v);   /* core/raster_states.c's, or STATE_UNKNOWN */
     }
     return ok ? STATE_OK : STATE_BAD_VALUE;
 }
@@ -500,17 +501,25 @@ is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn fn)
 }
 
 /* Clear: D3DCOLOR (ARGB) into packed RGBA8; z must be in [0, 1].  Resets the statistics. */
-/* Clear the pixels of rectangle r (already within the target) with the packed colour and z as flags say. */
-static void clear_rect(is_device *dev, is_rect r, unsigned flags, uint32_t rgba, float z)
+/* Clear the pixels of rectangle r (already within the target) with the packed colour, z and stencil as flags say. */
+static void clear_rect(is_device *dev, is_rect r, unsigned flags, uint32_t rgba, float z, uint32_t stencil)
 {
-    if (r.left < r.right && r.top < r.bottom)
+    if (r.left < r.right && r.top < r.bottom) {
         rs_target_clear_rect(&dev->rt, r.left, r.top, r.right, r.bottom, flags, rgba, z);
+        if (flags & IS_CLEAR_STENCIL) rs_target_clear_stencil(&dev->rt, r.left, r.top, r.right, r.bottom, stencil);
+    }
 }
 
 is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, unsigned flags, uint32_t argb, float z)
 {
+    return dev_clear_rects_stencil(dev, count, rects, flags, argb, z, 0);
+}
+
+is_result dev_clear_rects_stencil(is_device *dev, unsigned count, const is_rect *rects, unsigned flags,
+                                  uint32_t argb, float z, uint32_t stencil)
+{
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER)) || !(z >= 0.0f && z <= 1.0f))
+    if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER | IS_CLEAR_STENCIL)) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
     if (count == 0 && rects) return IS_OK;   /* the runtime: nothing cleared */
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
@@ -520,18 +529,20 @@ is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, 
     is_rect area = {vp->x < (uint32_t)dev->rt.width ? (int32_t)vp->x : dev->rt.width,
                     vp->y < (uint32_t)dev->rt.height ? (int32_t)vp->y : dev->rt.height,
                     vx1 < dev->rt.width ? (int32_t)vx1 : dev->rt.width, vy1 < dev->rt.height ? (int32_t)vy1 : dev->rt.height};
+    area = raster_scissor_clip(dev, area);   /* and the scissor rectangle, when the test is on */
     bool whole = area.left == 0 && area.top == 0 && area.right == dev->rt.width && area.bottom == dev->rt.height;
     if (!rects) count = 0;
-    if (whole && count == 0) {   /* the whole target: deferred per tile, and a new frame */
-        rs_target_clear_deferred(dev->rs, &dev->rt, flags, rgba, z);
+    if (whole && count == 0) {   /* the whole target: deferred per tile, and a new frame (the stencil at once) */
+        rs_target_clear_deferred(dev->rs, &dev->rt, flags & (IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER), rgba, z);
+        if (flags & IS_CLEAR_STENCIL) rs_target_clear_stencil(&dev->rt, 0, 0, dev->rt.width, dev->rt.height, stencil);
     } else {
         rs_target_flush(dev->rs, &dev->rt);
-        if (count == 0) clear_rect(dev, area, flags, rgba, z);
+        if (count == 0) clear_rect(dev, area, flags, rgba, z, stencil);
         for (unsigned k = 0; k < count; k++) {
             const is_rect *q = &rects[k];   /* its part of the area */
             is_rect c = {q->left > area.left ? q->left : area.left, q->top > area.top ? q->top : area.top,
                          q->right < area.right ? q->right : area.right, q->bottom < area.bottom ? q->bottom : area.bottom};
-            clear_rect(dev, c, flags, rgba, z);
+            clear_rect(dev, c, flags, rgba, z, stencil);
         }
     }
     memset(&dev->stats, 0, sizeof dev->stats);
@@ -595,7 +606,13 @@ _Static_assert(SAME(IS_BLEND_ZERO, RS_BLEND_ZERO) && SAME(IS_BLEND_ONE, RS_BLEND
                SAME(IS_BLEND_DESTALPHA, RS_BLEND_DESTALPHA) && SAME(IS_BLEND_INVDESTALPHA, RS_BLEND_INVDESTALPHA) &&
                SAME(IS_BLEND_DESTCOLOR, RS_BLEND_DESTCOLOR) && SAME(IS_BLEND_INVDESTCOLOR, RS_BLEND_INVDESTCOLOR),
                "blend factors: IS_BLEND_* == RS_BLEND_*");
-_Static_assert(SAME(IS_CLEAR_TARGET, RS_CLEAR_COLOR) && SAME(IS_CLEAR_ZBUFFER, RS_CLEAR_DEPTH),
+_Static_assert(SAME(IS_STENCILOP_KEEP, RS_STENCILOP_KEEP) && SAME(IS_STENCILOP_ZERO, RS_STENCILOP_ZERO) &&
+               SAME(IS_STENCILOP_REPLACE, RS_STENCILOP_REPLACE) && SAME(IS_STENCILOP_INCRSAT, RS_STENCILOP_INCRSAT) &&
+               SAME(IS_STENCILOP_DECRSAT, RS_STENCILOP_DECRSAT) && SAME(IS_STENCILOP_INVERT, RS_STENCILOP_INVERT) &&
+               SAME(IS_STENCILOP_INCR, RS_STENCILOP_INCR) && SAME(IS_STENCILOP_DECR, RS_STENCILOP_DECR) &&
+               SAME(IS_MAX_USER_CLIP_PLANES, RS_MAX_CLIP_PLANES), "stencil operations: IS_STENCILOP_* == RS_*");
+_Static_assert(SAME(IS_CLEAR_TARGET, RS_CLEAR_COLOR) && SAME(IS_CLEAR_ZBUFFER, RS_CLEAR_DEPTH) &&
+               SAME(IS_CLEAR_STENCIL, RS_CLEAR_STENCIL),
                "clear flags: IS_CLEAR_* == RS_CLEAR_*");
 #undef SAME
 
@@ -632,5 +649,6 @@ rs_state dev_rs_state(const is_device *dev)
         .ps_ctx = dev,
         .viewport = dev->rs_vp,
     };
+    raster_states_apply(dev, &st);   /* core/raster_states.c */
     return st;
 }

@@ -102,7 +102,15 @@ typedef enum is_rs {
      * bits, but ENABLEADAPTIVETESSELLATION, a BOOL */
     IS_RS_MINTESSELLATIONLEVEL = 178, IS_RS_MAXTESSELLATIONLEVEL = 179, IS_RS_ADAPTIVETESS_X = 180,
     IS_RS_ADAPTIVETESS_Y = 181, IS_RS_ADAPTIVETESS_Z = 182, IS_RS_ADAPTIVETESS_W = 183,
-    IS_RS_ENABLEADAPTIVETESSELLATION = 184
+    IS_RS_ENABLEADAPTIVETESSELLATION = 184,
+    /* D3D9's scissor, colour write mask, alpha test, stencil and clipping states (core/raster_states.c; see
+     * "per-pixel and clipping states" below) */
+    IS_RS_ALPHATESTENABLE = 15, IS_RS_ALPHAREF = 24, IS_RS_ALPHAFUNC = 25, IS_RS_STENCILENABLE = 52,
+    IS_RS_STENCILFAIL = 53, IS_RS_STENCILZFAIL = 54, IS_RS_STENCILPASS = 55, IS_RS_STENCILFUNC = 56,
+    IS_RS_STENCILREF = 57, IS_RS_STENCILMASK = 58, IS_RS_STENCILWRITEMASK = 59, IS_RS_CLIPPING = 136,
+    IS_RS_CLIPPLANEENABLE = 152, IS_RS_COLORWRITEENABLE = 168, IS_RS_SCISSORTESTENABLE = 174,
+    IS_RS_TWOSIDEDSTENCILMODE = 185, IS_RS_CCW_STENCILFAIL = 186, IS_RS_CCW_STENCILZFAIL = 187,
+    IS_RS_CCW_STENCILPASS = 188, IS_RS_CCW_STENCILFUNC = 189
 } is_rs;
 
 enum { IS_CULL_NONE = 1, IS_CULL_CW = 2, IS_CULL_CCW = 3 };
@@ -130,7 +138,15 @@ enum {
  * QUADRATIC (the highest degree of normals it has); POSITIONDEGREE takes LINEAR and CUBIC. */
 enum { IS_DEGREE_LINEAR = 1, IS_DEGREE_QUADRATIC = 2, IS_DEGREE_CUBIC = 3 };
 enum { IS_PATCHEDGE_DISCRETE = 0, IS_PATCHEDGE_CONTINUOUS = 1 };
-enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2 };
+enum { IS_CLEAR_TARGET = 1, IS_CLEAR_ZBUFFER = 2, IS_CLEAR_STENCIL = 4 };
+/* D3DSTENCILOP and D3DCOLORWRITEENABLE_* */
+enum {
+    IS_STENCILOP_KEEP = 1, IS_STENCILOP_ZERO = 2, IS_STENCILOP_REPLACE = 3, IS_STENCILOP_INCRSAT = 4,
+    IS_STENCILOP_DECRSAT = 5, IS_STENCILOP_INVERT = 6, IS_STENCILOP_INCR = 7, IS_STENCILOP_DECR = 8
+};
+enum { IS_COLORWRITEENABLE_RED = 1, IS_COLORWRITEENABLE_GREEN = 2, IS_COLORWRITEENABLE_BLUE = 4,
+       IS_COLORWRITEENABLE_ALPHA = 8 };
+#define IS_MAX_USER_CLIP_PLANES 6   /* D3DCAPS9.MaxUserClipPlanes of this device */
 #define IS_RS_COUNT 256
 
 /* D3DCOLOR_ARGB -> is stored as packed RGBA8 in the target; these helpers build a D3DCOLOR (ARGB). */
@@ -377,6 +393,26 @@ INSTESS_API is_result dev_get_render_state(const is_device *dev, is_rs state, ui
  *   | IS_RS_ADAPTIVETESS_Y             | 0.0f (as its bits)       |
  *   | IS_RS_ADAPTIVETESS_Z             | 1.0f (as its bits)       |
  *   | IS_RS_ADAPTIVETESS_W             | 0.0f (as its bits)       |
+ *   | IS_RS_ALPHATESTENABLE            | 0                        |
+ *   | IS_RS_ALPHAREF                   | 0                        |
+ *   | IS_RS_ALPHAFUNC                  | IS_CMP_ALWAYS            |
+ *   | IS_RS_STENCILENABLE              | 0                        |
+ *   | IS_RS_STENCILFAIL                | IS_STENCILOP_KEEP        |
+ *   | IS_RS_STENCILZFAIL               | IS_STENCILOP_KEEP        |
+ *   | IS_RS_STENCILPASS                | IS_STENCILOP_KEEP        |
+ *   | IS_RS_STENCILFUNC                | IS_CMP_ALWAYS            |
+ *   | IS_RS_STENCILREF                 | 0                        |
+ *   | IS_RS_STENCILMASK                | 0xFFFFFFFF               |
+ *   | IS_RS_STENCILWRITEMASK           | 0xFFFFFFFF               |
+ *   | IS_RS_CLIPPING                   | 1                        |
+ *   | IS_RS_CLIPPLANEENABLE            | 0                        |
+ *   | IS_RS_COLORWRITEENABLE           | 0xF                      |
+ *   | IS_RS_SCISSORTESTENABLE          | 0                        |
+ *   | IS_RS_TWOSIDEDSTENCILMODE        | 0                        |
+ *   | IS_RS_CCW_STENCILFAIL            | IS_STENCILOP_KEEP        |
+ *   | IS_RS_CCW_STENCILZFAIL           | IS_STENCILOP_KEEP        |
+ *   | IS_RS_CCW_STENCILPASS            | IS_STENCILOP_KEEP        |
+ *   | IS_RS_CCW_STENCILFUNC            | IS_CMP_ALWAYS            |
  */
 /* SetViewport, as the runtime takes it: any x, y and any width and height of at least 1 (a viewport reaching beyond
  * the target is drawn and cleared clipped to the target, each vertex where the whole viewport puts it; one wholly
@@ -420,7 +456,8 @@ typedef struct is_rect { int32_t left, top, right, bottom; } is_rect;
 /* Clear(Count, pRects, Flags, Color (D3DCOLOR ARGB), Z), as the runtime does it: the viewport is cleared, not the
  * whole target (the two are the same after dev_create or a full-target viewport), and with count rects (and
  * rects not NULL) only each rect's part of the viewport; count 0 with rects not NULL clears nothing and succeeds;
- * count > 0 with NULL rects clears the viewport.  Flags IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER; z in [0, 1]. */
+ * count > 0 with NULL rects clears the viewport.  Flags IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER | IS_CLEAR_STENCIL (to 0:
+ * dev_clear_rects_stencil takes the value); z in [0, 1].  With SCISSORTESTENABLE the scissor rectangle bounds it too. */
 INSTESS_API is_result dev_clear_rects(is_device *dev, unsigned count, const is_rect *rects, unsigned flags,
                                       uint32_t argb, float z);
 /* dev_clear_rects(dev, 0, NULL, flags, argb, z): the viewport. */
@@ -502,6 +539,54 @@ INSTESS_API is_result dev_set_npatch_evaluator(is_device *dev, is_npatch_eval_fn
 INSTESS_API float core_adaptive_vertex_level(float segments, float factor, float4 v, float4 mdm);
 /* T_e of an edge from its ends' T_1, T_2 and the MIN / MAX states, as above. */
 INSTESS_API float core_adaptive_edge_level(float t1, float t2, float min_level, float max_level);
+
+/* --- per-pixel and clipping states: scissor, colour write mask, alpha test, stencil, clip planes, CLIPPING,
+ * pre-transformed vertices (core/raster_states.c; the rasterizer's side is raster/pixel.c) ---
+ * As D3D9 with a D3DFMT_D24S8 depth-stencil buffer (8 stencil bits per sample beside the depth, which stays a
+ * float here), in D3D9's order: scissor, alpha test, stencil test, depth test, blend, colour write mask.
+ *  - Scissor: with SCISSORTESTENABLE only pixels inside the scissor rectangle (and the viewport) are drawn, and
+ *    Clear clears only inside it.  The rectangle is the whole target on a new device and after dev_reset (as the
+ *    runtime sets it); any rectangle is accepted (the part inside the target counts; an empty or inverted one
+ *    draws nothing).
+ *  - COLORWRITEENABLE: IS_COLORWRITEENABLE_* bits; channels not in it keep the target's value (after blending).
+ *    Bits above 0xF are stored and ignored.  Clear is not masked (D3D9 clears ignore it too).
+ *  - Alpha test (ALPHATESTENABLE, ALPHAFUNC, ALPHAREF): the pixel is kept when "alpha ALPHAFUNC ref", alpha being
+ *    COLOR0's alpha saturated and rounded to 8 bits (what the target stores) and ref ALPHAREF's low 8 bits; a
+ *    pixel that fails writes nothing (colour, depth or stencil).
+ *  - Stencil (STENCILENABLE ...): "(ref & STENCILMASK) STENCILFUNC (stencil & STENCILMASK)" per sample, ref
+ *    STENCILREF's low 8 bits; STENCILFAIL runs when it fails, STENCILZFAIL when it passes and depth fails,
+ *    STENCILPASS when both pass, each writing only the bits of STENCILWRITEMASK; depth and colour are written
+ *    only when both pass.  TWOSIDEDSTENCILMODE: triangles counter-clockwise on screen (the back faces of D3D9's
+ *    clockwise front) use the CCW_* states; lines and points always the clockwise ones.  Clear's
+ *    IS_CLEAR_STENCIL sets the stencil (dev_clear_rects_stencil).
+ *  - Clip planes (SetClipPlane, CLIPPLANEENABLE bits 0..5): a vertex shader's oPos is kept where
+ *    a x + b y + c z + d w >= 0, in clip space (as D3D9 with a vertex shader); the part outside is clipped
+ *    exactly as the near plane clips.  Not applied to pre-transformed vertices.
+ *  - CLIPPING FALSE: nothing is clipped but against the guard band (no near, far or user planes); depth outside
+ *    the viewport's range is clamped to it, as the runtime with software vertex processing (Wine's
+ *    depth_clamp_test).  The guard band stays (it keeps the fixed point exact).
+ *  - Pre-transformed vertices: with no vertex shader set and a declaration with IS_DECLUSAGE_POSITIONT (index 0,
+ *    FLOAT4: D3DFVF_XYZRHW's x, y, z, rhw), a draw takes the position as screen pixels x, y (pixel centres at
+ *    integers, as every D3D9 coordinate here), depth z as is (the viewport's MinZ / MaxZ do not map it; it is
+ *    clipped to [0, 1], or clamped with CLIPPING FALSE), and 1/w = rhw for perspective-correct interpolation of
+ *    COLOR0, COLOR1 and TEXCOORD0..7 (which it passes through; COLOR0 absent from the declaration is opaque
+ *    white, D3D9's default diffuse).  The viewport still bounds the pixels drawn.  A declaration may not hold
+ *    both POSITION0 and POSITIONT (they share the register).
+ * Each state is off by default (the defaults table above), and off it changes nothing: draws take the fast paths
+ * as before.  With any of alpha test, stencil, colour write mask, user planes, CLIPPING FALSE or pre-transformed
+ * vertices on, a draw takes the rasterizer's reference path (the same bytes for any thread count and ISA). */
+/* SetScissorRect / GetScissorRect: NULL is IS_ERR_INVALIDCALL. */
+INSTESS_API is_result dev_set_scissor_rect(is_device *dev, const is_rect *rect);
+INSTESS_API is_result dev_get_scissor_rect(const is_device *dev, is_rect *rect);
+/* SetClipPlane / GetClipPlane: plane (a, b, c, d); an index beyond the last plane names the last one (the
+ * runtime clamps it so; Wine's d3d9 does the same); NULL, or (Set) a plane not finite, is IS_ERR_INVALIDCALL
+ * (the runtime stores any floats; what it then draws is undefined). */
+INSTESS_API is_result dev_set_clip_plane(is_device *dev, unsigned index, const float plane[4]);
+INSTESS_API is_result dev_get_clip_plane(const is_device *dev, unsigned index, float plane[4]);
+/* D3D9's Clear(Count, pRects, Flags, Color, Z, Stencil): dev_clear_rects with the stencil value, which
+ * IS_CLEAR_STENCIL in flags writes (its low 8 bits) to the same pixels (dev_clear_rects clears it to 0). */
+INSTESS_API is_result dev_clear_rects_stencil(is_device *dev, unsigned count, const is_rect *rects, unsigned flags,
+                                              uint32_t argb, float z, uint32_t stencil);
 
 /* The scalar reference path (for tests and teaching): with on, draws shade vertex by vertex through the
  * shader's `main` and the rasterizer walks its simplest per-sample loops; off (the default) takes the fast

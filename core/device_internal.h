@@ -63,6 +63,7 @@ struct is_vertex_declaration {
     unsigned n;
     decl_element el[IS_MAX_ELEMENTS];
     uint32_t stream_mask;   /* streams the declaration reads */
+    bool positiont;         /* an element of usage POSITIONT: pre-transformed vertices (core/raster_states.c) */
 };
 
 /* The viewport as the rasterizer gets it (dev_rs_state): the set viewport clipped to the target, and the affine map
@@ -202,6 +203,9 @@ struct is_device {
     struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
     const is_pixel_shader *ps;  /* SetPixelShader (core/pixel.c), NULL: the fixed path */
     is_ps_constants ps_consts;  /* its c0..c223; s points at ps_samplers */
+    /* core/raster_states.c: SetScissorRect, SetClipPlane */
+    is_rect scissor;
+    float clip_plane[IS_MAX_USER_CLIP_PLANES][4];
 };
 
 /* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources
@@ -221,6 +225,23 @@ void dev_debug(is_device *dev, const char *fmt, ...) __attribute__((format(print
 rs_state dev_rs_state(const is_device *dev);
 /* dev->rs_vp and dev->remap from dev->viewport and the target's size (device.c). */
 void dev_viewport_update(is_device *dev);
+
+/* ---- core/raster_states.c: D3D9's scissor, colour write, alpha test, stencil, clipping and pre-transformed
+ * vertices on the device's side ---- */
+/* Whether render state `state` (one of that file's) takes value v: 1 yes, 0 a bad value, -1 not one of them
+ * (device.c's state_check codes). */
+int raster_state_check(is_rs state, uint32_t v);
+/* Those states, the scissor rectangle (the whole target) and the clip planes (zero) to a new device's. */
+void raster_states_default(is_device *dev);
+/* Fill the fields of st (dev_rs_state) that those states drive. */
+void raster_states_apply(const is_device *dev, rs_state *st);
+/* Rectangle r narrowed to the scissor rectangle when the scissor test is on (Clear). */
+is_rect raster_scissor_clip(const is_device *dev, is_rect r);
+/* Whether the draw about to run is of pre-transformed vertices (no vertex shader, a declaration with POSITIONT):
+ * then the device's pass-through shader is bound for it and the bound shader (NULL) returned in *saved for
+ * raster_pretransformed_end; false (nothing changed) otherwise. */
+bool raster_pretransformed_begin(is_device *dev, const is_vertex_shader **saved);
+void raster_pretransformed_end(is_device *dev, const is_vertex_shader *saved);
 
 /* Expand one element at src into a float4 register (D3D9 defaults fill missing components). */
 float4 decl_fetch(uint8_t type, const unsigned char *src);

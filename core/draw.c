@@ -421,15 +421,9 @@ static is_result draw_indexed(is_device *dev, const char *call, is_primtype type
                               unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                               unsigned prim_count);
 
-/* DrawPrimitive: non-indexed, one instance whatever the stream frequencies say (the runtime does not instance
- * non-indexed draws; it draws the one instance and succeeds). */
-is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
-{
-    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    return draw_primitive(dev, "DrawPrimitive", type, start_vertex, prim_count);
-}
-
-/* DrawPrimitive under the name `call` (for its messages), on a live device. */
+/* DrawPrimitive under the name `call` (for its messages), on a live device: non-indexed, one instance whatever the
+ * stream frequencies say (the runtime does not instance non-indexed draws; it draws the one instance and
+ * succeeds).  dev_draw_primitive binds the pass-through of pre-transformed vertices around it. */
 static is_result draw_primitive(is_device *dev, const char *call, is_primtype type, unsigned start_vertex,
                                 unsigned prim_count)
 {
@@ -484,17 +478,8 @@ static is_result read_indices(is_device *dev, const char *call, unsigned start, 
     return IS_OK;
 }
 
-/* DrawIndexedPrimitive with D3D9 instancing: see the top of this file. */
-is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
-                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
-                                     unsigned prim_count)
-{
-    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
-    return draw_indexed(dev, "DrawIndexedPrimitive", type, base_vertex_index, min_vertex_index, num_vertices,
-                        start_index, prim_count);
-}
-
-/* DrawIndexedPrimitive under the name `call`, on a live device. */
+/* DrawIndexedPrimitive under the name `call`, on a live device, with D3D9 instancing: see the top of this file.
+ * dev_draw_indexed_primitive binds the pass-through of pre-transformed vertices around it. */
 static is_result draw_indexed(is_device *dev, const char *call, is_primtype type, int base_vertex_index,
                               unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
                               unsigned prim_count)
@@ -554,7 +539,10 @@ is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_
     dev->up_vb.data = (unsigned char *)(uintptr_t)vertices;   /* read only */
     dev->up_vb.size = prim_index_count(type, prim_count) * (size_t)stride;
     dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);   /* POSITIONT, as the buffer draws */
     r = draw_primitive(dev, call, type, 0, prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
     unset_stream0(dev);
     dev->up_vb.data = NULL, dev->up_vb.size = 0;
     return r;
@@ -585,7 +573,10 @@ is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsign
     dev->up_ib.format = index_format;
     dev->streams[0].vb = &dev->up_vb, dev->streams[0].offset = 0, dev->streams[0].stride = stride;
     dev->ib = &dev->up_ib;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);   /* POSITIONT, as the buffer draws */
     r = draw_indexed(dev, call, type, 0, min_vertex_index, num_vertices, 0, prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
     unset_stream0(dev);
     dev->ib = NULL;
     dev->up_vb.data = NULL, dev->up_vb.size = 0, dev->up_ib.data = NULL, dev->up_ib.size = 0;
@@ -805,5 +796,30 @@ static is_result draw_npatch(is_device *dev, const fetch_plan *fp, size_t n_tris
         r = rasterize(dev, RS_PRIM_TRIANGLES, (size_t)nt * n_pts, (size_t)nt * n_grid);
     }
     core_grid_free(&grid);
+    return r;
+}
+
+/* The public draws: with no vertex shader and a POSITIONT declaration, the pass-through of pre-transformed
+ * vertices is bound for the draw (core/raster_states.c). */
+is_result dev_draw_primitive(is_device *dev, is_primtype type, unsigned start_vertex, unsigned prim_count)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);
+    is_result r = draw_primitive(dev, "DrawPrimitive", type, start_vertex, prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
+    return r;
+}
+
+is_result dev_draw_indexed_primitive(is_device *dev, is_primtype type, int base_vertex_index,
+                                     unsigned min_vertex_index, unsigned num_vertices, unsigned start_index,
+                                     unsigned prim_count)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    const is_vertex_shader *saved = NULL;
+    bool pre = raster_pretransformed_begin(dev, &saved);
+    is_result r = draw_indexed(dev, "DrawIndexedPrimitive", type, base_vertex_index, min_vertex_index, num_vertices,
+                               start_index, prim_count);
+    if (pre) raster_pretransformed_end(dev, saved);
     return r;
 }

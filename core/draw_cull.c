@@ -130,6 +130,7 @@ void cull_prepare(const is_device *dev, const fetch_plan *fp, const float4 *cach
     const rs_state st = dev_rs_state(dev);
     if (!dev->patch_cull || dev->reference || dev->remap.on || !dev->vs || !dev->vs->hull || st.fill_mode != RS_FILL_SOLID || !cache)
         return;
+    if (st.no_clipping || st.pretransformed) return;   /* CLIPPING FALSE draws what lies beyond near and far */
     analyse_grid(fp, cache, list, n_prims, cv);
     const rs_viewport *vp = &st.viewport;
     cv->sx = (double)vp->width * ((double)RS_SUB / 2), cv->sy = (double)vp->height * ((double)RS_SUB / 2);

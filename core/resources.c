@@ -111,6 +111,8 @@ static long usage_register(uint8_t usage, uint8_t index)
     case IS_DECLUSAGE_BINORMAL: base = offsetof(is_vs_input, binormal), count = 1; break;
     case IS_DECLUSAGE_COLOR: base = offsetof(is_vs_input, color), count = 2; break;
     case IS_DECLUSAGE_TESSFACTOR: base = offsetof(is_vs_input, tessfactor), count = 1; break;
+    /* pre-transformed x, y, z, rhw (core/raster_states.c): the position register, which the pass-through reads */
+    case IS_DECLUSAGE_POSITIONT: base = offsetof(is_vs_input, position), count = 1; break;
     default: return -1;
     }
     return index < count ? (long)(base + index * sizeof(float4)) : -1;
@@ -144,6 +146,9 @@ static is_result check_element(is_device *dev, const is_vertex_declaration *d, u
             return dev_fail(dev, IS_ERR_INVALIDCALL,
                             "CreateVertexDeclaration: element %u repeats usage %u index %u of element %u", k,
                             e->usage, e->usage_index, j);
+        if (usage_register(o->usage, o->usage_index) == usage_register(e->usage, e->usage_index)) /* POSITIONT */
+            return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u (usage %u) and element %u "
+                            "(usage %u) fill the same register (POSITION0 and POSITIONT)", k, e->usage, j, o->usage);
         if (o->stream == e->stream && e->offset < o->offset + d->el[j].size &&
             o->offset < e->offset + decltype_size(e->type))
             return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateVertexDeclaration: element %u overlaps element %u", k, j);
@@ -173,6 +178,7 @@ is_result dev_create_vertex_declaration(is_device *dev, const is_vertex_element 
         }
         d->el[d->n++] = (decl_element){*e, decltype_size(e->type), (unsigned)usage_register(e->usage, e->usage_index)};
         d->stream_mask |= 1u << e->stream;
+        d->positiont |= e->usage == IS_DECLUSAGE_POSITIONT;
     }
     if (d->n == 0) {
         free(d);

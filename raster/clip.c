@@ -139,8 +139,8 @@ static int clip_plane(const rs_job *j, const rs_cvert *src, int n, rs_cvert *dst
 int rs_clip_poly(const rs_job *j, rs_cvert *poly, int n, unsigned planes, rs_clipbuf *cb)
 {
     rs_cvert tmp[RS_MAX_POLY];
-    for (int i = 0; i < RS_ALL_PLANES && n >= 3; i++) {
-        int k = plane_at(i);
+    for (int q = 0; q < RS_ALL_PLANES && n >= 3; q++) {
+        int k = plane_at(q);
         if (!(planes & (1u << k))) continue;
         if (k >= 2 && k < RS_CLIP_PLANES && !(planes & (((1u << k) - 1u) & ~3u))) /* first guard plane: edge lines */
             for (int i = 0; i < n; i++) edge_line(&poly[i], &poly[(i + 1) % n], poly[i].line);

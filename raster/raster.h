@@ -196,7 +196,8 @@ typedef struct rs_target {
 /* Counters of one rs_draw call (for tests and the benchmark).  prims_* count input primitives: culled by
  * winding, clipped away (entirely outside the clip volume), degenerate (zero area after snapping, zero-length
  * line, or a non-finite position), drawn (the rest).  samples_tested: covered samples that reached the depth
- * test; samples_written: those that passed it (colour written).  Zeroed when rs_draw fails.
+ * test (with raster/pixel.c's states: every covered sample, the alpha test's failures included);
+ * samples_written: those that passed it (colour written).  Zeroed when rs_draw fails.
  * setup_ms, tile_ms: wall-clock milliseconds of the draw's two parallel regions, measured only with
  * rs_set_timing on (else 0, so that the counters of two runs compare equal byte for byte): setup_ms the set-up
  * region (projection, clipping, set-up and binning of every chunk; for rs_draw_source also the producer's

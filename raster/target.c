@@ -53,7 +53,7 @@ int rs_target_init(rs_target *rt, int width, int height, int samples)
     size_t n = (size_t)width * (size_t)height * (size_t)samples;
     rt->color = plane_alloc(n);
     rt->depth = plane_alloc(n);
-    rt->stencil = plane_alloc((n + 3) / 4); /* one byte per sample */
+    rt->stencil = calloc(n, 1); /* one byte per sample (calloc: fresh pages cost no stores until used) */
     if (!rt->color || !rt->depth || !rt->stencil) {
         rs_target_free(rt);
         return RS_ENOMEM;

@@ -3,7 +3,9 @@
  * the float depth plane, and perspective-correct shading once per pixel (at the pixel centre, D3D9 without
  * centroid sampling).  Shading and writes happen only for samples that pass the depth test.
  * This per-sample walk (tri_block, tri_pixel) is the reference: 1-sample targets off the reference path take
- * span.c's 8-lane walks instead, which write the same bytes. */
+ * span.c's 8-lane walks instead, which write the same bytes.  A job with pixel.c's states (alpha test, stencil,
+ * colour write mask, a pixel shader...) takes tri_tile_ext, the same coverage and interpolation through rs_frag_ext
+ * (or the pixel shader's quad, tri_pixel_ps). */
 #include "raster_internal.h"
 
 #include <string.h>
@@ -15,87 +17,12 @@ typedef struct walk {
     unsigned full;             /* mask of all samples */
 } walk;
 
-/* Perspective barycentrics (*b1, *b2) of triangle tr at the pixel centre (fx, fy) (pixels from vertex 0), or at
- * sample `first` when the centre lies far outside the triangle. */
-static inline void tri_bary(const rs_job *j, const rs_tri *tr, float fx, float fy, int first, float *b1, float *b2)
-{
-    const float k = 1.0f / RS_SUB;
-    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
-        fx += (float)j->sox[first] * k;
-        fy += (float)j->soy[first] * k;
-        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    }
-    float r = 1.0f / sv;
-    *b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-    *b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
-}
-
-/* The pixel shader's quad around pixel (x, y) of triangle p (barycentrics (b1, b2) at the pixel), then the
- * pixel's lane through rs_frag_ps: each lane's inputs at its own centre from the triangle's planes, its own
- * inputs where the plane of 1/w is not positive (behind the eye); live = the lanes whose centre the triangle
- * covers (the top-left rule on the edge functions). */
-static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov,
-                         float *zs, float b1, float b2)
-{
-    const rs_tri *tr = &p->u.t;
-    const float k = 1.0f / RS_SUB;
-    rs_ps_quad q;
-    memset(&q, 0, sizeof q);
-    int x0 = x & ~1, y0 = y & ~1, lane = (x - x0) + 2 * (y - y0);
-    for (int l = 0; l < 4; l++) {
-        int px = x0 + (l & 1), py = y0 + (l >> 1);
-        int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
-        bool in = true;
-        for (int e = 0; e < 3; e++) in &= (int64_t)tr->ea[e] * X + (int64_t)tr->eb[e] * Y + tr->ec[e] >= 0;
-        if (in) q.live |= 1u << l;
-        q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
-        float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k;
-        float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-        float l1 = b1, l2 = b2;
-        if (l != lane && sv > 0.0f) {
-            float r = 1.0f / sv;
-            l1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-            l2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
-        }
-        rs_ps_lane(j, a, l1, l2, q.v[l]);
-    }
-    q.live |= 1u << lane;   /* covered by a sample, if not at its centre */
-    q.front = p->back == 0;
-    q.need = 1u << lane;
-    rs_frag_ps(j, t, x, y, cov, zs, p->back != 0, &q, lane, a, b1, b2);
-}
-
-/* tri_pixel for a job with D3D9's further per-pixel states (pixel.c): each covered sample's depth, then
- * rs_frag_ext.  Out of line: the plain walk does not pay for it. */
-static __attribute__((noinline)) void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
-                                                    int x, int y, unsigned cov)
-{
-    const rs_tri *tr = &p->u.t;
-    const float k = 1.0f / RS_SUB;
-    float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
-    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
-    float zs[4] = { 0, 0, 0, 0 };
-    for (int s = 0; s < j->samples; s++) {
-        float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
-        zs[s] = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
-    }
-    float b1, b2;
-    tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
-    if (j->st->ps) tri_pixel_ps(j, t, p, a, x, y, cov, zs, b1, b2);
-    else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
-}
-
 /* Depth-test, shade and write pixel (x, y) of triangle p with sample coverage cov. */
 static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
 {
     const rs_tri *tr = &p->u.t;
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
-    if (j->ext) {
-        tri_pixel_ext(j, t, p, a, x, y, cov);
-        return;
-    }
     size_t base = rs_tile_index(t, x, y) * (size_t)j->samples;
     /* offsets from vertex 0 below 2^24 (1/256 px): exact in float (setup.c's bit budget) */
     RS_ASSERT(rs_within((int64_t)x * RS_SUB - j->cx - tr->vx, 24) &&
@@ -119,8 +46,15 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     t->tested += (uint64_t)__builtin_popcount(cov);
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    float b1, b2;
-    tri_bary(j, tr, fx, fy, first, &b1, &b2);
+    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
+        fx += (float)j->sox[first] * k;
+        fy += (float)j->soy[first] * k;
+        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    }
+    float r = 1.0f / sv;
+    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
     rs_write_color(j, t->color + base, pass, rs_shade_color(j, a, b1, b2));
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
 }
@@ -195,11 +129,93 @@ static __attribute__((noinline)) void tri_tile_ref(const rs_job *j, rs_tile *t, 
     }
 }
 
+/* The pixel shader's quad around pixel (x, y) of triangle p (barycentrics (b1, b2) at the pixel), then the
+ * pixel's lane through rs_frag_ps: each lane's inputs at its own centre from the triangle's planes, its own
+ * inputs where the plane of 1/w is not positive (behind the eye); live = the lanes whose centre the triangle
+ * covers (the top-left rule on the edge functions). */
+static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov,
+                         float *zs, float b1, float b2)
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    rs_ps_quad q;
+    memset(&q, 0, sizeof q);
+    int x0 = x & ~1, y0 = y & ~1, lane = (x - x0) + 2 * (y - y0);
+    for (int l = 0; l < 4; l++) {
+        int px = x0 + (l & 1), py = y0 + (l >> 1);
+        int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
+        bool in = true;
+        for (int e = 0; e < 3; e++) in &= (int64_t)tr->ea[e] * X + (int64_t)tr->eb[e] * Y + tr->ec[e] >= 0;
+        if (in) q.live |= 1u << l;
+        q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
+        float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k;
+        float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+        float l1 = b1, l2 = b2;
+        if (l != lane && sv > 0.0f) {
+            float r = 1.0f / sv;
+            l1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+            l2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+        }
+        rs_ps_lane(j, a, l1, l2, q.v[l]);
+    }
+    q.live |= 1u << lane;   /* covered by a sample, if not at its centre */
+    q.front = p->back == 0;
+    q.need = 1u << lane;
+    rs_frag_ps(j, t, x, y, cov, zs, p->back != 0, &q, lane, a, b1, b2);
+}
+
+/* Pixel (x, y) of triangle p with coverage cov for a job with pixel.c's states: each covered sample's depth and
+ * the perspective barycentrics (as tri_pixel computes them), then rs_frag_ext. */
+static void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
+    float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
+    float zs[4] = { 0, 0, 0, 0 };
+    for (int s = 0; s < j->samples; s++) {
+        float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
+        zs[s] = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
+    }
+    int first = __builtin_ctz(cov);
+    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
+        fx += (float)j->sox[first] * k;
+        fy += (float)j->soy[first] * k;
+        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+    }
+    float r = 1.0f / sv;
+    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+    if (j->st->ps) tri_pixel_ps(j, t, p, a, x, y, cov, zs, b1, b2);
+    else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
+}
+
+/* The walk of a job with pixel.c's states (rs_job.ext): every pixel of [x0, x1] x [y0, y1] with its exact sample
+ * coverage (the coverage tri_tile_ref's blocks give, without their trivial accept / reject), through
+ * tri_pixel_ext.  Apart from tri_tile_ref, so that the plain walk does not pay for the states' test. */
+static __attribute__((noinline)) void tri_tile_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                                                   int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    walk w;
+    for (int i = 0; i < 3; i++)
+        for (int s = 0; s < j->samples; s++) w.eo[i][s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            int64_t X = (int64_t)x * RS_SUB - j->cx, Y = (int64_t)y * RS_SUB - j->cy, e[3];
+            for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
+            unsigned cov = coverage(j, &w, e);
+            if (cov) tri_pixel_ext(j, t, p, a, x, y, cov);
+        }
+}
+
 void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
 {
     int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
     int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
     if (x0 > x1 || y0 > y1) return;
     if (rs_span_ok(j)) j->kern->tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
+    else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's states */
     else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }

@@ -90,7 +90,7 @@ static void test_state_validation(void **state)
     /* the states next to them stay unknown */
     assert_int_equal(dev_set_render_state(dev, (is_rs)177, 0), IS_ERR_INVALIDCALL);
     assert_non_null(strstr(dev_last_error(dev), "unknown render state 177"));
-    assert_int_equal(dev_set_render_state(dev, (is_rs)185, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_state(dev, (is_rs)190, 0), IS_ERR_INVALIDCALL);   /* 185: TWOSIDEDSTENCILMODE */
     dev_destroy(dev);
 }
 

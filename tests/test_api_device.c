@@ -700,6 +700,72 @@ static void test_ownership(void **state)
     fixture_free(&b);
 }
 
+/* The scissor, clip-plane and stencil-clear functions (core/raster_states.c): a NULL or destroyed device, NULL
+ * pointers, indices at the limits (clamped to the last plane, as the runtime), planes not finite, rectangles
+ * reversed or at the int limits, flags and values out of range; and a draw with every state of that file on. */
+static void test_raster_state_edges(void **state)
+{
+    (void)state;
+    is_rect r = {0, 0, 1, 1};
+    float p[4] = {0, 0, 0, 1};
+    assert_int_equal(dev_set_scissor_rect(NULL, &r), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_scissor_rect(NULL, &r), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_clip_plane(NULL, 0, p), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_clip_plane(NULL, 0, p), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear_rects_stencil(NULL, 1, &r, IS_CLEAR_STENCIL, 0, 1.0f, 0), IS_ERR_INVALIDCALL);
+    draw_fixture f;
+    fixture_make(&f, 6, 6);
+    fixture_bind(&f);
+    is_device *dev = f.dev;
+    assert_int_equal(dev_set_scissor_rect(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_scissor_rect(dev, NULL), IS_ERR_INVALIDCALL);
+    const is_rect odd[] = {{INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX}, {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN},
+                           {5, 5, 5, 5}, {W, H, W + 9, H + 9}};
+    assert_int_equal(dev_set_render_state(dev, IS_RS_SCISSORTESTENABLE, 1), IS_OK);
+    for (size_t k = 0; k < sizeof odd / sizeof odd[0]; k++) {
+        assert_int_equal(dev_set_scissor_rect(dev, &odd[k]), IS_OK);
+        assert_int_equal(dev_get_scissor_rect(dev, &r), IS_OK);
+        assert_memory_equal(&r, &odd[k], sizeof r);
+        assert_int_equal(dev_clear_rects_stencil(dev, 4, odd, IS_CLEAR_TARGET | IS_CLEAR_STENCIL, 0, 0.5f, UINT32_MAX),
+                         IS_OK);
+        assert_int_equal(dev_clear_rects_stencil(dev, 0, NULL, IS_CLEAR_STENCIL | IS_CLEAR_ZBUFFER, 0, 0.5f, 0), IS_OK);
+        assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2)));
+    }
+    assert_int_equal(dev_clear_rects_stencil(dev, 0, NULL, 0x10, 0, 0.5f, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear_rects_stencil(dev, 0, NULL, IS_CLEAR_STENCIL, 0, NAN, 0), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_clear_rects_stencil(dev, UINT_MAX, NULL, IS_CLEAR_STENCIL, 0, 1.0f, 0), IS_OK);
+    const unsigned idx[] = {0, 5, 6, 100, UINT_MAX};
+    for (size_t k = 0; k < sizeof idx / sizeof idx[0]; k++) {
+        assert_int_equal(dev_set_clip_plane(dev, idx[k], p), IS_OK);
+        assert_int_equal(dev_get_clip_plane(dev, idx[k], p), IS_OK);
+        assert_int_equal(dev_set_clip_plane(dev, idx[k], NULL), IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_get_clip_plane(dev, idx[k], NULL), IS_ERR_INVALIDCALL);
+    }
+    const float bad[3][4] = {{NAN, 0, 0, 0}, {0, INFINITY, 0, 0}, {0, 0, 0, -INFINITY}};
+    for (int k = 0; k < 3; k++) assert_int_equal(dev_set_clip_plane(dev, 2, bad[k]), IS_ERR_INVALIDCALL);
+    const float huge[4] = {FLT_MAX, -FLT_MAX, FLT_MAX, FLT_MAX};
+    assert_int_equal(dev_set_clip_plane(dev, 3, huge), IS_OK);
+    /* every state on at once, with extreme values */
+    const struct { is_rs rs; uint32_t v; } on[] = {
+        {IS_RS_ALPHATESTENABLE, 1}, {IS_RS_ALPHAREF, UINT32_MAX}, {IS_RS_ALPHAFUNC, IS_CMP_LESSEQUAL},
+        {IS_RS_STENCILENABLE, 1}, {IS_RS_STENCILREF, UINT32_MAX}, {IS_RS_STENCILMASK, 0},
+        {IS_RS_STENCILPASS, IS_STENCILOP_INVERT}, {IS_RS_TWOSIDEDSTENCILMODE, 1},
+        {IS_RS_CCW_STENCILFAIL, IS_STENCILOP_DECR}, {IS_RS_CLIPPLANEENABLE, UINT32_MAX}, {IS_RS_CLIPPING, 0},
+        {IS_RS_COLORWRITEENABLE, UINT32_MAX}, {IS_RS_CULLMODE, IS_CULL_NONE}};
+    for (size_t k = 0; k < sizeof on / sizeof on[0]; k++) assert_int_equal(dev_set_render_state(dev, on[k].rs, on[k].v), IS_OK);
+    assert_int_equal(dev_set_scissor_rect(dev, &odd[0]), IS_OK);
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2)));
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_LINELIST, 0, 3)));
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_POINTLIST, 0, 6)));
+    assert_int_equal(dev_set_render_state(dev, IS_RS_CLIPPING, 1), IS_OK);
+    assert_true(ok_or_invalid(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 2)));
+    dev_destroy(dev);
+    assert_int_equal(dev_set_scissor_rect(dev, &r), IS_ERR_INVALIDCALL);   /* destroyed: its struct lives on */
+    assert_int_equal(dev_get_clip_plane(dev, 0, p), IS_ERR_INVALIDCALL);
+    f.dev = NULL;
+    fixture_free(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -708,6 +774,7 @@ int main(void)
         cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
         cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
         cmocka_unit_test(test_ownership),     cmocka_unit_test(test_state_blocks),
+        cmocka_unit_test(test_raster_state_edges),
     };
     return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
 }

@@ -486,7 +486,9 @@ static void test_render_state_defaults_documented(void **state)
         {"IS_ZB_TRUE", IS_ZB_TRUE}, {"IS_FILL_SOLID", IS_FILL_SOLID}, {"IS_SHADE_GOURAUD", IS_SHADE_GOURAUD},
         {"IS_BLEND_ONE", IS_BLEND_ONE}, {"IS_BLEND_ZERO", IS_BLEND_ZERO}, {"IS_CULL_CCW", IS_CULL_CCW},
         {"IS_CMP_LESSEQUAL", IS_CMP_LESSEQUAL}, {"IS_DEGREE_CUBIC", IS_DEGREE_CUBIC},
-        {"IS_DEGREE_LINEAR", IS_DEGREE_LINEAR}, {"IS_PATCHEDGE_DISCRETE", IS_PATCHEDGE_DISCRETE}};
+        {"IS_DEGREE_LINEAR", IS_DEGREE_LINEAR}, {"IS_PATCHEDGE_DISCRETE", IS_PATCHEDGE_DISCRETE},
+        /* core/raster_states.c's */
+        {"IS_CMP_ALWAYS", IS_CMP_ALWAYS}, {"IS_STENCILOP_KEEP", IS_STENCILOP_KEEP}};
     static const struct { const char *name; is_rs rs; } states[] = {
         {"IS_RS_ZENABLE", IS_RS_ZENABLE}, {"IS_RS_FILLMODE", IS_RS_FILLMODE}, {"IS_RS_SHADEMODE", IS_RS_SHADEMODE},
         {"IS_RS_ZWRITEENABLE", IS_RS_ZWRITEENABLE}, {"IS_RS_SRCBLEND", IS_RS_SRCBLEND},
@@ -499,7 +501,18 @@ static void test_render_state_defaults_documented(void **state)
         {"IS_RS_MINTESSELLATIONLEVEL", IS_RS_MINTESSELLATIONLEVEL},
         {"IS_RS_MAXTESSELLATIONLEVEL", IS_RS_MAXTESSELLATIONLEVEL}, {"IS_RS_ADAPTIVETESS_X", IS_RS_ADAPTIVETESS_X},
         {"IS_RS_ADAPTIVETESS_Y", IS_RS_ADAPTIVETESS_Y}, {"IS_RS_ADAPTIVETESS_Z", IS_RS_ADAPTIVETESS_Z},
-        {"IS_RS_ADAPTIVETESS_W", IS_RS_ADAPTIVETESS_W}};
+        {"IS_RS_ADAPTIVETESS_W", IS_RS_ADAPTIVETESS_W},
+        /* core/raster_states.c's */
+        {"IS_RS_ALPHATESTENABLE", IS_RS_ALPHATESTENABLE}, {"IS_RS_ALPHAREF", IS_RS_ALPHAREF},
+        {"IS_RS_ALPHAFUNC", IS_RS_ALPHAFUNC}, {"IS_RS_STENCILENABLE", IS_RS_STENCILENABLE},
+        {"IS_RS_STENCILFAIL", IS_RS_STENCILFAIL}, {"IS_RS_STENCILZFAIL", IS_RS_STENCILZFAIL},
+        {"IS_RS_STENCILPASS", IS_RS_STENCILPASS}, {"IS_RS_STENCILFUNC", IS_RS_STENCILFUNC},
+        {"IS_RS_STENCILREF", IS_RS_STENCILREF}, {"IS_RS_STENCILMASK", IS_RS_STENCILMASK},
+        {"IS_RS_STENCILWRITEMASK", IS_RS_STENCILWRITEMASK}, {"IS_RS_CLIPPING", IS_RS_CLIPPING},
+        {"IS_RS_CLIPPLANEENABLE", IS_RS_CLIPPLANEENABLE}, {"IS_RS_COLORWRITEENABLE", IS_RS_COLORWRITEENABLE},
+        {"IS_RS_SCISSORTESTENABLE", IS_RS_SCISSORTESTENABLE}, {"IS_RS_TWOSIDEDSTENCILMODE", IS_RS_TWOSIDEDSTENCILMODE},
+        {"IS_RS_CCW_STENCILFAIL", IS_RS_CCW_STENCILFAIL}, {"IS_RS_CCW_STENCILZFAIL", IS_RS_CCW_STENCILZFAIL},
+        {"IS_RS_CCW_STENCILPASS", IS_RS_CCW_STENCILPASS}, {"IS_RS_CCW_STENCILFUNC", IS_RS_CCW_STENCILFUNC}};
     FILE *f = fopen("core/device.h", "r");
     assert_non_null(f);
     is_device *dev = dev_create(8, 8, 1, NULL, 0);
@@ -519,7 +532,9 @@ static void test_render_state_defaults_documented(void **state)
         for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
             if (!strncmp(val, known[k].name, strlen(known[k].name))) want = known[k].value, found = true;
         if (!found && strstr(val, "as its bits") && sscanf(val, "%ff", &fv) == 1) memcpy(&want, &fv, 4), found = true;
-        if (!found && sscanf(val, "%u", &want) == 1) found = true;
+        char *end = NULL;
+        unsigned long num = strtoul(val, &end, 0);   /* decimal or 0x... */
+        if (!found && end != val) want = (uint32_t)num, found = true;
         if (!found) fail_msg("%s: cannot read the default '%s'", st, val);
         assert_int_equal(dev_get_render_state(dev, rs, &got), IS_OK);
         if (got != want) fail_msg("%s: the header says %s (0x%x), a new device holds 0x%x", st, val, want, got);

@@ -160,6 +160,29 @@ static void test_color_write_mask(void **state)
         }
 }
 
+/* A job with pixel.c's states on a 4-sample target covers samples as the plain walk: a quad whose right edge is
+ * X = 4 covers samples 0 and 2 of pixel 4 (x offsets -2/16 and -6/16 px) and not 1 and 3 (+6/16, +2/16). */
+static void test_ext_sample_coverage(void **state)
+{
+    (void)state;
+    rs_vertex v[6];
+    quad(v, -1, -1, 4, H + 1, 0.5f, WHITE);
+    for (int ext = 0; ext < 2; ext++) {
+        rs_target rt;
+        fresh(&rt, 4, 0);
+        draw d = { test_rs_defaults(W, H), v, 2 };
+        d.st.color_write_disable = ext ? 8u : 0u;   /* alpha not written */
+        draw_all_paths(&rt, &d, 1);
+        uint32_t lit = ext ? 0x11ffffffu : 0xffffffffu;
+        for (int s = 0; s < 4; s++) {
+            assert_int_equal(px(&rt, 3, 3, s), lit);
+            assert_int_equal(px(&rt, 4, 3, s), s == 0 || s == 2 ? lit : CLEAR_RGBA);
+            assert_int_equal(px(&rt, 5, 3, s), CLEAR_RGBA);
+        }
+        rs_target_free(&rt);
+    }
+}
+
 /* The alpha test on the 8-bit alpha: 0.5 is stored as 128 (round to nearest); against ALPHAREF 128 each function
  * passes or fails as D3D9's "alpha func ref"; a failing pixel writes neither colour nor depth nor stencil. */
 static void test_alpha_test(void **state)
@@ -434,6 +457,38 @@ static void test_pretransformed(void **state)
     rs_target_free(&rt);
 }
 
+/* Lines and points go through the same states: a line across row 2 and a point at (6, 6) with colour writes of
+ * red only and stencil REPLACE write red over the cleared bytes and the stencil reference (the clockwise states);
+ * with the alpha test failing they write nothing. */
+static void test_lines_points(void **state)
+{
+    (void)state;
+    rs_vertex line[2] = { sv(0, 2, 0.5f, (rs_vec4){ 1, 1, 1, 0.5f }), sv(W, 2, 0.5f, (rs_vec4){ 1, 1, 1, 0.5f }) };
+    rs_vertex pt[1] = { sv(6, 6, 0.5f, (rs_vec4){ 1, 1, 1, 0.5f }) };
+    for (int fail = 0; fail < 2; fail++) {
+        rs_target rt;
+        fresh(&rt, 1, 0);
+        rs_state st = test_rs_defaults(W, H);
+        st.color_write_disable = 0xe;   /* red only */
+        st.stencil_enable = true, st.stencil_ref = 9, st.stencil_mask = st.stencil_write_mask = 0xff;
+        st.stencil_cw = (rs_stencil_ops){ RS_CMP_ALWAYS, RS_STENCILOP_KEEP, RS_STENCILOP_KEEP, RS_STENCILOP_REPLACE };
+        st.stencil_two_sided = true;   /* lines and points still take the clockwise states */
+        st.stencil_ccw = (rs_stencil_ops){ RS_CMP_NEVER, RS_STENCILOP_ZERO, RS_STENCILOP_ZERO, RS_STENCILOP_ZERO };
+        st.alpha_test = true, st.alpha_func = fail ? RS_CMP_GREATER : RS_CMP_LESSEQUAL, st.alpha_ref = 128;
+        rs_context *rs = rs_create(2);
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_LINES, line, 2, NULL, 1, NULL), RS_OK);
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_POINTS, pt, 1, NULL, 1, NULL), RS_OK);
+        rs_destroy(rs);
+        uint32_t want = fail ? CLEAR_RGBA : (CLEAR_RGBA & ~0xffu) | 0xffu;
+        assert_int_equal(px(&rt, 3, 2, 0), want);
+        assert_int_equal(px(&rt, 6, 6, 0), want);
+        assert_int_equal(px(&rt, 3, 3, 0), CLEAR_RGBA);
+        assert_int_equal(sten(&rt, 3, 2), fail ? 0 : 9);
+        assert_int_equal(sten(&rt, 6, 6), fail ? 0 : 9);
+        rs_target_free(&rt);
+    }
+}
+
 /* Bad values of the states that are on are refused (RS_EINVAL, nothing drawn); off, they are not read. */
 static void test_bad_states(void **state)
 {
@@ -464,10 +519,12 @@ static void test_bad_states(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_scissor), cmocka_unit_test(test_color_write_mask), cmocka_unit_test(test_alpha_test),
+        cmocka_unit_test(test_scissor), cmocka_unit_test(test_color_write_mask),
+        cmocka_unit_test(test_ext_sample_coverage), cmocka_unit_test(test_alpha_test),
         cmocka_unit_test(test_stencil_ops), cmocka_unit_test(test_stencil_func),
         cmocka_unit_test(test_stencil_mark_and_two_sided), cmocka_unit_test(test_clip_planes),
-        cmocka_unit_test(test_no_clipping), cmocka_unit_test(test_pretransformed), cmocka_unit_test(test_bad_states),
+        cmocka_unit_test(test_no_clipping), cmocka_unit_test(test_pretransformed), cmocka_unit_test(test_lines_points),
+        cmocka_unit_test(test_bad_states),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
