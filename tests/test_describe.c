@@ -31,7 +31,7 @@ static const struct { const char *name, *arg, *context; } samples[] = {
     {"phong-alpha", "0.5", "patch=phong"}, {"n110-factor", "1.5", "normals=quadratic"}, {"level", "5", ""},
     {"grid", "pg-fractional-odd", ""}, {"path", "cpu", ""}, {"size", "64x32", ""}, {"up", "z", ""}, {"yaw", "10", ""},
     {"pitch", "-5", ""}, {"distance", "4", ""}, {"fov", "30", ""}, {"fill", "wire", ""}, {"light", "grazing", ""},
-    {"shading", "pixel", ""}, {"texture", "tests/data/textures/bumps.png", ""},
+    {"shading", "pixel", ""}, {"texture", "tests/data/textures/bumps.png", ""}, {"instances", "5", ""},
     {"color", "1,0,0", ""}, {"background", "#102030", ""}, {"fit", "box", ""}, {"cull", "cw", ""},
     {"msaa", "1", ""}, {"threads", "3", ""}, {"lod", "screen", ""}, {"lod-target", "2", "lod=screen"},
     {"min-level", "6", "lod=screen"}, {"max-level", "3", "lod=screen"}, {"silhouette", NULL, "lod=distance"},

@@ -281,7 +281,7 @@ WEB_EXPORT(web_inspect) const char *web_inspect(web_ctx *w, const char *args, in
     is_inspect rec = {0};
     uint32_t color = 0;
     float depth = 0;
-    if (rc == 0) rc = scene_inspect_pixel(&o, w->mesh.draw, x, y, &rec, &color, &depth, w->message, sizeof w->message);
+    if (rc == 0) rc = scene_inspect_pixel(&o, w->mesh.draw, x, y, &rec, &color, &depth, NULL, w->message, sizeof w->message);
     FILE *f = rc == 0 ? open_memstream(&w->inspected, &w->inspected_len) : NULL;
     if (rc == 0 && !f) rc = fail(w, "out of memory");
     if (f) {

@@ -198,7 +198,7 @@ void scene_inspect_print(FILE *f, const scene_opts *o, const is_mesh *m, const i
 }
 
 int scene_inspect_pixel(const scene_opts *o, const is_mesh *m, int x, int y, is_inspect *rec, uint32_t *color,
-                        float *depth, char *err, size_t errlen)
+                        float *depth, is_vs_constants *consts, char *err, size_t errlen)
 {
     core_grid g = {0};
     const bool adaptive = o->lod != TESS_LOD_UNIFORM;   /* as the run: an adaptive render checks its finest grid */
@@ -218,6 +218,8 @@ int scene_inspect_pixel(const scene_opts *o, const is_mesh *m, int x, int y, is_
         const rs_target *rt = dev_render_target(dev);
         size_t px = (size_t)y * (size_t)rt->width + (size_t)x;
         *color = rt->color[px], *depth = rt->depth[px];
+        if (consts) memset(consts, 0, sizeof *consts),
+                    dev_get_vertex_shader_constant_f(dev, 0, &consts->c[0].x, IS_MAX_VS_CONSTANTS);
     }
     dev_destroy(dev);
     core_grid_free(&g);
@@ -242,7 +244,7 @@ static int inspect_scene(const scene_opts *o, const inspect_args *a)
     uint32_t color = 0;
     float depth = 0;
     const is_mesh *m = rc == 0 ? scene_fit_mesh(&mesh, &copy) : NULL;
-    if (rc == 0) rc = scene_inspect_pixel(&od, m, a->x, a->y, &rec, &color, &depth, err, sizeof err);
+    if (rc == 0) rc = scene_inspect_pixel(&od, m, a->x, a->y, &rec, &color, &depth, NULL, err, sizeof err);
     if (rc == 0) scene_inspect_print(stdout, o, m, &rec, color, depth, a->json);
     else fprintf(stderr, "instess inspect: %s\n", err);
     is_inspect_free(&rec);

@@ -92,6 +92,13 @@ static const char *opt_level(scene_opts *o, const char *a)
 {
     return scene_parse_float(a, 1.0f, SCENE_MAX_LEVEL, &o->level) ? NULL : SCENE_LEVEL_MSG;
 }
+static const char *opt_instances(scene_opts *o, const char *a)
+{
+    int n;
+    if (!scene_parse_int(a, 0, INT32_MAX, &n)) return "--instances must be a whole number, 0..2147483647 (0: all)";
+    o->instances = (unsigned)n;
+    return NULL;
+}
 static const char *opt_grid(scene_opts *o, const char *a)
 {
     return scene_parse_grid(a, &o->grid) ? NULL : CHOICE_ERROR;
@@ -325,6 +332,10 @@ static const char *val_texture(const scene_opts *o, char *b, size_t n)
 {
     return o->texture ? val_printf(b, n, "%s", o->texture) : NULL;
 }
+static const char *val_instances(const scene_opts *o, char *b, size_t n)
+{
+    return o->instances ? val_printf(b, n, "%u", o->instances) : NULL;
+}
 static const char *val_color(const scene_opts *o, char *b, size_t n)
 {
     return val_printf(b, n, "%g,%g,%g", (double)o->diffuse[0], (double)o->diffuse[1], (double)o->diffuse[2]);
@@ -384,6 +395,9 @@ const scene_option scene_options[] = {
      "Wyvill's factor (Real-Time Rendering)", "2", opt_n110_factor, NULL, val_n110},
     {"level", 0, "N", "tessellation level, 1..256 (fractional with the pg-* grids)", "8", opt_level, NULL, val_level},
     {"grid", 0, "G", "the barycentric grid drawn per triangle", "regular", opt_grid, grid_choices, val_grid},
+    {"instances", 0, "N", "draw only the patches of the first N mesh triangles: the instanced draw's count "
+     "(SetStreamSourceFreq(0, INDEXEDDATA | N)), the technique one instance at a time (--lod uniform)", "0: all",
+     opt_instances, NULL, val_instances},
     {"path", 0, "P", "how the patch is drawn (npatch-mode and cpu: N-Patch or flat only)", "instanced", opt_path,
      path_choices, val_path},
     {"size", 0, "WxH", "image size in pixels", "512x512", opt_size, NULL, val_size},

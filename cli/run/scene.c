@@ -233,6 +233,8 @@ const char *scene_check_opts(const scene_opts *o)
     if (!o->displace && o->displace_scale != SCENE_DISPLACE_SCALE) return "--displace-scale needs --displace FILE";
     if (o->displace && o->export_obj)
         return "--export-obj writes the patch without its displacement: it cannot be combined with --displace";
+    if (o->instances && o->lod != TESS_LOD_UNIFORM)
+        return "--instances counts the mesh triangles of one draw: it needs --lod uniform";
     if (o->shading == SCENE_SHADING_PIXEL && (o->path != SCENE_PATH_INSTANCED || o->lod != TESS_LOD_UNIFORM || o->displace))
         return "--shading pixel evaluates the patch of the instanced path's grid points: it needs --path instanced "
                "and --lod uniform, without --displace";
@@ -654,6 +656,17 @@ static bool patterns_fit(const scene_opts *o, const is_mesh *m, const tess_lod_e
     return false;
 }
 
+/* --instances N on the bound path r: the instanced draw's count (stream 0's INDEXEDDATA | N), or the first N
+ * triangles' share of the N-patch mode's and the CPU path's primitives. */
+static void limit_instances(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g,
+                            tess_resources *r)
+{
+    unsigned n = o->instances < m->n_triangles ? o->instances : (unsigned)m->n_triangles;
+    if (o->path == SCENE_PATH_INSTANCED) dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | n);
+    else if (o->path == SCENE_PATH_NPATCH_MODE) r->n_prims = n;
+    else r->n_prims = n * (unsigned)g->n_triangles;
+}
+
 /* The pixel shader and the textures of --shading pixel (itex) and --texture (ttex) off dev, and released. */
 static void unbind_pixel_stage(is_device *dev, is_texture *itex, is_texture *ttex)
 {
@@ -722,6 +735,7 @@ int scene_draw(is_device *dev, const scene_opts *o, const is_mesh *m, const core
     is_texture *dmap = NULL, *itex = NULL, *ttex = NULL;
     is_result e = set_scene_shader(dev, o, &cam, path_shader(o), shader, &dmap);
     if (e == IS_OK) e = build_path(dev, o, m, g, &r);
+    if (e == IS_OK && o->instances) limit_instances(dev, o, m, g, &r);
     if (e == IS_OK && o->path == SCENE_PATH_NPATCH_MODE) set_d3d9_adaptive(dev, o, &cam);
     if (e == IS_OK && o->shading == SCENE_SHADING_PIXEL) e = scene_shading_bind(dev, o, m, &itex);
     if (e == IS_OK && o->texture) e = scene_texture_bind(dev, o, &ttex);

@@ -106,6 +106,7 @@ typedef struct scene_opts {
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
     bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */
     scene_shading shading;      /* --shading: vertex (the listings') or pixel (cli/run/shading.c) */
+    unsigned instances;         /* --instances: draw only the first N mesh triangles' patches (0: all) */
     const char *texture;        /* --texture: the image multiplied in at TEXCOORD0 (cli/run/shading.c), or NULL */
     const is_image *texture_map; /* the image already read, or NULL: read per draw */
     const char *displace;       /* --displace: the height map (cli/run/displace.c), or NULL */
@@ -379,10 +380,11 @@ int scene_cmd_view(int argc, char **argv);
 int scene_cmd_inspect(int argc, char **argv);
 /* The pieces of `instess inspect` for other front ends (the page of make web): scene_inspect_pixel renders o's
  * scene of mesh m (as scene_fit_mesh gives it; displacement map read) with one sample per pixel, recording pixel
- * (x, y) into rec (is_inspect_free it), and the target's final colour and depth into *color, *depth: 0, or -1 with
- * a message; scene_inspect_print prints the record as text or JSON into f. */
+ * (x, y) into rec (is_inspect_free it), the target's final colour and depth into *color, *depth, and the vertex
+ * shader's constants after the draw into *consts (when not NULL): 0, or -1 with a message; scene_inspect_print
+ * prints the record as text or JSON into f. */
 int scene_inspect_pixel(const scene_opts *o, const is_mesh *m, int x, int y, is_inspect *rec, uint32_t *color,
-                        float *depth, char *err, size_t errlen);
+                        float *depth, is_vs_constants *consts, char *err, size_t errlen);
 void scene_inspect_print(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t color,
                          float depth, bool json);
 /* s as a JSON string (quoted; invalid UTF-8 as U+FFFD, control characters escaped) into f. */
