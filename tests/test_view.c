@@ -576,6 +576,65 @@ static void test_normals_misfit(void **state)
     }
 }
 
+/* Playback (x): frame k of it is the file of instess --instances k, description and bytes (here the capture of
+ * --frames 3 after x: the playback's frames 1 and 2, then the capture's frame, 3). */
+static void test_playback(void **state)
+{
+    (void)state;
+    const char *err;
+    clean();
+    const char *scene = "--size 200x160 --level 3 --cull none";
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys x --frames 3 --capture cap.png", scene), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s --instances 3 -o cli.png", scene), 0);
+    assert_true(same_file("cap.png", "cli.png"));
+    /* faster: 1, then 3 (speed 2) */
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys x,. --frames 3 --capture cap2.png", scene), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s --instances 5 -o cli2.png", scene), 0);
+    assert_true(same_file("cap2.png", "cli2.png"));
+}
+
+/* The inspector in the viewer: --pin names the fragment instess inspect finds at that pixel (its instance and
+ * grid triangle, on stderr as on the HUD), the pixel is marked white and the picked instance drawn over the frame,
+ * so the capture is no longer the CLI's file; I unpins (the CLI's file again). */
+static void test_pin(void **state)
+{
+    (void)state;
+    const char *err;
+    clean();
+    const char *scene = "--size 160x120 --level 4 --msaa 1";
+    char cmd[2 * PATH_MAX + 200];
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' inspect -q %s --pixel 80,60 --json > ins.json", dir, bin, scene);
+    assert_int_equal(system(cmd), 0);
+    char p[600];
+    size_t n;
+    char *json = (char *)prog_slurp(prog_path(dir, "ins.json", p, sizeof p), &n);
+    assert_non_null(json);
+    unsigned inst, prim;
+    const char *f = strstr(json, "\"instance\": ");
+    assert_non_null(f);
+    assert_int_equal(sscanf(f, "\"instance\": %u, \"primitive\": %u", &inst, &prim), 2);
+    free(json);
+    assert_int_equal(run_in_dir(&err, "view --no-hud %s --pin 80,60 --frames 1 --capture pin.png", scene), 0);
+    char want[160];
+    snprintf(want, sizeof want, "instance %u grid tri %u", inst, prim);
+    if (!strstr(err, want)) fprintf(stderr, "stderr: %s\nwanted: %s\n", err, want);
+    assert_non_null(strstr(err, want));
+    assert_int_equal(run_in_dir(&err, "-q %s -o cli.png", scene), 0);
+    is_image a, b;
+    char e[256];
+    assert_int_equal(image_read(&a, prog_path(dir, "pin.png", p, sizeof p), e, sizeof e), 0);
+    assert_int_equal(image_read(&b, prog_path(dir, "cli.png", p, sizeof p), e, sizeof e), 0);
+    const float *px = &a.data[((size_t)60 * a.width + 80) * a.channels];
+    assert_true(px[0] == 1.0f && px[1] == 1.0f && px[2] == 1.0f);   /* the pinned pixel */
+    assert_true(differing(&a, &b, 0, 0, a.width, a.height) > 50);   /* the instance's grid over the frame */
+    image_free(&a);
+    image_free(&b);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --pin 80,60 --keys i --capture unpinned.png", scene), 0);
+    assert_true(same_file("unpinned.png", "cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q %s --pin 160,0 --frames 1", scene), 2);
+    assert_non_null(strstr(err, "--pin"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -594,6 +653,8 @@ int main(void)
         cmocka_unit_test(test_scripted_runs_end),
         cmocka_unit_test(test_capture_inputs),
         cmocka_unit_test(test_normals_misfit),
+        cmocka_unit_test(test_playback),
+        cmocka_unit_test(test_pin),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);
 }

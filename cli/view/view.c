@@ -21,6 +21,7 @@ typedef struct view_window {
     int tex_w, tex_h;
     TTF_Font *font;
     uint32_t *shown;        /* the frame with the overlay: what the texture holds */
+    bool dragged;           /* the left button moved since it went down (a drag orbits; a click pins a pixel) */
 } view_window;
 
 /* Free the window's resources and shut SDL down. */
@@ -203,7 +204,13 @@ static void handle(view_state *v, view_window *w, const SDL_Event *e)
     case SDL_QUIT: v->quit = true; break;
     case SDL_KEYDOWN: view_press(v, SDL_GetKeyName(e->key.keysym.sym)); break;
     case SDL_MOUSEMOTION:
-        if (e->motion.state & SDL_BUTTON_LMASK) view_orbit(v, e->motion.xrel, e->motion.yrel);
+        if (e->motion.state & SDL_BUTTON_LMASK) view_orbit(v, e->motion.xrel, e->motion.yrel), w->dragged = true;
+        break;
+    case SDL_MOUSEBUTTONDOWN:
+        if (e->button.button == SDL_BUTTON_LEFT) w->dragged = false;
+        break;
+    case SDL_MOUSEBUTTONUP:   /* a click without a drag pins the pixel for the inspector */
+        if (e->button.button == SDL_BUTTON_LEFT && !w->dragged) view_pin(v, e->button.x, e->button.y);
         break;
     case SDL_MOUSEWHEEL: view_zoom(v, e->wheel.y); break;
     case SDL_WINDOWEVENT:

@@ -20,12 +20,16 @@ typedef enum { VIEW_SHOW_COLOR, VIEW_SHOW_NORMAL, VIEW_SHOW_BARY, VIEW_SHOW_INST
 /* The overlay: none, the HUD, the HUD with the key table. */
 typedef enum { VIEW_HUD_OFF, VIEW_HUD_ON, VIEW_HUD_KEYS, VIEW_HUD_COUNT } view_hud;
 
+#define VIEW_PIN_LINES 12   /* the inspector's lines on the HUD */
+
 /* The scripted run (--keys, --frames, --capture, --no-hud). */
 typedef struct view_script {
     char keys[64][32];      /* key names (or names joined by '+', pressed together), in order */
     int n_keys;
     int frames;             /* stop after this many frames (0: no limit) */
     const char *capture;    /* write the last frame shown here (PNG) */
+    bool pin;               /* --pin X,Y: the inspector's pixel from the first frame */
+    int pin_x, pin_y;
 } view_script;
 
 typedef struct view_state {
@@ -52,6 +56,17 @@ typedef struct view_state {
                                again, without rendering it */
     bool size_default;      /* no --size: the window is VIEW_DEFAULT_WIDTH x _HEIGHT (or fits the display) */
     view_script script;
+    /* the pipeline inspector (cli/view/view_inspect.c: the I key, a click, --pin X,Y): the pinned pixel of the
+     * frame, its history as HUD lines, and the picked instance drawn over the frame */
+    bool pinned;
+    int pin_x, pin_y;
+    char pin_lines[VIEW_PIN_LINES][160];
+    int n_pin_lines;
+    /* instance-by-instance playback (the X key): o.instances grows by step_speed per frame up to the mesh's
+     * triangle count */
+    bool stepping;
+    bool step_drawn;        /* the playback's first frame was drawn */
+    unsigned step_speed;
 } view_state;
 
 /* One key: the SDL key names it answers to (space-separated, compared case-insensitively: SDL_GetKeyName's
@@ -64,6 +79,18 @@ typedef struct view_key {
 } view_key;
 extern const view_key view_keys[];
 extern const size_t view_key_count;
+/* (cli/view/view_inspect.c) Pin the frame's pixel (x, y) (the window's coordinates; x < 0 unpins): the next frame
+ * records it.  After a frame is rendered, view_inspect_frame fills v->pin_lines and draws the picked instance over
+ * v->frame when a pixel is pinned; before a frame is rendered, view_step_frame moves the playback on.  The keys' actions: act_inspect
+ * (pin the centre, or unpin), act_step (playback on / off), act_step_faster / act_step_slower (its speed). */
+void view_pin(view_state *v, int x, int y);
+void view_inspect_frame(view_state *v);
+void view_step_frame(view_state *v);
+void act_inspect(view_state *v);
+void act_step(view_state *v);
+void act_step_faster(view_state *v);
+void act_step_slower(view_state *v);
+
 /* The window's size without --size: room for the split screen's halves, the HUD with the key table and the split
  * labels (the key table's longest line is about 840 pixels wide, the HUD with it about 440 high). */
 #define VIEW_DEFAULT_WIDTH 1280

@@ -258,6 +258,12 @@ const view_key view_keys[] = {
      act_show},
     {"S", "s", "screenshot: instess-view-NNNN.png (the CLI's bytes for the colour view)", view_screenshot},
     {"H", "h", "HUD, HUD with these keys, nothing", act_hud},
+    {"I", "i", "inspector: pin the centre pixel (or click one) and show its way through the pipeline; again: unpin",
+     act_inspect},
+    {"X", "x", "play the draw instance by instance (the grid stamped once per mesh triangle); again: stop",
+     act_step},
+    {". Period", ".", "playback faster (instances per frame x2)", act_step_faster},
+    {", Comma", ",", "playback slower", act_step_slower},
     {"Left Right", "arrows", "orbit (also: drag with the mouse)", NULL},
     {"Up Down", "", "", NULL},
     {"PageUp PageDown PgUp PgDn", "PgUp PgDn", "zoom (also: the wheel)", NULL},
@@ -456,6 +462,7 @@ static int render_part(view_state *v, int part, const scene_opts *o, int x0, cha
 int view_render(view_state *v, char *err, size_t errlen)
 {
     double t0 = omp_get_wtime();
+    view_step_frame(v);   /* the playback's instance count for this frame */
     v->triangles = 0, v->ms_setup = v->ms_tile = 0;
     int rc;
     if (!v->split) {
@@ -468,6 +475,8 @@ int view_render(view_state *v, char *err, size_t errlen)
         rc = render_part(v, 0, &l, 0, err, errlen);
         if (rc == 0 && v->o.width > 1) rc = render_part(v, 1, &r, l.width, err, errlen);
     }
+    if (rc == 0) view_inspect_frame(v);   /* the pinned pixel's history and the picked instance over the frame */
+    if (rc == 0 && v->stepping) v->dirty = true;   /* the playback goes on: another frame */
     v->ms_render = (omp_get_wtime() - t0) * 1e3;
     if (rc == 0 && v->n_times < (int)(sizeof v->times / sizeof v->times[0])) {
         float *t = v->times[v->n_times++];
@@ -551,6 +560,10 @@ int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int 
              v->ms_tile, other > 0 ? other : 0.0);
     snprintf(lines[n++], 160, "%.1f ms per frame shown (%.0f fps)", ms_frame, ms_frame > 0 ? 1e3 / ms_frame : 0.0);
     n = status_lines(v->status, lines, n, max);
+    if (v->stepping && n < max)
+        snprintf(lines[n++], 160, "playback: instances 1..%u of %zu drawn (%u per frame; . faster, , slower, x stops)",
+                 o->instances, v->draw ? v->draw->n_triangles : (size_t)0, v->step_speed);
+    for (int k = 0; k < v->n_pin_lines && n < max; k++) snprintf(lines[n++], 160, "%s", v->pin_lines[k]);
     if (v->hud != VIEW_HUD_KEYS) {
         if (n < max) snprintf(lines[n++], 160, "h: keys");
         return n;
@@ -564,7 +577,7 @@ int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int 
 
 bool view_frame_is_cli(const view_state *v)
 {
-    return !v->split && v->show == VIEW_SHOW_COLOR;
+    return !v->split && v->show == VIEW_SHOW_COLOR && !v->pinned;   /* a pin draws its instance over the frame */
 }
 
 int view_write_png(const view_state *v, const uint32_t *pixels, bool cli_equal, const char *path, char *err,
@@ -631,6 +644,7 @@ static const view_option view_options[] = {
     {"capture", "FILE.png", "at the end, write the last frame shown (with the HUD unless --no-hud);\n"
      "with --no-hud and the colour view, the bytes of `instess -o FILE.png`"},
     {"no-hud", NULL, "start without the HUD (h shows it)"},
+    {"pin", "X,Y", "pin pixel X,Y for the inspector from the first frame (as a click there)"},
 };
 enum { N_VIEW_OPTIONS = sizeof view_options / sizeof view_options[0] };
 /* The render options `instess view` does not take: it writes no image but its screenshots and capture. */
@@ -697,6 +711,18 @@ static const char *parse_keys(const char *list, view_script *s, char *err, size_
 
 /* Take the scripting options out of argv (they are applied to s), leaving the render options in rest; NULL or
  * the usage error (err may hold it). */
+/* --pin's "X,Y" (plain whole numbers) into s->pin_x, pin_y; false when malformed. */
+static bool parse_pin(const char *val, view_script *s)
+{
+    const char *comma = strchr(val, ',');
+    char xs[16];
+    if (!comma || comma - val >= (ptrdiff_t)sizeof xs) return false;
+    memcpy(xs, val, (size_t)(comma - val));
+    xs[comma - val] = 0;
+    return scene_parse_int(xs, 0, RS_MAX_SIZE - 1, &s->pin_x) && scene_parse_int(comma + 1, 0, RS_MAX_SIZE - 1, &s->pin_y)
+           && (s->pin = true);
+}
+
 static const char *take_view_options(int argc, char **argv, view_script *s, bool *no_hud, int *n_rest, char **rest,
                                      char *err, size_t errlen)
 {
@@ -725,6 +751,8 @@ static const char *take_view_options(int argc, char **argv, view_script *s, bool
         if (strcmp(opt->name, "keys") == 0) msg = parse_keys(val, s, err, errlen);
         else if (strcmp(opt->name, "frames") == 0)
             msg = scene_parse_int(val, 1, 1000000000, &s->frames) ? NULL : "--frames must be 1..1000000000";
+        else if (strcmp(opt->name, "pin") == 0)
+            msg = parse_pin(val, s) ? NULL : "--pin takes X,Y: two whole numbers, the pixel's column and row";
         else if (strcmp(opt->name, "capture") == 0)
             msg = image_format_of(val) == IS_IMAGE_PNG ? (s->capture = val, NULL) : "--capture must end in .png";
         else *no_hud = true;
@@ -757,6 +785,9 @@ static int view_options_parse(int argc, char **argv, view_state *v)
                                 "what it shows", NULL);
     if ((msg = scene_check_opts(&v->o))) return view_usage_error(msg, NULL);
     v->hud = no_hud ? VIEW_HUD_OFF : VIEW_HUD_ON;
+    if (v->script.pin && (v->script.pin_x >= v->o.width || v->script.pin_y >= v->o.height))
+        return view_usage_error("--pin is outside the window (its --size)", NULL);
+    if (v->script.pin) view_pin(v, v->script.pin_x, v->script.pin_y);
     return 0;
 }
 
