@@ -27,12 +27,13 @@ typedef struct fig_view {
     scene_opts o;
     char mesh[512];
     char displace[512]; /* --displace's file (the view keeps its own copy, as of the mesh's name) */
+    char texture[512];  /* --texture's file (likewise) */
     bool recompute;  /* --recompute-normals: angle-weighted normals per welded position */
 } fig_view;
 
 /* ---------------------------------------- views ---------------------------------------- */
 
-/* Apply one option of a view string (--mesh and --displace here: the view keeps its own copy of the name; the
+/* Apply one option of a view string (--mesh, --displace and --texture here: the view keeps its own copy of the name; the
  * rest by the option table); NULL or the problem (in buf when it is built). */
 static const char *view_option(fig_view *v, const char *key, const char *val, char *buf, size_t len)
 {
@@ -40,6 +41,8 @@ static const char *view_option(fig_view *v, const char *key, const char *val, ch
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
     if (!strcmp(key, "--displace"))
         return snprintf(v->displace, sizeof v->displace, "%s", val), o->displace = v->displace, NULL;
+    if (!strcmp(key, "--texture"))
+        return snprintf(v->texture, sizeof v->texture, "%s", val), o->texture = v->texture, NULL;
     const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
     return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
 }
@@ -629,6 +632,49 @@ static int fig_displace(const fig_ctx *ctx, is_image *out, char *err, size_t err
                        s.panel, out, err, errlen);
 }
 
+/* The pixel stage (issue 28): light per vertex and per pixel, textures, and the technique one instance at a time. */
+#define V_SHADE "--mesh cube --level 4 --yaw 35 --pitch 25 --light grazing --normals real"
+/* Per-vertex (the listings: Gouraud between grid points) against per-pixel light (a pixel shader evaluating the
+ * patch normal at each pixel's barycentrics) for the N-Patch and the smoothed patch. */
+static int fig_shading(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_SHADE " --patch npatch --shading vertex", "N-Patch, per vertex"},
+        {V_SHADE " --patch smooth --shading vertex", "smoothed, per vertex"},
+        {V_SHADE " --patch npatch --shading pixel", "N-Patch, per pixel"},
+        {V_SHADE " --patch smooth --shading pixel", "smoothed, per pixel"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "Light per vertex and per pixel at level 4", p, 2, 2, s.panel, s.panel, out, err, errlen);
+}
+
+#define V_SKIN " --color 1,1,1 --normals quadratic " V_MD2
+/* The MD2 characters with their skins, through a pixel shader: input, PN triangles, Gruen's smoothed patch. */
+static int fig_textured(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {"--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch flat --level 1" V_SKIN, "faerie: input"},
+        {"--mesh " SYDNEY " --texture " MD2_DIR "sydney.bmp --patch flat --level 1" V_SKIN, "sydney: input"},
+        {"--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch npatch --level 4" V_SKIN, "faerie: PN"},
+        {"--mesh " SYDNEY " --texture " MD2_DIR "sydney.bmp --patch npatch --level 4" V_SKIN, "sydney: PN"},
+        {"--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch smooth --level 4" V_SKIN, "faerie: smoothed"},
+        {"--mesh " SYDNEY " --texture " MD2_DIR "sydney.bmp --patch smooth --level 4" V_SKIN, "sydney: smoothed"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "MD2 characters with their skins", p, 3, 2, s.panel * 3 / 4, s.tall, out, err, errlen);
+}
+
+#define V_STEP "--mesh cube --patch smooth --level 4 --cull none --fill solid+wire --yaw 35 --pitch 25"
+/* The instanced draw with 1, 2, 4, 6, 9 and 12 instances: one mesh triangle's grid per instance. */
+static int fig_step(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
+{
+    static const fig_panel p[] = {
+        {V_STEP " --instances 1", "1 instance"}, {V_STEP " --instances 2", "2 instances"},
+        {V_STEP " --instances 4", "4 instances"}, {V_STEP " --instances 6", "6 instances"},
+        {V_STEP " --instances 9", "9 instances"}, {V_STEP " --instances 12", "12: the cube"}};
+    fig_sizes s = sizes_of(ctx);
+    return render_grid(ctx, "The instanced draw, one mesh triangle per instance", p, 1, 6, s.panel / 2, s.panel / 2,
+                       out, err, errlen);
+}
+
 /* ---------------------------------------- the table ---------------------------------------- */
 
 #define GRUEN "H. Gruen, Smoothed N-Patches, Figure "
@@ -826,4 +872,48 @@ const figure fig_renders[] = {
                    PANEL(3, V_DISPLACE " --patch npatch" V_DISPLACE_MAP, "320x320")
                    PANEL(4, V_DISPLACE " --patch smooth" V_DISPLACE_MAP, "320x320")),
      true, fig_displace, 3},
+    {"fig-shading", NULL, "instess: the N-Patch's creases and the smoothed patch, lit per vertex and per pixel",
+     "The same patches lit where the listings light them (each grid vertex, the colour interpolated) and at every "
+     "pixel by a pixel shader.",
+     "The welded cube at level 4 (16 triangles per face: the light's interpolation is visible), yaw 35, pitch 25, "
+     "real normals, lit from the upper right (--light grazing). Top: --shading vertex, the listings' Gouraud "
+     "shading: between grid points the colour is interpolated and the N-Patch's creases along the cube's edges "
+     "blur into bands. Bottom: --shading pixel: a pixel shader evaluates the patch's own derivative normal at "
+     "each pixel's barycentrics (the grid point's interpolated perspective-correct) and lights it, so the "
+     "N-Patch's crease is a sharp line and the smoothed patch's surface reads as it is: its valley along the face "
+     "diagonal shows, and along the cube's edges a dotted line where pixels whose barycentrics round onto the edge "
+     "take the edge's one-sided normal (vs.h: real normals on an edge are each side's own) "
+     "(cli/run/shading.c; tests/test_shading.c checks pixels against the normal evaluated at the inspector's "
+     "barycentrics).",
+     CMD_COMPOSITE("fig-shading", PANEL(1, V_SHADE " --patch npatch --shading vertex", "320x320")
+                   PANEL(2, V_SHADE " --patch smooth --shading vertex", "320x320")
+                   PANEL(3, V_SHADE " --patch npatch --shading pixel", "320x320")
+                   PANEL(4, V_SHADE " --patch smooth --shading pixel", "320x320")),
+     true, fig_shading, 3},
+    {"fig-textured", NULL, "instess: the characters of fig-001-12 with their skins (a texture read in a pixel shader)",
+     "The MD2 characters of assimp's test models, each with its skin: input, PN triangles, smoothed N-Patch.",
+     "faerie.md2 and sydney.md2 (assimp's test models) with faerie2.bmp and sydney.bmp, --texture: a pixel "
+     "shader multiplies the light by the skin at the mesh's texture coordinates (mip-mapped, trilinear, the level "
+     "of detail from each 2x2 quad's derivatives), white surface colour, quadratic normals, level 4 for the "
+     "patches, seen from the side as fig-001-12. The skins are continuous where the texture coordinates are: "
+     "along the MD2 texture seams the patches of the two sides take different texels (fig-md2-seams counts "
+     "the cracks the seams open in the surface itself).",
+     CMD_COMPOSITE("fig-textured", PANEL(1, "--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch flat --level 1"
+                                            V_SKIN, "240x400")
+                   PANEL(3, "--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch npatch --level 4" V_SKIN,
+                         "240x400")
+                   PANEL(5, "--mesh " FAERIE " --texture " MD2_DIR "faerie2.bmp --patch smooth --level 4" V_SKIN,
+                         "240x400")),
+     true, fig_textured, 3},
+    {"fig-step", NULL, "instess: tessellation through instancing, one instance at a time",
+     "The smoothed patch's draw cut after 1, 2, 4, 6, 9 and 12 instances: each instance is one mesh triangle, "
+     "the same grid stamped over it.",
+     "The cube (12 triangles) at level 4, culling off (the dark faces are the patches' insides, turned away from "
+     "the light), solid with its wireframe; --instances N sets the instanced draw's count (SetStreamSourceFreq(0, INDEXEDDATA | N)), so only the first N mesh triangles' "
+     "patches are drawn: stream 0's grid (15 points, 16 triangles) is the same for every instance, stream 1 "
+     "moves it onto the next mesh triangle. instess view plays this live (the X key), and the inspector (the I "
+     "key, instess inspect) shows for any pixel which instance and grid triangle drew it.",
+     CMD_COMPOSITE("fig-step", PANEL(1, V_STEP " --instances 1", "160x160") PANEL(6, V_STEP " --instances 12",
+                                                                                 "160x160")),
+     true, fig_step, 3},
     {NULL, NULL, NULL, NULL, NULL, NULL, false, NULL, 0}};
