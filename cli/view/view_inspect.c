@@ -180,7 +180,7 @@ static void pin_lines(view_state *v, const is_inspect *rec, uint32_t color, floa
             int comps = !strcmp(name, "bl") ? 1 : 3;
             if (!strcmp(name, "where") || !strcmp(name, "pos") || !strcmp(name, "posN") || name[0] == 'P') continue;
             size_t len = strlen(line);
-            if (len + 40 > sizeof line && n < VIEW_PIN_LINES) snprintf(v->pin_lines[n++], 160, "%s", line), line[0] = 0;
+            if (len + 40 > 112 && n < VIEW_PIN_LINES) snprintf(v->pin_lines[n++], 160, "%s", line), line[0] = 0;
             len = strlen(line);
             snprintf(line + len, sizeof line - len, " %s %s", name, vec(iv->values[k].v, comps, b, sizeof b));
         }
