@@ -338,6 +338,24 @@ async function main() {
   } catch (e) {
     report(false, "a click shows the pixel's history, as instess inspect prints it", e.message);
   }
+  // the draw one instance at a time: --instances 3 is the program's file; the play button steps 1, 2, ... and ends
+  // on the whole mesh
+  try {
+    const base = (await evaluate("instess.commands()"))[0].args;
+    await step("instances: 3 (the draw's instance count)", `instess.set({ instances: "3" })`, base + " --instances 3",
+               { cwd: meshDir });
+    const seen = await evaluate(`(async () => { const seen = [];
+      instess.hooks.frame = (f) => seen.push(f.state.instances);
+      await instess.play({ every: 1, ms: 0 });
+      instess.hooks.frame = null; return seen; })()`);
+    const n = (await evaluate("instess.frame()")).parts[0].mesh_triangles;
+    const want = [...Array(n - 1).keys()].map((k) => String(k + 1)).concat(["0"]);
+    report(JSON.stringify(seen) === JSON.stringify(want), "the play button draws instances 1.." + (n - 1) + ", then the mesh",
+           `frames ${JSON.stringify(seen)}`);
+    await step("after the playback: the whole mesh again", "", base, { cwd: meshDir, acts: true });
+  } catch (e) {
+    report(false, "the draw one instance at a time", e.message);
+  }
   report(errors.length === 0, "no uncaught exception in the page", errors.join("; "));
 }
 

@@ -45,7 +45,7 @@
   let tables = null, defaults = null, state = null;
   const objs = new Map();   // dropped OBJ name -> the reader's notes
   // The options the page sets, in the order its command lines list them.
-  const ORDER = ["patch", "normals", "level", "grid", "path", "lod", "max-level", "lod-target", "silhouette",
+  const ORDER = ["patch", "normals", "level", "instances", "grid", "path", "lod", "max-level", "lod-target", "silhouette",
                  "wire-levels", "fill", "light", "yaw", "pitch", "distance", "fov", "fit", "up", "cull",
                  "recompute-normals", "msaa", "size"];
   const FLAGS = new Set(["silhouette", "recompute-normals"]);
@@ -185,6 +185,27 @@
   api.setCamera = (o) => set(Object.fromEntries(Object.entries(o).map(([k, v]) => [k, String(v)])));
   api.setSamples = (n) => set({ msaa: String(n) });
   api.setSize = (w, h) => set({ size: w + "x" + h });
+  // Play the draw instance by instance (--instances 1, 2, ... up to the mesh's triangles, then the whole mesh):
+  // `every` instances per frame, `ms` between frames; resolves when the playback ends (or is stopped).
+  let playing = null;
+  api.play = ({ every = 1, ms = 120 } = {}) => {
+    if (playing) playing.stop = true;
+    const run = { stop: false };
+    playing = run;
+    $("c-play").textContent = "stop";
+    const n = lastFrame ? lastFrame.parts[0].mesh_triangles : 0;
+    const wait = (t) => new Promise((res) => setTimeout(res, t));
+    return (async () => {
+      for (let k = 1; k < n && !run.stop; k += every) {
+        const r = await set({ instances: String(k) });
+        if (!r.ok) break;
+        await wait(ms);
+      }
+      if (playing === run) playing = null, $("c-play").textContent = "play the draw";
+      return set({ instances: "0" });
+    })();
+  };
+  api.stop = () => { if (playing) playing.stop = true; };
 
   // A dropped OBJ: read (and checked) by the module at once; its name joins the mesh list.
   api.dropObj = (name, bytes) => {
@@ -227,6 +248,7 @@
       $("c-" + id).addEventListener("change", () => set({ [key]: $("c-" + id).checked }));
       if (tables.help[key]) $("c-" + id).title = tables.help[key];
     }
+    $("c-play").addEventListener("click", () => { if (playing) api.stop(); else api.play(); });
     // drag to orbit, the wheel to move the camera, a click to pick a pixel
     let drag = null;
     canvas.addEventListener("pointerdown", (e) => {
