@@ -129,6 +129,10 @@ typedef struct is_state_block {
     bool has_c[IS_MAX_VS_CONSTANTS];
     bool has_pc[IS_MAX_PS_CONSTANTS];
     bool has_ps;
+    is_rect scissor;                           /* SetScissorRect, SetClipPlane (ALL blocks, as DXVK's) */
+    float clip_plane[IS_MAX_USER_CLIP_PLANES][4];
+    bool has_scissor;
+    uint32_t has_clip_plane;                   /* bit k: plane k */
     uint32_t has_samp[DEV_ALL_SAMPLERS];       /* bit t: sampler state t */
     uint32_t has_tex;                          /* bit k: sampler k's texture */
     uint32_t has_source;                       /* bit s: stream s's buffer, offset and stride */

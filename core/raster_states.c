@@ -129,7 +129,8 @@ is_result dev_set_scissor_rect(is_device *dev, const is_rect *rect)
 {
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if (!rect) return dev_fail(dev, IS_ERR_INVALIDCALL, "SetScissorRect: NULL rectangle");
-    dev->scissor = *rect;
+    if (dev->recording) dev->recording->scissor = *rect, dev->recording->has_scissor = true;   /* a stateblock's */
+    else dev->scissor = *rect;
     return IS_OK;
 }
 
@@ -148,7 +149,12 @@ is_result dev_set_clip_plane(is_device *dev, unsigned index, const float plane[4
         if (!isfinite(plane[c]))
             return dev_fail(dev, IS_ERR_INVALIDCALL, "SetClipPlane: plane %u is not finite", index);
     index = index < IS_MAX_USER_CLIP_PLANES ? index : IS_MAX_USER_CLIP_PLANES - 1;   /* the runtime's clamp */
-    memcpy(dev->clip_plane[index], plane, sizeof dev->clip_plane[index]);
+    if (dev->recording) {   /* into the stateblock recorded */
+        memcpy(dev->recording->clip_plane[index], plane, sizeof dev->clip_plane[index]);
+        dev->recording->has_clip_plane |= 1u << index;
+    } else {
+        memcpy(dev->clip_plane[index], plane, sizeof dev->clip_plane[index]);
+    }
     return IS_OK;
 }
 

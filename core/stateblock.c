@@ -5,7 +5,8 @@
  * the setters write into it, not into the device (the getters read the device); Begin while recording, End while
  * not, CreateStateBlock, Capture and Apply while recording are refused; Capture refreshes only what the block holds,
  * from the device; Apply sets the device to it.  The lists of which render states are pixel and which vertex
- * states are D3D9's (by number: the states this device implements are picked from them). */
+ * states are D3D9's (by number: the states this device implements are picked from them); the pixel shader and its
+ * constants are PIXELSTATE's, the scissor rectangle and the clip planes ALL's alone (DXVK's D3D9StateBlock). */
 #include "device_internal.h"
 
 #include <stdlib.h>
@@ -76,7 +77,8 @@ static void mark_type(const is_device *dev, is_state_block *sb, is_state_block_t
     if (type == IS_SBT_ALL) {
         sb->has_tex = (1u << DEV_ALL_SAMPLERS) - 1u;
         sb->has_source = (1u << IS_MAX_STREAMS) - 1u;
-        sb->has_ib = sb->has_viewport = true;
+        sb->has_ib = sb->has_viewport = sb->has_scissor = true;
+        sb->has_clip_plane = (1u << IS_MAX_USER_CLIP_PLANES) - 1u;
     }
 }
 
@@ -104,6 +106,9 @@ static void capture(const is_device *dev, is_state_block *sb)
         if (sb->has_freq & (1u << s)) sb->streams[s].freq = dev->streams[s].freq;
     }
     if (sb->has_viewport) sb->viewport = dev->viewport;
+    if (sb->has_scissor) sb->scissor = dev->scissor;
+    for (unsigned k = 0; k < IS_MAX_USER_CLIP_PLANES; k++)
+        if (sb->has_clip_plane & (1u << k)) memcpy(sb->clip_plane[k], dev->clip_plane[k], sizeof sb->clip_plane[k]);
     if (sb->has_ib) sb->ib = dev->ib;
     if (sb->has_decl) sb->decl = dev->decl;
     if (sb->has_vs) sb->vs = dev->vs;
@@ -139,6 +144,9 @@ static void apply(is_device *dev, const is_state_block *sb)
     if (sb->has_ib) dev->ib = sb->ib;
     if (sb->has_decl) dev->decl = sb->decl;
     if (sb->has_vs) dev->vs = sb->vs;
+    if (sb->has_scissor) dev->scissor = sb->scissor;
+    for (unsigned k = 0; k < IS_MAX_USER_CLIP_PLANES; k++)
+        if (sb->has_clip_plane & (1u << k)) memcpy(dev->clip_plane[k], sb->clip_plane[k], sizeof dev->clip_plane[k]);
 }
 
 /* A new, empty stateblock, or NULL when out of memory. */

@@ -280,6 +280,47 @@ static void test_pixel_shader(void **state)
     fixture_free(&f);
 }
 
+/* The scissor rectangle and the clip planes: recorded into a block, held by ALL blocks only. */
+static void test_scissor_and_clip_planes(void **state)
+{
+    (void)state;
+    sb_fixture f = fixture();
+    const is_rect a = {1, 2, 3, 4}, b = {5, 6, 7, 8};
+    const float pa[4] = {1, 0, 0, 0.5f}, pb[4] = {0, 1, 0, -0.5f};
+    is_rect r;
+    float p[4];
+    assert_int_equal(dev_begin_state_block(f.dev), IS_OK);
+    assert_int_equal(dev_set_scissor_rect(f.dev, &a), IS_OK);
+    assert_int_equal(dev_set_clip_plane(f.dev, 2, pa), IS_OK);
+    is_state_block *rec;
+    assert_int_equal(dev_end_state_block(f.dev, &rec), IS_OK);
+    assert_int_equal(dev_get_scissor_rect(f.dev, &r), IS_OK);
+    assert_int_not_equal(r.left, a.left);   /* the device kept its own */
+    assert_int_equal(sb_apply(rec), IS_OK);
+    assert_int_equal(dev_get_scissor_rect(f.dev, &r), IS_OK);
+    assert_memory_equal(&r, &a, sizeof r);
+    assert_int_equal(dev_get_clip_plane(f.dev, 2, p), IS_OK);
+    assert_memory_equal(p, pa, sizeof p);
+    const struct { is_state_block_type type; bool holds; } cases[] = {
+        {IS_SBT_ALL, true}, {IS_SBT_PIXELSTATE, false}, {IS_SBT_VERTEXSTATE, false}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        is_state_block *sb;
+        assert_int_equal(dev_set_scissor_rect(f.dev, &a), IS_OK);
+        assert_int_equal(dev_set_clip_plane(f.dev, 2, pa), IS_OK);
+        assert_int_equal(dev_create_state_block(f.dev, cases[k].type, &sb), IS_OK);
+        assert_int_equal(dev_set_scissor_rect(f.dev, &b), IS_OK);
+        assert_int_equal(dev_set_clip_plane(f.dev, 2, pb), IS_OK);
+        assert_int_equal(sb_apply(sb), IS_OK);
+        assert_int_equal(dev_get_scissor_rect(f.dev, &r), IS_OK);
+        assert_memory_equal(&r, cases[k].holds ? &a : &b, sizeof r);
+        assert_int_equal(dev_get_clip_plane(f.dev, 2, p), IS_OK);
+        assert_memory_equal(p, cases[k].holds ? pa : pb, sizeof p);
+        sb_release(sb);
+    }
+    sb_release(rec);
+    fixture_free(&f);
+}
+
 /* While a block is recorded, CreateStateBlock, Capture and Apply are refused; unknown types, NULL outputs and NULL
  * blocks too; dev_reset drops the recording. */
 static void test_refusals(void **state)
@@ -358,6 +399,7 @@ int main(void)
         cmocka_unit_test(test_capture_reapply),   cmocka_unit_test(test_recorded_holds_only_what_was_set),
         cmocka_unit_test(test_create_types),      cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_release_order),     cmocka_unit_test(test_pixel_shader),
+        cmocka_unit_test(test_scissor_and_clip_planes),
     };
     return cmocka_run_group_tests_name("stateblock", tests, NULL, NULL);
 }

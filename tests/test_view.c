@@ -22,11 +22,11 @@
 #include "util/prog.h"
 #include "../cli/run/scene.h"
 
-static char dir[256], bin[PATH_MAX];
+static char dir[256], bin[PATH_MAX], root[PATH_MAX];   /* root: the repository (the tests run from it) */
 
 static int setup(void **state)
 {
-    if (!realpath(prog_bin(), bin)) return -1;
+    if (!realpath(prog_bin(), bin) || !getcwd(root, sizeof root)) return -1;
     return prog_mkdtemp(dir, "view");
 }
 
@@ -593,6 +593,29 @@ static void test_playback(void **state)
     assert_true(same_file("cap2.png", "cli2.png"));
 }
 
+/* v switches the light to per pixel, u turns --texture's image off: each frame is the CLI's file for that state;
+ * u without --texture is refused with the reason. */
+static void test_shading_texture_keys(void **state)
+{
+    (void)state;
+    const char *err;
+    clean();
+    const char *scene = "--size 160x120 --level 3 --patch npatch";
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys v --capture a.png", scene), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s --shading pixel -o a_cli.png", scene), 0);
+    assert_true(same_file("a.png", "a_cli.png"));
+    char tex[PATH_MAX + 80];
+    snprintf(tex, sizeof tex, "--texture '%s/tests/data/textures/bumps.png'", root);
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s %s --capture b.png", scene, tex), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s %s -o b_cli.png", scene, tex), 0);
+    assert_true(same_file("b.png", "b_cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s %s --keys u --capture c.png", scene, tex), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s -o c_cli.png", scene), 0);
+    assert_true(same_file("c.png", "c_cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys u --frames 2", scene), 0);
+    assert_non_null(strstr(err, "texture refused: no --texture FILE was given"));
+}
+
 /* The inspector in the viewer: --pin names the fragment instess inspect finds at that pixel (its instance and
  * grid triangle, on stderr as on the HUD), the pixel is marked white and the picked instance drawn over the frame,
  * so the capture is no longer the CLI's file; I unpins (the CLI's file again). */
@@ -654,6 +677,7 @@ int main(void)
         cmocka_unit_test(test_capture_inputs),
         cmocka_unit_test(test_normals_misfit),
         cmocka_unit_test(test_playback),
+        cmocka_unit_test(test_shading_texture_keys),
         cmocka_unit_test(test_pin),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);

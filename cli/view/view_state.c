@@ -192,6 +192,26 @@ static void act_msaa(view_state *v)
     commit(v, &o, "msaa");
 }
 
+/* Light per vertex (the listings) or per pixel (a pixel shader: --shading pixel), where the render allows it. */
+static void act_shading(view_state *v)
+{
+    scene_opts o = v->o;
+    o.shading = o.shading == SCENE_SHADING_PIXEL ? SCENE_SHADING_VERTEX : SCENE_SHADING_PIXEL;
+    commit(v, &o, "shading");
+}
+
+/* --texture's image on or off (the file given on the command line). */
+static void act_texture(view_state *v)
+{
+    if (!v->texture_path) {
+        notice(v, "texture refused: no --texture FILE was given");
+        return;
+    }
+    scene_opts o = v->o;
+    o.texture = o.texture ? NULL : v->texture_path;
+    commit(v, &o, "texture");
+}
+
 /* Split on: the right half's patch is the first one from v->other on that the state accepts. */
 static void act_split(view_state *v)
 {
@@ -253,6 +273,8 @@ const view_key view_keys[] = {
     {"L", "l", "next level of detail: uniform, distance, screen (a level per mesh edge, --lod)", act_lod},
     {"W", "w", "next fill: solid, solid+wire, wire, point", act_fill},
     {"M", "m", "4x multisampling on / off", act_msaa},
+    {"V", "v", "light per vertex (the listings) or per pixel (a pixel shader: --shading pixel)", act_shading},
+    {"U", "u", "--texture's image on / off", act_texture},
     {"Tab", "Tab", "split screen: two patches side by side on one camera (labelled at the bottom)", act_split},
     {"C", "c", "next view: colour, normals, barycentrics, instance id, Gregory weights, cracks (odd counts red)",
      act_show},
@@ -554,7 +576,8 @@ int view_hud_lines(const view_state *v, double ms_frame, char lines[][160], int 
     snprintf(lines[n++], 160, "grid %s  path %s  fill %s  msaa %dx  view %s  lod %s", scene_grid_name(o->grid),
              scene_path_names[o->path], scene_fill_names[o->fill], o->msaa, show_names[v->show],
              scene_lod_names[o->lod]);
-    snprintf(lines[n++], 160, "%llu triangles drawn  %dx%d", (unsigned long long)v->triangles, o->width, o->height);
+    snprintf(lines[n++], 160, "%llu triangles drawn  %dx%d  shading %s%s", (unsigned long long)v->triangles, o->width,
+             o->height, scene_shading_names[o->shading], o->texture ? "  textured" : "");
     double other = v->ms_render - v->ms_setup - v->ms_tile;
     snprintf(lines[n++], 160, "%.1f ms: shading+set-up %.1f  raster %.1f  other %.1f", v->ms_render, v->ms_setup,
              v->ms_tile, other > 0 ? other : 0.0);
@@ -788,6 +811,7 @@ static int view_options_parse(int argc, char **argv, view_state *v)
     if (v->script.pin && (v->script.pin_x >= v->o.width || v->script.pin_y >= v->o.height))
         return view_usage_error("--pin is outside the window (its --size)", NULL);
     if (v->script.pin) view_pin(v, v->script.pin_x, v->script.pin_y);
+    v->texture_path = v->o.texture;   /* u turns it off and on again */
     return 0;
 }
 
