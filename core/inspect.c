@@ -86,9 +86,10 @@ void is_inspect_free(is_inspect *rec)
     memset(rec, 0, sizeof *rec);
 }
 
-/* Could a triangle with clip-space positions p[0..2] cover pixel (x, y) of viewport vp?  False only when all
+/* Could a triangle with clip-space positions p[0..2] (as the rasterizer gets them) cover pixel (x, y) of the
+ * rasterizer's viewport vp?  False only when all
  * three vertices are in front of the eye and their screen box, grown by a pixel, misses the pixel. */
-static bool may_cover(const rs_vertex *const p[3], const is_viewport *vp, int x, int y)
+static bool may_cover(const rs_vertex *const p[3], const rs_viewport *vp, int x, int y)
 {
     float lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
     for (int k = 0; k < 3; k++) {
@@ -204,6 +205,7 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
     size_t px = (size_t)rec->y * (size_t)dev->rt.width + (size_t)rec->x;
     uint32_t color = dev->rt.color[px];
     float depth = dev->rt.depth[px];
+    const rs_viewport vp = dev_rs_state(dev).viewport;   /* the rasterizer's (a viewport beyond the target: clipped) */
     for (uint32_t i = 0; i < fp->n_instances && !rec->out_of_memory; i++) {
         for (uint32_t v = 0; v < count; v++) {
             is_vs_input regs;
@@ -214,7 +216,7 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
             uint32_t t[3];
             for (unsigned c = 0; c < 3; c++) t[c] = stream_idx[prim_vertex(type, p, c)];
             const rs_vertex *pv[3] = {&in->verts[t[0]], &in->verts[t[1]], &in->verts[t[2]]};
-            if (!may_cover(pv, &dev->viewport, rec->x, rec->y)) continue;
+            if (!may_cover(pv, &vp, rec->x, rec->y)) continue;
             uint32_t vid[3] = {first + t[0], first + t[1], first + t[2]};
             if (!replay_prim(dev, fp, pv, vid, i, (uint32_t)p, &color, &depth)) rec->out_of_memory = true;
         }

@@ -110,11 +110,42 @@ static void test_draws(void **state)
     is_inspect_free(&rec);
 }
 
+/* A viewport larger than the target (accepted and drawn clipped to it, as the runtime does): the record still
+ * finds the fragment, and its colour is the target's. */
+static void test_viewport_beyond_target(void **state)
+{
+    (void)state;
+    is_device *dev = device_with_triangle(1);
+    const float small[4][4] = {{-0.5f, 0.5f, 0.5f, 1}, {0.5f, 0.5f, 0.5f, 1}, {-0.5f, -0.5f, 0.5f, 1}, {0, 0, 0.5f, 1}};
+    is_vertex_buffer *vb;
+    assert_int_equal(dev_get_stream_source(dev, 0, &vb, &(unsigned){0}, &(unsigned){0}), IS_OK);
+    memcpy(vb_lock(vb), small, sizeof small);
+    vb_unlock(vb);
+    const is_viewport vp = {0, 0, 40, 40, 0.0f, 1.0f};   /* the triangle's pixels: 10..30 of 40, the target 16 */
+    assert_int_equal(dev_set_viewport(dev, &vp), IS_OK);
+    for (int y = 11; y < 16; y += 2)
+        for (int x = 11; x < 16; x += 2) {
+            is_inspect rec = {0};
+            assert_int_equal(dev_inspect_begin(dev, x, y, &rec), IS_OK);
+            assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff102030u, 1.0f), IS_OK);
+            assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+            dev_inspect_end(dev);
+            uint32_t px[16 * 16];
+            assert_int_equal(dev_get_render_target_data(dev, px, 16 * 16), IS_OK);
+            bool drawn = px[y * 16 + x] != 0xff302010u;   /* the clear colour, RGBA8 in memory */
+            assert_int_equal(rec.n_fragments, drawn ? 1 : 0);
+            if (drawn) assert_int_equal(rec.fragments[0].color_after, px[y * 16 + x]);
+            is_inspect_free(&rec);
+        }
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arguments),
         cmocka_unit_test(test_draws),
+        cmocka_unit_test(test_viewport_beyond_target),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
