@@ -24,17 +24,6 @@ static int usage_error(const char *msg)
     return 2;
 }
 
-/* --pixel's value "X,Y" (plain non-negative integers) into a; false when malformed. */
-static bool parse_pixel(const char *s, inspect_args *a)
-{
-    const char *comma = strchr(s, ',');
-    if (!comma || comma - s >= 16) return false;
-    char xs[16];
-    memcpy(xs, s, (size_t)(comma - s));
-    xs[comma - s] = 0;
-    return scene_parse_int(xs, 0, RS_MAX_SIZE - 1, &a->x) && scene_parse_int(comma + 1, 0, RS_MAX_SIZE - 1, &a->y);
-}
-
 /* Split argv into inspect's options (into a) and the rest (rest[0] = argv[0]); NULL or the usage error. */
 static const char *take_args(int argc, char **argv, inspect_args *a, char **rest, int *n_rest)
 {
@@ -42,7 +31,7 @@ static const char *take_args(int argc, char **argv, inspect_args *a, char **rest
     rest[(*n_rest)++] = argv[0];
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--pixel") == 0) {
-            if (i + 1 >= argc || !parse_pixel(argv[i + 1], a))
+            if (i + 1 >= argc || !scene_parse_pixel(argv[i + 1], &a->x, &a->y))
                 return "--pixel takes X,Y: two whole numbers, the pixel's column and row from the top left";
             a->have_pixel = true, i++;
         } else if (strcmp(argv[i], "--json") == 0) {

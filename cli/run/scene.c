@@ -148,6 +148,19 @@ bool scene_parse_float(const char *s, float lo, float hi, float *out)
 }
 
 /* WxH with both sides in 1..SCENE_MAX_SIDE and at most SCENE_MAX_PIXELS pixels. */
+bool scene_parse_pixel(const char *s, int *x, int *y)
+{
+    char buf[32];
+    const char *comma = s ? strchr(s, ',') : NULL;
+    if (!comma || (size_t)(comma - s) >= sizeof buf) return false;
+    memcpy(buf, s, (size_t)(comma - s));
+    buf[comma - s] = 0;
+    int a, b;
+    if (!scene_parse_int(buf, 0, RS_MAX_SIZE - 1, &a) || !scene_parse_int(comma + 1, 0, RS_MAX_SIZE - 1, &b)) return false;
+    *x = a, *y = b;
+    return true;
+}
+
 bool scene_parse_size(const char *s, int *w, int *h)
 {
     char buf[64];

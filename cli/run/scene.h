@@ -172,6 +172,8 @@ char *scene_join_names(const char *const *names, const char *sep, char *buf, siz
 bool scene_parse_path(const char *s, scene_path *out);
 bool scene_parse_fill(const char *s, scene_fill *out);
 bool scene_parse_size(const char *s, int *w, int *h);
+/* "X,Y": a pixel's column and row from the top left, plain whole numbers 0..RS_MAX_SIZE-1 (--pixel, --pin). */
+bool scene_parse_pixel(const char *s, int *x, int *y);
 bool scene_parse_msaa(const char *s, int *out);
 /* Whether s starts a number written plainly, up to its end or the next comma: an optional sign, then digits (or a
  * point and a digit), then only digits, '.', exponents and their signs -- never spaces, hexadecimal, "inf" or

@@ -734,18 +734,6 @@ static const char *parse_keys(const char *list, view_script *s, char *err, size_
 
 /* Take the scripting options out of argv (they are applied to s), leaving the render options in rest; NULL or
  * the usage error (err may hold it). */
-/* --pin's "X,Y" (plain whole numbers) into s->pin_x, pin_y; false when malformed. */
-static bool parse_pin(const char *val, view_script *s)
-{
-    const char *comma = strchr(val, ',');
-    char xs[16];
-    if (!comma || comma - val >= (ptrdiff_t)sizeof xs) return false;
-    memcpy(xs, val, (size_t)(comma - val));
-    xs[comma - val] = 0;
-    return scene_parse_int(xs, 0, RS_MAX_SIZE - 1, &s->pin_x) && scene_parse_int(comma + 1, 0, RS_MAX_SIZE - 1, &s->pin_y)
-           && (s->pin = true);
-}
-
 static const char *take_view_options(int argc, char **argv, view_script *s, bool *no_hud, int *n_rest, char **rest,
                                      char *err, size_t errlen)
 {
@@ -775,7 +763,8 @@ static const char *take_view_options(int argc, char **argv, view_script *s, bool
         else if (strcmp(opt->name, "frames") == 0)
             msg = scene_parse_int(val, 1, 1000000000, &s->frames) ? NULL : "--frames must be 1..1000000000";
         else if (strcmp(opt->name, "pin") == 0)
-            msg = parse_pin(val, s) ? NULL : "--pin takes X,Y: two whole numbers, the pixel's column and row";
+            msg = scene_parse_pixel(val, &s->pin_x, &s->pin_y) && (s->pin = true) ? NULL
+                  : "--pin takes X,Y: two whole numbers, the pixel's column and row";
         else if (strcmp(opt->name, "capture") == 0)
             msg = image_format_of(val) == IS_IMAGE_PNG ? (s->capture = val, NULL) : "--capture must end in .png";
         else *no_hud = true;
