@@ -16,6 +16,20 @@
 #include "../core/core.h"
 #include "../vs/vs.h"
 
+
+/* The buffer and declaration of the last device made (they hold their device: released with it by destroy). */
+static is_vertex_buffer *held_vb;
+static is_vertex_declaration *held_decl;
+
+/* dev_destroy, then the resources the device helper made (the device's struct goes with the last of them). */
+static void destroy(is_device *dev)
+{
+    dev_destroy(dev);
+    vb_release(held_vb);
+    decl_release(held_decl);
+    held_vb = NULL, held_decl = NULL;
+}
+
 /* A 16x16 device drawing one screen-filling triangle with the fixed shader (identity transform): positions in a
  * vertex buffer of float4s (stream 0, POSITION0). */
 static is_device *device_with_triangle(int samples)
@@ -26,11 +40,13 @@ static is_device *device_with_triangle(int samples)
     const float verts[4][4] = {{-1, 1, 0.5f, 1}, {3, 1, 0.5f, 1}, {-1, -3, 0.5f, 1}, {0, 0, 0.5f, 1}};
     is_vertex_buffer *vb;
     assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
+    held_vb = vb;
     memcpy(vb_lock(vb), verts, sizeof verts);
     vb_unlock(vb);
     const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
     is_vertex_declaration *decl;
     assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    held_decl = decl;
     assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
     assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
     float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
@@ -73,10 +89,10 @@ static void test_arguments(void **state)
     is_inspect_free(&other);
     is_inspect_free(NULL);
     assert_null(other.fragments);
-    dev_destroy(dev);
+    destroy(dev);
     dev = device_with_triangle(4);
     assert_int_equal(dev_inspect_begin(dev, 0, 0, &rec), IS_ERR_INVALIDCALL);
-    dev_destroy(dev);
+    destroy(dev);
     assert_string_equal(is_decl_usage_name(IS_DECLUSAGE_POSITION), "POSITION");
     assert_string_equal(is_decl_usage_name(IS_DECLUSAGE_COUNT), "?");
     assert_string_equal(is_decl_usage_name(UINT_MAX), "?");
@@ -105,7 +121,7 @@ static void test_draws(void **state)
     assert_int_equal(f->v[0].inputs[0].usage, IS_DECLUSAGE_POSITION);
     assert_int_equal(f->v[0].n_values, 0);   /* the fixed shader publishes nothing */
     assert_true(f->passed);
-    dev_destroy(dev);   /* while recording: the inspector goes with the device, rec keeps its fragments */
+    destroy(dev);   /* while recording: the inspector goes with the device, rec keeps its fragments */
     assert_int_equal(rec.n_fragments, 1);
     is_inspect_free(&rec);
 }
@@ -137,7 +153,7 @@ static void test_viewport_beyond_target(void **state)
             if (drawn) assert_int_equal(rec.fragments[0].color_after, px[y * 16 + x]);
             is_inspect_free(&rec);
         }
-    dev_destroy(dev);
+    destroy(dev);
 }
 
 int main(void)

@@ -19,6 +19,20 @@
 
 #define N 4   /* the target and the texture: N x N */
 
+
+/* The buffer and declaration of the last device made (they hold their device: released with it by destroy). */
+static is_vertex_buffer *held_vb;
+static is_vertex_declaration *held_decl;
+
+/* dev_destroy, then the resources the device helper made (the device's struct goes with the last of them). */
+static void destroy(is_device *dev)
+{
+    dev_destroy(dev);
+    vb_release(held_vb);
+    decl_release(held_decl);
+    held_vb = NULL, held_decl = NULL;
+}
+
 /* A device drawing a screen-filling triangle (fixed shader, identity transform, normal towards the viewer: COLOR0
  * is the diffuse colour) whose TEXCOORD0 is the texture
  * coordinate mapping texel centres to pixel centres (u = (X + 0.5) / N at screen X). */
@@ -33,6 +47,7 @@ static is_device *device(void)
                                {-1, -3, 0.5f, 1, 0.5f / N, 0.5f / N + 2.0f, 0, 0, -1}};
     is_vertex_buffer *vb;
     assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
+    held_vb = vb;
     memcpy(vb_lock(vb), verts, sizeof verts);
     vb_unlock(vb);
     const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},
@@ -40,6 +55,7 @@ static is_device *device(void)
                                     {0, 24, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_NORMAL, 0}, IS_DECL_END};
     is_vertex_declaration *decl;
     assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    held_decl = decl;
     assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
     assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
     float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
@@ -119,7 +135,7 @@ static void test_arguments(void **state)
     assert_true(t.x == 0 && t.w == 1);
     t = ps_tex2Dbias(NULL, uv, 1e30f, -1);
     assert_true(t.w == 1);
-    dev_destroy(dev);
+    destroy(dev);
 }
 
 /* A shader's colour is its constant; clearing it (or dev_reset) gives the fixed path's bytes back. */
@@ -138,7 +154,7 @@ static void test_constant_and_fixed(void **state)
     assert_int_equal(dev_set_pixel_shader(dev, NULL), IS_OK);
     draw(dev, again);
     assert_memory_equal(again, fixed, sizeof fixed);
-    dev_destroy(dev);
+    destroy(dev);
 }
 
 /* tex2D through sampler 0: a 4x4 texture drawn 1:1 with point sampling gives each pixel its texel. */
@@ -172,7 +188,7 @@ static void test_texture(void **state)
     float c[4] = {9, 9, 9, 9};
     assert_int_equal(dev_get_pixel_shader_constant_f(dev, 5, c, 1), IS_OK);
     assert_true(c[0] == 0.0f);
-    dev_destroy(dev);
+    destroy(dev);
 }
 
 int main(void)
