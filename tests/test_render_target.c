@@ -47,6 +47,14 @@ static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_ou
 }
 static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture};
 
+/* oC0 = white. */
+static void ps_white(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    (void)c, (void)in;
+    for (int k = 0; k < 4; k++) out->color[k] = (rs_vec4){1.0f, 1.0f, 1.0f, 1.0f};
+}
+static const is_pixel_shader PS_WHITE = {"white", ps_white};
+
 /* A device with a pre-transformed declaration and a buffer of 6 vertices bound. */
 typedef struct fixture { is_device *dev; is_vertex_buffer *vb; is_vertex_declaration *decl; } fixture;
 
@@ -230,9 +238,13 @@ static void test_depth_stencil(void **state)
     assert_ptr_equal(got, small);
     assert_int_equal(dev_clear(f.dev, IS_CLEAR_TARGET, BLACK, 1.0f), IS_OK);
     assert_int_equal(draw_rect(&f, -0.5f, -0.5f, T - 0.5f, T - 0.5f, 0.75f), IS_OK);
+    assert_int_equal(dev_set_pixel_shader(f.dev, &PS_WHITE), IS_OK);
     assert_int_equal(draw_rect(&f, -0.5f, -0.5f, T - 0.5f, T - 0.5f, 1.0f), IS_OK);   /* no depth test */
     assert_int_equal(dev_get_render_target_data(f.dev, px, T * T), IS_OK);
-    assert_int_equal(px[0], pattern_rgba(0, 0));
+    assert_int_equal(px[0], 0xffffffffu);
+    assert_int_equal(px[T * T - 1], 0xffffffffu);
+    assert_int_equal(dev_set_pixel_shader(f.dev, &PS_PATTERN), IS_OK);
+    assert_int_equal(draw_rect(&f, -0.5f, -0.5f, T - 0.5f, T - 0.5f, 1.0f), IS_OK);
     /* none: Clear of depth or stencil refused, nothing changed; colour still clears and draws */
     assert_int_equal(dev_set_depth_stencil_surface(f.dev, NULL), IS_OK);
     got = small;
