@@ -134,7 +134,8 @@ void dev_reset(is_device *dev)
 {
     if (!dev_live(dev)) return;
     sb_abort_recording(dev);
-    dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* D3D9's Reset: the implicit ones (no memory) */
+    if (dev->cur_rt != &dev->backbuffer || dev->cur_ds != &dev->auto_ds)   /* D3D9's Reset: the implicit ones */
+        dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* (no memory needed: cannot fail) */
     memset(dev->rs_state, 0, sizeof dev->rs_state);
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);

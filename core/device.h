@@ -302,8 +302,9 @@ INSTESS_API is_device *dev_create(int width, int height, int samples, char *err,
  * resource of another device, or one released, is refused by the setters (IS_ERR_INVALIDCALL). */
 INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
- * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator);
- * the target, its contents, the textures it created, the thread count, timing, reference path and scratch memory
+ * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator;
+ * the back buffer and the automatic depth-stencil surface are the target again, as after D3D9's Reset); their
+ * contents, the surfaces and textures it created, the thread count, timing, reference path and scratch memory
  * are kept.  For programs that draw frame after frame on one
  * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
 INSTESS_API void dev_reset(is_device *dev);
