@@ -113,6 +113,13 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
         free(dev);
         return NULL;
     }
+    dev->backbuffer = (is_surface){.res = {.dev = dev}, .usage = IS_USAGE_RENDERTARGET, .format = IS_FMT_A8R8G8B8,
+                                   .width = (unsigned)width, .height = (unsigned)height, .samples = samples,
+                                   .implicit = true, .color = dev->rt.color};
+    dev->auto_ds = (is_surface){.res = {.dev = dev}, .usage = IS_USAGE_DEPTHSTENCIL, .format = IS_FMT_D24S8,
+                                .width = (unsigned)width, .height = (unsigned)height, .samples = samples,
+                                .implicit = true, .depth = dev->rt.depth, .stencil = dev->rt.stencil};
+    dev->cur_rt = &dev->backbuffer, dev->cur_ds = &dev->auto_ds;
     set_default_states(dev);
     dev_samplers_default(dev);
     dev->ps_consts.s = dev->ps_samplers;
@@ -127,6 +134,8 @@ void dev_reset(is_device *dev)
 {
     if (!dev_live(dev)) return;
     sb_abort_recording(dev);
+    if (dev->cur_rt != &dev->backbuffer || dev->cur_ds != &dev->auto_ds)   /* D3D9's Reset: the implicit ones */
+        dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* (no memory needed: cannot fail) */
     memset(dev->rs_state, 0, sizeof dev->rs_state);
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);
@@ -174,6 +183,8 @@ static void res_free_contents(dev_res *r)
     } else if (r->kind == DEV_RES_IB) {
         is_index_buffer *ib = (is_index_buffer *)r;
         free(ib->data), ib->data = NULL, ib->size = 0;
+    } else if (r->kind == DEV_RES_SURF) {
+        surf_free_planes((is_surface *)r);
     }
 }
 
@@ -185,12 +196,14 @@ void dev_destroy(is_device *dev)
     if (!dev || dev->destroyed) return;
     inspect_stop(dev);
     sb_abort_recording(dev);
+    dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* dev->rt describes the device's own planes again */
     dev_release_textures(dev);
     for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].vb = NULL;
     dev->ib = NULL;
     dev->decl = NULL;
     rs_target_free(&dev->rt);
+    rs_target_free(&dev->scratch);
     rs_destroy(dev->rs);
     free(dev->out_v);
     free(dev->out_i);
@@ -521,6 +534,10 @@ is_result dev_clear_rects_stencil(is_device *dev, unsigned count, const is_rect 
     if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
     if ((flags & ~(unsigned)(IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER | IS_CLEAR_STENCIL)) || !(z >= 0.0f && z <= 1.0f))
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: flags %#x or z %g invalid", flags, (double)z);
+    if ((flags & (IS_CLEAR_ZBUFFER | IS_CLEAR_STENCIL)) && !dev->cur_ds)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: ZBUFFER or STENCIL without a depth-stencil surface");
+    if ((flags & IS_CLEAR_STENCIL) && dev->cur_ds->format != IS_FMT_D24S8)
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: STENCIL on a depth-stencil surface without stencil bits");
     if (count == 0 && rects) return IS_OK;   /* the runtime: nothing cleared */
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
     uint32_t rgba = r | g << 8 | b << 16 | a << 24;
@@ -650,5 +667,7 @@ rs_state dev_rs_state(const is_device *dev)
         .viewport = dev->rs_vp,
     };
     raster_states_apply(dev, &st);   /* core/raster_states.c */
+    if (dev->no_depth) st.z_enable = st.z_write = false;   /* no usable depth-stencil surface (core/surface.c) */
+    if (dev->no_depth || dev->cur_ds->format != IS_FMT_D24S8) st.stencil_enable = false;
     return st;
 }

@@ -302,8 +302,9 @@ INSTESS_API is_device *dev_create(int width, int height, int samples, char *err,
  * resource of another device, or one released, is refused by the setters (IS_ERR_INVALIDCALL). */
 INSTESS_API void dev_destroy(is_device *dev);
 /* The device's state back to a new device's (render states, stream sources and frequencies, indices,
- * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator);
- * the target, its contents, the textures it created, the thread count, timing, reference path and scratch memory
+ * declaration, shader, constants, samplers (states and bound textures), viewport, N-patch mode and evaluator;
+ * the back buffer and the automatic depth-stencil surface are the target again, as after D3D9's Reset); their
+ * contents, the surfaces and textures it created, the thread count, timing, reference path and scratch memory
  * are kept.  For programs that draw frame after frame on one
  * device (instess view): the next frame is drawn as on a new device, without allocating its target again. */
 INSTESS_API void dev_reset(is_device *dev);
@@ -598,6 +599,87 @@ INSTESS_API bool dev_reference_path(const is_device *dev);
  * bytes; this exists to compare them and to measure each. */
 INSTESS_API int dev_set_isa(is_device *dev, int isa);
 INSTESS_API int dev_isa(const is_device *dev);
+
+/* --- render targets and surfaces (IDirect3DSurface9; core/surface.c) ---
+ * A surface is a render target (CreateRenderTarget, or a level of a texture created with IS_USAGE_RENDERTARGET:
+ * tex_get_surface_level), a depth-stencil surface (CreateDepthStencilSurface) or a system-memory surface
+ * (CreateOffscreenPlainSurface, D3DPOOL_SYSTEMMEM: what GetRenderTargetData copies into and LockRect reads).
+ *  - The device draws into dev_render_target's rs_target; SetRenderTarget and SetDepthStencilSurface change which
+ *    surface's planes it describes.  A new device's target is its back buffer (A8R8G8B8, dev_create's size and
+ *    samples) and its depth-stencil surface the automatic one (D24S8); dev_get_render_target(dev, 0) and
+ *    dev_get_depth_stencil_surface hand them out, and dev_reset sets them again.  The back buffer keeps its AOV
+ *    planes (raster.h) while another target is set; other targets have none.
+ *  - SetRenderTarget(0, surface) (index 0 only: this device has one, D3DCAPS9.NumSimultaneousRTs 1) sets the
+ *    viewport to the whole new target (MinZ 0, MaxZ 1) and the scissor rectangle to the whole target, also when it
+ *    is the target already and also while a stateblock is recorded (the device's own state: Wine's d3d9
+ *    test_set_rt_vp_scissor; DXVK's SetRenderTarget).  Render targets are not stateblock state.  Refused: a NULL
+ *    surface, an index other than 0, a surface that is not a render target (a depth-stencil or system-memory
+ *    surface, a level of a texture without RENDERTARGET), one of another device or released.
+ *  - SetDepthStencilSurface(NULL or a depth-stencil surface): any size, as the runtime takes it.  Drawing needs
+ *    it to be at least the target's size with the target's samples (D3D9: "must be at least as large as the render
+ *    target"; the runtime draws something undefined otherwise -- Wine's d3d9 test_depth_stencil_size -- and
+ *    ValidateDevice reports the conflict); here, as DXVK does, a smaller (or differently sampled) surface, like no
+ *    surface, is not bound: depth and stencil tests are off and it keeps its contents.  A larger one is used by
+ *    its top-left part.  Clear with IS_CLEAR_ZBUFFER or IS_CLEAR_STENCIL without a depth-stencil surface, or with
+ *    IS_CLEAR_STENCIL on one without stencil bits (D24X8, D16), is refused, as the runtime (wined3d's clear).
+ *  - Render-target textures: A8R8G8B8 or X8R8G8B8 (IS_ERR_NOTAVAILABLE for the float formats: this device's
+ *    targets are 8-bit), any levels, AUTOGENMIPMAP allowed; they cannot be locked (D3DPOOL_DEFAULT: LockRect is
+ *    refused).  While a level is the target, the device draws into a colour plane of its own; when another target
+ *    is set (or the texture's device is reset or destroyed) the plane is written back into the level's texels
+ *    (and an AUTOGENMIPMAP texture's sublevels generated), so a texture is sampled as rendered once the device
+ *    draws elsewhere.  Sampling a texture while it is the target reads its texels from before (D3D9: undefined).
+ *  - GetRenderTargetData (dev_get_render_target_surface_data): a one-sample render target (a surface or a
+ *    level, the current target or not) into a system-memory surface of the same size and format, converted to the
+ *    format's layout (bytes B, G, R, A per pixel).  Refused: multisampled sources, other sizes or formats, a
+ *    destination that is not a system-memory surface, as the runtime.
+ *  - Ownership: created surfaces belong to their device as buffers do (registry; surf_release, safe after
+ *    dev_destroy); the back buffer, the automatic depth-stencil surface and texture levels belong to the device or
+ *    the texture, and surf_release does nothing to them.  Releasing the current target sets the back buffer again
+ *    (as SetRenderTarget does), releasing the current depth-stencil surface leaves none.  As the other getters,
+ *    GetRenderTarget and GetDepthStencilSurface add no reference. */
+typedef struct is_surface is_surface;
+#define IS_FMT_D24S8 ((is_format)75)        /* depth-stencil formats: depth stays a float here, 8 stencil bits */
+#define IS_FMT_D24X8 ((is_format)77)        /* no stencil bits */
+#define IS_FMT_D16 ((is_format)80)          /* no stencil bits */
+#define IS_USAGE_RENDERTARGET 0x1u          /* D3DUSAGE_RENDERTARGET */
+#define IS_USAGE_DEPTHSTENCIL 0x2u          /* D3DUSAGE_DEPTHSTENCIL */
+#define IS_MULTISAMPLE_NONE 0u              /* D3DMULTISAMPLE_TYPE */
+#define IS_MULTISAMPLE_4_SAMPLES 4u
+#define IS_ERR_NOTFOUND ((is_result)-4)     /* D3DERR_NOTFOUND */
+typedef struct is_surface_desc {            /* D3DSURFACE_DESC, the fields kept */
+    is_format format;
+    uint32_t usage;                          /* IS_USAGE_RENDERTARGET, IS_USAGE_DEPTHSTENCIL or 0 */
+    unsigned width, height;
+    unsigned multisample;                    /* IS_MULTISAMPLE_NONE or IS_MULTISAMPLE_4_SAMPLES */
+} is_surface_desc;
+
+/* CreateRenderTarget: A8R8G8B8 or X8R8G8B8 (IS_ERR_NOTAVAILABLE otherwise), 1..16384 per side, multisample NONE
+ * or 4_SAMPLES; pixels start zero. */
+INSTESS_API is_result dev_create_render_target(is_device *dev, unsigned width, unsigned height, is_format format,
+                                               unsigned multisample, is_surface **out);
+/* CreateDepthStencilSurface: D24S8, D24X8 or D16, sizes and multisample as above; depth starts 1, stencil 0. */
+INSTESS_API is_result dev_create_depth_stencil_surface(is_device *dev, unsigned width, unsigned height,
+                                                       is_format format, unsigned multisample, is_surface **out);
+/* CreateOffscreenPlainSurface in D3DPOOL_SYSTEMMEM: A8R8G8B8 or X8R8G8B8; pixels start zero. */
+INSTESS_API is_result dev_create_offscreen_plain_surface(is_device *dev, unsigned width, unsigned height,
+                                                         is_format format, is_surface **out);
+/* IDirect3DTexture9::GetSurfaceLevel: the texture's level as a surface (the same surface every call). */
+INSTESS_API is_result tex_get_surface_level(is_texture *tex, unsigned level, is_surface **out);
+/* Release a created surface (NULL, or an implicit or texture-level one: nothing). */
+INSTESS_API void surf_release(is_surface *surf);
+/* GetDesc. */
+INSTESS_API is_result surf_get_desc(const is_surface *surf, is_surface_desc *out);
+/* LockRect / UnlockRect of a system-memory surface (others are refused, as non-lockable targets): the pixels of
+ * rect (NULL: all) at *bits, rows *pitch bytes apart; locked once at a time. */
+INSTESS_API is_result surf_lock_rect(is_surface *surf, const is_rect *rect, int *pitch, void **bits);
+INSTESS_API is_result surf_unlock_rect(is_surface *surf);
+/* SetRenderTarget / GetRenderTarget, SetDepthStencilSurface / GetDepthStencilSurface (IS_ERR_NOTFOUND and NULL
+ * when none is set), GetRenderTargetData: the rules above. */
+INSTESS_API is_result dev_set_render_target(is_device *dev, unsigned index, is_surface *surf);
+INSTESS_API is_result dev_get_render_target(const is_device *dev, unsigned index, is_surface **out);
+INSTESS_API is_result dev_set_depth_stencil_surface(is_device *dev, is_surface *surf);
+INSTESS_API is_result dev_get_depth_stencil_surface(const is_device *dev, is_surface **out);
+INSTESS_API is_result dev_get_render_target_surface_data(is_device *dev, is_surface *src, is_surface *dst);
 
 #ifdef __cplusplus
 }

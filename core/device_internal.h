@@ -19,7 +19,7 @@
  * resources' reference to their device (D3D9's): dev_destroy frees the device's memory and the memory of every
  * resource still listed (their data: lock returns NULL, size 0), and the small structs themselves stay until each
  * is released -- the device's last few bytes with its last -- so releasing after dev_destroy is safe. */
-typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL, DEV_RES_SB } dev_res_kind;
+typedef enum { DEV_RES_VB = 1, DEV_RES_IB, DEV_RES_DECL, DEV_RES_SB, DEV_RES_SURF } dev_res_kind;
 typedef struct dev_res {
     struct dev_res *prev, *next;
     is_device *dev;
@@ -99,7 +99,43 @@ struct is_texture {
     bool lock0_readonly;       /* level 0 is locked with IS_LOCK_READONLY */
     tex_level lv[IS_MAX_TEXTURE_LEVELS];
     unsigned char *mem;
+    is_surface *surf[IS_MAX_TEXTURE_LEVELS]; /* GetSurfaceLevel's surfaces, made on first use (core/surface.c) */
 };
+
+/* A surface (core/surface.c, rules in core/device.h "render targets and surfaces"): a render target (usage
+ * IS_USAGE_RENDERTARGET: `color`, packed RGBA8 as rs_target's plane), a depth-stencil surface (IS_USAGE_DEPTHSTENCIL:
+ * `depth` and `stencil`, as rs_target's), a system-memory surface (usage 0: `bits`, the format's D3D9 layout), or
+ * level `level` of texture `tex` (its texels in tex->lv; a render-target texture's level gets a `color` plane while
+ * it is the device's target, converted back into its texels when another target is set).  The device's back
+ * buffer and automatic depth-stencil surface are embedded in the device (`implicit`: not in the registry, never
+ * released); the others are in the registry (DEV_RES_SURF), texture levels until their texture is released. */
+struct is_surface {
+    dev_res res;               /* first: the registry's link (res.dev: the device, also for implicit ones) */
+    uint32_t usage;            /* IS_USAGE_RENDERTARGET, IS_USAGE_DEPTHSTENCIL, or 0 (system memory) */
+    is_format format;
+    unsigned width, height;
+    int samples;               /* 1 or 4 */
+    bool implicit;             /* the back buffer or the automatic depth-stencil surface */
+    bool locked;               /* a system-memory surface is locked */
+    is_texture *tex;           /* a texture's level, or NULL */
+    unsigned level;
+    uint32_t *color;           /* 64-byte aligned planes (rs_target_init's) */
+    float *depth;
+    uint8_t *stencil;
+    unsigned char *bits;       /* a system-memory surface's pixels, rows of width * 4 bytes */
+    int n_aov;                 /* the back buffer's AOV planes while another target is set */
+    rs_aov aov[RS_MAX_AOV];
+};
+/* (surface.c) Set dev's render target and depth-stencil surface (either may be the current one): flushes the
+ * deferred clear, converts a render-target texture's level back into texels, and makes dev->rt describe rt's
+ * colour plane and ds's depth and stencil (directly when ds has rt's size and samples, else a scratch plane with
+ * ds's top-left copied in, or with depth off: dev->no_depth).  IS_ERR_OUTOFMEMORY with nothing changed. */
+is_result dev_bind_targets(is_device *dev, is_surface *rt, is_surface *ds);
+/* (surface.c) Free the planes of a surface (not the struct); dev_destroy and the releases. */
+void surf_free_planes(is_surface *s);
+/* (surface.c) Release texture t's level surfaces (t is being released): the device goes back to its back buffer
+ * when one of them is its target. */
+void surf_release_texture_levels(is_texture *t);
 
 /* The samplers a device keeps besides the vertex shader's (which are dev->consts.s): pixel samplers 0..15 and
  * the displacement-map sampler. */
@@ -210,6 +246,12 @@ struct is_device {
     /* core/raster_states.c: SetScissorRect, SetClipPlane */
     is_rect scissor;
     float clip_plane[IS_MAX_USER_CLIP_PLANES][4];
+    /* core/surface.c: the render target and depth-stencil surface that dev->rt describes */
+    is_surface backbuffer, auto_ds;   /* the implicit ones (dev_create's target) */
+    is_surface *cur_rt, *cur_ds;      /* SetRenderTarget(0, ...), SetDepthStencilSurface (NULL: none) */
+    bool ds_copied;                   /* dev->rt's depth is `scratch`'s, cur_ds's top-left copied in */
+    bool no_depth;                    /* no usable depth-stencil surface: depth and stencil tests off */
+    rs_target scratch;                /* depth and stencil planes of the target's size (ds_copied, no_depth) */
 };
 
 /* Whether dev may be used: not NULL, and not destroyed (a destroyed device's struct lives on while its resources

@@ -31,9 +31,12 @@ static is_result check_create(is_device *dev, unsigned width, unsigned height, u
     if (width < 1 || height < 1 || width > IS_MAX_TEXTURE_SIZE || height > IS_MAX_TEXTURE_SIZE)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTexture: size %ux%u: each side must be 1..%d", width, height,
                         IS_MAX_TEXTURE_SIZE);
-    if (usage & ~(IS_USAGE_DYNAMIC | IS_USAGE_AUTOGENMIPMAP))
-        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTexture: usage %#x: this device takes 0, DYNAMIC (0x200) and "
-                        "AUTOGENMIPMAP (0x400)", usage);
+    if (usage & ~(IS_USAGE_DYNAMIC | IS_USAGE_AUTOGENMIPMAP | IS_USAGE_RENDERTARGET))
+        return dev_fail(dev, IS_ERR_INVALIDCALL, "CreateTexture: usage %#x: this device takes 0, RENDERTARGET (0x1), "
+                        "DYNAMIC (0x200) and AUTOGENMIPMAP (0x400)", usage);
+    if ((usage & IS_USAGE_RENDERTARGET) && format != IS_FMT_A8R8G8B8 && format != IS_FMT_X8R8G8B8)
+        return dev_fail(dev, IS_ERR_NOTAVAILABLE, "CreateTexture: a RENDERTARGET texture of format %d: this device's "
+                        "targets are A8R8G8B8 (21) and X8R8G8B8 (22)", (int)format);
     if (!format_bpp(format))
         return dev_fail(dev, IS_ERR_NOTAVAILABLE, "CreateTexture: format %d is not a texture format of this device "
                         "(A8R8G8B8 21, X8R8G8B8 22, R32F 114, A32B32G32R32F 116)", (int)format);
@@ -97,6 +100,7 @@ void tex_release(is_texture *t)
 {
     if (!t) return;
     is_device *dev = t->dev;
+    surf_release_texture_levels(t);   /* its surfaces (the device's target goes back to the back buffer) */
     unbind(dev, t);
     if (t->prev) t->prev->next = t->next;
     else dev->textures = t->next;
@@ -134,6 +138,9 @@ is_result tex_lock_rect(is_texture *t, unsigned level, is_locked_rect *out, cons
                         tex_get_level_count(t));
     if (t->locked & (1u << level))
         return dev_fail(t->dev, IS_ERR_INVALIDCALL, "LockRect: level %u is locked already", level);
+    if (t->usage & IS_USAGE_RENDERTARGET)   /* D3DPOOL_DEFAULT, as render-target textures are: not lockable */
+        return dev_fail(t->dev, IS_ERR_INVALIDCALL, "LockRect: a RENDERTARGET texture cannot be locked (read it "
+                        "with GetRenderTargetData)");
     const tex_level *l = &t->lv[level];
     size_t off = 0;
     if (r) {

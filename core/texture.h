@@ -89,7 +89,8 @@ typedef struct is_texture_desc {                                         /* D3DS
 
 /* CreateTexture: a width x height texture of `levels` levels (0: the whole chain down to 1 x 1) in one of the
  * formats A8R8G8B8, X8R8G8B8, R32F, A32B32G32R32F (IS_ERR_NOTAVAILABLE for others), usage 0, DYNAMIC and / or
- * AUTOGENMIPMAP (levels 0 or 1: the whole chain is kept, one level shown).  Texels start zero. */
+ * AUTOGENMIPMAP (levels 0 or 1: the whole chain is kept, one level shown), and RENDERTARGET (A8R8G8B8 or X8R8G8B8
+ * only; not lockable; core/device.h, "render targets and surfaces").  Texels start zero. */
 INSTESS_API is_result dev_create_texture(is_device *dev, unsigned width, unsigned height, unsigned levels,
                                          uint32_t usage, is_format format, is_texture **out);
 /* Release a texture (NULL: nothing): unbound from its device's samplers, its memory freed. */

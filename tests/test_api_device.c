@@ -700,6 +700,103 @@ static void test_ownership(void **state)
     fixture_free(&b);
 }
 
+/* The render-target and surface functions (core/surface.c): a NULL or destroyed device, NULL surfaces and
+ * outputs, zero and huge sizes, unknown formats and multisample types, indices past the one target, surfaces of
+ * another device, released ones and junk, locks out of range; releases after dev_destroy. */
+static void test_surfaces(void **state)
+{
+    (void)state;
+    is_surface *s = (is_surface *)1, *t = NULL, *sys = NULL, *ds = NULL;
+    is_surface_desc desc;
+    int pitch = 0;
+    void *bits = NULL;
+    const is_rect huge = {INT_MIN, INT_MIN, INT_MAX, INT_MAX};
+    /* NULL device */
+    assert_int_equal(dev_create_render_target(NULL, 4, 4, IS_FMT_A8R8G8B8, 0, &s), IS_ERR_INVALIDCALL);
+    assert_null(s);
+    assert_int_equal(dev_create_depth_stencil_surface(NULL, 4, 4, IS_FMT_D24S8, 0, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_offscreen_plain_surface(NULL, 4, 4, IS_FMT_A8R8G8B8, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(tex_get_surface_level(NULL, 0, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_target(NULL, 0, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target(NULL, 0, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_depth_stencil_surface(NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_depth_stencil_surface(NULL, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_surface_data(NULL, NULL, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_get_desc(NULL, &desc), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_lock_rect(NULL, NULL, &pitch, &bits), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_unlock_rect(NULL), IS_ERR_INVALIDCALL);
+    surf_release(NULL);
+    /* sizes, formats, multisample types, NULL outputs */
+    is_device *dev = dev_create(W, H, 1, NULL, 0);
+    const unsigned sizes[][2] = {{0, 4}, {4, 0}, {RS_MAX_SIZE + 1, 4}, {4, UINT_MAX}};
+    for (int k = 0; k < 4; k++) {
+        assert_int_equal(dev_create_render_target(dev, sizes[k][0], sizes[k][1], IS_FMT_A8R8G8B8, 0, &s),
+                         IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_create_depth_stencil_surface(dev, sizes[k][0], sizes[k][1], IS_FMT_D24S8, 0, &s),
+                         IS_ERR_INVALIDCALL);
+        assert_int_equal(dev_create_offscreen_plain_surface(dev, sizes[k][0], sizes[k][1], IS_FMT_A8R8G8B8, &s),
+                         IS_ERR_INVALIDCALL);
+    }
+    assert_int_equal(dev_create_render_target(dev, 4, 4, (is_format)0, 0, &s), IS_ERR_NOTAVAILABLE);
+    assert_int_equal(dev_create_render_target(dev, 4, 4, IS_FMT_A8R8G8B8, UINT_MAX, &s), IS_ERR_NOTAVAILABLE);
+    assert_int_equal(dev_create_depth_stencil_surface(dev, 4, 4, (is_format)-1, 0, &s), IS_ERR_NOTAVAILABLE);
+    assert_int_equal(dev_create_render_target(dev, 4, 4, IS_FMT_A8R8G8B8, 0, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_depth_stencil_surface(dev, 4, 4, IS_FMT_D24S8, 0, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_create_offscreen_plain_surface(dev, 4, 4, IS_FMT_A8R8G8B8, NULL), IS_ERR_INVALIDCALL);
+    assert_null(s);
+    assert_int_equal(dev_create_render_target(dev, 4, 4, IS_FMT_A8R8G8B8, 0, &t), IS_OK);
+    assert_int_equal(dev_create_depth_stencil_surface(dev, 4, 4, IS_FMT_D16, IS_MULTISAMPLE_4_SAMPLES, &ds), IS_OK);
+    assert_int_equal(dev_create_offscreen_plain_surface(dev, 4, 4, IS_FMT_A8R8G8B8, &sys), IS_OK);
+    assert_int_equal(surf_get_desc(ds, &desc), IS_OK);
+    assert_true(desc.format == IS_FMT_D16 && desc.usage == IS_USAGE_DEPTHSTENCIL && desc.width == 4 &&
+                desc.multisample == IS_MULTISAMPLE_4_SAMPLES);
+    assert_int_equal(surf_get_desc(t, NULL), IS_ERR_INVALIDCALL);
+    /* getters and setters at their edges */
+    assert_int_equal(dev_get_render_target(dev, 0, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target(dev, UINT_MAX, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_depth_stencil_surface(dev, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_target(dev, UINT_MAX, t), IS_ERR_INVALIDCALL);
+    char junk[sizeof(is_surface_desc) * 64] = {0};
+    assert_int_equal(dev_set_render_target(dev, 0, (is_surface *)junk), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_depth_stencil_surface(dev, (is_surface *)junk), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_surface_data(dev, t, (is_surface *)junk), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_render_target_surface_data(dev, t, NULL), IS_ERR_INVALIDCALL);
+    /* locks */
+    assert_int_equal(surf_lock_rect(sys, NULL, NULL, &bits), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_lock_rect(sys, NULL, &pitch, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_lock_rect(sys, &huge, &pitch, &bits), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_lock_rect(ds, NULL, &pitch, &bits), IS_ERR_INVALIDCALL);
+    assert_int_equal(surf_unlock_rect(sys), IS_ERR_INVALIDCALL);
+    /* texture levels */
+    is_texture *tex;
+    assert_int_equal(dev_create_texture(dev, 4, 4, 2, 0, IS_FMT_R32F, &tex), IS_OK);
+    assert_int_equal(tex_get_surface_level(tex, 2, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(tex_get_surface_level(tex, UINT_MAX, &s), IS_ERR_INVALIDCALL);
+    assert_int_equal(tex_get_surface_level(tex, 1, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(tex_get_surface_level(tex, 1, &s), IS_OK);
+    assert_int_equal(dev_set_render_target(dev, 0, s), IS_ERR_INVALIDCALL);   /* not a RENDERTARGET texture */
+    surf_release(s);   /* the texture's: nothing */
+    assert_int_equal(surf_get_desc(s, &desc), IS_OK);
+    assert_true(desc.width == 2 && desc.usage == 0);
+    /* another device's surfaces, released ones */
+    is_device *other = dev_create(4, 4, 1, NULL, 0);
+    assert_int_equal(dev_set_render_target(other, 0, t), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_depth_stencil_surface(other, ds), IS_ERR_INVALIDCALL);
+    is_surface *gone;
+    assert_int_equal(dev_create_render_target(dev, 4, 4, IS_FMT_A8R8G8B8, 0, &gone), IS_OK);
+    surf_release(gone);
+    assert_int_equal(dev_set_render_target(dev, 0, gone), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_target(dev, 0, t), IS_OK);
+    assert_int_equal(dev_set_depth_stencil_surface(dev, ds), IS_OK);   /* 4 samples with a 1-sample target */
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+    /* destroyed: surfaces released afterwards are safe; the destroyed device refuses */
+    dev_destroy(dev);
+    assert_int_equal(surf_get_desc(t, &desc), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_render_target(dev, 0, t), IS_ERR_INVALIDCALL);
+    surf_release(t), surf_release(ds), surf_release(sys);
+    dev_destroy(other);
+}
+
 /* The scissor, clip-plane and stencil-clear functions (core/raster_states.c): a NULL or destroyed device, NULL
  * pointers, indices at the limits (clamped to the last plane, as the runtime), planes not finite, rectangles
  * reversed or at the int limits, flags and values out of range; and a draw with every state of that file on. */
@@ -774,7 +871,7 @@ int main(void)
         cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
         cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
         cmocka_unit_test(test_ownership),     cmocka_unit_test(test_state_blocks),
-        cmocka_unit_test(test_raster_state_edges),
+        cmocka_unit_test(test_raster_state_edges), cmocka_unit_test(test_surfaces),
     };
     return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
 }

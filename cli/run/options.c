@@ -219,7 +219,7 @@ static const char *opt_max_import_memory(scene_opts *o, const char *a)
 }
 static const char *opt_aov(scene_opts *o, const char *a)
 {
-    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory,depth";
+    return scene_parse_aovs(a, &o->aovs) ? NULL : "--aov takes normal,bary,instance,gregory,uv,depth";
 }
 /* --d3d9-adaptive: "depth" or four finite numbers "X,Y,Z,W" (scene.h). */
 static const char *opt_d3d9_adaptive(scene_opts *o, const char *a)
@@ -346,11 +346,11 @@ static const char *val_background(const scene_opts *o, char *b, size_t n)
 }
 static const char *val_aov(const scene_opts *o, char *b, size_t n)
 {
-    static const char *const names[] = {"normal", "bary", "instance", "gregory", "depth"};
     size_t k = 0;
     b[0] = '\0';
-    for (int i = 0; i < 5; i++)
-        if (o->aovs & (1u << i)) k += (size_t)snprintf(b + k, k < n ? n - k : 0, "%s%s", k ? "," : "", names[i]);
+    for (int i = 0; i < SCENE_AOV_COUNT; i++)
+        if (o->aovs & scene_aov_table[i].bit)
+            k += (size_t)snprintf(b + k, k < n ? n - k : 0, "%s%s", k ? "," : "", scene_aov_table[i].name);
     return k ? b : val_printf(b, n, "none");
 }
 static const char *val_d3d9_adaptive(const scene_opts *o, char *b, size_t n)
@@ -447,8 +447,9 @@ const scene_option scene_options[] = {
     {"max-import-memory", 0, "MIB", "memory for the mesh import", "by the files' size", opt_max_import_memory, NULL, NULL},
     {"aov", 0, "LIST", "EXR only: extra float channels (one sample per pixel), comma-separated: normal (N.X,N.Y,N.Z, "
      "the patch's unit normal), bary (bary.X,Y,Z), instance (the triangle's index; -1 on the background, which no "
-     "triangle has), gregory (gregory.X,Y,Z), depth (view-space depth in the mesh's units; +inf on the background); "
-     "the others are 0 on the background", NULL, opt_aov, NULL, val_aov},
+     "triangle has), gregory (gregory.X,Y,Z), uv (uv.U,uv.V: the texture coordinates TEXCOORD0; added by itself with "
+     "--texture), depth (view-space depth in the mesh's units; +inf on the background); the others are 0 on the "
+     "background", NULL, opt_aov, NULL, val_aov},
     {"d3d9-adaptive", 0, "MDM", "npatch-mode: D3D9's adaptive tessellation, per vertex level * ref / depth, per edge "
      "the mean, clamped to 1..--level; MDM is depth (the view depth over the nearest point's) or X,Y,Z,W (D3DRS_"
      "ADAPTIVETESS_*, dotted with the mesh's vertices)", NULL, opt_d3d9_adaptive, NULL, val_d3d9_adaptive},

@@ -184,18 +184,27 @@ bool scene_parse_msaa(const char *s, int *out)
     return true;
 }
 
-/* Comma-separated AOV names into a SCENE_AOV_* mask. */
+const scene_aov scene_aov_table[SCENE_AOV_COUNT] = {
+    {"normal", SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3, "N.X,N.Y,N.Z"},
+    {"bary", SCENE_AOV_BARY, VS_OUT_BARY, 3, "bary.X,bary.Y,bary.Z"},
+    {"instance", SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1, "instance"},
+    {"gregory", SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3, "gregory.X,gregory.Y,gregory.Z"},
+    {"uv", SCENE_AOV_UV, VS_OUT_TEX, 2, "uv.U,uv.V"},
+    {"depth", SCENE_AOV_DEPTH, -1, 1, "depth"},
+};
+
+/* Comma-separated AOV names (scene_aov_table's) into a SCENE_AOV_* mask. */
 bool scene_parse_aovs(const char *s, unsigned *out)
 {
-    static const char *const names[] = {"normal", "bary", "instance", "gregory", "depth", NULL};
     char buf[256];
     if (!s || !*s || strlen(s) >= sizeof buf) return false;
     strcpy(buf, s);
     unsigned m = 0;
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        int k = lookup(t, names);
-        if (k < 0) return false;
-        m |= 1u << k;
+        int k = 0;
+        while (k < SCENE_AOV_COUNT && strcmp(t, scene_aov_table[k].name) != 0) k++;
+        if (k == SCENE_AOV_COUNT) return false;
+        m |= scene_aov_table[k].bit;
     }
     *out = m;
     return m != 0;
@@ -764,17 +773,16 @@ is_device *scene_create_device(const scene_opts *o, int samples, unsigned aovs, 
     is_device *dev = dev_create(o->width, o->height, samples, err, errlen);
     if (!dev) return NULL;
     dev_set_threads(dev, o->threads);
-    static const struct { unsigned bit; int slot, comps; } aov_slots[] = {
-        {SCENE_AOV_NORMAL, VS_OUT_NORMAL, 3}, {SCENE_AOV_BARY, VS_OUT_BARY, 3},
-        {SCENE_AOV_INSTANCE, VS_OUT_INSTANCE, 1}, {SCENE_AOV_GREGORY, VS_OUT_GREGORY, 3}};
-    for (size_t k = 0; k < 4; k++)
-        if ((aovs & aov_slots[k].bit) && rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 +
-                                                           aov_slots[k].slot, aov_slots[k].comps) != RS_OK) {
+    for (size_t k = 0; k < SCENE_AOV_COUNT; k++) {   /* planes in the table's (the channels') order */
+        const scene_aov *a = &scene_aov_table[k];
+        if ((aovs & a->bit) && a->slot >= 0 &&
+            rs_target_add_aov(dev_render_target(dev), RS_ATTR_TEXCOORD0 + a->slot, a->comps) != RS_OK) {
             /* a plane missing would leave its channels silently empty in the image */
             snprintf(err, errlen, "out of memory for the AOV planes of a %dx%d target", o->width, o->height);
             dev_destroy(dev);
             return NULL;
         }
+    }
     return dev;
 }
 
@@ -808,12 +816,18 @@ is_device *scene_render_view(const scene_opts *o, const is_mesh *m, const core_g
     return dev;
 }
 
-/* Channel names of the image: R,G,B,A,Z then the AOVs in SCENE_AOV_* order. */
+/* Channel names of the image: R,G,B,A,Z then the AOVs in scene_aov_table's order. */
 static void channel_list(unsigned aovs, char *buf, size_t len)
 {
-    snprintf(buf, len, "R,G,B,A,Z%s%s%s%s%s", aovs & SCENE_AOV_NORMAL ? ",N.X,N.Y,N.Z" : "",
-             aovs & SCENE_AOV_BARY ? ",bary.X,bary.Y,bary.Z" : "", aovs & SCENE_AOV_INSTANCE ? ",instance" : "",
-             aovs & SCENE_AOV_GREGORY ? ",gregory.X,gregory.Y,gregory.Z" : "", aovs & SCENE_AOV_DEPTH ? ",depth" : "");
+    size_t k = (size_t)snprintf(buf, len, "R,G,B,A,Z");
+    for (int a = 0; a < SCENE_AOV_COUNT; a++)
+        if (aovs & scene_aov_table[a].bit)
+            k += (size_t)snprintf(buf + k, k < len ? len - k : 0, ",%s", scene_aov_table[a].channels);
+}
+
+unsigned scene_aovs_of(const scene_opts *o)
+{
+    return o->aovs | (o->texture && o->output && has_ext(o->output, ".exr") ? SCENE_AOV_UV : 0u);
 }
 
 int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t errlen)
@@ -964,7 +978,11 @@ unsigned long long scene_memory_estimate(const scene_opts *o, size_t mesh_triang
 {
     unsigned long long px = (unsigned long long)o->width * (unsigned long long)o->height;
     unsigned long long bytes = px * ((unsigned long long)o->msaa * 8 + 4 + 5 * 4);   /* target, resolve, image */
-    if (o->aovs) bytes += px * (8 + 4 + 11 * 4 + 12 * 4);   /* the AOV device's target and planes, the channels */
+    if (scene_aovs_of(o)) {   /* the AOV device's target and planes, the channels: every AOV's, at most */
+        unsigned long long c = 0;
+        for (int a = 0; a < SCENE_AOV_COUNT; a++) c += (unsigned long long)scene_aov_table[a].comps;
+        bytes += px * (8 + 4 + c * 4 + (c + 1) * 4);
+    }
     bytes += (unsigned long long)mesh_triangles * (sizeof(is_patch_instance) + 64);
     if (o->path == SCENE_PATH_CPU)
         bytes += SCENE_CPU_BYTES_PER_VERTEX * (unsigned long long)mesh_triangles * grid_points;
@@ -1008,14 +1026,15 @@ static int render_mesh(const scene_opts *o, const is_mesh *m, float unit, is_ima
     if (st) memset(st, 0, sizeof *st), st->mesh_triangles = m->n_triangles, st->grid_points = g.n_points,
             st->grid_triangles = g.n_triangles;
     char names[256];
-    channel_list(o->aovs, names, sizeof names);
+    const unsigned aovs = scene_aovs_of(o);
+    channel_list(aovs, names, sizeof names);
     int rc = -1;
     is_device *dev = scene_render_view(o, m, &g, o->msaa, 0, st, err, errlen);
     if (dev && image_alloc(img, o->width, o->height, names, err, errlen) == 0) {
         rc = scene_copy_color_depth(dev_render_target(dev), img, err, errlen);
         if (rc != 0) image_free(img);
-        if (rc == 0 && o->aovs) {
-            is_device *adev = scene_render_view(o, m, &g, 1, o->aovs, NULL, err, errlen);
+        if (rc == 0 && aovs) {
+            is_device *adev = scene_render_view(o, m, &g, 1, aovs, NULL, err, errlen);
             scene_camera cam = make_camera(o, m);
             cam.radius *= unit;
             if (adev) copy_aovs(dev_render_target(adev), &cam, img, 5);

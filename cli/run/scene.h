@@ -63,7 +63,19 @@ typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_ada
  * (SCENE_INSTANCE_BACKGROUND on the background: no triangle has it), Gregory coordinates gregory.* (0), and the
  * view-space depth `depth` (the distance from the camera's plane along the view direction, in the mesh's
  * units; +infinity on the background).  One sample per pixel. */
-enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8, SCENE_AOV_DEPTH = 16 };
+enum { SCENE_AOV_NORMAL = 1, SCENE_AOV_BARY = 2, SCENE_AOV_INSTANCE = 4, SCENE_AOV_GREGORY = 8, SCENE_AOV_DEPTH = 16,
+       SCENE_AOV_UV = 32 };
+/* ... and uv.U,uv.V: the interpolated texture coordinates TEXCOORD0.xy that --texture samples at (0 on the
+ * background), added by itself to an .exr output of a render with --texture (scene_aovs_of).
+ * The one table of the AOVs, in the order of the image's channels (after R,G,B,A,Z): its --aov name, SCENE_AOV_*
+ * bit, the vertex shader output its plane copies (VS_OUT_*; -1: computed from the depth buffer, after the planes)
+ * and its channels. */
+typedef struct scene_aov { const char *name; unsigned bit; int slot, comps; const char *channels; } scene_aov;
+#define SCENE_AOV_COUNT 6
+extern const scene_aov scene_aov_table[SCENE_AOV_COUNT];
+/* The AOVs a render of o writes: o->aovs, with SCENE_AOV_UV when o has a texture and an .exr output. */
+struct scene_opts;
+unsigned scene_aovs_of(const struct scene_opts *o);
 #define SCENE_INSTANCE_BACKGROUND (-1.0f)
 
 typedef struct scene_opts {
