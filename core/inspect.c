@@ -194,7 +194,10 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
     struct dev_inspector *in = dev->inspector;
     is_inspect *rec = in->rec;
     size_t mark = rec->n_fragments;
-    in->skip = !triangles(type) || rec->out_of_memory;
+    /* a draw into a render target of another size or sample count than the one recording began on is not
+     * recorded (the pixel and the scratch target are the first target's) */
+    in->skip = !triangles(type) || rec->out_of_memory || dev->rt.width != in->t.width ||
+               dev->rt.height != in->t.height || dev->rt.samples != 1;
     if (in->skip) return mark;
     if (count > in->verts_cap) {
         rs_vertex *p = realloc(in->verts, (size_t)count * sizeof *p);

@@ -20,7 +20,8 @@
  *    snapped position relative to the viewport centre unchanged; the pixel holds what the render target held
  *    before the draw.  So the last fragment's colour and depth are the target's (tests/test_inspect.c checks it).
  *  - Limits: the device's draws of triangles (lists, strips, fans) with one sample per pixel are recorded; the
- *    device's own N-patch mode, points and lines are counted in draws_skipped.  At most IS_INSPECT_MAX_FRAGMENTS
+ *    device's own N-patch mode, points and lines, and draws into a render target of another size than the one
+ *    recording began on (SetRenderTarget), are counted in draws_skipped.  At most IS_INSPECT_MAX_FRAGMENTS
  *    fragments are kept (the rest counted in fragments_dropped).
  *  - Errors: dev_inspect_begin returns IS_ERR_INVALIDCALL for a NULL device or record, a pixel outside the target,
  *    or a multisampled target (nothing changes).  Recording that runs out of memory stops recording and sets

@@ -156,12 +156,37 @@ static void test_viewport_beyond_target(void **state)
     destroy(dev);
 }
 
+/* A draw into a render target of another size is not recorded (counted skipped); back on the first target, it is. */
+static void test_other_render_target(void **state)
+{
+    (void)state;
+    is_device *dev = device_with_triangle(1);
+    is_surface *back, *small;
+    assert_int_equal(dev_get_render_target(dev, 0, &back), IS_OK);
+    assert_int_equal(dev_create_render_target(dev, 8, 8, IS_FMT_A8R8G8B8, 0, &small), IS_OK);
+    is_inspect rec = {0};
+    assert_int_equal(dev_inspect_begin(dev, 12, 12, &rec), IS_OK);   /* outside the small target */
+    assert_int_equal(dev_set_render_target(dev, 0, small), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(rec.draws_skipped, 1);
+    assert_int_equal(rec.n_fragments, 0);
+    assert_int_equal(dev_set_render_target(dev, 0, back), IS_OK);
+    assert_int_equal(dev_draw_primitive(dev, IS_PT_TRIANGLELIST, 0, 1), IS_OK);
+    assert_int_equal(rec.draws, 1);
+    assert_int_equal(rec.n_fragments, 1);
+    dev_inspect_end(dev);
+    is_inspect_free(&rec);
+    surf_release(small);
+    destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arguments),
         cmocka_unit_test(test_draws),
         cmocka_unit_test(test_viewport_beyond_target),
+        cmocka_unit_test(test_other_render_target),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
