@@ -140,7 +140,7 @@ void dev_reset(is_device *dev)
     set_default_states(dev);
     memset(dev->streams, 0, sizeof dev->streams);
     for (int s = 0; s < IS_MAX_STREAMS; s++) dev->streams[s].freq = 1;
-    dev->ib = NULL, dev->decl = NULL, dev->vs = NULL;
+    dev->ib = NULL, dev->decl = NULL, dev->vs = NULL, dev->fvf = 0;
     memset(&dev->consts, 0, sizeof dev->consts);
     dev->ps = NULL;
     memset(dev->ps_consts.c, 0, sizeof dev->ps_consts.c);
@@ -196,6 +196,12 @@ void dev_destroy(is_device *dev)
     if (!dev || dev->destroyed) return;
     inspect_stop(dev);
     sb_abort_recording(dev);
+    if (dev->fvf_decl) {   /* the declaration SetFVF made is the device's own */
+        is_vertex_declaration *d = dev->fvf_decl;
+        dev->fvf_decl = NULL, dev->fvf = 0;
+        if (dev->decl == d) dev->decl = NULL;
+        decl_release(d);
+    }
     dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* dev->rt describes the device's own planes again */
     dev_release_textures(dev);
     for (dev_res *r = dev->resources; r; r = r->next) res_free_contents(r);
@@ -264,7 +270,7 @@ is_result dev_set_vertex_declaration(is_device *dev, is_vertex_declaration *decl
         return dev_fail(dev, IS_ERR_INVALIDCALL, "SetVertexDeclaration: not a live declaration of this device (another "
                         "device's, or released)");
     if (dev->recording) dev->recording->decl = decl, dev->recording->has_decl = true;
-    else dev->decl = decl;
+    else dev->decl = decl, dev->fvf = 0;   /* GetFVF: no FVF now (dev_set_fvf sets it after) */
     return IS_OK;
 }
 

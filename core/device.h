@@ -681,6 +681,13 @@ INSTESS_API is_result dev_set_depth_stencil_surface(is_device *dev, is_surface *
 INSTESS_API is_result dev_get_depth_stencil_surface(const is_device *dev, is_surface **out);
 INSTESS_API is_result dev_get_render_target_surface_data(is_device *dev, is_surface *src, is_surface *dst);
 
+/* SetFVF / GetFVF (core/fvf.c): the declaration the runtime makes for a flexible vertex format (XYZ or XYZRHW,
+ * NORMAL, PSIZE, DIFFUSE, SPECULAR, TEXCOUNT with D3DFVF_TEXCOORDSIZEn), in one stream, set as the vertex
+ * declaration; the FVF values are D3D9's (D3DFVF_XYZRHW = 0x004, D3DFVF_DIFFUSE = 0x040, D3DFVF_TEX1 = 0x100...).
+ * Blend weights and unknown bits are refused; SetVertexDeclaration makes GetFVF 0. */
+INSTESS_API is_result dev_set_fvf(is_device *dev, uint32_t fvf);
+INSTESS_API is_result dev_get_fvf(const is_device *dev, uint32_t *fvf);
+
 #ifdef __cplusplus
 }
 #endif

@@ -242,6 +242,8 @@ struct is_device {
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
     struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
     const is_pixel_shader *ps;  /* SetPixelShader (core/pixel.c), NULL: the fixed path */
+    uint32_t fvf;               /* SetFVF's value (core/fvf.c), 0 after SetVertexDeclaration */
+    is_vertex_declaration *fvf_decl; /* the declaration made for it, owned by the device */
     is_ps_constants ps_consts;  /* its c0..c223; s points at ps_samplers */
     /* core/raster_states.c: SetScissorRect, SetClipPlane */
     is_rect scissor;

@@ -863,6 +863,24 @@ static void test_raster_state_edges(void **state)
     fixture_free(&f);
 }
 
+/* SetFVF / GetFVF with NULL devices and outputs, every bit pattern class the runtime refuses (nothing changed). */
+static void test_fvf_edges(void **state)
+{
+    (void)state;
+    uint32_t v = 5;
+    assert_int_equal(dev_set_fvf(NULL, 0x004u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_fvf(NULL, &v), IS_ERR_INVALIDCALL);
+    char err[128];
+    is_device *dev = dev_create(4, 4, 1, err, sizeof err);
+    assert_int_equal(dev_get_fvf(dev, NULL), IS_ERR_INVALIDCALL);
+    const uint32_t bad[] = {0u, 0x006u, 0x00eu, 0x4002u, 0xffffffffu, 0x004u | 0xf00u, 0x1000u | 0x002u};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) assert_int_equal(dev_set_fvf(dev, bad[k]), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_get_fvf(dev, &v), IS_OK);
+    assert_int_equal(v, 0u);
+    assert_int_equal(dev_set_fvf(dev, 0x002u | 0x800u | 0xffff0000u), IS_OK);   /* 8 sets, every size code */
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -871,7 +889,7 @@ int main(void)
         cmocka_unit_test(test_draw_edges),    cmocka_unit_test(test_draw_strides),
         cmocka_unit_test(test_draw_instancing), cmocka_unit_test(test_adaptive_levels),
         cmocka_unit_test(test_ownership),     cmocka_unit_test(test_state_blocks),
-        cmocka_unit_test(test_raster_state_edges), cmocka_unit_test(test_surfaces),
+        cmocka_unit_test(test_raster_state_edges), cmocka_unit_test(test_fvf_edges), cmocka_unit_test(test_surfaces),
     };
     return cmocka_run_group_tests_name("api_device", tests, NULL, NULL);
 }
