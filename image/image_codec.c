@@ -29,6 +29,7 @@
 #include "image_internal.h"
 
 #include <dlfcn.h>
+#include <errno.h>
 #include <sys/stat.h>
 #include <limits.h>
 #include <pthread.h>
@@ -178,17 +179,29 @@ static const char *kind_of(mode_t m)
            : S_ISSOCK(m) ? "a socket" : "not a regular file";
 }
 
+/* Whether path names a file image_read may open: a regular file (a FIFO would block the reader, /dev/zero never
+ * ends), not empty, at most IS_IMAGE_MAX_FILE_BYTES; else false with why in err.  Decided by stat, before any
+ * open, so that OpenImageIO never reads a file it would scan for minutes. */
+static bool readable_image_file(const char *path, char *err, size_t errlen)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return image_set_err(err, errlen, "%s: cannot open: %s", path, strerror(errno)), false;
+    if (!S_ISREG(st.st_mode))
+        return image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode)), false;
+    if (st.st_size == 0) return image_set_err(err, errlen, "%s: empty file, not an image", path), false;
+    if ((unsigned long long)st.st_size > IS_IMAGE_MAX_FILE_BYTES)
+        return image_set_err(err, errlen, "%s: the file has %lld bytes, more than the limit of %llu for an image "
+                             "file; not opened", path, (long long)st.st_size, IS_IMAGE_MAX_FILE_BYTES), false;
+    return true;
+}
+
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
     if (img) memset(img, 0, sizeof *img);
     if (!img || !path || !*path) return image_set_err(err, errlen, "image_read: NULL image or empty path"), -1;
-    struct stat st;   /* a FIFO would block the reader, /dev/zero never ends: refused before opening */
-    if (path && *path && stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        if (img) memset(img, 0, sizeof *img);
-        image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode));
-        return -1;
-    }
-    int png = img && path && *path ? image_png_read(img, path, err, errlen) : 1;   /* most PNGs: libpng */
+    if (!readable_image_file(path, err, errlen)) return -1;
+    int png = image_png_read(img, path, err, errlen);   /* every PNG (by its signature): libpng */
     if (png != 1) return png;
     const codec_table *c = codec(err, errlen);
     return c ? c->read(img, path, err, errlen) : -1;

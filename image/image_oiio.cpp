@@ -172,7 +172,14 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
 {
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // return stored colour as is (no premultiplication)
-    auto in = ImageInput::open(path, &config);
+    // The reader of the extension alone: ImageInput::open tried every other reader on a file the first refused,
+    // some of which read it whole (minutes for a large file of zeros named .exr).
+    auto in = ImageInput::create(path, false, &config);
+    ImageSpec opened;
+    if (in && !in->open(path, opened, config)) {
+        set_err(err, errlen, "%s: cannot read: %s", path, in->geterror().c_str());
+        return -1;
+    }
     if (!in) {
         set_err(err, errlen, "%s: cannot read: %s", path, OIIO::geterror().c_str());
         return -1;

@@ -7,10 +7,13 @@
  * usage error.  Its options are the table below, from which its usage text and the man page are printed. */
 #include "scene.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* What the command line asked for. */
 typedef struct compare_args {
@@ -86,6 +89,29 @@ static int parse_compare_args(int argc, char **argv, compare_args *a, int *code)
     return 0;
 }
 
+/* Whether the --diff path can be written (checked before any image is read, so that a run that cannot write its
+ * diff image fails at once): absent or a regular file, in a folder that exists and the process can write into;
+ * else false with the reason printed.  image_write checks again when it writes (the path may change meanwhile). */
+static bool diff_target_ok(const char *path)
+{
+    struct stat st;
+    const char *what = NULL;
+    if (lstat(path, &st) == 0)
+        what = S_ISLNK(st.st_mode) ? "is a symbolic link (instess does not write through links)"
+               : S_ISDIR(st.st_mode) ? "is a directory" : S_ISFIFO(st.st_mode) ? "is a FIFO"
+               : !S_ISREG(st.st_mode) ? "is not a regular file" : NULL;
+    char folder[4096];
+    const char *slash = strrchr(path, '/');
+    snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+    if (!what && access(folder, W_OK | X_OK) != 0) {
+        fprintf(stderr, "instess compare: --diff %s: cannot create a file in the folder %s: %s\n", path, folder,
+                strerror(errno));
+        return false;
+    }
+    if (what) fprintf(stderr, "instess compare: --diff %s: %s\n", path, what);
+    return !what;
+}
+
 /* The report of a comparison that ran (verdict pass or different) on stdout. */
 static void print_report(const compare_args *a, const is_image_diff *d, is_image_verdict v)
 {
@@ -120,6 +146,7 @@ int scene_cmd_compare(int argc, char **argv)
     compare_args a;
     int code = 0;
     if (parse_compare_args(argc, argv, &a, &code) != 0) return code;
+    if (a.diff && !diff_target_ok(a.diff)) return 4;
     is_image_diff d;
     char err[2048];
     is_image_verdict v = image_check_files(a.a, a.b, a.fail, a.failpercent, a.diff, &d, err, sizeof err);
