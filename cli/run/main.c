@@ -6,10 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scene.h"
 
 #include <errno.h>
+#include <fcntl.h>
 
 /* The exit codes of a render (--help and the man page print this sentence; '\n' breaks the usage's line). */
 static const char render_exit_codes[] =
@@ -130,21 +132,37 @@ static void install_signal_handlers(void)
     signal(SIGXFSZ, SIG_IGN);
 }
 
-/* rc, or 1 (said on stderr) when what was written to stdout did not all reach it (a full disk, a closed pipe):
+/* rc, or code (said on stderr) when what was written to stdout did not all reach it (a full disk, a closed pipe):
  * output lost is a failure, not a success. */
-static int stdout_checked(int rc)
+static int stdout_checked(int rc, int code)
 {
     errno = 0;
     if (fflush(stdout) == 0 && !ferror(stdout)) return rc;
     fprintf(stderr, "instess: cannot write to standard output: %s\n", errno ? strerror(errno) : "write error");
-    return rc ? rc : 1;
+    return rc ? rc : code;
 }
 
 static int run_command(int argc, char **argv);
 
+/* Descriptors 0, 1 and 2 that were closed when the program started get /dev/null opened read-only: otherwise the
+ * next file the program opens (an output's temporary, the mesh) would be descriptor 1, and what is printed for
+ * stdout -- --stats json -- would go into it.  Writes to a read-only descriptor fail, so a closed stdout is still
+ * reported (stdout_checked, --stats json) rather than silently lost. */
+static void hold_standard_descriptors(void)
+{
+    for (int fd = 0; fd <= 2; fd++) {
+        if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+        int got = open("/dev/null", O_RDONLY);
+        if (got >= 0 && got != fd) close(got);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    return stdout_checked(run_command(argc, argv));
+    hold_standard_descriptors();
+    /* compare's exit 1 means "the images differ": output it could not write is its I/O error, 4 */
+    bool compare = argc > 1 && strcmp(argv[1], "compare") == 0;
+    return stdout_checked(run_command(argc, argv), compare ? 4 : 1);
 }
 
 /* The program: the subcommands, or a render. */
