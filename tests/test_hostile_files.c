@@ -247,6 +247,38 @@ static void test_figures_only_ids(void **state)
     assert_int_equal(count_in("err.txt", "[ 1/1]"), 1);   /* one figure rendered */
 }
 
+/* Whether err_buf holds a control byte other than the newline. */
+static bool control_bytes_in_err(void)
+{
+    for (const unsigned char *c = (const unsigned char *)err_buf; *c; c++)
+        if ((*c < 0x20 && *c != '\n') || *c == 0x7f) return true;
+    return false;
+}
+
+/* Values and file names with control bytes or an escape sequence, echoed in a message: shown with '?' in their
+ * place, so that no option value or file name puts an escape sequence on the user's terminal (an option's value
+ * and compare's file names went out raw). */
+static void test_messages_without_control_bytes(void **state)
+{
+    (void)state;
+    static const struct { const char *args, *what; int code; } cases[] = {
+        {"--level \"$(printf '\\033[2J')\" -o x.png", "--level must be a number in 1..256: ?[2J", 2},
+        {"--size \"$(printf '8x8\\007')\" -o x.png", "?", 2},
+        {"\"$(printf 'm\\033]0;t\\007.obj')\" -o x.png", "m?]0;t?.obj", 1},
+        {"--bogus-\"$(printf '\\033')\" -o x.png", "--bogus-?", 2},
+        {"compare \"$(printf 'a\\033[1m.png')\" b.png", "a?[1m.png", 4},
+        {"compare a.png b.png --diff \"$(printf 'd\\033.png')\" --fail \"$(printf '\\033')\"", "?", 2},
+        {"compare a.png b.png --diff \"$(printf 'no\\033/d.png')\"", "no?/d.png", 4},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        int rc = run("%s", cases[k].args);
+        if (rc != cases[k].code || !strstr(err_buf, cases[k].what) || control_bytes_in_err())
+            fail_msg("%s: exit %d (want %d, \"%s\", no control byte):\n%s", cases[k].args, rc, cases[k].code,
+                     cases[k].what, err_buf);
+    }
+    assert_int_equal(kind("x.png"), 0);
+}
+
 /* ------------------------------------------------------------ stdout, --stats json, the input mesh */
 
 /* A failed write to stdout -- /dev/full, a closed descriptor -- is an error with a message, for every command
@@ -511,6 +543,7 @@ int main(void)
         cmocka_unit_test(test_figures_out_read_only),
         cmocka_unit_test(test_figures_out_busy_folder),
         cmocka_unit_test(test_figures_only_ids),
+        cmocka_unit_test(test_messages_without_control_bytes),
         cmocka_unit_test(test_stdout_failures),
         cmocka_unit_test(test_stats_json_utf8),
         cmocka_unit_test(test_output_names_the_mesh),

@@ -63,10 +63,22 @@ static void print_version(FILE *f)
     fprintf(f, "rasterizer kernels on this CPU: %s (the same bytes as every other)\n", rs_isa_name(rs_isa_best()));
 }
 
+/* s as shown in a message into buf (len bytes): control bytes and DEL as '?', so that a value or file name
+ * never puts an escape sequence on the terminal; buf. */
+static const char *shown(const char *s, char *buf, size_t len)
+{
+    size_t n = 0;
+    for (; s && s[n] && n + 1 < len; n++) buf[n] = (unsigned char)s[n] < 0x20 || s[n] == 0x7f ? '?' : s[n];
+    if (len) buf[n] = 0;
+    return buf;
+}
+
 /* Print msg and the usage hint; exit code 2. */
 static int usage_error(const char *msg, const char *arg)
 {
-    fprintf(stderr, "instess: %s%s%s\nTry 'instess --help'.\n", msg, arg ? ": " : "", arg ? arg : "");
+    char m[2048], a[1024];
+    fprintf(stderr, "instess: %s%s%s\nTry 'instess --help'.\n", shown(msg, m, sizeof m), arg ? ": " : "",
+            arg ? shown(arg, a, sizeof a) : "");
     return 2;
 }
 
@@ -99,7 +111,8 @@ static int cmd_render(int argc, char **argv)
         return usage_error("-o and --export-obj name the same file", o.output);
     warn_level_clamp(&o);
     if (scene_render_to_file(&o, err, sizeof err) != 0) {
-        fprintf(stderr, "instess: %s\n", err);
+        char m[sizeof err];
+        fprintf(stderr, "instess: %s\n", shown(err, m, sizeof m));
         return 1;
     }
     return 0;
