@@ -1200,7 +1200,7 @@ static int write_stats_json(const scene_opts *o, const is_mesh *m, const run_rep
     }
     free(text);
     if (!ok)
-        snprintf(err, errlen, "cannot write the statistics (--stats json) to the standard output: %s; nothing written",
+        snprintf(err, errlen, "cannot write to standard output: %s (the statistics of --stats json); nothing written",
                  errno ? strerror(errno) : "write error");
     return ok ? 0 : -1;
 }
