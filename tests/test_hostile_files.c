@@ -173,7 +173,12 @@ static void test_figures_out_read_only(void **state)
              "%s figures --only " FIG " --out %s/gallery 2>%s/err.txt; echo $? >%s/rc.txt; ls -A %s >%s/left.txt'",
              mnt, mnt, bin, mnt, dir, dir, mnt, dir);
     int st = system(cmd);
-    if (st != 0) fail_msg("could not mount a read-only tmpfs in a private namespace (unshare -r -m; status %d)", st);
+    if (st != 0) {   /* no user namespaces here (a container that forbids them): the case cannot be set up */
+        print_message("  could not mount a read-only tmpfs in a private namespace (unshare -r -m; status %d): "
+                      "skipped\n", st);
+        rmdir(mnt);
+        skip();
+    }
     assert_true(holds("rc.txt", "1\n"));
     assert_true(holds("left.txt", ""));
     assert_int_equal(count_in("err.txt", "ro/gallery: cannot create the directory: Read-only file system"), 1);

@@ -170,9 +170,38 @@ static void hold_standard_descriptors(void)
     }
 }
 
+/* Whether s is a thread count the OpenMP runtimes take: a comma-separated list of whole numbers 1..65536. */
+static bool thread_list_ok(const char *s)
+{
+    for (;;) {
+        size_t n = strspn(s, "0123456789");
+        if (n == 0 || n > 5 || strtoul(s, NULL, 10) < 1 || strtoul(s, NULL, 10) > 65536) return false;
+        s += n;
+        if (!*s) return true;
+        if (*s++ != ',') return false;
+    }
+}
+
+/* OMP_NUM_THREADS and OMP_THREAD_LIMIT that are no thread count are removed (said on stderr), before the OpenMP
+ * runtime reads them on its first call: LLVM's libomp (the sanitizer build's) aborts on 99999999999 (an
+ * assertion in kmp_runtime.cpp), and the program sets its threads itself (--threads) in any case. */
+static void drop_bad_openmp_variables(void)
+{
+    static const char *const names[] = {"OMP_NUM_THREADS", "OMP_THREAD_LIMIT"};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+        const char *v = getenv(names[k]);
+        if (!v || thread_list_ok(v)) continue;   /* empty too: libomp asserts on it */
+        char m[64];
+        fprintf(stderr, "instess: warning: %s='%s' is not a thread count (1..65536, or a list of them): ignored\n",
+                names[k], shown(v, m, sizeof m));
+        unsetenv(names[k]);
+    }
+}
+
 int main(int argc, char **argv)
 {
     hold_standard_descriptors();
+    drop_bad_openmp_variables();
     /* compare's exit 1 means "the images differ": output it could not write is its I/O error, 4 */
     bool compare = argc > 1 && strcmp(argv[1], "compare") == 0;
     return stdout_checked(run_command(argc, argv), compare ? 4 : 1);
