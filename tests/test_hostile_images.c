@@ -580,6 +580,16 @@ static void test_png_kinds(void **state)
         }
         image_free(&a);
     }
+    /* RGB with a tRNS colour key: an alpha channel, 0 where the key matches (palette PNGs get theirs from
+     * png_set_palette_to_rgb; this one only from png_set_tRNS_to_alpha) */
+    unsigned char rgb[1 + 6] = {0, 10, 20, 30, 40, 50, 60};
+    const unsigned char key[6] = {0, 10, 0, 20, 0, 30};   /* 16-bit samples of the key colour 10, 20, 30 */
+    png_desc kd = {.w = 2, .h = 1, .depth = 8, .ctype = 2, .trns = key, .n_trns = 6, .raw = rgb, .n_raw = 7};
+    write_png("rgbkey.png", &kd);
+    assert_int_equal(image_read(&a, at("rgbkey.png", path, sizeof path), err, sizeof err), 0);
+    assert_int_equal(a.channels, 4);
+    assert_true(a.data[3] == 0.0f && a.data[7] == 1.0f && a.data[4] == 40.0f * (1.0f / 255.0f));
+    image_free(&a);
     unsigned char ya[1 + 4] = {0, 10, 255, 200, 0};
     png_desc yd = {.w = 2, .h = 1, .depth = 8, .ctype = 4, .raw = ya, .n_raw = 5};
     write_png("ya.png", &yd);
