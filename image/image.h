@@ -5,8 +5,8 @@
  * values in [0, 1].  Functions return 0, or -1 with a message in err (errlen bytes, NUL-terminated); no globals,
  * nothing printed.  NULL images, paths and outputs, and images whose fields do not describe their data, are -1
  * (image_check: IS_IMAGE_BAD_ARGUMENT); tests/test_api_image.c walks every function.  OpenImageIO is loaded only
- * on the first call that needs it (an EXR written or read, a PNG libpng is not given -- palette, transparency key,
- * under 8 bits --, text): PNG files and comparisons never load it.
+ * on the first call that needs it (an EXR or another format written or read, text): PNG files (every kind) and
+ * comparisons never load it.
  */
 #ifndef INSTESS_IMAGE_H
 #define INSTESS_IMAGE_H

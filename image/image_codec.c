@@ -1,12 +1,12 @@
 /* image/image_codec.c -- the image codec, loaded on the first call that needs it: image_encode (EXR), image_read
  * (every file but the PNGs image/image_png.c decodes), image_draw_text and image_text_size (image/image.h)
  * forward to libinstess_codec.so (image/image_oiio.cpp and OpenImageIO), opened with dlopen.  PNG files are
- * written and most are read through libpng (image/image_png.c), and image_compare is C (image/image_diff.c):
+ * written and read through libpng (image/image_png.c), and image_compare is C (image/image_diff.c):
  * neither loads the module.
  *
  * Why: OpenImageIO brings in about 260 shared libraries, and loading them takes about 0.4 s (the dynamic
  * loader binding their symbols).  It was paid by every start of the program, then (with the module) by every
- * process that touched an image; now only by one that writes or reads an EXR (or an unusual PNG) or draws text.
+ * process that touched an image; now only by one that writes or reads an EXR (or another format) or draws text.
  *
  * Where the module is looked for, by absolute path only; the first folder that holds the file decides (a module
  * there that is refused is an error, not a reason to look further):
