@@ -5,8 +5,8 @@
  * values in [0, 1].  Functions return 0, or -1 with a message in err (errlen bytes, NUL-terminated); no globals,
  * nothing printed.  NULL images, paths and outputs, and images whose fields do not describe their data, are -1
  * (image_check: IS_IMAGE_BAD_ARGUMENT); tests/test_api_image.c walks every function.  OpenImageIO is loaded only
- * on the first call that needs it (an EXR written or read, a PNG libpng is not given -- palette, transparency key,
- * under 8 bits --, text): PNG files and comparisons never load it.
+ * on the first call that needs it (an EXR or another format written or read, text): PNG files (every kind) and
+ * comparisons never load it.
  */
 #ifndef INSTESS_IMAGE_H
 #define INSTESS_IMAGE_H
@@ -32,6 +32,9 @@ extern "C" {
 /* The most values (width x height x channels) image_read decodes: 2^28 floats, 1 GiB.  A file declaring more is
  * refused from its header, before any pixel is decoded (a few hundred bytes of PNG can declare gigapixels). */
 #define IS_IMAGE_MAX_VALUES (1ull << 28)
+/* The largest file image_read opens: 4 GiB (an OpenEXR file of IS_IMAGE_MAX_VALUES floats, uncompressed, is about
+ * 1 GiB).  A larger file is refused by its size, before it is opened. */
+#define IS_IMAGE_MAX_FILE_BYTES (4ull << 30)
 typedef struct is_image {
     int width, height, channels;
     char channel_names[IS_IMAGE_MAX_CHANNELS][16];  /* "R", "G", "B", "A", "Z", "N.X", ... */
@@ -77,10 +80,13 @@ INSTESS_API int image_encode(const is_image *img, is_image_format fmt, const is_
 /* Write one image file: encoded in memory, written to a temporary in the same folder (mkstemp) and renamed onto
  * path, which must be a regular file or absent; nothing is left at path on failure; 0 or -1. */
 INSTESS_API int image_write(const is_image *img, const char *path, const is_image_meta *meta, char *err, size_t errlen);
-/* Read any file OpenImageIO reads into floats (PNGs of 8 or 16 bits without palette or transparency key
- * through libpng, with the same names and values: Y for grey, k / 255 or k / 65535); 0 or -1.  Only a regular file is opened (a FIFO, a device such as
- * /dev/zero or a folder is refused with what it is); the header is checked first (IS_IMAGE_MAX_DIM,
- * IS_IMAGE_MAX_CHANNELS, IS_IMAGE_MAX_VALUES; deep images, and files of several parts or subimages, are
+/* Read any file OpenImageIO reads into floats (PNGs through libpng, with the same names and values: Y for grey,
+ * k / 255 or k / 65535); 0 or -1.  Every PNG is read through libpng (a palette, a transparency key and grey under 8 bits expanded as OpenImageIO expands them), its
+ * messages into err, never on stderr; other files through OpenImageIO's reader of their extension alone (a file
+ * that reader refuses is not tried with every other reader).  Only a regular file, not empty and at most
+ * IS_IMAGE_MAX_FILE_BYTES, is opened (a FIFO, a device such as /dev/zero or a folder is refused with what it
+ * is); the header is checked first (IS_IMAGE_MAX_DIM, IS_IMAGE_MAX_CHANNELS, IS_IMAGE_MAX_VALUES, and for PNG
+ * the samples deflate can hold in the file's bytes; deep images, and files of several parts or subimages, are
  * refused: instess reads one flat image), then the pixels are decoded. */
 INSTESS_API int image_read(is_image *img, const char *path, char *err, size_t errlen);
 

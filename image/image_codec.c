@@ -1,15 +1,17 @@
 /* image/image_codec.c -- the image codec, loaded on the first call that needs it: image_encode (EXR), image_read
  * (every file but the PNGs image/image_png.c decodes), image_draw_text and image_text_size (image/image.h)
  * forward to libinstess_codec.so (image/image_oiio.cpp and OpenImageIO), opened with dlopen.  PNG files are
- * written and most are read through libpng (image/image_png.c), and image_compare is C (image/image_diff.c):
+ * written and read through libpng (image/image_png.c), and image_compare is C (image/image_diff.c):
  * neither loads the module.
  *
  * Why: OpenImageIO brings in about 260 shared libraries, and loading them takes about 0.4 s (the dynamic
  * loader binding their symbols).  It was paid by every start of the program, then (with the module) by every
- * process that touched an image; now only by one that writes or reads an EXR (or an unusual PNG) or draws text.
+ * process that touched an image; now only by one that writes or reads an EXR (or another format) or draws text.
  *
- * Where the module is looked for, first found wins:
- *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install);
+ * Where the module is looked for, by absolute path only; the first folder that holds the file decides (a module
+ * there that is refused is an error, not a reason to look further):
+ *  1. $INSTESS_CODEC_DIR, when set (a relocated install, or a test of the staged install); it must be an
+ *     absolute path (a relative one is refused: a module is never loaded from the current directory);
  *  2. instess/ beside the shared library that holds this code (libinstess.so in LIBDIR finds
  *     LIBDIR/instess/libinstess_codec.so, wherever the library was installed or staged: found with dladdr);
  *  3. beside the executable (build/instess; the build puts a link to the module beside the test programs in
@@ -18,6 +20,9 @@
  *     would run inside instess;
  *  4. INSTESS_CODEC_DIR as compiled in by the Makefile (LIBDIR/instess of the PREFIX the library was built
  *     for): a program linked with the static archive libinstess.a finds the installed module there.
+ * Before dlopen runs any of its code, the file is checked: a regular file, it and its folder owned by root or
+ * this user and not writable by every user, a 64-bit ELF shared object whose dynamic symbols define codec_abi;
+ * then codec_abi must be CODEC_ABI before any entry point is called.
  * The module calls image_alloc, image_write and the like of the code that opened it through the table it is
  * handed when loaded (codec_set_host, image_internal.h): it has no undefined symbol of the library, so it loads
  * in a static program, and beside a libinstess.so opened with RTLD_LOCAL (Python's ctypes) alike.  When no module can be loaded, every call fails with a message naming
@@ -29,6 +34,9 @@
 #include "image_internal.h"
 
 #include <dlfcn.h>
+#include <elf.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <limits.h>
 #include <pthread.h>
@@ -38,6 +46,10 @@
 #include <unistd.h>
 
 #define CODEC_MODULE "libinstess_codec.so"
+/* The module's interface version, its exported int codec_abi (image/image_oiio.cpp): a module of another version
+ * is refused before any of its functions is called.  2: the host table (codec_set_host), PNG reading left the
+ * module. */
+#define CODEC_ABI 2
 
 /* The module's entry points (the image_* signatures of image/image.h). */
 typedef struct codec_table {
@@ -64,13 +76,16 @@ static void dir_of(const char *path, char *dir, size_t len)
     else snprintf(dir, len, "%.*s", (int)(slash - path), path);
 }
 
-/* The folder of the running executable into dir ("." if unknown). */
-static void exe_dir(char *dir, size_t len)
+/* The folder of the running executable into dir; false when unknown (then nothing is looked for beside it:
+ * "." would be the current directory). */
+static bool exe_dir(char *dir, size_t len)
 {
     char exe[PATH_MAX];
     ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    exe[n > 0 ? n : 0] = 0;
+    if (n <= 0 || exe[0] != '/') return false;
+    exe[n] = 0;
     dir_of(exe, dir, len);
+    return true;
 }
 
 /* The folder of the shared object that holds this code into dir; false when it is the executable itself
@@ -87,17 +102,26 @@ static bool library_dir(char *dir, size_t len)
     return true;
 }
 
-/* The folders to look in, in order (see the top of this file), into dirs[]; their number. */
-static int candidate_dirs(char dirs[][PATH_MAX + 32])
+/* The folders to look in, in order (see the top of this file), into dirs[]; their number, or -1 with the reason
+ * in why when $INSTESS_CODEC_DIR is not an absolute path. */
+static int candidate_dirs(char dirs[][PATH_MAX + 32], char *why, size_t whylen)
 {
     int n = 0;
     const char *env = getenv("INSTESS_CODEC_DIR");
     char d[PATH_MAX];
-    if (env && *env) snprintf(dirs[n++], PATH_MAX + 32, "%.*s", PATH_MAX, env);
+    if (env && *env) {
+        if (env[0] != '/') {
+            snprintf(why, whylen, "image codec: INSTESS_CODEC_DIR=%.300s is not an absolute path: refused (a module "
+                     "is never loaded from the current directory)", env);
+            return -1;
+        }
+        snprintf(dirs[n++], PATH_MAX + 32, "%.*s", PATH_MAX, env);
+    }
     if (library_dir(d, sizeof d)) snprintf(dirs[n++], PATH_MAX + 32, "%s/instess", d);
-    exe_dir(d, sizeof d);
-    snprintf(dirs[n++], PATH_MAX + 32, "%s", d);
-    snprintf(dirs[n++], PATH_MAX + 32, "%s/../lib/instess", d);
+    if (exe_dir(d, sizeof d)) {
+        snprintf(dirs[n++], PATH_MAX + 32, "%s", d);
+        snprintf(dirs[n++], PATH_MAX + 32, "%s/../lib/instess", d);
+    }
     snprintf(dirs[n++], PATH_MAX + 32, "%s", INSTESS_CODEC_DIR);
     return n;
 }
@@ -107,19 +131,127 @@ const char *image_codec_install_dir(void)
     return INSTESS_CODEC_DIR;
 }
 
-/* Open the module from the places above; its handle or NULL with g_codec.why filled. */
+/* Whether st (the module or its folder, named path) may hold code this process runs: owned by root or by this
+ * user, and not writable by others (a world-writable folder only with the sticky bit, as /tmp); else false
+ * with the reason in err. */
+static bool trusted(const char *path, const struct stat *st, bool folder, char *err, size_t errlen)
+{
+    uid_t me = geteuid();
+    const char *what = folder ? "folder of the module" : "module";
+    if (st->st_uid != 0 && st->st_uid != me) {
+        image_set_err(err, errlen, "%s: the %s is owned by user %u, neither root nor this user (%u): refused", path,
+                      what, (unsigned)st->st_uid, (unsigned)me);
+        return false;
+    }
+    if ((st->st_mode & S_IWOTH) && !(folder && (st->st_mode & S_ISVTX))) {
+        image_set_err(err, errlen, "%s: the %s is writable by every user: refused", path, what);
+        return false;
+    }
+    return true;
+}
+
+/* Whether the symbol table section ds (string table ss) of the ELF file fd (size bytes) defines name. */
+static bool dynsym_defines(int fd, uint64_t size, const Elf64_Shdr *ds, const Elf64_Shdr *ss, const char *name)
+{
+    if (ds->sh_offset > size || ds->sh_size > size - ds->sh_offset || ss->sh_offset > size ||
+        ss->sh_size > size - ss->sh_offset || ss->sh_size == 0)
+        return false;
+    bool found = false;
+    Elf64_Sym *sym = malloc(ds->sh_size ? ds->sh_size : 1);
+    char *str = malloc(ss->sh_size + 1);
+    if (sym && str && pread(fd, sym, ds->sh_size, (off_t)ds->sh_offset) == (ssize_t)ds->sh_size &&
+        pread(fd, str, ss->sh_size, (off_t)ss->sh_offset) == (ssize_t)ss->sh_size) {
+        str[ss->sh_size] = 0;
+        for (size_t i = 0; i < ds->sh_size / sizeof *sym && !found; i++)
+            found = sym[i].st_shndx != SHN_UNDEF && sym[i].st_name < ss->sh_size && !strcmp(str + sym[i].st_name, name);
+    }
+    free(sym);
+    free(str);
+    return found;
+}
+
+/* Whether the ELF file at fd (size bytes) defines the dynamic symbol `name` (its .dynsym section, every offset
+ * checked against the file); false with the reason in err naming path.  Read before dlopen, so that a file that
+ * is not the module it is named after never runs a constructor. */
+static bool elf_defines(int fd, uint64_t size, const char *name, const char *path, char *err, size_t errlen)
+{
+    Elf64_Ehdr eh;
+    if (pread(fd, &eh, sizeof eh, 0) != (ssize_t)sizeof eh || memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 ||
+        eh.e_ident[EI_CLASS] != ELFCLASS64 || eh.e_type != ET_DYN || eh.e_shentsize != sizeof(Elf64_Shdr) ||
+        eh.e_shnum == 0 || eh.e_shoff > size || (uint64_t)eh.e_shnum * sizeof(Elf64_Shdr) > size - eh.e_shoff) {
+        image_set_err(err, errlen, "%s: not a 64-bit ELF shared object: refused (not loaded)", path);
+        return false;
+    }
+    bool found = false;
+    size_t shbytes = (size_t)eh.e_shnum * sizeof(Elf64_Shdr);
+    Elf64_Shdr *sh = malloc(shbytes);
+    if (sh && pread(fd, sh, shbytes, (off_t)eh.e_shoff) == (ssize_t)shbytes)
+        for (unsigned k = 0; k < eh.e_shnum && !found; k++)
+            found = sh[k].sh_type == SHT_DYNSYM && sh[k].sh_link < eh.e_shnum &&
+                    sh[k].sh_entsize == sizeof(Elf64_Sym) && dynsym_defines(fd, size, &sh[k], &sh[sh[k].sh_link], name);
+    free(sh);
+    if (!found)
+        image_set_err(err, errlen, "%s: does not define %s, so it is not the module it is named after: refused (not "
+                      "loaded)", path, name);
+    return found;
+}
+
+/* dlopen the module at path (absolute) after checking it: a regular file, it and its folder trusted, an ELF
+ * shared object defining `symbol`; the handle, or NULL with the reason in err. */
+static void *module_open_checked(const char *path, const char *symbol, char *err, size_t errlen)
+{
+    char real[PATH_MAX], folder[PATH_MAX];
+    struct stat st;
+    if (!realpath(path, real) || stat(real, &st) != 0)
+        return image_set_err(err, errlen, "%s: %s", path, strerror(errno)), NULL;
+    if (!S_ISREG(st.st_mode)) return image_set_err(err, errlen, "%s: not a regular file: refused", path), NULL;
+    if (!trusted(real, &st, false, err, errlen)) return NULL;
+    dir_of(real, folder, sizeof folder);
+    if (stat(folder, &st) != 0) return image_set_err(err, errlen, "%s: %s", folder, strerror(errno)), NULL;
+    if (!trusted(folder, &st, true, err, errlen)) return NULL;
+    int fd = open(real, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return image_set_err(err, errlen, "%s: %s", path, strerror(errno)), NULL;
+    bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+              elf_defines(fd, (uint64_t)st.st_size, symbol, path, err, errlen);
+    close(fd);
+    if (!ok) return NULL;
+    dlerror();
+    void *h = dlopen(real, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char *why = dlerror();
+        image_set_err(err, errlen, "%s: cannot be loaded: %s", path, why ? why : "unknown reason");
+    }
+    return h;
+}
+
+/* Open the module from the places above (the first folder holding the file decides: a module there that is
+ * refused is an error, not a reason to look further) and check its version; its handle or NULL with
+ * g_codec.why filled. */
 static void *open_module(void)
 {
     char dirs[5][PATH_MAX + 32], path[PATH_MAX + 64];
-    int nd = candidate_dirs(dirs);
-    size_t n = (size_t)snprintf(g_codec.why, sizeof g_codec.why, "image codec: cannot load " CODEC_MODULE);
+    int nd = candidate_dirs(dirs, g_codec.why, sizeof g_codec.why);
+    if (nd < 0) return NULL;
     for (int k = 0; k < nd; k++) {
         snprintf(path, sizeof path, "%.*s/" CODEC_MODULE, PATH_MAX, dirs[k]);
-        if (access(path, R_OK) != 0) continue;
-        void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-        if (h) return h;
-        if (n < sizeof g_codec.why) n += (size_t)snprintf(g_codec.why + n, sizeof g_codec.why - n, "; %s", dlerror());
+        struct stat st;
+        if (lstat(path, &st) != 0) continue;
+        char why[1024];
+        void *h = module_open_checked(path, "codec_abi", why, sizeof why);
+        if (!h) {
+            snprintf(g_codec.why, sizeof g_codec.why, "image codec: %s", why);
+            return NULL;
+        }
+        const int *abi = dlsym(h, "codec_abi");
+        if (!abi || *abi != CODEC_ABI) {
+            snprintf(g_codec.why, sizeof g_codec.why, "image codec: %.2000s: not an image codec module of this "
+                     "version (codec_abi %d, this library needs %d): refused", path, abi ? *abi : 0, CODEC_ABI);
+            dlclose(h);
+            return NULL;
+        }
+        return h;
     }
+    size_t n = (size_t)snprintf(g_codec.why, sizeof g_codec.why, "image codec: cannot load " CODEC_MODULE);
     for (int k = 0; k < nd && n < sizeof g_codec.why; k++)
         n += (size_t)snprintf(g_codec.why + n, sizeof g_codec.why - n, "%s%.300s", k ? ", " : " (looked in ", dirs[k]);
     if (n < sizeof g_codec.why) snprintf(g_codec.why + n, sizeof g_codec.why - n, ")");
@@ -139,7 +271,8 @@ static void load_codec(void)
     void (*set_host)(const image_codec_host *);
     *(void **)&set_host = dlsym(h, "codec_set_host");
     if (!t.encode || !t.read || !t.draw_text || !t.text_size || !set_host) {
-        snprintf(g_codec.why, sizeof g_codec.why, "image codec: " CODEC_MODULE " lacks an entry point");
+        snprintf(g_codec.why, sizeof g_codec.why, "image codec: " CODEC_MODULE " lacks an entry point: refused");
+        dlclose(h);
         return;
     }
     static const image_codec_host host = {image_alloc, image_channel_index, image_free, image_write};
@@ -178,17 +311,29 @@ static const char *kind_of(mode_t m)
            : S_ISSOCK(m) ? "a socket" : "not a regular file";
 }
 
+/* Whether path names a file image_read may open: a regular file (a FIFO would block the reader, /dev/zero never
+ * ends), not empty, at most IS_IMAGE_MAX_FILE_BYTES; else false with why in err.  Decided by stat, before any
+ * open, so that OpenImageIO never reads a file it would scan for minutes. */
+static bool readable_image_file(const char *path, char *err, size_t errlen)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return image_set_err(err, errlen, "%s: cannot open: %s", path, strerror(errno)), false;
+    if (!S_ISREG(st.st_mode))
+        return image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode)), false;
+    if (st.st_size == 0) return image_set_err(err, errlen, "%s: empty file, not an image", path), false;
+    if ((unsigned long long)st.st_size > IS_IMAGE_MAX_FILE_BYTES)
+        return image_set_err(err, errlen, "%s: the file has %lld bytes, more than the limit of %llu for an image "
+                             "file; not opened", path, (long long)st.st_size, IS_IMAGE_MAX_FILE_BYTES), false;
+    return true;
+}
+
 int image_read(is_image *img, const char *path, char *err, size_t errlen)
 {
     if (img) memset(img, 0, sizeof *img);
     if (!img || !path || !*path) return image_set_err(err, errlen, "image_read: NULL image or empty path"), -1;
-    struct stat st;   /* a FIFO would block the reader, /dev/zero never ends: refused before opening */
-    if (path && *path && stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        if (img) memset(img, 0, sizeof *img);
-        image_set_err(err, errlen, "%s: is %s, not an image file", path, kind_of(st.st_mode));
-        return -1;
-    }
-    int png = img && path && *path ? image_png_read(img, path, err, errlen) : 1;   /* most PNGs: libpng */
+    if (!readable_image_file(path, err, errlen)) return -1;
+    int png = image_png_read(img, path, err, errlen);   /* every PNG (by its signature): libpng */
     if (png != 1) return png;
     const codec_table *c = codec(err, errlen);
     return c ? c->read(img, path, err, errlen) : -1;

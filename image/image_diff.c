@@ -51,6 +51,8 @@ static void compare_value(compare_acc *r, int x, int y, int c, float a, float b,
      * mean is NaN, taken as 0) counts as no failure.  image_check counts those itself. */
     float mean_abs = (float)((double)fabsf(a) * 0.5 + (double)fabsf(b) * 0.5);
     double f = fabsf(a - b);
+    if (isinf(f)) f = fabs((double)a - (double)b);   /* finite values whose float difference overflows (3e38, -3e38):
+                                                        the exact difference, so the mean stays a number */
     double rel = mean_abs > 0.0f ? f / mean_abs : 0.0;
     *batch += f;
     if (!(f <= r->max_error)) r->max_error = f, r->max_x = x, r->max_y = y, r->max_c = c;   /* NaN too */
@@ -85,6 +87,16 @@ static void compare_values(const is_image *a, const is_image *b, float fail_thre
     res->max_x = r.max_x, res->max_y = r.max_y, res->max_channel = r.max_c;
 }
 
+/* How far apart values a and b are for the diff image: |a - b|, 0 for NaN against NaN or an infinity against the
+ * same infinity, and infinite for a non-finite mismatch (NaN against a number, unequal infinities) -- which
+ * image_check counts as failing, so the diff image shows it at full brightness (std::max dropped the NaN). */
+static float value_distance(float a, float b)
+{
+    if (isfinite(a) && isfinite(b)) return fabsf(a - b);
+    if (isnan(a) || isnan(b)) return isnan(a) && isnan(b) ? 0.0f : INFINITY;
+    return a == b ? 0.0f : INFINITY;
+}
+
 /* The visual diff of a and b into d (R, G, B, A of a's size): the dimmed luminance of a plus |a - b| of the
  * first three channels scaled so that max_err is full brightness; a pixel with a channel above fail_thresh is
  * red, above warn_thresh yellow, from 35% to full brightness by its largest difference over max_err. */
@@ -97,7 +109,7 @@ static void fill_diff(const is_image *a, const is_image *b, float fail_thresh, f
     for (size_t p = 0; p < n; p++) {
         const float *pa = a->data + p * (size_t)ch, *pb = b->data + p * (size_t)ch;
         float worst = 0.0f, lum = 0.0f, out[3];
-        for (int c = 0; c < ch; c++) worst = max_f(worst, fabsf(pa[c] - pb[c]));
+        for (int c = 0; c < ch; c++) worst = max_f(worst, value_distance(pa[c], pb[c]));
         for (int c = 0; c < 3; c++) {
             int k = c < nc - 1 ? c : nc - 1;
             lum += (c < nc ? pa[c] : pa[0]) / 3.0f;
@@ -106,7 +118,8 @@ static void fill_diff(const is_image *a, const is_image *b, float fail_thresh, f
         float *o = d->data + p * 4;
         for (int c = 0; c < 3; c++) o[c] = min_f(1.0f, 0.2f * min_f(max_f(lum, 0.0f), 1.0f) + out[c]);
         o[3] = 1.0f;
-        float level = 0.35f + 0.65f * min_f(1.0f, worst * scale);   /* amplified: the largest is full red */
+        /* amplified: the largest is full red, and so is a non-finite mismatch */
+        float level = isinf(worst) ? 1.0f : 0.35f + 0.65f * min_f(1.0f, worst * scale);
         if (worst > warn_thresh) o[0] = level, o[1] = level, o[2] = 0.0f;
         if (worst > fail_thresh) o[0] = level, o[1] = 0.0f, o[2] = 0.0f;
     }

@@ -29,8 +29,8 @@ typedef struct image_codec_host {
 bool image_valid(const is_image *img, const char *what, char *err, size_t errlen);
 
 /* PNG through libpng (image/image_png.c): encode img's first four channels as image_encode does for .png; 0 or
- * -1.  Read path into img: 0, -1 with a message, or 1 when path is not a PNG this file decodes (not a PNG, a
- * palette or tRNS transparency, fewer than 8 bits, or it cannot be opened): the caller asks the module. */
+ * -1.  Read path into img: 0, -1 with a message, or 1 when path is not a PNG (by its signature) or cannot be
+ * opened: the caller asks the module.  Every PNG is decoded here (libpng's messages into err, never stderr). */
 int image_png_encode(const is_image *img, const is_image_meta *meta, const char *label, unsigned char **bytes,
                      size_t *len, char *err, size_t errlen);
 int image_png_read(is_image *img, const char *path, char *err, size_t errlen);

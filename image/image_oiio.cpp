@@ -82,10 +82,11 @@ bool is_rgba_name(const char *n)
 // 1970, the reproducible-builds convention) when that is given.  PNG files carry no time.
 void set_date_time(ImageSpec &spec)
 {
+    // Digits only (strtoll took " 1" and "+5"), 0..253402300799 (9999-12-31): the rule cli/run/output.c warns by.
     const char *e = getenv("SOURCE_DATE_EPOCH");
-    char *end = nullptr;
-    long long t = e ? strtoll(e, &end, 10) : -1;
-    if (!e || end == e || *end || t < 0 || t > 253402300799LL) {  // up to 9999-12-31
+    size_t digits = e ? strspn(e, "0123456789") : 0;
+    long long t = digits > 0 && digits <= 12 && !e[digits] ? strtoll(e, nullptr, 10) : -1;
+    if (t < 0 || t > 253402300799LL) {
         spec.attribute("DateTime", "");
         return;
     }
@@ -172,7 +173,14 @@ int read_file(is_image *img, const char *path, char *err, size_t errlen)
 {
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // return stored colour as is (no premultiplication)
-    auto in = ImageInput::open(path, &config);
+    // The reader of the extension alone: ImageInput::open tried every other reader on a file the first refused,
+    // some of which read it whole (minutes for a large file of zeros named .exr).
+    auto in = ImageInput::create(path, false, &config);
+    ImageSpec opened;
+    if (in && !in->open(path, opened, config)) {
+        set_err(err, errlen, "%s: cannot read: %s", path, in->geterror().c_str());
+        return -1;
+    }
     if (!in) {
         set_err(err, errlen, "%s: cannot read: %s", path, OIIO::geterror().c_str());
         return -1;
@@ -396,6 +404,11 @@ int draw_text(is_image *img, int x, int y, const char *text, float size_px, cons
 }  // namespace
 
 extern "C" {
+
+// The interface version the loader checks before calling anything (CODEC_ABI in image/image_codec.c); its
+// presence in the dynamic symbols marks the file as this module.
+__attribute__((visibility("default"))) extern const int codec_abi;
+const int codec_abi = 2;
 
 void codec_set_host(const image_codec_host *host)
 {

@@ -10,14 +10,18 @@
  *  - writing: the first four channels (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), clamped to [0, 1] and rounded
  *    to 8 bits (NaN as 0), colour stored as given (no premultiplication); tEXt "Software" and "Description"
  *    (OpenImageIO's names for Software and ImageDescription); no time, so one render writes the same bytes;
- *  - reading: the PNGs whose pixels need no conversion -- 8 or 16 bits, grey, grey + alpha, RGB or RGBA, no
- *    palette, no tRNS transparency -- come back as k / 255 or k / 65535 with OpenImageIO's channel names (Y, A
- *    for grey), values as stored (no gamma applied, no premultiplication); every other PNG goes to the module,
- *    as before.  The size limits of image/image.h are checked from the header, with the module's messages. */
+ *  - reading: every PNG, expanded as OpenImageIO's reader expands it (a palette to RGB, grey of 1, 2 or 4 bits
+ *    to 8, a tRNS transparency key to an alpha channel), comes back as k / 255 or k / 65535 with OpenImageIO's
+ *    channel names (Y, A for grey), values as stored (no gamma applied, no premultiplication).  No PNG goes to
+ *    the module: OpenImageIO 2.4 left libpng's default handlers, which printed on the caller's stderr; here
+ *    libpng's errors go into err and its warnings are dropped.  The size limits of image/image.h are checked
+ *    from the header, with the module's messages, and so is deflate's ratio: a header declaring more samples
+ *    than the file's bytes can inflate to is refused before any allocation. */
 #include "image_internal.h"
 
 #include <png.h>
 #include <setjmp.h>
+#include <sys/stat.h>
 
 /* What libpng's error callback needs: where to put the message. */
 typedef struct png_ctx {
@@ -152,16 +156,49 @@ static void convert_row(is_image *img, int y, const unsigned char *row, int dept
 /* What reading the header decided. */
 enum { PNG_TAKEN = 0, PNG_FAILED = -1, PNG_TO_MODULE = 1 };
 
-/* The header of the open PNG p: PNG_TAKEN with img allocated, PNG_TO_MODULE for the PNGs that need a
- * conversion (left to the module), PNG_FAILED with the module's message for the sizes it refuses. */
-static int read_header(png_structp p, png_infop info, const char *path, is_image *img, char *err, size_t errlen)
+/* deflate's best ratio (RFC 1951: a 258-byte match in 2 bits, about 1032 to 1): the samples a PNG of n bytes can
+ * hold at most, so that a header declaring more is refused before any allocation. */
+#define PNG_MAX_DEFLATE_RATIO 1032ull
+
+/* The input of one read: the file and its size. */
+typedef struct png_in {
+    FILE *f;
+    long long size;
+} png_in;
+
+/* libpng's read callback: n bytes from the file, or an error saying the file ends early. */
+static void png_read_bytes(png_structp p, png_bytep data, size_t n)
+{
+    png_in *in = png_get_io_ptr(p);
+    if (fread(data, 1, n, in->f) != n)
+        png_error(p, ferror(in->f) ? "read error" : "truncated: the file ends before the image does");
+}
+
+/* The transformations that give every PNG as 8- or 16-bit samples (palette to RGB, grey below 8 bits to 8, a
+ * tRNS transparency key to an alpha channel), as OpenImageIO's PNG reader applies them; the number of passes. */
+static int set_expansions(png_structp p, png_infop info)
+{
+    int type = png_get_color_type(p, info), depth = png_get_bit_depth(p, info);
+    if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(p);
+    if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(p);
+    if (png_get_valid(p, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(p);
+    int passes = png_set_interlace_handling(p);
+    png_read_update_info(p, info);
+    return passes;
+}
+
+/* The header of the open PNG p (in: the file): PNG_TAKEN with img allocated and *passes set, or PNG_FAILED with
+ * the message for the sizes refused -- sides, values, and samples more than the file's bytes can inflate to. */
+static int read_header(png_structp p, png_infop info, const png_in *in, const char *path, is_image *img,
+                       int *passes, char *err, size_t errlen)
 {
     png_read_info(p, info);
     png_uint_32 w = png_get_image_width(p, info), h = png_get_image_height(p, info);
-    int depth = png_get_bit_depth(p, info), type = png_get_color_type(p, info);
+    /* the inflated bytes: a filter byte and the samples per row (interlaced: at least the samples) */
+    unsigned long long raw = (unsigned long long)png_get_rowbytes(p, info) * h;
+    *passes = set_expansions(p, info);
+    if (*passes == 1) raw += h;
     int nch = png_get_channels(p, info);
-    if ((depth != 8 && depth != 16) || (type & PNG_COLOR_MASK_PALETTE) || png_get_valid(p, info, PNG_INFO_tRNS))
-        return PNG_TO_MODULE;
     if (w > IS_IMAGE_MAX_DIM || h > IS_IMAGE_MAX_DIM) {
         image_set_err(err, errlen, "%s: unsupported size %ux%ux1 with %d channels (at most %d channels, %d pixels "
                       "wide)", path, (unsigned)w, (unsigned)h, nch, IS_IMAGE_MAX_CHANNELS, IS_IMAGE_MAX_DIM);
@@ -174,15 +211,21 @@ static int read_header(png_structp p, png_infop info, const char *path, is_image
                       values, (unsigned long long)IS_IMAGE_MAX_VALUES);
         return PNG_FAILED;
     }
+    if (raw > (unsigned long long)in->size * PNG_MAX_DEFLATE_RATIO) {
+        image_set_err(err, errlen, "%s: the header declares %ux%u pixels (%llu bytes of samples), more than the "
+                      "file's %lld bytes can hold (deflate packs at most %llu to 1); nothing decoded", path,
+                      (unsigned)w, (unsigned)h, raw, in->size, PNG_MAX_DEFLATE_RATIO);
+        return PNG_FAILED;
+    }
     return image_alloc(img, (int)w, (int)h, png_channel_names(nch), err, errlen) == 0 ? PNG_TAKEN : PNG_FAILED;
 }
 
-/* The pixels of p into img (allocated); rows is a buffer of one row, or of the whole image when interlaced. */
-static void read_pixels(png_structp p, png_infop info, is_image *img, unsigned char *rows, size_t rowbytes)
+/* The pixels of p into img (allocated, the expansions set); rows is a buffer of one row, or of the whole image
+ * when interlaced (passes > 1). */
+static void read_pixels(png_structp p, png_infop info, is_image *img, int passes, unsigned char *rows,
+                        size_t rowbytes)
 {
     int depth = png_get_bit_depth(p, info);
-    int passes = png_set_interlace_handling(p);
-    png_read_update_info(p, info);
     if (passes == 1) {
         for (int y = 0; y < img->height; y++) {
             png_read_row(p, rows, NULL);
@@ -201,14 +244,15 @@ typedef struct png_read_state {
     png_structp p;
     png_infop info;
     unsigned char *rows;
-    int decided;
+    int decided, passes;
 } png_read_state;
 
-/* Read the PNG in f into img: PNG_TAKEN, PNG_FAILED (message in err) or PNG_TO_MODULE. */
-static int read_png(FILE *f, const char *path, is_image *img, char *err, size_t errlen)
+/* Read the PNG in `in` into img: PNG_TAKEN or PNG_FAILED (message in err).  libpng's errors and warnings go
+ * to on_png_error / on_png_warning: nothing is printed on the caller's stderr. */
+static int read_png(png_in *in, const char *path, is_image *img, char *err, size_t errlen)
 {
     png_ctx ctx = {""};
-    volatile png_read_state s = {NULL, NULL, NULL, PNG_FAILED};
+    volatile png_read_state s = {NULL, NULL, NULL, PNG_FAILED, 1};
     s.p = png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, on_png_error, on_png_warning);
     s.info = s.p ? png_create_info_struct(s.p) : NULL;
     if (!s.info) {
@@ -218,18 +262,19 @@ static int read_png(FILE *f, const char *path, is_image *img, char *err, size_t 
     }
     int rc = PNG_FAILED;
     if (setjmp(png_jmpbuf(s.p)) == 0) {
-        png_init_io(s.p, f);
+        png_set_read_fn(s.p, in, png_read_bytes);
         png_set_user_limits(s.p, 0x7fffffff, 0x7fffffff);   /* the sizes are checked above, with our messages */
-        s.decided = read_header(s.p, s.info, path, img, err, errlen);
+        int passes = 1;
+        s.decided = read_header(s.p, s.info, in, path, img, &passes, err, errlen);
+        s.passes = passes;
         if (s.decided == PNG_TAKEN) {
-            int passes = png_get_interlace_type(s.p, s.info) == PNG_INTERLACE_NONE ? 1 : 2;
             size_t rowbytes = png_get_rowbytes(s.p, s.info);
             s.rows = malloc(rowbytes * (passes == 1 ? 1 : (size_t)img->height));
             if (!s.rows) png_error(s.p, "out of memory for the rows");
-            read_pixels(s.p, s.info, img, s.rows, rowbytes);
+            read_pixels(s.p, s.info, img, passes, s.rows, rowbytes);
         }
         rc = s.decided;
-    } else if (s.decided == PNG_TAKEN || s.decided == PNG_FAILED) {   /* libpng's error: the file is bad */
+    } else {   /* libpng's error: the file is bad */
         image_set_err(err, errlen, "%s: cannot read: %s", path, ctx.msg);
     }
     if (rc != PNG_TAKEN && s.decided == PNG_TAKEN) image_free(img);
@@ -237,19 +282,21 @@ static int read_png(FILE *f, const char *path, is_image *img, char *err, size_t 
     png_infop info = s.info;
     png_destroy_read_struct(&p, &info, NULL);
     free(s.rows);
-    return rc == PNG_TAKEN ? PNG_TAKEN : rc == PNG_TO_MODULE ? PNG_TO_MODULE : PNG_FAILED;
+    return rc == PNG_TAKEN ? PNG_TAKEN : PNG_FAILED;
 }
 
 int image_png_read(is_image *img, const char *path, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
-    if (!f) return PNG_TO_MODULE;   /* the module says why, as before */
+    if (!f) return PNG_TO_MODULE;   /* image_read has said why already; the module says it again */
+    struct stat st;
+    png_in in = {f, fstat(fileno(f), &st) == 0 ? (long long)st.st_size : 0};
     unsigned char sig[8];
     int rc = PNG_TO_MODULE;
     if (fread(sig, 1, sizeof sig, f) == sizeof sig && png_sig_cmp(sig, 0, sizeof sig) == 0) {
         rewind(f);
         memset(img, 0, sizeof *img);
-        rc = read_png(f, path, img, err, errlen);
+        rc = read_png(&in, path, img, err, errlen);
     }
     fclose(f);
     return rc;

@@ -120,20 +120,23 @@ static long select_figures(const figure **list, size_t n, const char *only)
 {
     if (!only) return (long)n;
     bool keep[MAX_FIGURES] = {0};
-    for (const char *p = only; *p;) {
+    for (const char *p = only;; p++) {   /* every item, an empty one before, between or after commas too */
         size_t len = strcspn(p, ",");
-        if (len == strlen(VIEWER_ID) && strncmp(p, VIEWER_ID, len) == 0) {
-            p += len + (p[len] == ',');
-            continue;
+        if (len == 0) {
+            fprintf(stderr, "instess: figures: --only has an empty id in '%s' (ids are separated by single commas)\n",
+                    only);
+            return -1;
         }
-        const figure *f = len ? find_figure(list, n, p, len) : NULL;
-        if (!f) {
+        bool viewer = len == strlen(VIEWER_ID) && strncmp(p, VIEWER_ID, len) == 0;
+        const figure *f = viewer ? NULL : find_figure(list, n, p, len);
+        if (!f && !viewer) {
             fprintf(stderr, "instess: figures: unknown figure id '%.*s' (instess figures --list shows them)\n",
                     (int)len, p);
             return -1;
         }
-        for (size_t k = 0; k < n; k++) keep[k] |= list[k] == f;
-        p += len + (p[len] == ',');
+        for (size_t k = 0; f && k < n; k++) keep[k] |= list[k] == f;
+        p += len;
+        if (!*p) break;
     }
     size_t m = 0;
     for (size_t k = 0; k < n; k++)

@@ -7,10 +7,13 @@
  * usage error.  Its options are the table below, from which its usage text and the man page are printed. */
 #include "scene.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* What the command line asked for. */
 typedef struct compare_args {
@@ -40,10 +43,22 @@ static void compare_usage(FILE *f)
     }
 }
 
+/* s as shown in a message into buf (len bytes): control bytes and DEL as '?', so that a value or file name
+ * never puts an escape sequence on the terminal; buf. */
+static const char *shown(const char *s, char *buf, size_t len)
+{
+    size_t n = 0;
+    for (; s && s[n] && n + 1 < len; n++) buf[n] = (unsigned char)s[n] < 0x20 || s[n] == 0x7f ? '?' : s[n];
+    if (len) buf[n] = 0;
+    return buf;
+}
+
 /* A usage error: the message and the hint on stderr; 2. */
 static int compare_usage_error(const char *msg, const char *arg)
 {
-    fprintf(stderr, "instess compare: %s%s%s\nTry 'instess compare --help'.\n", msg, arg ? ": " : "", arg ? arg : "");
+    char m[2048], v[1024];
+    fprintf(stderr, "instess compare: %s%s%s\nTry 'instess compare --help'.\n", shown(msg, m, sizeof m),
+            arg ? ": " : "", arg ? shown(arg, v, sizeof v) : "");
     return 2;
 }
 
@@ -86,11 +101,37 @@ static int parse_compare_args(int argc, char **argv, compare_args *a, int *code)
     return 0;
 }
 
+/* Whether the --diff path can be written (checked before any image is read, so that a run that cannot write its
+ * diff image fails at once): absent or a regular file, in a folder that exists and the process can write into;
+ * else false with the reason printed.  image_write checks again when it writes (the path may change meanwhile). */
+static bool diff_target_ok(const char *path)
+{
+    char p[1024];
+    struct stat st;
+    const char *what = NULL;
+    if (lstat(path, &st) == 0)
+        what = S_ISLNK(st.st_mode) ? "is a symbolic link (instess does not write through links)"
+               : S_ISDIR(st.st_mode) ? "is a directory" : S_ISFIFO(st.st_mode) ? "is a FIFO"
+               : !S_ISREG(st.st_mode) ? "is not a regular file" : NULL;
+    char folder[4096];
+    const char *slash = strrchr(path, '/');
+    snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+    if (!what && access(folder, W_OK | X_OK) != 0) {
+        char f[1024];
+        fprintf(stderr, "instess compare: --diff %s: cannot create a file in the folder %s: %s\n",
+                shown(path, p, sizeof p), shown(folder, f, sizeof f), strerror(errno));
+        return false;
+    }
+    if (what) fprintf(stderr, "instess compare: --diff %s: %s\n", shown(path, p, sizeof p), what);
+    return !what;
+}
+
 /* The report of a comparison that ran (verdict pass or different) on stdout. */
 static void print_report(const compare_args *a, const is_image_diff *d, is_image_verdict v)
 {
     double pct = d->n_pixels ? 100.0 * (double)d->n_fail / (double)d->n_pixels : 0.0;
-    printf("%s vs %s: %ld pixels\n", a->a, a->b, d->n_pixels);
+    char na[1024], nb[1024], nd[1024];
+    printf("%s vs %s: %ld pixels\n", shown(a->a, na, sizeof na), shown(a->b, nb, sizeof nb), d->n_pixels);
     printf("largest difference: %g (pixel %d,%d, channel %d); mean difference: %g\n", (double)d->max_error, d->max_x,
            d->max_y, d->max_channel, d->mean_error);
     printf("failing pixels: %ld (%.4f%%) differ by more than %g; allowed: %g%%\n", d->n_fail, pct, (double)a->fail,
@@ -98,7 +139,8 @@ static void print_report(const compare_args *a, const is_image_diff *d, is_image
     if (d->n_nonfinite)
         printf("non-finite mismatches: %ld pixels (NaN in one image only, or an infinity the other does not hold)\n",
                d->n_nonfinite);
-    if (v == IS_IMAGE_DIFFERENT) printf("DIFFERENT%s%s\n", a->diff ? "; diff image: " : "", a->diff ? a->diff : "");
+    if (v == IS_IMAGE_DIFFERENT)
+        printf("DIFFERENT%s%s\n", a->diff ? "; diff image: " : "", a->diff ? shown(a->diff, nd, sizeof nd) : "");
     else printf("%s\n", d->max_error == 0.0f ? "identical" : "within the thresholds");
 }
 
@@ -120,10 +162,14 @@ int scene_cmd_compare(int argc, char **argv)
     compare_args a;
     int code = 0;
     if (parse_compare_args(argc, argv, &a, &code) != 0) return code;
+    if (a.diff && !diff_target_ok(a.diff)) return 4;
     is_image_diff d;
     char err[2048];
     is_image_verdict v = image_check_files(a.a, a.b, a.fail, a.failpercent, a.diff, &d, err, sizeof err);
     if (v == IS_IMAGE_PASS || v == IS_IMAGE_DIFFERENT) print_report(&a, &d, v);
-    else fprintf(stderr, "instess compare: %s\n", err);
+    else {
+        char m[sizeof err];
+        fprintf(stderr, "instess compare: %s\n", shown(err, m, sizeof m));
+    }
     return compare_exit_code(v);
 }

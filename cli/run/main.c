@@ -6,10 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scene.h"
 
 #include <errno.h>
+#include <fcntl.h>
 
 /* The exit codes of a render (--help and the man page print this sentence; '\n' breaks the usage's line). */
 static const char render_exit_codes[] =
@@ -65,10 +67,22 @@ static void print_version(FILE *f)
     fprintf(f, "rasterizer kernels on this CPU: %s (the same bytes as every other)\n", rs_isa_name(rs_isa_best()));
 }
 
+/* s as shown in a message into buf (len bytes): control bytes and DEL as '?', so that a value or file name
+ * never puts an escape sequence on the terminal; buf. */
+static const char *shown(const char *s, char *buf, size_t len)
+{
+    size_t n = 0;
+    for (; s && s[n] && n + 1 < len; n++) buf[n] = (unsigned char)s[n] < 0x20 || s[n] == 0x7f ? '?' : s[n];
+    if (len) buf[n] = 0;
+    return buf;
+}
+
 /* Print msg and the usage hint; exit code 2. */
 static int usage_error(const char *msg, const char *arg)
 {
-    fprintf(stderr, "instess: %s%s%s\nTry 'instess --help'.\n", msg, arg ? ": " : "", arg ? arg : "");
+    char m[2048], a[1024];
+    fprintf(stderr, "instess: %s%s%s\nTry 'instess --help'.\n", shown(msg, m, sizeof m), arg ? ": " : "",
+            arg ? shown(arg, a, sizeof a) : "");
     return 2;
 }
 
@@ -101,7 +115,8 @@ static int cmd_render(int argc, char **argv)
         return usage_error("-o and --export-obj name the same file", o.output);
     warn_level_clamp(&o);
     if (scene_render_to_file(&o, err, sizeof err) != 0) {
-        fprintf(stderr, "instess: %s\n", err);
+        char m[sizeof err];
+        fprintf(stderr, "instess: %s\n", shown(err, m, sizeof m));
         return 1;
     }
     return 0;
@@ -134,21 +149,66 @@ static void install_signal_handlers(void)
     signal(SIGXFSZ, SIG_IGN);
 }
 
-/* rc, or 1 (said on stderr) when what was written to stdout did not all reach it (a full disk, a closed pipe):
+/* rc, or code (said on stderr) when what was written to stdout did not all reach it (a full disk, a closed pipe):
  * output lost is a failure, not a success. */
-static int stdout_checked(int rc)
+static int stdout_checked(int rc, int code)
 {
     errno = 0;
     if (fflush(stdout) == 0 && !ferror(stdout)) return rc;
     fprintf(stderr, "instess: cannot write to standard output: %s\n", errno ? strerror(errno) : "write error");
-    return rc ? rc : 1;
+    return rc ? rc : code;
 }
 
 static int run_command(int argc, char **argv);
 
+/* Descriptors 0, 1 and 2 that were closed when the program started get /dev/null opened read-only: otherwise the
+ * next file the program opens (an output's temporary, the mesh) would be descriptor 1, and what is printed for
+ * stdout -- --stats json -- would go into it.  Writes to a read-only descriptor fail, so a closed stdout is still
+ * reported (stdout_checked, --stats json) rather than silently lost. */
+static void hold_standard_descriptors(void)
+{
+    for (int fd = 0; fd <= 2; fd++) {
+        if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+        int got = open("/dev/null", O_RDONLY);
+        if (got >= 0 && got != fd) close(got);
+    }
+}
+
+/* Whether s is a thread count the OpenMP runtimes take: a comma-separated list of whole numbers 1..65536. */
+static bool thread_list_ok(const char *s)
+{
+    for (;;) {
+        size_t n = strspn(s, "0123456789");
+        if (n == 0 || n > 5 || strtoul(s, NULL, 10) < 1 || strtoul(s, NULL, 10) > 65536) return false;
+        s += n;
+        if (!*s) return true;
+        if (*s++ != ',') return false;
+    }
+}
+
+/* OMP_NUM_THREADS and OMP_THREAD_LIMIT that are no thread count are removed (said on stderr), before the OpenMP
+ * runtime reads them on its first call: LLVM's libomp (the sanitizer build's) aborts on 99999999999 (an
+ * assertion in kmp_runtime.cpp), and the program sets its threads itself (--threads) in any case. */
+static void drop_bad_openmp_variables(void)
+{
+    static const char *const names[] = {"OMP_NUM_THREADS", "OMP_THREAD_LIMIT"};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+        const char *v = getenv(names[k]);
+        if (!v || thread_list_ok(v)) continue;   /* empty too: libomp asserts on it */
+        char m[64];
+        fprintf(stderr, "instess: warning: %s='%s' is not a thread count (1..65536, or a list of them): ignored\n",
+                names[k], shown(v, m, sizeof m));
+        unsetenv(names[k]);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    return stdout_checked(run_command(argc, argv));
+    hold_standard_descriptors();
+    drop_bad_openmp_variables();
+    /* compare's exit 1 means "the images differ": output it could not write is its I/O error, 4 */
+    bool compare = argc > 1 && strcmp(argv[1], "compare") == 0;
+    return stdout_checked(run_command(argc, argv), compare ? 4 : 1);
 }
 
 /* The program: the subcommands, or a render. */

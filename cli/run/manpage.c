@@ -127,11 +127,11 @@ static void man_files(FILE *f)
 {
     fputs(".SH FILES\n.TP\n", f);
     roff(f, image_codec_install_dir());
-    fputs("/libinstess_codec.so\nThe image codec (OpenImageIO), loaded on the first EXR read or written (or PNG with a "
-          "palette or transparency key) or text; PNG is written and read through libpng, without it.  Also looked "
+    fputs("/libinstess_codec.so\nThe image codec (OpenImageIO), loaded on the first EXR read or written or text; "
+          "PNG is written and read through libpng, without it.  Also looked "
           "for beside the program and in ../lib/instess.\n"
           ".TP\n/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf\nThe font of the figures' labels.\n"
-          ".SH ENVIRONMENT\n.TP\nINSTESS_CODEC_DIR\nA folder to look for libinstess_codec.so in first.\n"
+          ".SH ENVIRONMENT\n.TP\nINSTESS_CODEC_DIR\nA folder (an absolute path) to look for libinstess_codec.so in first.\n"
           ".TP\nSOURCE_DATE_EPOCH\nWhen set, the time stored in images; otherwise none is stored, so one render "
           "always writes the same bytes.\n.TP\nOMP_WAIT_POLICY\nSet it to passive on a machine where other "
           "processes need the cores.\n", f);

@@ -329,11 +329,34 @@ void outputs_abort(is_outputs *o)
     }
 }
 
+/* Whether s is a time SOURCE_DATE_EPOCH may give: digits only, 0..253402300799 (9999-12-31 23:59:59) -- the
+ * rule image/image_oiio.cpp's set_date_time applies when it stores the time in an OpenEXR file. */
+static bool source_date_ok(const char *s)
+{
+    size_t n = strspn(s, "0123456789");
+    return n > 0 && n <= 12 && !s[n] && strtoull(s, NULL, 10) <= 253402300799ull;
+}
+
+/* Say on stderr (a warning naming the value, control bytes as '?') that SOURCE_DATE_EPOCH, set and not empty, is
+ * no time, so that the OpenEXR file path stores none -- the codec ignores it without a word. */
+static void warn_source_date(const char *path)
+{
+    const char *e = getenv("SOURCE_DATE_EPOCH");
+    if (!e || !*e || source_date_ok(e)) return;
+    char shown[64];
+    size_t n = 0;
+    for (; e[n] && n < sizeof shown - 1; n++) shown[n] = (unsigned char)e[n] < 0x20 || e[n] == 0x7f ? '?' : e[n];
+    shown[n] = 0;
+    fprintf(stderr, "instess: warning: SOURCE_DATE_EPOCH='%s'%s is not a whole number of seconds in "
+            "0..253402300799: the OpenEXR files store no time (%s)\n", shown, e[n] ? "..." : "", path);
+}
+
 int image_write_output(is_outputs *o, int k, const is_image *img, const is_image_meta *meta, char *err,
                        size_t errlen)
 {
     const char *path = o->f[k].path;
     if (image_check_path(path, err, errlen) != 0) return -1;
+    if (image_format_of(path) == IS_IMAGE_EXR) warn_source_date(path);
     unsigned char *bytes = NULL;
     size_t len = 0;
     if (image_encode(img, image_format_of(path), meta, path, &bytes, &len, err, errlen) != 0) return -1;

@@ -1244,38 +1244,63 @@ void scene_json_string(FILE *f, const char *s)
         int len = utf8_len(p);
         if (len == 0) fputs("\\ufffd", f), p++;
         else if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p), p++;
-        else if (*p < 0x20) fprintf(f, "\\u%04x", *p), p++;
+        else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\u%04x", *p), p++;   /* control bytes and DEL */
         else fwrite(p, 1, (size_t)len, f), p += len;
     }
     fputc('"', f);
 }
 
-/* The report as one JSON object on stdout (--stats json): every figure of the text form. */
-static void print_stats_json(const scene_opts *o, const is_mesh *m, const run_report *r)
+/* The report as one JSON object into f (--stats json; a memory stream): every figure of the text form. */
+static void print_stats_json(FILE *f, const scene_opts *o, const is_mesh *m, const run_report *r)
 {
-    fputs("{\"mesh\": ", stdout);
-    scene_json_string(stdout, m->name);
-    fputs(", \"output\": ", stdout);
-    scene_json_string(stdout, o->output);
-    printf(", \"triangles\": %zu, \"grid_points\": %zu, \"grid_triangles\": %zu, \"vertices_shaded\": %llu, "
-           "\"triangles_drawn\": %llu, \"ms\": %.3f",
-           r->st.mesh_triangles, r->st.grid_points, r->st.grid_triangles, (unsigned long long)r->st.vertices_shaded,
-           (unsigned long long)r->st.triangles_drawn, r->ms);
+    fputs("{\"mesh\": ", f);
+    scene_json_string(f, m->name);
+    fputs(", \"output\": ", f);
+    scene_json_string(f, o->output);
+    fprintf(f, ", \"triangles\": %zu, \"grid_points\": %zu, \"grid_triangles\": %zu, \"vertices_shaded\": %llu, "
+               "\"triangles_drawn\": %llu, \"ms\": %.3f",
+               r->st.mesh_triangles, r->st.grid_points, r->st.grid_triangles, (unsigned long long)r->st.vertices_shaded,
+               (unsigned long long)r->st.triangles_drawn, r->ms);
     if (o->lod != TESS_LOD_UNIFORM) {   /* the edge level histogram: {"level": edges} */
-        printf(", \"lod\": \"%s\", \"patterns\": %zu, \"buckets\": %zu, \"triangles_tessellated\": %zu, "
-               "\"edge_levels\": {", scene_lod_names[o->lod], r->st.n_patterns, r->st.n_buckets,
-               r->st.tessellated_triangles);
+        fprintf(f, ", \"lod\": \"%s\", \"patterns\": %zu, \"buckets\": %zu, \"triangles_tessellated\": %zu, "
+                   "\"edge_levels\": {", scene_lod_names[o->lod], r->st.n_patterns, r->st.n_buckets,
+                   r->st.tessellated_triangles);
         for (int l = 1, first = 1; l <= CORE_LOD_MAX_LEVEL; l++)
-            if (r->st.level_hist[l]) printf("%s\"%d\": %llu", first ? "" : ", ", l, (unsigned long long)r->st.level_hist[l]),
-                                     first = 0;
-        fputc('}', stdout);
+            if (r->st.level_hist[l])
+                fprintf(f, "%s\"%d\": %llu", first ? "" : ", ", l, (unsigned long long)r->st.level_hist[l]), first = 0;
+        fputc('}', f);
     }
     if (r->shortcut)
-        printf(", \"shortcut\": {\"skipped\": %llu, \"evaluations\": %llu, \"percent\": %.3f}",
+        fprintf(f, ", \"shortcut\": {\"skipped\": %llu, \"evaluations\": %llu, \"percent\": %.3f}",
                (unsigned long long)r->saved, (unsigned long long)r->total,
                r->total ? 100.0 * (double)r->saved / (double)r->total : 0.0);
-    fputs("}\n", stdout);
-    fflush(stdout);
+    fputs("}\n", f);
+}
+
+/* The --stats json report written to the standard output with write(2), before the outputs are committed: 0,
+ * or -1 with the reason in err when it cannot all be written (a full disk, a closed descriptor), so that the
+ * run fails with nothing written rather than succeed with its statistics lost. */
+static int write_stats_json(const scene_opts *o, const is_mesh *m, const run_report *r, char *err, size_t errlen)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (!f) return snprintf(err, errlen, "out of memory for the statistics"), -1;
+    print_stats_json(f, o, m, r);
+    bool ok = fclose(f) == 0;
+    errno = 0;
+    ok = ok && fflush(stdout) == 0;
+    for (size_t done = 0; ok && done < len;) {
+        ssize_t n = write(STDOUT_FILENO, text + done, len - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) ok = false;
+        else done += (size_t)n;
+    }
+    free(text);
+    if (!ok)
+        snprintf(err, errlen, "cannot write to standard output: %s (the statistics of --stats json); nothing written",
+                 errno ? strerror(errno) : "write error");
+    return ok ? 0 : -1;
 }
 
 /* The level histogram of an adaptive render: mesh edges per level, patterns, buckets, triangles. */
@@ -1401,13 +1426,17 @@ static int render_outputs(const scene_opts *o, const is_mesh *m, is_outputs *out
     }
     image_free(&img);
     if (rc == 0 && o->export_obj) rc = export_obj(o, m, outs, 1, err, errlen);
+    run_report r = {.st = st, .ms = (t1 - t0) * 1e3};
+    if (rc == 0 && o->stats_json) {   /* before the commit: statistics that cannot be written fail the run */
+        scene_progress_stop(pr);
+        r.shortcut = shortcut_savings(o, m, &r.saved, &r.total);
+        rc = write_stats_json(o, m, &r, err, errlen);
+    }
     if (rc == 0) rc = outputs_commit(outs, err, errlen);
     scene_progress_stop(pr);
-    if (rc != 0 || (o->quiet && !o->stats_json)) return rc;
-    run_report r = {.st = st, .ms = (t1 - t0) * 1e3};
+    if (rc != 0 || o->quiet || o->stats_json) return rc;
     r.shortcut = shortcut_savings(o, m, &r.saved, &r.total);
-    if (o->stats_json) print_stats_json(o, m, &r);
-    else {
+    {
         if (o->lod != TESS_LOD_UNIFORM) report_levels(o, &st);
         print_stats_text(o, m, &r);
     }

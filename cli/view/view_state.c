@@ -723,10 +723,16 @@ static const char *parse_keys(const char *list, view_script *s, char *err, size_
     if (n > (size_t)max_keys || strlen(list) >= sizeof buf)   /* said without echoing the list back */
         return snprintf(err, errlen, "--keys: %zu key names in %zu characters; at most %d names in %zu characters",
                         n, strlen(list), max_keys, sizeof buf - 1), err;
+    if (*list && (list[0] == ',' || list[strlen(list) - 1] == ',' || strstr(list, ",,")))   /* strtok skips them */
+        return snprintf(err, errlen, "--keys: an empty key name in the list (names are separated by single commas)"),
+               err;
     strcpy(buf, list);
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        if (strlen(t) >= sizeof s->keys[0] || !known_keys(t))
+        if (strlen(t) >= sizeof s->keys[0] || !known_keys(t)) {
+            for (char *c = t; *c; c++)   /* shown, never a control byte on the terminal (an escape sequence) */
+                if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
             return snprintf(err, errlen, "--keys: unknown key %.40s (see the keys of 'instess view --help')", t), err;
+        }
         strcpy(s->keys[s->n_keys++], t);
     }
     return s->n_keys ? NULL : "--keys needs at least one key name";

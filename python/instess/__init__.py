@@ -81,7 +81,7 @@ def _open():
         if libs and mods:
             # the codec module: the library looks in instess/ beside itself (an install); a build tree keeps it
             # beside the library, which is said through INSTESS_CODEC_DIR (unless the caller set it)
-            codec = os.path.dirname(mods[0])
+            codec = os.path.dirname(os.path.abspath(mods[0]))  # absolute: a relative INSTESS_CODEC_DIR is refused
             if os.path.exists(os.path.join(codec, "libinstess_codec.so")):
                 os.environ.setdefault("INSTESS_CODEC_DIR", codec)
             lib = ctypes.CDLL(os.path.join(libdir, libs[0]))  # the soname, libinstess.so.0, sorts first
