@@ -617,7 +617,7 @@ static void test_shading_texture_keys(void **state)
 }
 
 /* The inspector in the viewer: --pin names the fragment instess inspect finds at that pixel (its instance and
- * grid triangle, on stderr as on the HUD), the pixel is marked white and the picked instance drawn over the frame,
+ * grid triangle: the whole history on stderr, as instess inspect prints it), the pixel is marked white and the picked instance drawn over the frame,
  * so the capture is no longer the CLI's file; I unpins (the CLI's file again). */
 static void test_pin(void **state)
 {
@@ -639,7 +639,7 @@ static void test_pin(void **state)
     free(json);
     assert_int_equal(run_in_dir(&err, "view --no-hud %s --pin 80,60 --frames 1 --capture pin.png", scene), 0);
     char want[160];
-    snprintf(want, sizeof want, "instance %u grid tri %u", inst, prim);
+    snprintf(want, sizeof want, "instance %u (the mesh triangle), grid triangle %u", inst, prim);
     if (!strstr(err, want)) fprintf(stderr, "stderr: %s\nwanted: %s\n", err, want);
     assert_non_null(strstr(err, want));
     assert_int_equal(run_in_dir(&err, "-q %s -o cli.png", scene), 0);

@@ -3,7 +3,8 @@
  *
  * Pinning (a click without a drag, the I key for the window's centre, --pin X,Y in a script): after each frame
  * the part of the frame holding the pixel is rendered again with the device recording it (scene_inspect_pixel,
- * core/inspect.h: one sample per pixel), the HUD lists its fragments -- draw, instance (the mesh triangle), grid
+ * core/inspect.h: one sample per pixel), the whole history goes to the terminal as instess inspect prints it
+ * (registers, shader values and outputs of every vertex), the HUD lists its fragments -- draw, instance (the mesh triangle), grid
  * triangle, barycentrics, depth test, colour -- and the patch shader's values at the winning fragment's first
  * vertex, and the picked instance is drawn over the frame: its grid (the patch shader run on every grid point
  * with the render's constants) in yellow, the grid triangle that covers the pixel in red, the mesh triangle's
@@ -205,7 +206,11 @@ void view_inspect_frame(view_state *v)
         v->n_pin_lines = 1;
     } else {
         pin_lines(v, &rec, color, depth);
-        for (int k = 0; k < v->n_pin_lines && !v->o.quiet; k++) fprintf(stderr, "instess view: %s\n", v->pin_lines[k]);
+        if (!v->o.quiet) {   /* the whole history, as instess inspect prints it, on the terminal */
+            fprintf(stderr, "instess view: the pinned pixel's history (instess inspect --pixel %d,%d):\n", v->pin_x - x0,
+                    v->pin_y);
+            scene_inspect_print(stderr, &o, v->draw, &rec, color, depth, false);
+        }
         const is_inspect_fragment *win = NULL;
         for (size_t k = 0; k < rec.n_fragments; k++)
             if (rec.fragments[k].passed) win = &rec.fragments[k];
