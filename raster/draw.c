@@ -261,10 +261,12 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     job_slots(j);
 }
 
-/* Make room for n chunks and the tile counters; false when out of memory. */
+/* Make room for n chunks (growing at least twofold: the frame's scene adds a draw's chunks at a time) and the
+ * tile counters; false when out of memory. */
 static bool reserve_context(rs_context *rs, size_t n, size_t n_tiles)
 {
     if (n > rs->n_chunks_cap) {
+        if (n < 2 * rs->n_chunks_cap) n = 2 * rs->n_chunks_cap;
         rs_chunk *c = aligned_alloc(_Alignof(rs_chunk), n * sizeof *c);
         if (!c) return false;
         if (rs->n_chunks_cap) memcpy(c, rs->chunks, rs->n_chunks_cap * sizeof *c);
