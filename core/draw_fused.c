@@ -5,8 +5,9 @@
  * FUSED_PIECE_VERTICES vertices per instance): the rasterizer's setup threads ask for pieces of a few instances
  * (rs_draw_source), which are fetched, shaded, projected and set up by one thread while they are in the cache, into
  * per-thread scratch, at most FUSED_MAX_PRIMS triangles per rasterizer call.  Same bytes as shading everything
- * first (each instance's vertices and triangles are the same, in the same order).  A draw is then two parallel
- * regions (setup, tiles) plus the Clear's: on a machine whose cores are busy with other processes, each region's
+ * first (each instance's vertices and triangles are the same, in the same order).  A draw is then one parallel
+ * region (set-up) plus its share of the frame's tile pass (the rasterizer queues a frame's draws: rs_set_scene,
+ * which the device turns on): on a machine whose cores are busy with other processes, each region's
  * end can wait for a descheduled thread while libgomp's default busy-waiting keeps the core -- run with
  * OMP_WAIT_POLICY=passive there. */
 #include "device_internal.h"

@@ -47,7 +47,8 @@
  *  - Frames: rs_target_clear_deferred starts a frame on a context (its clear is written tile by tile when a draw
  *    first touches a tile); until rs_target_flush the target's planes must be read or written only through that
  *    context.  The work bound (RS_MAX_OVERDRAW) counts per frame (each draw alone on a context that never
- *    started one).
+ *    started one).  With rs_set_scene on, a frame's rs_draw_source draws share one tile pass, run when the
+ *    target is flushed or cleared (or at rs_flush): same bytes as drawing them one by one.
  *  - Draw sources: rs_draw_source draws triangles whose vertices a callback produces piece by piece on the
  *    set-up threads (the device's instanced draws); same bytes as rs_draw on the concatenated pieces.
  */
