@@ -557,7 +557,10 @@ static bool scene_takes(rs_context *rs, const rs_job *j, size_t n_pieces, size_t
     if (take && rs->q_n == rs->q_cap) {
         size_t cap = rs->q_cap ? 2 * rs->q_cap : 64;
         rs_scene_draw *q = realloc(rs->q, cap * sizeof *q);
-        if (!q) return false;   /* drawn now: the same bytes */
+        if (!q) {   /* drawn now, after the queued draws: the same bytes */
+            rs_flush(rs);
+            return false;
+        }
         rs->q = q, rs->q_cap = cap;
     }
     return take;
