@@ -451,9 +451,8 @@ static void *tile_buffers(rs_context *rs, const rs_job *j, int nt)
     return rs->tbuf;
 }
 
-/* Sum the counters of chunks c0..c0+n_chunks-1 and of the tiles into *stats. */
-static void gather_stats(const rs_job *j, const rs_context *rs, size_t c0, size_t n_chunks, size_t n_prims,
-                         rs_stats *stats)
+/* The counters of chunks c0..c0+n_chunks-1 (prims_*) into *stats, the rest zero. */
+static void gather_chunk_stats(const rs_context *rs, size_t c0, size_t n_chunks, size_t n_prims, rs_stats *stats)
 {
     memset(stats, 0, sizeof *stats);
     stats->prims_in = n_prims;
@@ -464,6 +463,13 @@ static void gather_stats(const rs_job *j, const rs_context *rs, size_t c0, size_
         stats->prims_degenerate += ch->degenerate;
         stats->prims_drawn += ch->drawn;
     }
+}
+
+/* Sum the counters of chunks c0..c0+n_chunks-1 and of the tiles into *stats. */
+static void gather_stats(const rs_job *j, const rs_context *rs, size_t c0, size_t n_chunks, size_t n_prims,
+                         rs_stats *stats)
+{
+    gather_chunk_stats(rs, c0, n_chunks, n_prims, stats);
     for (int t = 0; t < j->n_tiles; t++) {
         stats->samples_tested += rs->tile_stats[2 * (size_t)t];
         stats->samples_written += rs->tile_stats[2 * (size_t)t + 1];
@@ -611,8 +617,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     }
     scene_push(rs, &j, src->n_pieces, n_prims);
     if (stats) {   /* the samples come with the tile pass, into the scene's sink */
-        gather_stats(&j, rs, c0, src->n_pieces, n_prims, stats);
-        stats->samples_tested = stats->samples_written = 0;
+        gather_chunk_stats(rs, c0, src->n_pieces, n_prims, stats);
         stats->setup_ms = setup_ms;
     }
     return RS_OK;
