@@ -376,14 +376,17 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     return 0;
 }
 
-/* One frame: Clear + the instanced DrawIndexedPrimitive. */
+/* One frame: Clear + the instanced DrawIndexedPrimitive + the present (dev_render_target: every pixel of the
+ * frame written, as a Present or a read of the target needs -- the tiles no draw touched get the clear). */
 static is_result inst_frame(inst_gpu *g, const bench_data *bd)
 {
     uint32_t bg = IS_COLOR_ARGB(255, bench_background[0], bench_background[1], bench_background[2]);
     is_result e = dev_clear(g->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, bg, 1.0f);
     if (e != IS_OK) return e;
-    return dev_draw_indexed_primitive(g->dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)bd->grid.n_points, 0,
-                                      (unsigned)bd->grid.n_triangles);
+    e = dev_draw_indexed_primitive(g->dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)bd->grid.n_points, 0,
+                                   (unsigned)bd->grid.n_triangles);
+    if (e == IS_OK && !dev_render_target(g->dev)) e = IS_ERR_INVALIDCALL;
+    return e;
 }
 
 /* Statistics and resolved image of one more (untimed) frame at `threads` threads into r; IS_OK or an error. */

@@ -127,6 +127,7 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     dev->viewport = (is_viewport){0, 0, (uint32_t)width, (uint32_t)height, 0.0f, 1.0f};
     dev_viewport_update(dev);
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
+    rs_set_scene(dev->rs, &dev->stats);   /* a frame's instanced draws share one tile pass (raster.h) */
     return dev;
 }
 
@@ -599,11 +600,14 @@ is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t coun
     return IS_OK;
 }
 
-/* The counters; a NULL (or destroyed) device has none: zeros. */
+/* The counters (the queued draws' tile pass run first: their samples); a NULL (or destroyed) device has none:
+ * zeros. */
 const rs_stats *dev_stats(const is_device *dev)
 {
     static const rs_stats none = {0};
-    return dev_live(dev) ? &dev->stats : &none;
+    if (!dev_live(dev)) return &none;
+    rs_flush(dev->rs);
+    return &dev->stats;
 }
 uint64_t dev_vertices_shaded(const is_device *dev) { return dev_live(dev) ? dev->shaded : 0; }
 uint64_t dev_instances_culled(const is_device *dev) { return dev_live(dev) ? dev->instances_culled : 0; }

@@ -482,9 +482,10 @@ INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype 
                                                     is_format index_format, const void *vertices, unsigned stride);
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
- * deferred per tile (tiles are filled when first drawn to); dev_render_target writes out the tiles still pending,
- * so call it again after clearing and drawing before reading the planes -- a pointer kept across a dev_clear
- * may see tiles that were never drawn to with their old contents. */
+ * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are rasterized together
+ * (one tile pass: raster.h's rs_set_scene) when the target is next read; dev_render_target does both, so call it
+ * again after clearing and drawing before reading the planes -- a pointer kept across draws may see a target
+ * they have not been drawn into yet.  dev_stats runs the queued tile pass too (its samples counters). */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
 /* The image the device has drawn, in one call (D3D9's GetRenderTargetData): the target resolved to one packed
  * RGBA8 value per pixel (R in the low byte, rows top to bottom) into rgba, which holds `count` values (at least

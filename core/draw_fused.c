@@ -5,8 +5,9 @@
  * FUSED_PIECE_VERTICES vertices per instance): the rasterizer's setup threads ask for pieces of a few instances
  * (rs_draw_source), which are fetched, shaded, projected and set up by one thread while they are in the cache, into
  * per-thread scratch, at most FUSED_MAX_PRIMS triangles per rasterizer call.  Same bytes as shading everything
- * first (each instance's vertices and triangles are the same, in the same order).  A draw is then two parallel
- * regions (setup, tiles) plus the Clear's: on a machine whose cores are busy with other processes, each region's
+ * first (each instance's vertices and triangles are the same, in the same order).  A draw is then one parallel
+ * region (set-up) plus its share of the frame's tile pass (the rasterizer queues a frame's draws: rs_set_scene,
+ * which the device turns on): on a machine whose cores are busy with other processes, each region's
  * end can wait for a descheduled thread while libgomp's default busy-waiting keeps the core -- run with
  * OMP_WAIT_POLICY=passive there. */
 #include "device_internal.h"
@@ -19,6 +20,11 @@
 #define FUSED_PIECE_VERTICES 4096u
 #define FUSED_PIECES 64u
 #define FUSED_PIECE_PRIMS 16384u
+/* Draws of fewer triangles than this are set up by one thread (raster/draw.c's PARALLEL_SETUP_MIN): their pieces
+ * are made as large as the limits above allow, since more pieces buy no balance there and each costs the
+ * rasterizer a pass over the tiles (binning, and the tile pass's walk over the pieces: scene D's adaptive frames
+ * draw ~650 such draws, one instance per piece before). */
+#define FUSED_SMALL_DRAW 8192u
 /* Triangles per rs_draw_source call at most: bounds the set-up triangles held before the tile pass. */
 #define FUSED_MAX_PRIMS (1u << 19)
 
@@ -102,11 +108,12 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     return (size_t)kept * (f->n_idx / 3);
 }
 
-/* Instances per piece: about 1/FUSED_PIECES of the draw, at most FUSED_PIECE_VERTICES vertices and
- * FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance. */
+/* Instances per piece: about 1/FUSED_PIECES of the draw (all of a small one), at most FUSED_PIECE_VERTICES
+ * vertices and FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance. */
 static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
 {
     uint64_t want = (uint64_t)n_inst * count / FUSED_PIECES;
+    if ((uint64_t)n_inst * n_prims < FUSED_SMALL_DRAW) want = (uint64_t)n_inst * count;
     uint64_t per = want <= count ? 1u : want / count;
     if (per * count > FUSED_PIECE_VERTICES) per = FUSED_PIECE_VERTICES / count;
     if (per * n_prims > FUSED_PIECE_PRIMS) per = FUSED_PIECE_PRIMS / n_prims;

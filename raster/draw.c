@@ -97,6 +97,7 @@ void rs_destroy(rs_context *rs)
         free(c->bin_idx);
     }
     free(rs->chunks);
+    free(rs->q);
     free(rs->tile_stats);
     free(rs->pv);
     free(rs->pend);
@@ -260,10 +261,12 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     job_slots(j);
 }
 
-/* Make room for n chunks and the tile counters; false when out of memory. */
+/* Make room for n chunks (growing at least twofold: the frame's scene adds a draw's chunks at a time) and the
+ * tile counters; false when out of memory. */
 static bool reserve_context(rs_context *rs, size_t n, size_t n_tiles)
 {
     if (n > rs->n_chunks_cap) {
+        if (n < 2 * rs->n_chunks_cap) n = 2 * rs->n_chunks_cap;
         rs_chunk *c = aligned_alloc(_Alignof(rs_chunk), n * sizeof *c);
         if (!c) return false;
         if (rs->n_chunks_cap) memcpy(c, rs->chunks, rs->n_chunks_cap * sizeof *c);
@@ -348,15 +351,14 @@ static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const 
     return true;
 }
 
-/* Produce piece c of src on the calling thread and set it up into chunk c: shade (the producer), project each
+/* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each
  * vertex once (as the shared pass), set up and bin. */
-static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, int slot)
+static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, rs_chunk *ch, int slot)
 {
     rs_vertex *v = NULL;
     size_t nv = 0;
     const uint32_t *idx = NULL;
     size_t np = src->produce(src->ctx, c, slot, &v, &nv, &idx);
-    rs_chunk *ch = &rs->chunks[c];
     ch->bad_piece = np && !piece_ok(src, v, nv, idx, np);
     if (ch->bad_piece) np = 0;   /* set up nothing of it: the draw fails (RS_EINVAL) */
     rs_job jl = *j;
@@ -371,11 +373,12 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     rs_bin_chunk(&jl, ch);
 }
 
-/* Does any chunk bin a primitive to tile `tile`? */
-static bool tile_has_prims(const rs_context *rs, size_t n_chunks, int tile)
+/* Does any of draws d[0..nd) bin a primitive to tile `tile`? */
+static bool tile_has_prims(const rs_context *rs, const rs_scene_draw *d, size_t nd, int tile)
 {
-    for (size_t c = 0; c < n_chunks; c++)
-        if (rs->chunks[c].bin_off[tile + 1] > rs->chunks[c].bin_off[tile]) return true;
+    for (size_t k = 0; k < nd; k++)
+        for (size_t c = d[k].c0; c < d[k].c0 + d[k].nc; c++)
+            if (rs->chunks[c].bin_off[tile + 1] > rs->chunks[c].bin_off[tile]) return true;
     return false;
 }
 
@@ -393,34 +396,43 @@ static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i
     __builtin_prefetch(ch->attr + (size_t)i * (size_t)j->stride);
 }
 
-/* Rasterize tile `tile`: every chunk's bin of it, in submission order; counters into ts[0..2).  buf: the thread's
- * tile buffer (used when the tile's clear is deferred) or NULL (the tile is drawn in the target). */
-static void raster_tile(const rs_job *j, const rs_context *rs, size_t n_chunks, int tile, uint64_t *ts, void *buf)
+/* Rasterize draw d's bins of the tile t is set up for (its rectangle narrowed to d's viewport and scissor). */
+static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int tile, rs_tile *t)
 {
-    rs_tile t;
+    const rs_job *j = &d->j;
     int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
-    t.x0 = tx * RS_TILE > j->sx0 ? tx * RS_TILE : j->sx0;
-    t.y0 = ty * RS_TILE > j->sy0 ? ty * RS_TILE : j->sy0;
-    t.x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
-    t.y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
-    t.tested = t.written = 0;
-    t.color = j->rt->color, t.depth = j->rt->depth;
-    t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
-    bool has = tile_has_prims(rs, n_chunks, tile);
-    bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
-    if (has && !buffered) rs_tile_flush(rs, j, tile);
-    for (size_t c = 0; c < n_chunks && t.x0 < t.x1 && t.y0 < t.y1; c++) {
+    t->x0 = tx * RS_TILE > j->sx0 ? tx * RS_TILE : j->sx0;
+    t->y0 = ty * RS_TILE > j->sy0 ? ty * RS_TILE : j->sy0;
+    t->x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
+    t->y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
+    for (size_t c = d->c0; c < d->c0 + d->nc && t->x0 < t->x1 && t->y0 < t->y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
         for (uint32_t k = ch->bin_off[tile], end = ch->bin_off[tile + 1]; k < end; k++) {
             if (k + PREFETCH_AHEAD < end) prefetch_prim(j, ch, ch->bin_idx[k + PREFETCH_AHEAD]);
             uint32_t i = ch->bin_idx[k];
             const rs_prim *p = &ch->prims[i];
             const float *a = ch->attr + (size_t)i * (size_t)j->stride;
-            if (p->kind == RS_K_TRI) rs_tri_tile(j, &t, p, a);
-            else if (p->kind == RS_K_LINE) rs_line_tile(j, &t, p, a);
-            else rs_point_tile(j, &t, p, a);
+            if (p->kind == RS_K_TRI) rs_tri_tile(j, t, p, a);
+            else if (p->kind == RS_K_LINE) rs_line_tile(j, t, p, a);
+            else rs_point_tile(j, t, p, a);
         }
     }
+}
+
+/* Rasterize tile `tile`: draws d[0..nd) (one target) one after the other, each chunk's bin of it in submission
+ * order; counters into ts[0..2).  buf: the thread's tile buffer (used when the tile's clear is deferred: every
+ * draw of the tile then draws in it) or NULL (the tile is drawn in the target). */
+static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd, int tile, uint64_t *ts, void *buf)
+{
+    const rs_job *j = &d[0].j;
+    rs_tile t;
+    t.tested = t.written = 0;
+    t.color = j->rt->color, t.depth = j->rt->depth;
+    t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
+    bool has = tile_has_prims(rs, d, nd, tile);
+    bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
+    if (has && !buffered) rs_tile_flush(rs, j, tile);
+    for (size_t k = 0; has && k < nd; k++) raster_tile_draw(rs, &d[k], tile, &t);
     if (buffered) rs_tile_buffer_end(rs, j, tile, &t);
     ts[0] = t.tested;
     ts[1] = t.written;
@@ -439,30 +451,37 @@ static void *tile_buffers(rs_context *rs, const rs_job *j, int nt)
     return rs->tbuf;
 }
 
-/* Sum the chunk and tile counters into *stats. */
-static void gather_stats(const rs_job *j, const rs_context *rs, size_t n_chunks, size_t n_prims, rs_stats *stats)
+/* The counters of chunks c0..c0+n_chunks-1 (prims_*) into *stats, the rest zero. */
+static void gather_chunk_stats(const rs_context *rs, size_t c0, size_t n_chunks, size_t n_prims, rs_stats *stats)
 {
     memset(stats, 0, sizeof *stats);
     stats->prims_in = n_prims;
-    for (size_t c = 0; c < n_chunks; c++) {
+    for (size_t c = c0; c < c0 + n_chunks; c++) {
         const rs_chunk *ch = &rs->chunks[c];
         stats->prims_culled += ch->culled;
         stats->prims_clipped_away += ch->clipped;
         stats->prims_degenerate += ch->degenerate;
         stats->prims_drawn += ch->drawn;
     }
+}
+
+/* Sum the counters of chunks c0..c0+n_chunks-1 and of the tiles into *stats. */
+static void gather_stats(const rs_job *j, const rs_context *rs, size_t c0, size_t n_chunks, size_t n_prims,
+                         rs_stats *stats)
+{
+    gather_chunk_stats(rs, c0, n_chunks, n_prims, stats);
     for (int t = 0; t < j->n_tiles; t++) {
         stats->samples_tested += rs->tile_stats[2 * (size_t)t];
         stats->samples_written += rs->tile_stats[2 * (size_t)t + 1];
     }
 }
 
-/* Add the set-up chunks' work to the frame's; false (and the frame's work unchanged) when it would pass
- * RS_MAX_OVERDRAW times the scissor's pixels. */
-static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
+/* Add the work of set-up chunks c0..c0+n_chunks-1 to the frame's; false (and the frame's work unchanged) when it
+ * would pass RS_MAX_OVERDRAW times the scissor's pixels. */
+static bool add_work(rs_context *rs, const rs_job *j, size_t c0, size_t n_chunks)
 {
     uint64_t w = 0;
-    for (size_t c = 0; c < n_chunks; c++) w = w + rs->chunks[c].work < w ? UINT64_MAX : w + rs->chunks[c].work;
+    for (size_t c = c0; c < c0 + n_chunks; c++) w = w + rs->chunks[c].work < w ? UINT64_MAX : w + rs->chunks[c].work;
     uint64_t px = (uint64_t)RS_MAX_OVERDRAW * (uint64_t)(j->sx1 - j->sx0) * (uint64_t)(j->sy1 - j->sy0);
     uint64_t limit = (px > RS_MIN_WORK ? px : RS_MIN_WORK) * RS_WORK_UNIT;
     if (!rs->frame) rs->work = 0;   /* no frame started: each draw counts alone */
@@ -471,11 +490,11 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t n_chunks)
     return true;
 }
 
-/* Rasterize every tile in parallel, then sum the counters and the phase times (setup_ms: the first half's) into
- * *stats (the second half of a draw). */
-static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, double setup_ms,
-                         rs_stats *stats)
+/* Rasterize every tile in parallel for draws d[0..nd) (one target, the same tiles); the tiles' counters in
+ * rs->tile_stats; returns the region's ms (rs_set_timing). */
+static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, int nt)
 {
+    const rs_job *j = &d[0].j;
     int ntl = j->n_tiles;
     /* the reference path draws in the target, so that the tests compare the tile buffers and their copy-out
      * against it */
@@ -484,12 +503,83 @@ static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_
     const double t0 = phase_clock(rs);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (int t = 0; t < ntl; t++)
-        raster_tile(j, rs, n_chunks, t, rs->tile_stats + 2 * (size_t)t,
-                    bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL);
-    const double t1 = phase_clock(rs);
+        raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL);
+    return phase_clock(rs) - t0;
+}
+
+/* Rasterize every tile for the draw j of chunks rs->chunks[0..n_chunks) now, then sum the counters and the phase
+ * times (setup_ms: the first half's) into *stats (the second half of a draw). */
+static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_t n_prims, int nt, double setup_ms,
+                         rs_stats *stats)
+{
+    rs_scene_draw d;
+    d.j = *j, d.c0 = 0, d.nc = n_chunks;
+    const double tile_ms = raster_scene(rs, &d, 1, nt);
     if (!stats) return;
-    gather_stats(j, rs, n_chunks, n_prims, stats);
-    stats->setup_ms = setup_ms, stats->tile_ms = t1 - t0;
+    gather_stats(j, rs, 0, n_chunks, n_prims, stats);
+    stats->setup_ms = setup_ms, stats->tile_ms = tile_ms;
+}
+
+/* ------------------------------ the frame's scene (rs_set_scene) ------------------------------ */
+
+/* Set-up triangles the queue holds at most before a draw flushes it (each costs ~150 bytes of set-up records
+ * written by the set-up and read back by the tile pass: 2^18 is ~40 MB). */
+#define SCENE_MAX_PRIMS (1u << 18)
+
+void rs_flush(rs_context *rs)
+{
+    if (!rs || rs->q_n == 0) return;
+    for (size_t k = 0; k < rs->q_n; k++) rs->q[k].j.st = &rs->q[k].st;   /* the queue may have moved */
+    const int nt = thread_count(rs);
+    const double tile_ms = raster_scene(rs, rs->q, rs->q_n, nt);
+    const int ntl = rs->q[0].j.n_tiles;
+    rs_stats *s = rs->sink;
+    for (int t = 0; s && t < ntl; t++) {
+        s->samples_tested += rs->tile_stats[2 * (size_t)t];
+        s->samples_written += rs->tile_stats[2 * (size_t)t + 1];
+    }
+    if (s) s->tile_ms += tile_ms;
+    rs->q_n = rs->q_chunks = rs->q_prims = 0;
+}
+
+void rs_set_scene(rs_context *rs, rs_stats *sink)
+{
+    if (!rs) return;
+    rs_flush(rs);
+    rs->sink = sink;
+}
+
+/* Whether draw j of n_pieces pieces and at most n_prims triangles is queued (rs_set_scene on, the fast path, the
+ * target of the frame the last deferred clear started); the queue flushed first when j cannot join it (another
+ * target, or the budget) or when j is not queued (it draws now, after them).  Room for one more entry made. */
+static bool scene_takes(rs_context *rs, const rs_job *j, size_t n_pieces, size_t n_prims)
+{
+    rs_target *rt = j->rt;
+    bool take = rs->sink && !j->reference && rs->frame && rt == rs->pend_rt && rt->color == rs->pend_color;
+    size_t tiles = (size_t)j->n_tiles, max_chunks = BIN_OFFSETS_BUDGET / (tiles + 1); /* bin offsets: 16 MB */
+    if (rs->q_n && (!take || rt != rs->q_rt || rt->color != rs->q_color || rs->q_prims + n_prims > SCENE_MAX_PRIMS ||
+                    rs->q_chunks + n_pieces > max_chunks))
+        rs_flush(rs);
+    if (take && rs->q_n == rs->q_cap) {
+        size_t cap = rs->q_cap ? 2 * rs->q_cap : 64;
+        rs_scene_draw *q = realloc(rs->q, cap * sizeof *q);
+        if (!q) {   /* drawn now, after the queued draws: the same bytes */
+            rs_flush(rs);
+            return false;
+        }
+        rs->q = q, rs->q_cap = cap;
+    }
+    return take;
+}
+
+/* Queue draw j, set up into rs->chunks[q_chunks .. + nc) with n_prims set-up triangles (scene_takes made room). */
+static void scene_push(rs_context *rs, const rs_job *j, size_t nc, size_t n_prims)
+{
+    rs_scene_draw *d = &rs->q[rs->q_n++];
+    d->j = *j, d->st = *j->st, d->j.st = &d->st;
+    d->c0 = rs->q_chunks, d->nc = nc;
+    rs->q_chunks += nc, rs->q_prims += n_prims;
+    rs->q_rt = j->rt, rs->q_color = j->rt->color;
 }
 
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
@@ -503,22 +593,33 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     rs_job j;
     make_job(&j, rs, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
     int nt = thread_count(rs);
-    if (!reserve_context(rs, src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
+    const bool queued = scene_takes(rs, &j, src->n_pieces, src->n_prims);
+    const size_t c0 = queued ? rs->q_chunks : 0;   /* not queued: the queue is empty */
+    if (!reserve_context(rs, c0 + src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
         return RS_ENOMEM;
     long nc = (long)src->n_pieces;
+    rs_chunk *ch = rs->chunks + c0;
     const double t0 = phase_clock(rs);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && src->n_prims >= PARALLEL_SETUP_MIN)
-    for (long c = 0; c < nc; c++) source_chunk(&j, rs, src, (size_t)c, omp_get_thread_num());
+    for (long c = 0; c < nc; c++) source_chunk(&j, rs, src, (size_t)c, &ch[c], omp_get_thread_num());
     const double setup_ms = phase_clock(rs) - t0;
     size_t n_prims = 0;
     for (size_t c = 0; c < src->n_pieces; c++) {
-        if (rs->chunks[c].bad_piece) return RS_EINVAL;
-        if (rs->chunks[c].oom) return RS_ENOMEM;
-        n_prims += rs->chunks[c].count;
+        if (ch[c].bad_piece) return RS_EINVAL;
+        if (ch[c].oom) return RS_ENOMEM;
+        n_prims += ch[c].count;
     }
     if (n_prims > src->n_prims) return RS_EINVAL;
-    if (!add_work(rs, &j, src->n_pieces)) return RS_EWORK;
-    raster_tiles(&j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
+    if (!add_work(rs, &j, c0, src->n_pieces)) return RS_EWORK;
+    if (!queued) {
+        raster_tiles(&j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
+        return RS_OK;
+    }
+    scene_push(rs, &j, src->n_pieces, n_prims);
+    if (stats) {   /* the samples come with the tile pass, into the scene's sink */
+        gather_chunk_stats(rs, c0, src->n_pieces, n_prims, stats);
+        stats->setup_ms = setup_ms;
+    }
     return RS_OK;
 }
 
@@ -531,6 +632,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
         return RS_EINVAL;
     if (stats) stats->prims_in = n_prims;
     if (n_prims == 0) return RS_OK;
+    rs_flush(rs);   /* the queued draws come first */
     rs_job j;
     make_job(&j, rs, st, rt, prim, verts, idx);
     size_t n_chunks = chunk_count(n_prims, (size_t)j.n_tiles);
@@ -552,7 +654,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     const double setup_ms = phase_clock(rs) - t0;
     for (size_t c = 0; c < n_chunks; c++)
         if (rs->chunks[c].oom) return RS_ENOMEM;
-    if (!add_work(rs, &j, n_chunks)) return RS_EWORK;
+    if (!add_work(rs, &j, 0, n_chunks)) return RS_EWORK;
     raster_tiles(&j, rs, n_chunks, n_prims, nt, setup_ms, stats);
     return RS_OK;
 }

@@ -47,7 +47,8 @@
  *  - Frames: rs_target_clear_deferred starts a frame on a context (its clear is written tile by tile when a draw
  *    first touches a tile); until rs_target_flush the target's planes must be read or written only through that
  *    context.  The work bound (RS_MAX_OVERDRAW) counts per frame (each draw alone on a context that never
- *    started one).
+ *    started one).  With rs_set_scene on, a frame's rs_draw_source draws share one tile pass, run when the
+ *    target is flushed or cleared (or at rs_flush): same bytes as drawing them one by one.
  *  - Draw sources: rs_draw_source draws triangles whose vertices a callback produces piece by piece on the
  *    set-up threads (the device's instanced draws); same bytes as rs_draw on the concatenated pieces.
  */
@@ -247,6 +248,17 @@ INSTESS_API int rs_isa(const rs_context *rs);
 /* "avx2", "avx512", or NULL for an unknown value; rs_isa_parse is the inverse (-1: unknown name). */
 INSTESS_API const char *rs_isa_name(int isa);
 INSTESS_API int rs_isa_parse(const char *name);
+/* The frame's scene on (sink non-NULL) or off (NULL, the default; the queue is flushed first).  With it on, a
+ * rs_draw_source draw on the fast path into the target of the frame the last rs_target_clear_deferred started is
+ * set up at once (its errors returned, its prims_* counted in its rs_stats) but rasterized later: the queued
+ * draws share one tile pass -- each tile walks them in submission order, so the same bytes -- run by rs_flush,
+ * rs_target_flush, rs_target_clear_deferred, rs_draw, a draw on another target, or when the queue's set-up
+ * memory passes its budget.  The queued draws' samples_tested / samples_written and tile_ms are then added to
+ * *sink, not to the draws' rs_stats.  Until then the target's planes must not be read or written (as a deferred
+ * clear's) and *sink must stay valid. */
+INSTESS_API void rs_set_scene(rs_context *rs, rs_stats *sink);
+/* Rasterize the queued draws of rs_set_scene now (nothing when none is queued). */
+INSTESS_API void rs_flush(rs_context *rs);
 /* Measure each draw's phase times into rs_stats.setup_ms / tile_ms (on) or leave them 0 (off, the default).
  * Timing changes no image byte and no counter; it costs two clock reads per region. */
 INSTESS_API void rs_set_timing(rs_context *rs, bool on);

@@ -166,6 +166,14 @@ typedef struct rs_chunk {
  * first (a hand-made target may say anything). */
 bool rs_target_valid(const rs_target *rt);
 
+/* A draw set up and waiting for the frame's tile pass (rs_set_scene): its job (j.st points at st once the tile
+ * pass runs: the queue may move) and its chunks rs->chunks[c0 .. c0 + nc). */
+typedef struct rs_scene_draw {
+    rs_job j;
+    rs_state st;
+    size_t c0, nc;
+} rs_scene_draw;
+
 struct rs_context {
     int threads;
     uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
@@ -189,6 +197,12 @@ struct rs_context {
     float pend_z;
     void *tbuf;                  /* tile buffers of the tile pass, one per thread (rs_tile_buffer_size bytes each) */
     size_t tbuf_cap;             /* bytes */
+    rs_stats *sink;              /* rs_set_scene: the queued draws' tile counters go here; NULL: no queue */
+    rs_scene_draw *q;            /* the queued draws, in submission order */
+    size_t q_n, q_cap;
+    size_t q_chunks, q_prims;    /* chunks they use (rs->chunks[0 .. q_chunks)), their set-up primitives */
+    rs_target *q_rt;             /* their target and its colour plane when queued */
+    uint32_t *q_color;
 };
 
 /* A tile being rasterized by one thread: its pixel rectangle (inside the scissor), where its samples live and its

@@ -238,6 +238,7 @@ static bool pending_on(const rs_context *rs, const rs_target *rt)
 
 void rs_target_flush(rs_context *rs, rs_target *rt)
 {
+    rs_flush(rs);   /* the queued draws (rs_set_scene) first */
     if (!rs || !rt || !pending_on(rs, rt)) {
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
@@ -254,6 +255,7 @@ void rs_target_flush(rs_context *rs, rs_target *rt)
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
     if (!rs || !rs_target_valid(rt) || !(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH))) return;
+    rs_flush(rs);   /* the queued draws (rs_set_scene) before the clear */
     rs->work = 0;   /* a new frame: RS_MAX_OVERDRAW counts from here */
     rs->frame = true;
     if (rs->pend_tiles > 0 && (!pending_on(rs, rt) || (flags & rs->pend_flags) != rs->pend_flags))

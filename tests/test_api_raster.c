@@ -47,6 +47,8 @@ static void test_null(void **state)
     rs_set_threads(NULL, 4);
     rs_set_reference_path(NULL, true);
     rs_set_timing(NULL, true);
+    rs_set_scene(NULL, NULL);
+    rs_flush(NULL);
     assert_true(rs_threads(NULL) >= 1);
     assert_int_equal(rs_set_isa(NULL, RS_ISA_AVX2), RS_EINVAL);
     (void)rs_isa(NULL);
@@ -85,6 +87,13 @@ static void test_null(void **state)
     rs_source nofn = {.n_pieces = 1, .n_prims = 1, .max_verts = 3};
     assert_int_equal(rs_draw_source(rs, &st, &rt, &nofn, &s), RS_EINVAL);
     rs_target_resolve(&rt, NULL);
+    rs_stats sink = {0};   /* the scene: a queued draw of a refused source, then a destroy with a draw queued */
+    rs_set_scene(rs, &sink);
+    rs_flush(rs);
+    rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+    assert_int_equal(rs_draw_source(rs, &st, &rt, &nofn, &s), RS_EINVAL);
+    rs_flush(rs);
+    assert_int_equal(sink.samples_tested, 0u);
     rs_target_free(&rt);
     rs_target_free(&rt);   /* twice: a zeroed target */
     rs_destroy(rs);

@@ -1,7 +1,8 @@
 /* tests/test_reference_path.c -- the optimized draw path (batched shading, shared vertex projection, 8-pixel
  * spans) writes exactly the bytes of the scalar reference path (dev_set_reference_path(dev, true)): scenes
  * shaped like the benchmark's A (one cube, high level), B (many cubes, geometry-bound) and C (one cube, low level,
- * fill-bound), smaller, with every patch, 1 and 2 threads, plus the cases that leave the fast paths: near-plane
+ * fill-bound), smaller, and D (adaptive levels: many draws a frame, one tile pass), with every patch, 1 and 2
+ * threads, plus the cases that leave the fast paths: near-plane
  * clipping, a target width that is not a multiple of 8, 4 samples, AOV planes, the wireframe overlay, the
  * device's N-patch mode and CPU tessellation; the limits of the fused path (several rasterizer calls per draw,
  * instances larger than a piece); and every shader's batched entry against its per-vertex main, bit for bit.
@@ -114,6 +115,22 @@ static void test_scene_a(void **state) { (void)state; all_patches(1, 16, 160, 16
 static void test_scene_b(void **state) { (void)state; all_patches(4, 6, 192, 192, 2.4f); }
 /* C: one cube at a low level on a larger target (few large triangles). */
 static void test_scene_c(void **state) { (void)state; all_patches(1, 2, 320, 320, 3.2f); }
+
+/* D: adaptive levels (--lod screen), so a frame is one instanced draw per bucket of level triples -- the draws
+ * the device queues for one tile pass (raster.h, rs_set_scene) -- with every patch and 1 and 2 threads. */
+static void test_scene_d(void **state)
+{
+    (void)state;
+    is_mesh m;
+    make_cubes(3, &m);
+    for (int p = 0; p < VS_PATCH_COUNT; p++)
+        for (int t = 1; t <= 2; t++) {
+            scene_opts o = scene(12, 200, 200, 2.4f);
+            o.patch = (vs_patch)p, o.threads = t, o.lod = TESS_LOD_SCREEN, o.lod_target = 5.0f;
+            assert_true(check_same(&o, &m, 0) > 0);
+        }
+    mesh_free(&m);
+}
 
 /* Targets whose planes take the tile pass's streaming copy-out (2048 x 1024 at 1 sample and 512 x 512 at 4
  * samples: 8 and 4 MB planes, rows of whole cache lines) and a large one whose rows are not whole cache lines
@@ -431,6 +448,7 @@ int main(void)
         cmocka_unit_test(test_scene_a),
         cmocka_unit_test(test_scene_b),
         cmocka_unit_test(test_scene_c),
+        cmocka_unit_test(test_scene_d),
         cmocka_unit_test(test_edge_cases),
         cmocka_unit_test(test_fused_limits),
         cmocka_unit_test(test_large_targets),

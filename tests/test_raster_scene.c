@@ -1,0 +1,231 @@
+/* tests/test_raster_scene.c -- the frame's scene (rs_set_scene): rs_draw_source draws into the target of a frame
+ * (rs_target_clear_deferred) are set up at once and rasterized together at rs_flush / rs_target_flush.  A frame
+ * of many small draws, each with its own states (cull mode, depth function and writes, blending, scissor,
+ * viewport), with lines drawn by rs_draw in between and a draw on a second target, must give the same bytes and
+ * counters as the same frame drawn draw by draw (scene off) and on the reference path, for 1 and 2 threads; the
+ * queued draws' samples arrive in the sink only when the queue is flushed.  Deterministic: a fixed seed. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../raster/raster.h"
+
+enum { W = 200, H = 150, DRAWS = 40, PIECES = 3, PER_PIECE = 6 };
+
+/* xorshift64 random numbers. */
+static uint32_t rnd(uint64_t *s)
+{
+    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
+    return (uint32_t)(*s >> 11);
+}
+static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
+
+/* The frame's data: per draw its states and PIECES pieces of PER_PIECE triangles (3 vertices each). */
+typedef struct frame {
+    rs_state st[DRAWS];
+    rs_vertex v[DRAWS][PIECES][3 * PER_PIECE];
+    rs_vertex line[DRAWS][2];
+} frame;
+
+/* A draw source's context: draw d of frame f. */
+typedef struct src_ctx { const frame *f; int d; } src_ctx;
+static uint32_t g_idx[3 * PER_PIECE];   /* 0, 1, 2, ... (read only once filled) */
+
+/* rs_produce_fn: piece p of the draw, as it is. */
+static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts, const uint32_t **idx)
+{
+    const src_ctx *c = ctx;
+    (void)slot;
+    *verts = (rs_vertex *)c->f->v[c->d][piece], *n_verts = 3 * PER_PIECE, *idx = g_idx;
+    return PER_PIECE;
+}
+
+/* Random states: cull, depth function and writes, blending, scissor, viewport offsets (all on the fast path). */
+static rs_state random_state(uint64_t *s)
+{
+    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID, .shade_mode = RS_SHADE_GOURAUD,
+                   .z_enable = true, .z_write = rnd(s) % 4 != 0, .z_func = rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER,
+                   .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
+                   .viewport = {0, 0, W, H, 0.0f, 1.0f}};
+    if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (rnd(s) % 4 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 60), (int)(rnd(s) % 40), 120, 100, 0.0f, 1.0f};
+    if (rnd(s) % 4 == 0) {
+        int x0 = (int)(rnd(s) % 150), y0 = (int)(rnd(s) % 100);
+        st.scissor_enable = true, st.scissor = (rs_rect){x0, y0, x0 + 50, y0 + 50};
+    }
+    return st;
+}
+
+/* A random vertex in clip space (some w != 1), with a random colour. */
+static rs_vertex random_vertex(uint64_t *s)
+{
+    rs_vertex v;
+    memset(&v, 0, sizeof v);
+    float w = frnd(s, 0.5f, 2.0f);
+    v.pos = (rs_vec4){frnd(s, -1.1f, 1.1f) * w, frnd(s, -1.1f, 1.1f) * w, frnd(s, 0.0f, 1.0f) * w, w};
+    v.attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1)};
+    return v;
+}
+
+/* Small triangles around random centres (a tile or a few each), and a line per draw. */
+static void make_frame(frame *f, uint64_t seed)
+{
+    uint64_t s = seed;
+    for (int k = 0; k < 3 * PER_PIECE; k++) g_idx[k] = (uint32_t)k;
+    for (int d = 0; d < DRAWS; d++) {
+        f->st[d] = random_state(&s);
+        for (int p = 0; p < PIECES; p++)
+            for (int t = 0; t < PER_PIECE; t++) {
+                rs_vertex c = random_vertex(&s);
+                float r = frnd(&s, 0.02f, 0.4f) * c.pos.w;
+                for (int k = 0; k < 3; k++) {
+                    rs_vertex v = c;
+                    v.pos.x += frnd(&s, -r, r), v.pos.y += frnd(&s, -r, r);
+                    v.attr[RS_ATTR_COLOR0].x = frnd(&s, 0, 1);
+                    f->v[d][p][3 * t + k] = v;
+                }
+            }
+        f->line[d][0] = random_vertex(&s), f->line[d][1] = random_vertex(&s);
+    }
+}
+
+/* What a frame drew: the planes of both targets and the summed counters. */
+typedef struct result {
+    uint32_t color[W * H], color2[W * H];
+    float depth[W * H];
+    rs_stats sum;
+} result;
+
+/* Add a draw's counters (the sink's too) to *sum. */
+static void add(rs_stats *sum, const rs_stats *s)
+{
+    sum->prims_in += s->prims_in, sum->prims_culled += s->prims_culled, sum->prims_drawn += s->prims_drawn;
+    sum->prims_clipped_away += s->prims_clipped_away, sum->prims_degenerate += s->prims_degenerate;
+    sum->samples_tested += s->samples_tested, sum->samples_written += s->samples_written;
+}
+
+/* Draw frame f on a fresh context: scene on or off, reference path or not, `threads` threads; every 7th draw is
+ * followed by a line (rs_draw: the queue first), draw 20 also goes to a second target (the queue flushed). */
+static void draw_frame(const frame *f, bool scene, bool reference, int threads, result *out)
+{
+    rs_context *rs = rs_create(threads);
+    rs_target rt, rt2;
+    assert_non_null(rs);
+    assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+    assert_int_equal(rs_target_init(&rt2, W, H, 1), RS_OK);
+    rs_stats sink = {0}, s;
+    memset(&out->sum, 0, sizeof out->sum);
+    rs_set_reference_path(rs, reference);
+    rs_set_scene(rs, scene ? &sink : NULL);
+    rs_target_clear(&rt2, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x11223344u, 1.0f);
+    rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff402010u, 1.0f);
+    for (int d = 0; d < DRAWS; d++) {
+        src_ctx c = {f, d};
+        rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &c};
+        rs_state st = f->st[d];   /* changed below after the draw: the queued draw keeps its own copy */
+        assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
+        add(&out->sum, &s);
+        st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_ALWAYS, st.viewport.x = 3;
+        if (d % 7 == 6) {
+            assert_int_equal(rs_draw(rs, &f->st[d], &rt, RS_PRIM_LINES, f->line[d], 2, NULL, 1, &s), RS_OK);
+            add(&out->sum, &s);
+        }
+        if (d == 20) {
+            assert_int_equal(rs_draw_source(rs, &f->st[d], &rt2, &src, &s), RS_OK);
+            add(&out->sum, &s);
+        }
+    }
+    if (scene) {   /* the draws after the last line not rasterized yet: their samples come with the flush */
+        const uint64_t before = sink.samples_tested;
+        rs_flush(rs);
+        assert_true(sink.samples_tested > before);
+        rs_flush(rs);   /* twice: nothing more */
+    }
+    add(&out->sum, &sink);
+    rs_target_flush(rs, &rt);
+    memcpy(out->color, rt.color, sizeof out->color);
+    memcpy(out->depth, rt.depth, sizeof out->depth);
+    memcpy(out->color2, rt2.color, sizeof out->color2);
+    rs_target_free(&rt);
+    rs_target_free(&rt2);
+    rs_destroy(rs);
+}
+
+/* Compare two results byte for byte (planes and counters). */
+static void same(const result *a, const result *b)
+{
+    assert_memory_equal(a->color, b->color, sizeof a->color);
+    assert_memory_equal(a->depth, b->depth, sizeof a->depth);
+    assert_memory_equal(a->color2, b->color2, sizeof a->color2);
+    assert_memory_equal(&a->sum, &b->sum, sizeof a->sum);
+}
+
+/* The scene against draw by draw and the reference path, 1 and 2 threads, a few frames. */
+static void test_scene_same_bytes(void **state)
+{
+    (void)state;
+    frame *f = malloc(sizeof *f);
+    result *ref = malloc(sizeof *ref), *r = malloc(sizeof *r);
+    assert_true(f && ref && r);
+    for (uint64_t seed = 1; seed <= 4; seed++) {
+        make_frame(f, 0x9e3779b97f4a7c15ull * seed);
+        draw_frame(f, false, true, 1, ref);
+        assert_true(ref->sum.samples_written > 0);
+        for (int threads = 1; threads <= 2; threads++) {
+            draw_frame(f, false, false, threads, r);
+            same(ref, r);
+            draw_frame(f, true, false, threads, r);
+            same(ref, r);
+        }
+    }
+    free(f), free(ref), free(r);
+}
+
+/* Without a deferred clear (no frame) or with the scene off a draw is rasterized at once; with it, only at the
+ * flush (the target untouched before). */
+static void test_scene_defers(void **state)
+{
+    (void)state;
+    frame *f = malloc(sizeof *f);
+    assert_non_null(f);
+    make_frame(f, 77);
+    rs_context *rs = rs_create(2);
+    rs_target rt;
+    assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+    rs_stats sink = {0}, s;
+    rs_set_scene(rs, &sink);
+    src_ctx c = {f, 0};
+    rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &c};
+    rs_state st = f->st[0];
+    st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_LESSEQUAL, st.blend_enable = false, st.scissor_enable = false, st.viewport = (rs_viewport){0, 0, W, H, 0.0f, 1.0f};
+    rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+    assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);   /* no frame: drawn now */
+    assert_true(s.samples_written > 0);
+    rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+    assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
+    assert_int_equal(s.samples_written, 0u);
+    assert_true(s.prims_drawn > 0);
+    assert_int_equal(sink.samples_written, 0u);
+    rs_target_flush(rs, &rt);
+    assert_true(sink.samples_written > 0);
+    rs_set_scene(rs, NULL);   /* off: drawn now again */
+    assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
+    assert_true(s.samples_tested > 0);
+    rs_target_free(&rt);
+    rs_destroy(rs);
+    free(f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scene_same_bytes),
+        cmocka_unit_test(test_scene_defers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
