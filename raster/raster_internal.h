@@ -150,6 +150,7 @@ typedef struct rs_chunk {
     rs_prim *prims;
     uint32_t *ptile;             /* per primitive: its tile when its box lies in one, else RS_MULTI_TILE */
     float *attr;                 /* stride floats per primitive */
+    size_t attr_cap;             /* floats attr holds (cap times the stride of the draw that last grew it) */
     size_t n, cap;
     uint32_t *bin_off;           /* n_tiles + 1 */
     size_t bin_off_cap;

@@ -52,7 +52,20 @@ bool rs_setup_grow(const rs_job *j, rs_chunk *c)
         return false;
     }
     c->attr = a;
+    c->attr_cap = cap * st;
     c->cap = cap;
+    return true;
+}
+
+/* Chunk c's attribute array made to hold c->cap primitives of j's stride (a chunk kept from a draw with fewer
+ * interpolated slots -- before a pixel shader, say -- has a smaller one); false (and c->oom) when out of memory. */
+static bool fit_attr(const rs_job *j, rs_chunk *c)
+{
+    size_t need = c->cap * (size_t)(j->stride ? j->stride : 1);
+    if (c->attr_cap >= need) return true;
+    float *a = realloc(c->attr, need * sizeof *a);
+    if (!a) return c->oom = true, false;
+    c->attr = a, c->attr_cap = need;
     return true;
 }
 
@@ -359,6 +372,7 @@ void rs_setup_chunk(const rs_job *j, rs_chunk *c)
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
+    if (!fit_attr(j, c)) return;
     size_t vpp = j->prim == RS_PRIM_TRIANGLES ? 3 : (j->prim == RS_PRIM_LINES ? 2 : 1);
     if (vpp == 3 && j->pv && j->idx) { /* the shared pass's triangles: indices straight to the projected vertices */
         j->kern->setup_shared(j, c);

@@ -198,6 +198,41 @@ static void test_kill_and_depth(void **state_)
     rs_target_free(&rt);
 }
 
+/* A context that drew with one interpolated slot draws with a pixel shader (every slot): its chunks' attribute
+ * arrays grow to the new stride (they overflowed: the viewer crashed on its second frame with --shading pixel), and
+ * the bytes are those of a fresh context. */
+static void test_stride_grows(void **state_)
+{
+    (void)state_;
+    enum { N = 600 };
+    static rs_vertex v[3 * N];
+    for (int k = 0; k < N; k++) {   /* many small triangles: the chunks grow their arrays for one slot */
+        double x = 1 + (k % 29), y = 1 + (k / 29) % 21;
+        v[3 * k] = vtx(x, y, 0.5f, 1.0f, (rs_vec4){0.2f, 0.4f, 0.6f, 1});
+        v[3 * k + 1] = vtx(x + 0.9, y, 0.5f, 1.0f, (rs_vec4){0.8f, 0.4f, 0.1f, 1});
+        v[3 * k + 2] = vtx(x, y + 0.9, 0.5f, 1.0f, (rs_vec4){0.1f, 0.9f, 0.3f, 1});
+    }
+    rs_state one = state(), ps = state();
+    one.attr_mask = 1u << RS_ATTR_COLOR0;
+    ps.ps = ps_texcoord;
+    ps.attr_mask = (1u << RS_MAX_ATTR) - 1u;
+    rs_target a, b;
+    assert_int_equal(rs_target_init(&a, W, H, 1), RS_OK);
+    assert_int_equal(rs_target_init(&b, W, H, 1), RS_OK);
+    rs_context *used = rs_create(1), *fresh = rs_create(1);
+    rs_target_clear(&a, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, CLEAR, 1.0f);
+    assert_int_equal(rs_draw(used, &one, &a, RS_PRIM_TRIANGLES, v, 3 * N, NULL, N, NULL), RS_OK);
+    rs_target_clear(&a, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, CLEAR, 1.0f);
+    assert_int_equal(rs_draw(used, &ps, &a, RS_PRIM_TRIANGLES, v, 3 * N, NULL, N, NULL), RS_OK);
+    rs_target_clear(&b, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, CLEAR, 1.0f);
+    assert_int_equal(rs_draw(fresh, &ps, &b, RS_PRIM_TRIANGLES, v, 3 * N, NULL, N, NULL), RS_OK);
+    assert_memory_equal(a.color, b.color, (size_t)W * H * 4);
+    rs_destroy(used);
+    rs_destroy(fresh);
+    rs_target_free(&a);
+    rs_target_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -205,6 +240,7 @@ int main(void)
         cmocka_unit_test(test_vpos_vface),
         cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_kill_and_depth),
+        cmocka_unit_test(test_stride_grows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
