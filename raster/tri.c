@@ -17,6 +17,31 @@ typedef struct walk {
     unsigned full;             /* mask of all samples */
 } walk;
 
+/* The plane of sum lambda_i / w_i of triangle tr at (fx, fy) (pixels from vertex 0): positive in front of the eye. */
+static inline float tri_inv_w(const rs_tri *tr, float fx, float fy) { return tr->s[2] + tr->s[0] * fx + tr->s[1] * fy; }
+
+/* Perspective barycentrics (*b1, *b2) of triangle tr at (fx, fy) whose tri_inv_w is sv. */
+static inline void tri_bary_of(const rs_tri *tr, float fx, float fy, float sv, float *b1, float *b2)
+{
+    float r = 1.0f / sv;
+    *b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
+    *b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+}
+
+/* tri_bary_of at the pixel centre (fx, fy), or at sample `first` when the centre lies far outside the triangle
+ * (D3D9 shades at the centre, without centroid sampling, while it is in front of the eye). */
+static inline void tri_bary(const rs_job *j, const rs_tri *tr, float fx, float fy, int first, float *b1, float *b2)
+{
+    const float k = 1.0f / RS_SUB;
+    float sv = tri_inv_w(tr, fx, fy);
+    if (!(sv > 0.0f)) {
+        fx += (float)j->sox[first] * k;
+        fy += (float)j->soy[first] * k;
+        sv = tri_inv_w(tr, fx, fy);
+    }
+    tri_bary_of(tr, fx, fy, sv, b1, b2);
+}
+
 /* Depth-test, shade and write pixel (x, y) of triangle p with sample coverage cov. */
 static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
 {
@@ -46,15 +71,8 @@ static void tri_pixel(const rs_job *j, rs_tile *t, const rs_prim *p, const float
     t->tested += (uint64_t)__builtin_popcount(cov);
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
-        fx += (float)j->sox[first] * k;
-        fy += (float)j->soy[first] * k;
-        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    }
-    float r = 1.0f / sv;
-    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+    float b1, b2;
+    tri_bary(j, tr, fx, fy, first, &b1, &b2);
     rs_write_color(j, t->color + base, pass, rs_shade_color(j, a, b1, b2));
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
 }
@@ -149,13 +167,9 @@ static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const fl
         if (in) q.live |= 1u << l;
         q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
         float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k;
-        float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
+        float sv = tri_inv_w(tr, fx, fy);
         float l1 = b1, l2 = b2;
-        if (l != lane && sv > 0.0f) {
-            float r = 1.0f / sv;
-            l1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-            l2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
-        }
+        if (l != lane && sv > 0.0f) tri_bary_of(tr, fx, fy, sv, &l1, &l2);
         rs_ps_lane(j, a, l1, l2, q.v[l]);
     }
     q.live |= 1u << lane;   /* covered by a sample, if not at its centre */
@@ -177,16 +191,8 @@ static void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const f
         float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
         zs[s] = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
     }
-    int first = __builtin_ctz(cov);
-    float sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    if (!(sv > 0.0f)) { /* the centre lies far outside the triangle: shade at the first covered sample */
-        fx += (float)j->sox[first] * k;
-        fy += (float)j->soy[first] * k;
-        sv = tr->s[2] + tr->s[0] * fx + tr->s[1] * fy;
-    }
-    float r = 1.0f / sv;
-    float b1 = (tr->q1[2] + tr->q1[0] * fx + tr->q1[1] * fy) * r;
-    float b2 = (tr->q2[2] + tr->q2[0] * fx + tr->q2[1] * fy) * r;
+    float b1, b2;
+    tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
     if (j->st->ps) tri_pixel_ps(j, t, p, a, x, y, cov, zs, b1, b2);
     else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
 }
