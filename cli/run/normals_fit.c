@@ -21,16 +21,16 @@
 #define MISFIT_RATIO 2.0
 #define MISFIT_MIN_DEG 1.0
 
-/* One side of a welded edge: its welded end points (lo, hi), triangle t and edge k. */
-typedef struct fit_edge { uint32_t lo, hi, t; uint8_t k; } fit_edge;
+/* One side of a welded edge: triangle t, and k, the edge of t that is it. */
+typedef struct fit_side { uint32_t t; uint8_t k; } fit_side;
 
-/* qsort order: the welded end points, then the triangle. */
-static int fit_edge_cmp(const void *pa, const void *pb)
+/* The side of welded edge ei in triangle t (m->tri_edge names it; a triangle holds an edge once). */
+static fit_side side_of(const is_mesh *m, uint32_t t, uint32_t ei)
 {
-    const fit_edge *a = pa, *b = pb;
-    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
-    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
-    return a->t < b->t ? -1 : a->t > b->t;
+    fit_side s = {t, 0};
+    for (uint8_t k = 0; k < 3; k++)
+        if (m->tri_edge[3 * (size_t)t + k] == ei) s.k = k;
+    return s;
 }
 
 /* The angle-weighted normals per welded position of m (what --recompute-normals computes) into n (per vertex,
@@ -79,7 +79,7 @@ static double angle_between(float3 a, float3 b)
 }
 
 /* Whether the two sides e, f of a welded edge use the same normals at both ends (a smooth edge of the file). */
-static bool smooth_edge(const is_mesh *m, const fit_edge *e, const fit_edge *f)
+static bool smooth_edge(const is_mesh *m, const fit_side *e, const fit_side *f)
 {
     for (int end = 0; end < 2; end++) {
         uint32_t ve = m->indices[3 * e->t + (e->k + end) % 3], w = m->welded[3 * e->t + (e->k + end) % 3], vf = ve;
@@ -92,33 +92,23 @@ static bool smooth_edge(const is_mesh *m, const fit_edge *e, const fit_edge *f)
 
 bool scene_normals_misfit(const is_mesh *m, char *msg, size_t len)
 {
-    if (m->stats.normals_computed || m->n_triangles == 0 || !m->welded) return false;
-    size_t ne = 3 * m->n_triangles;
-    fit_edge *e = malloc(ne * sizeof *e);
+    if (m->stats.normals_computed || m->n_triangles == 0 || !m->welded || !m->edges || !m->tri_edge) return false;
     float3 *comp = malloc(m->n_vertices * sizeof *comp);
-    if (!e || !comp) return free(e), free(comp), false;
-    for (size_t t = 0; t < m->n_triangles; t++)
-        for (int k = 0; k < 3; k++) {
-            uint32_t a = m->welded[3 * t + k], b = m->welded[3 * t + (k + 1) % 3];
-            e[3 * t + k] = (fit_edge){a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint8_t)k};
-        }
-    qsort(e, ne, sizeof *e, fit_edge_cmp);
+    if (!comp) return false;
     computed_normals(m, comp);
     double file = 0.0, computed = 0.0;
     size_t n = 0;
-    for (size_t i = 0; i + 1 < ne;) {
-        size_t j = i + 1;
-        while (j < ne && e[j].lo == e[i].lo && e[j].hi == e[i].hi) j++;
-        if (j - i == 2 && e[i].lo != e[i].hi && smooth_edge(m, &e[i], &e[i + 1])) {
-            file += angle_between(edge_mid_normal(m, m->normals, false, e[i].t, e[i].k),
-                                  edge_mid_normal(m, m->normals, false, e[i + 1].t, e[i + 1].k));
-            computed += angle_between(edge_mid_normal(m, comp, true, e[i].t, e[i].k),
-                                      edge_mid_normal(m, comp, true, e[i + 1].t, e[i + 1].k));
-            n++;
-        }
-        i = j;
+    for (size_t ei = 0; ei < m->n_edges; ei++) {   /* the mesh's welded-edge table, in its (ends) order */
+        const is_mesh_edge *ed = &m->edges[ei];
+        if (ed->n_faces != 2) continue;
+        fit_side e = side_of(m, ed->faces[0], (uint32_t)ei), f = side_of(m, ed->faces[1], (uint32_t)ei);
+        if (!smooth_edge(m, &e, &f)) continue;
+        file += angle_between(edge_mid_normal(m, m->normals, false, e.t, e.k),
+                              edge_mid_normal(m, m->normals, false, f.t, f.k));
+        computed += angle_between(edge_mid_normal(m, comp, true, e.t, e.k), edge_mid_normal(m, comp, true, f.t, f.k));
+        n++;
     }
-    free(e), free(comp);
+    free(comp);
     if (!n) return false;
     file /= (double)n, computed /= (double)n;
     if (!(file > MISFIT_RATIO * computed && file > computed + MISFIT_MIN_DEG)) return false;
