@@ -120,16 +120,16 @@ static bool replay(struct dev_inspector *in, const rs_state *st, const rs_vertex
 /* The inputs of vertex (vertex, instance) of plan fp into out->inputs, by the declaration's elements. */
 static void record_inputs(const is_device *dev, const fetch_plan *fp, is_inspect_vertex *out)
 {
-    is_vs_input regs;
-    fetch_vertex(fp, out->vertex, out->instance, &regs);
+    is_vs_input *regs = &out->regs;
+    fetch_vertex(fp, out->vertex, out->instance, regs);
     out->n_inputs = fp->n;
     for (unsigned k = 0; k < fp->n; k++) {
         const decl_element *de = &dev->decl->el[k];
         out->inputs[k] = (is_inspect_input){de->e.usage, de->e.usage_index, (uint8_t)de->e.stream,
                                             fp->el[k].per_instance,
-                                            *(const float4 *)((const unsigned char *)&regs + de->reg_offset)};
+                                            *(const float4 *)((const unsigned char *)regs + de->reg_offset)};
     }
-    out->n_values = dev->vs->explain ? dev->vs->explain(&dev->consts, &regs, out->values, IS_INSPECT_MAX_VALUES) : 0;
+    out->n_values = dev->vs->explain ? dev->vs->explain(&dev->consts, regs, out->values, IS_INSPECT_MAX_VALUES) : 0;
     if (out->n_values > IS_INSPECT_MAX_VALUES) out->n_values = IS_INSPECT_MAX_VALUES;
 }
 

@@ -52,6 +52,7 @@ typedef struct is_inspect_vertex {
     uint32_t instance;          /* index into the per-instance streams */
     unsigned n_inputs;
     is_inspect_input inputs[IS_MAX_ELEMENTS];   /* the declaration's elements, in its order */
+    is_vs_input regs;           /* the input registers as the shader read them (those no element fills (0,0,0,1)) */
     is_vs_output out;           /* oPos, COLOR0/1 (saturated), TEXCOORD0..7 */
     uint32_t outputs;           /* the shader's IS_OUT_* mask */
     unsigned n_values;

@@ -129,6 +129,7 @@ static void test_pixels(void **state)
                     is_vs_input in;
                     is_vs_output out;
                     rebuild_inputs(&f->v[v], &in);
+                    assert_memory_equal(&in, &f->v[v].regs, sizeof in);   /* the element list says the registers */
                     memset(&out, 0, sizeof out);
                     vs_shader_smooth.main(&c, &in, &out);
                     assert_memory_equal(&out.pos, &f->v[v].out.pos, sizeof out.pos);

@@ -42,17 +42,6 @@ static is_device *render(const char *name, vs_patch p, vs_normals nm, scene_shad
     return dev;
 }
 
-/* The registers of a recorded vertex (POSITION0, TEXCOORDn) as is_vs_input. */
-static void inputs_of(const is_inspect_vertex *v, is_vs_input *in)
-{
-    float4 *r = (float4 *)in;
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = (float4){0, 0, 0, 1};
-    for (unsigned e = 0; e < v->n_inputs; e++) {
-        if (v->inputs[e].usage == IS_DECLUSAGE_POSITION) in->position[v->inputs[e].usage_index] = v->inputs[e].value;
-        if (v->inputs[e].usage == IS_DECLUSAGE_TEXCOORD) in->texcoord[v->inputs[e].usage_index] = v->inputs[e].value;
-    }
-}
-
 /* 8-bit channel of c, as the target rounds it. */
 static int to8(float c) { return (int)(fminf(fmaxf(c, 0.0f), 1.0f) * 255.0f + 0.5f); }
 
@@ -76,8 +65,7 @@ static void check_patch(const char *name, vs_patch p, vs_normals nm)
                 }
                 float s = b.x + b.y + b.z;
                 b = (float3){b.x / s, b.y / s, b.z / s};
-                is_vs_input in;
-                inputs_of(&fr->v[0], &in);
+                const is_vs_input in = fr->v[0].regs;
                 vs_triangle tri;
                 vs_triangle_from_input(&in, &tri);
                 vs_options o = vs_options_from_register((float4){c[36], c[37], c[38], c[39]});

@@ -90,21 +90,6 @@ static rs_vec4 project(const is_vs_constants *c, float4 q)
     return (rs_vec4){r[0], r[1], r[2], r[3]};
 }
 
-/* The registers of a recorded vertex (the usages the patch declarations use) as is_vs_input. */
-static void inputs_of(const is_inspect_vertex *iv, is_vs_input *in)
-{
-    float4 *r = (float4 *)in;
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) r[k] = (float4){0, 0, 0, 1};
-    for (unsigned e = 0; e < iv->n_inputs; e++) {
-        const is_inspect_input *i = &iv->inputs[e];
-        unsigned u = i->usage_index;
-        if (i->usage == IS_DECLUSAGE_POSITION && u < 2) in->position[u] = i->value;
-        else if (i->usage == IS_DECLUSAGE_NORMAL && u < 2) in->normal[u] = i->value;
-        else if (i->usage == IS_DECLUSAGE_TEXCOORD && u < IS_USAGE_INDICES) in->texcoord[u] = i->value;
-        else if (i->usage == IS_DECLUSAGE_TANGENT && u < 1) in->tangent[u] = i->value;
-    }
-}
-
 /* The picked instance over the frame: its grid through the patch shader, the covering grid triangle, the mesh
  * triangle's corners and opposite vertices, the pixel (see the top of the file). */
 static void draw_instance(view_state *v, const scene_opts *o, const is_inspect_fragment *f,
@@ -115,8 +100,7 @@ static void draw_instance(view_state *v, const scene_opts *o, const is_inspect_f
     core_grid g;
     const is_vertex_shader *vs = vs_patch_shader(o->patch);
     if (vs && core_grid_make(o->grid, o->level, &g) == 0) {
-        is_vs_input in;
-        inputs_of(&f->v[0], &in);
+        is_vs_input in = f->v[0].regs;   /* the instance's registers; POSITION0 set per grid point below */
         double (*p)[2] = malloc(g.n_points * sizeof *p);
         bool *ok = malloc(g.n_points * sizeof *ok);
         for (size_t k = 0; p && ok && k < g.n_points; k++) {
@@ -140,12 +124,11 @@ static void draw_instance(view_state *v, const scene_opts *o, const is_inspect_f
     for (int k = 0; k < 3; k++) on[k] = screen_of(v, f->v[k].out.pos, x0, o->width, &sx[k], &sy[k]);
     for (int k = 0; k < 3; k++)
         if (on[k] && on[(k + 1) % 3]) line(v, sx[k], sy[k], sx[(k + 1) % 3], sy[(k + 1) % 3], x0, x1, red);
-    is_vs_input in;
-    inputs_of(&f->v[0], &in);
+    const is_vs_input *in = &f->v[0].regs;
     for (int k = 0; k < 3; k++) {   /* Listing 1.1.2's registers: v0..v2 in TEXCOORD0..2, opp0..2 in TEXCOORD6..8 */
         double x, y;
-        if (screen_of(v, project(c, in.texcoord[VS_IN_V0 + k]), x0, o->width, &x, &y)) mark(v, x, y, x0, x1, cyan);
-        if (screen_of(v, project(c, in.texcoord[VS_IN_OPP0 + k]), x0, o->width, &x, &y)) mark(v, x, y, x0, x1, magenta);
+        if (screen_of(v, project(c, in->texcoord[VS_IN_V0 + k]), x0, o->width, &x, &y)) mark(v, x, y, x0, x1, cyan);
+        if (screen_of(v, project(c, in->texcoord[VS_IN_OPP0 + k]), x0, o->width, &x, &y)) mark(v, x, y, x0, x1, magenta);
     }
     plot(v, v->pin_x, v->pin_y, x0, x1, 0xffffffffu);
 }
