@@ -173,12 +173,6 @@ static void print_json(FILE *f, const scene_opts *o, const is_mesh *m, const is_
     fprintf(f, "], \"final\": {\"color\": \"%s\", \"depth\": %.9g}}\n", hex(final_color, h), final_depth);
 }
 
-/* Warnings of the mesh loader to stderr unless quiet (as the run). */
-static void warn_stderr(void *user, const char *msg)
-{
-    if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
-}
-
 void scene_inspect_print(FILE *f, const scene_opts *o, const is_mesh *m, const is_inspect *rec, uint32_t color,
                          float depth, bool json)
 {
@@ -222,10 +216,7 @@ static int inspect_scene(const scene_opts *o, const inspect_args *a)
     is_mesh mesh = {0}, copy = {0};
     is_image map = {0};
     scene_opts od = *o;
-    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr, .warn_user = (void *)&o->quiet,
-                          .import_timeout_ms = o->import_timeout_s * 1000,
-                          .max_file_bytes = (uint64_t)o->max_file_mib << 20,
-                          .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
+    is_mesh_options mo = scene_mesh_options(o, scene_warn_unless_quiet, (void *)&o->quiet);
     int rc = 0;
     if (o->displace && (rc = scene_load_displacement(o->displace, &map, err, sizeof err)) == 0) od.displace_map = &map;
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &mesh, err, sizeof err);

@@ -66,10 +66,7 @@ int scene_render_args(int argc, const char *const argv[], is_image_format fmt, i
     is_image map = {0};
     if (rc == 0 && o.displace && (rc = scene_load_displacement(o.displace, &map, err, errlen)) == 0)
         o.displace_map = &map;
-    is_mesh_options mo = {.recompute_normals = o.recompute_normals, .warn = note, .warn_user = &n,
-                          .import_timeout_ms = o.import_timeout_s * 1000,
-                          .max_file_bytes = (uint64_t)o.max_file_mib << 20,
-                          .max_import_memory_bytes = (uint64_t)o.max_import_memory_mib << 20};
+    is_mesh_options mo = scene_mesh_options(&o, note, &n);
     if (rc == 0) rc = mesh_open(o.mesh, &mo, &m, err, errlen);
     if (rc == 0) rc = scene_render_mesh(&o, &m, img, NULL, err, errlen);
     mesh_free(&m);

@@ -1316,6 +1316,19 @@ static void report_levels(const scene_opts *o, const scene_stats *st)
 
 /* Warnings of the mesh loader go to stderr (the program's choice; the library never prints), also with -q:
  * -q hides statistics, never warnings.  user is the run's progress line, erased first. */
+is_mesh_options scene_mesh_options(const scene_opts *o, void (*warn)(void *user, const char *msg), void *user)
+{
+    return (is_mesh_options){.recompute_normals = o->recompute_normals, .warn = warn, .warn_user = user,
+                             .import_timeout_ms = o->import_timeout_s * 1000,
+                             .max_file_bytes = (uint64_t)o->max_file_mib << 20,
+                             .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
+}
+
+void scene_warn_unless_quiet(void *quiet, const char *msg)
+{
+    if (!*(const bool *)quiet) fprintf(stderr, "instess: warning: %s\n", msg);
+}
+
 static void warn_stderr(void *user, const char *msg)
 {
     char line[1200];
@@ -1448,10 +1461,7 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     scene_progress pr;
     is_outputs outs;
     is_mesh m = {0};
-    is_mesh_options mo = {.recompute_normals = o->recompute_normals, .warn = warn_stderr, .warn_user = &pr,
-                          .import_timeout_ms = o->import_timeout_s * 1000,
-                          .max_file_bytes = (uint64_t)o->max_file_mib << 20,
-                          .max_import_memory_bytes = (uint64_t)o->max_import_memory_mib << 20};
+    is_mesh_options mo = scene_mesh_options(o, warn_stderr, &pr);
     is_image map = {0};
     scene_opts od = *o;   /* with the displacement map read once, before the mesh */
     int rc = claim_outputs(o, &outs, err, errlen);

@@ -300,6 +300,11 @@ int scene_copy_color_depth(const rs_target *rt, is_image *img, char *err, size_t
  * from the triangles -- the shading looks quilted); then the warning, naming --recompute-normals, into msg.
  * False for computed normals (and when out of memory: it is only a warning). */
 bool scene_normals_misfit(const is_mesh *m, char *msg, size_t len);
+/* The mesh loader's options of o (--recompute-normals, the file and import limits, the import timeout) with its
+ * warnings to warn(user, msg). */
+is_mesh_options scene_mesh_options(const scene_opts *o, void (*warn)(void *user, const char *msg), void *user);
+/* A warn for scene_mesh_options: "instess: warning: MSG" on stderr unless *(const bool *)quiet (o->quiet). */
+void scene_warn_unless_quiet(void *quiet, const char *msg);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet; warn
  * (scene_normals_misfit) when the file's normals do not fit its surface. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);

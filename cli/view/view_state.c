@@ -810,20 +810,11 @@ static int view_options_parse(int argc, char **argv, view_state *v)
     return 0;
 }
 
-/* Warnings of the mesh loader to stderr unless quiet (as the CLI). */
-static void warn_stderr(void *user, const char *msg)
-{
-    if (!*(const bool *)user) fprintf(stderr, "instess: warning: %s\n", msg);
-}
-
 /* Load the mesh and check the first render as the CLI would; 0 or 1 (input error, said). */
 static int view_load(view_state *v)
 {
     char err[1024];
-    is_mesh_options mo = {.recompute_normals = v->o.recompute_normals, .warn = warn_stderr,
-                          .warn_user = (void *)&v->o.quiet, .max_file_bytes = (uint64_t)v->o.max_file_mib << 20,
-                          .max_import_memory_bytes = (uint64_t)v->o.max_import_memory_mib << 20,
-                          .import_timeout_ms = v->o.import_timeout_s * 1000};
+    is_mesh_options mo = scene_mesh_options(&v->o, scene_warn_unless_quiet, (void *)&v->o.quiet);
     is_outputs outs;
     outputs_init(&outs);
     int rc = 0;
