@@ -147,9 +147,25 @@ static bool append(is_inspect *rec, const is_inspect_fragment *f)
     return true;
 }
 
-/* One primitive of the replay: if it covers the pixel, record the fragment and move the pixel on. */
-static bool replay_prim(is_device *dev, const fetch_plan *fp, const rs_vertex *const p[3], const uint32_t vid[3],
-                        uint32_t instance, uint32_t prim, uint32_t *color, float *depth)
+/* The two states of a draw's replay: the device's (with the barycentric slot), and the probe's -- coverage and the
+ * fragment's own depth: the depth test always passes and writes, no blending. */
+typedef struct replay_states { rs_state st, probe; } replay_states;
+
+/* The replay states of dev's current draw. */
+static replay_states replay_states_of(const is_device *dev)
+{
+    replay_states r;
+    r.st = dev_rs_state(dev);
+    r.st.attr_mask |= 1u << INSPECT_BARY_SLOT;
+    r.probe = r.st;
+    r.probe.z_enable = r.probe.z_write = true, r.probe.z_func = RS_CMP_ALWAYS, r.probe.blend_enable = false;
+    return r;
+}
+
+/* One primitive of the replay (states rs, made once per draw): if it covers the pixel, record the fragment and move
+ * the pixel on. */
+static bool replay_prim(is_device *dev, const replay_states *rs, const fetch_plan *fp, const rs_vertex *const p[3],
+                        const uint32_t vid[3], uint32_t instance, uint32_t prim, uint32_t *color, float *depth)
 {
     struct dev_inspector *in = dev->inspector;
     is_inspect *rec = in->rec;
@@ -159,11 +175,7 @@ static bool replay_prim(is_device *dev, const fetch_plan *fp, const rs_vertex *c
         v[k] = *p[k];
         v[k].attr[INSPECT_BARY_SLOT] = (rs_vec4){k == 0, k == 1, k == 2, 0};
     }
-    rs_state st = dev_rs_state(dev);
-    st.attr_mask |= 1u << INSPECT_BARY_SLOT;
-    rs_state probe = st;   /* coverage and the fragment's own depth: the test always passes and writes */
-    probe.z_enable = probe.z_write = true, probe.z_func = RS_CMP_ALWAYS, probe.blend_enable = false;
-    if (!replay(in, &probe, v, px, *color, *depth)) return true;   /* the primitive misses the pixel centre */
+    if (!replay(in, &rs->probe, v, px, *color, *depth)) return true;   /* the primitive misses the pixel centre */
     is_inspect_fragment f;
     memset(&f, 0, sizeof f);
     f.draw = rec->draws, f.instance = instance, f.primitive = prim;
@@ -171,7 +183,7 @@ static bool replay_prim(is_device *dev, const fetch_plan *fp, const rs_vertex *c
     f.bary[0] = b[0], f.bary[1] = b[1], f.bary[2] = b[2];
     f.depth = in->t.depth[px];
     f.depth_before = *depth, f.color_before = *color;
-    f.passed = replay(in, &st, v, px, *color, *depth);
+    f.passed = replay(in, &rs->st, v, px, *color, *depth);
     *color = f.color_after = in->t.color[px];
     *depth = in->t.depth[px];
     for (int k = 0; k < 3; k++) {
@@ -208,7 +220,8 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
     size_t px = (size_t)rec->y * (size_t)dev->rt.width + (size_t)rec->x;
     uint32_t color = dev->rt.color[px];
     float depth = dev->rt.depth[px];
-    const rs_viewport vp = dev_rs_state(dev).viewport;   /* the rasterizer's (a viewport beyond the target: clipped) */
+    const replay_states rs = replay_states_of(dev);
+    const rs_viewport vp = rs.st.viewport;   /* the rasterizer's (a viewport beyond the target: clipped) */
     for (uint32_t i = 0; i < fp->n_instances && !rec->out_of_memory; i++) {
         for (uint32_t v = 0; v < count; v++) {
             is_vs_input regs;
@@ -221,7 +234,7 @@ size_t inspect_draw(is_device *dev, const fetch_plan *fp, is_primtype type, size
             const rs_vertex *pv[3] = {&in->verts[t[0]], &in->verts[t[1]], &in->verts[t[2]]};
             if (!may_cover(pv, &vp, rec->x, rec->y)) continue;
             uint32_t vid[3] = {first + t[0], first + t[1], first + t[2]};
-            if (!replay_prim(dev, fp, pv, vid, i, (uint32_t)p, &color, &depth)) rec->out_of_memory = true;
+            if (!replay_prim(dev, &rs, fp, pv, vid, i, (uint32_t)p, &color, &depth)) rec->out_of_memory = true;
         }
     }
     return mark;
