@@ -127,9 +127,8 @@ enum {
     IS_BLEND_ZERO = 1, IS_BLEND_ONE = 2, IS_BLEND_SRCCOLOR = 3, IS_BLEND_INVSRCCOLOR = 4,
     IS_BLEND_SRCALPHA = 5, IS_BLEND_INVSRCALPHA = 6, IS_BLEND_DESTALPHA = 7, IS_BLEND_INVDESTALPHA = 8,
     IS_BLEND_DESTCOLOR = 9, IS_BLEND_INVDESTCOLOR = 10,
-    /* values the runtime takes beyond those ten, with their effect here: SRCALPHASAT blends as SRCALPHA (the
-     * rasterizer has no min(As, 1 - Ad) factor: the same colour factor while Ad <= 1 - As, e.g. on a target
-     * cleared with alpha 0; alpha's factor As instead of 1); BOTHSRCALPHA as SRCBLEND means SRCBLEND SRCALPHA and
+    /* values the runtime takes beyond those ten: SRCALPHASAT, the factor (f, f, f, 1) with f = min(As, 1 - Ad)
+     * (as SRCBLEND or DESTBLEND); BOTHSRCALPHA as SRCBLEND means SRCBLEND SRCALPHA and
      * DESTBLEND INVSRCALPHA, BOTHINVSRCALPHA the reverse (DESTBLEND overridden, as D3D9 documents and DXVK does),
      * and as DESTBLEND they read as SRCALPHA and INVSRCALPHA.  GetRenderState reads back what was set. */
     IS_BLEND_SRCALPHASAT = 11, IS_BLEND_BOTHSRCALPHA = 12, IS_BLEND_BOTHINVSRCALPHA = 13

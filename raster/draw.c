@@ -161,8 +161,8 @@ static bool valid_state(const rs_state *st, const rs_target *rt)
     if (st->fill_mode < RS_FILL_POINT || st->fill_mode > RS_FILL_SOLID) return false;
     if (st->shade_mode != RS_SHADE_FLAT && st->shade_mode != RS_SHADE_GOURAUD) return false;
     if (st->z_enable && (st->z_func < RS_CMP_NEVER || st->z_func > RS_CMP_ALWAYS)) return false;
-    if (st->blend_enable && (st->src_blend < RS_BLEND_ZERO || st->src_blend > RS_BLEND_INVDESTCOLOR ||
-                             st->dst_blend < RS_BLEND_ZERO || st->dst_blend > RS_BLEND_INVDESTCOLOR))
+    if (st->blend_enable && (st->src_blend < RS_BLEND_ZERO || st->src_blend > RS_BLEND_SRCALPHASAT ||
+                             st->dst_blend < RS_BLEND_ZERO || st->dst_blend > RS_BLEND_SRCALPHASAT))
         return false;
     if (!isfinite(st->depth_bias) || !isfinite(st->slope_scale_depth_bias)) return false;
     if (!valid_ext_state(st)) return false;

@@ -32,6 +32,7 @@ static uint32_t factor(int m, int c, uint32_t s, uint32_t d)
     case RS_BLEND_INVDESTALPHA: return 255 - da;
     case RS_BLEND_DESTCOLOR: return dc;
     case RS_BLEND_INVDESTCOLOR: return 255 - dc;
+    case RS_BLEND_SRCALPHASAT: return c == 3 ? 255 : (sa < 255 - da ? sa : 255 - da);
     default: return 0;
     }
 }

@@ -299,6 +299,7 @@ static int ref_channel(int sf, int df, const int *s, const int *d, int c)
         case RS_BLEND_DESTALPHA: f[k] = d[3]; break;
         case RS_BLEND_INVDESTALPHA: f[k] = 255 - d[3]; break;
         case RS_BLEND_DESTCOLOR: f[k] = d[c]; break;
+        case RS_BLEND_SRCALPHASAT: f[k] = c == 3 ? 255 : (s[3] < 255 - d[3] ? s[3] : 255 - d[3]); break;
         default: f[k] = 255 - d[c]; break;
         }
     }
@@ -306,7 +307,7 @@ static int ref_channel(int sf, int df, const int *s, const int *d, int c)
     return v > 255 ? 255 : v;
 }
 
-/* All 10 x 10 source / destination factor pairs on one pixel. */
+/* All 11 x 11 source / destination factor pairs on one pixel. */
 static void test_blend_factors(void **state)
 {
     (void)state;
@@ -315,8 +316,8 @@ static void test_blend_factors(void **state)
     const int s8[4] = { 51, 102, 153, 204 }, d8[4] = { 200, 100, 50, 25 };
     const rs_vec4 src = { 0.2f, 0.4f, 0.6f, 0.8f };
     uint32_t dst = 200u | 100u << 8 | 50u << 16 | 25u << 24;
-    for (int sf = RS_BLEND_ZERO; sf <= RS_BLEND_INVDESTCOLOR; sf++)
-        for (int df = RS_BLEND_ZERO; df <= RS_BLEND_INVDESTCOLOR; df++) {
+    for (int sf = RS_BLEND_ZERO; sf <= RS_BLEND_SRCALPHASAT; sf++)
+        for (int df = RS_BLEND_ZERO; df <= RS_BLEND_SRCALPHASAT; df++) {
             rs_state st = def_state(4, 4);
             st.blend_enable = true;
             st.src_blend = sf;
@@ -446,7 +447,7 @@ static void test_einval(void **state)
     b = st; b.fill_mode = 4; assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
     b = st; b.shade_mode = 3; assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
     b = st; b.z_func = 9; assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
-    b = st; b.blend_enable = true; b.src_blend = 11;
+    b = st; b.blend_enable = true; b.src_blend = RS_BLEND_SRCALPHASAT + 1;
     assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
     b = st; b.depth_bias = NAN; assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
     b = st; b.viewport.width = 17; assert_int_equal(rs_draw(rs, &b, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
