@@ -341,14 +341,25 @@ static bool reserve_pv(rs_context *rs, size_t slots, size_t n)
     return true;
 }
 
+/* The largest of idx[0..n), n > 0: eight running maxima without an early exit, which the compiler turns into
+ * vector instructions (every piece's indices are checked: a branch per index cost 3 % of scene B's frame). */
+static uint32_t max_index(const uint32_t *idx, size_t n)
+{
+    uint32_t m[8] = {0};
+    size_t k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (int l = 0; l < 8; l++) m[l] = idx[k + l] > m[l] ? idx[k + l] : m[l];
+    for (; k < n; k++) m[0] = idx[k] > m[0] ? idx[k] : m[0];
+    for (int l = 1; l < 8; l++) m[0] = m[l] > m[0] ? m[l] : m[0];
+    return m[0];
+}
+
 /* Whether a produced piece keeps the source's promise: vertices (at most max_verts) and 3 * np indices, each
  * naming one of them. */
 static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const uint32_t *idx, size_t np)
 {
     if (!v || !idx || nv > src->max_verts || np > SIZE_MAX / 3) return false;
-    for (size_t k = 0; k < 3 * np; k++)
-        if (idx[k] >= nv) return false;
-    return true;
+    return np == 0 || max_index(idx, 3 * np) < nv;
 }
 
 /* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each

@@ -239,6 +239,8 @@ static void test_draw_args(void **state)
 typedef enum { P_GOOD, P_BAD_INDEX, P_NO_VERTS, P_TOO_MANY_VERTS, P_TOO_MANY_PRIMS, P_NO_INDICES } producer_kind;
 typedef struct producer {
     producer_kind kind;
+    int bad_at;         /* P_BAD_INDEX: the index past the vertices */
+    size_t prims;       /* triangles of each piece (0: 1) */
     rs_vertex v[2][8];
     uint32_t idx[2][12];
 } producer;
@@ -252,8 +254,8 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     for (int k = 0; k < 12; k++) p->idx[s][k] = (uint32_t)(k % 3);
     *verts = p->v[s], *n_verts = 3, *idx = p->idx[s];
     switch (p->kind) {
-    case P_GOOD: return 1;
-    case P_BAD_INDEX: p->idx[s][2] = 1000000; return 1;
+    case P_GOOD: return p->prims ? p->prims : 1;
+    case P_BAD_INDEX: p->idx[s][p->bad_at] = 1000000; return p->prims ? p->prims : 1;
     case P_NO_VERTS: *verts = NULL, *n_verts = 0; return 1;
     case P_TOO_MANY_VERTS: *n_verts = 8; return 1;   /* more than the source's max_verts (3) */
     case P_TOO_MANY_PRIMS: return 4;                  /* more than its n_prims over all pieces */
@@ -271,11 +273,16 @@ static void test_draw_source(void **state)
     rs_state st = default_state();
     rs_stats s;
     for (int kind = P_GOOD; kind <= P_NO_INDICES; kind++) {
-        producer p = {.kind = (producer_kind)kind};
+        producer p = {.kind = (producer_kind)kind, .bad_at = 2};
         rs_source src = {.n_pieces = 2, .n_prims = 2, .max_verts = 3, .produce = produce, .ctx = &p};
         int r = rs_draw_source(rs, &st, &rt, &src, &s);
         if (kind == P_GOOD) assert_int_equal(r, RS_OK);
         else assert_int_equal(r, RS_EINVAL);
+    }
+    for (int at = -1; at < 12; at++) {   /* pieces of 4 triangles: a bad index at any of the 12 places */
+        producer q = {.kind = at < 0 ? P_GOOD : P_BAD_INDEX, .bad_at = at, .prims = 4};
+        rs_source src = {.n_pieces = 2, .n_prims = 8, .max_verts = 3, .produce = produce, .ctx = &q};
+        assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), at < 0 ? RS_OK : RS_EINVAL);
     }
     producer p = {.kind = P_GOOD};
     rs_source many = {.n_pieces = SIZE_MAX, .n_prims = 1, .max_verts = 3, .produce = produce, .ctx = &p};
