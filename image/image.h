@@ -133,6 +133,11 @@ INSTESS_API is_image_verdict image_check(const is_image *actual, const is_image 
 /* The folder the codec module is installed in, as the Makefile compiled it in (LIBDIR/instess; see
  * image/image_codec.c for where the module is looked for). */
 INSTESS_API const char *image_codec_install_dir(void);
+/* dlopen (RTLD_NOW | RTLD_LOCAL) the plug-in module at `path` after the checks the codec module gets, none of
+ * which runs code of the file: path absolute; a regular file; it and its folder owned by root or this user and
+ * not writable by every user (a sticky folder excepted); a 64-bit ELF shared object whose dynamic symbols define
+ * `symbol`.  The handle, or NULL with the reason in err naming path (the program's window module is loaded so). */
+INSTESS_API void *image_module_open(const char *path, const char *symbol, char *err, size_t errlen);
 /* image_check of the image files a and b (read with image_read); IS_IMAGE_IO_ERROR names the unreadable one. */
 INSTESS_API is_image_verdict image_check_files(const char *a, const char *b, float fail_thresh, float fail_percent,
                                    const char *diff_path, is_image_diff *res, char *err, size_t errlen);

@@ -224,6 +224,15 @@ static void *module_open_checked(const char *path, const char *symbol, char *err
     return h;
 }
 
+void *image_module_open(const char *path, const char *symbol, char *err, size_t errlen)
+{
+    if (!path || !symbol || !*symbol) return image_set_err(err, errlen, "image_module_open: no path or symbol"), NULL;
+    if (path[0] != '/')
+        return image_set_err(err, errlen, "%.300s: not an absolute path: refused (a module is never loaded from the "
+                             "current directory)", path), NULL;
+    return module_open_checked(path, symbol, err, errlen);
+}
+
 /* Open the module from the places above (the first folder holding the file decides: a module there that is
  * refused is an error, not a reason to look further) and check its version; its handle or NULL with
  * g_codec.why filled. */

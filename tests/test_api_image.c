@@ -11,12 +11,14 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <dlfcn.h>
 #include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../image/image.h"
 #include "util/prog.h"
@@ -227,6 +229,37 @@ static void test_codec_calls(void **state)
     image_free(&other);
 }
 
+/* image_module_open: NULL and empty arguments, a relative path, a missing file, a folder, a file that is not ELF
+ * (each refused with a message, nothing loaded); the build's codec module opens when asked for the symbol it
+ * defines and is refused for one it does not. */
+static void test_module_open(void **state)
+{
+    (void)state;
+    char err[600], codec[4200], here[4096];
+    assert_null(image_module_open(NULL, "codec_abi", err, sizeof err));
+    assert_null(image_module_open("/x.so", NULL, err, sizeof err));
+    assert_null(image_module_open("/x.so", "", NULL, 0));
+    assert_null(image_module_open("libinstess_codec.so", "codec_abi", err, sizeof err));
+    assert_non_null(strstr(err, "not an absolute path: refused"));
+    assert_null(image_module_open("/nonexistent/lib.so", "codec_abi", err, sizeof err));
+    assert_non_null(strstr(err, "/nonexistent/lib.so"));
+    assert_null(image_module_open("/", "codec_abi", err, sizeof err));
+    assert_non_null(strstr(err, "not a regular file: refused"));
+    assert_null(image_module_open("/etc/passwd", "codec_abi", err, sizeof err));
+    assert_non_null(strstr(err, "not a 64-bit ELF shared object"));
+    /* the codec module beside this test program (the build links it there) */
+    ssize_t n = readlink("/proc/self/exe", here, sizeof here - 1);
+    assert_true(n > 0);
+    here[n] = 0;
+    *strrchr(here, '/') = 0;
+    snprintf(codec, sizeof codec, "%s/libinstess_codec.so", here);
+    assert_null(image_module_open(codec, "no_such_symbol", err, sizeof err));
+    assert_non_null(strstr(err, "does not define no_such_symbol"));
+    void *h = image_module_open(codec, "codec_abi", err, sizeof err);
+    if (!h) fail_msg("%s", err);
+    dlclose(h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -234,6 +267,7 @@ int main(void)
         cmocka_unit_test(test_alloc),
         cmocka_unit_test(test_bad_images),
         cmocka_unit_test(test_codec_calls),
+        cmocka_unit_test(test_module_open),
     };
     return cmocka_run_group_tests_name("api_image", tests, setup, teardown);
 }

@@ -165,6 +165,40 @@ static void test_modules_not_from_the_folder_above(void **state)
     assert_false(pwned());
 }
 
+/* A window module beside a copy of the program gets the codec module's checks before it is loaded: a file that
+ * is not an ELF shared object, a library that does not define view_module_run (its constructor never runs) and a
+ * module or folder writable by every user are refused with a message naming the file (the folder); the first folder holding the file
+ * decides (the real module in the compiled-in folder is not tried after a refusal). */
+static void test_wrong_and_hostile_window_modules(void **state)
+{
+    (void)state;
+    char p[512], copy[512], real[4096], view[4200];
+    assert_non_null(realpath(bin, real));
+    *strrchr(real, '/') = 0;
+    snprintf(view, sizeof view, "%s/libinstess_view.so", real);
+    const struct { const char *folder, *what; } cases[] = {
+        {"w-garbage", "not a 64-bit ELF shared object: refused (not loaded)"},
+        {"w-other", "does not define view_module_run, so it is not the module it is named after: refused"},
+        {"w-o+w", "the module is writable by every user: refused"},
+        {"w-open", "the folder of the module is writable by every user: refused"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const char *f = cases[k].folder;
+        assert_int_equal(sh("mkdir -p '%s' && cp '%s' '%s/instess'", f, bin, f), 0);
+        char so[300];
+        snprintf(so, sizeof so, "%s/libinstess_view.so", f);
+        if (k == 0) assert_int_equal(sh("echo 'not a library' > '%s'", so), 0);
+        else if (k == 1) make_module(so, "int unrelated = 1;");
+        else if (k == 2) assert_int_equal(sh("cp '%s' '%s' && chmod 0666 '%s'", view, so, so), 0);
+        else assert_int_equal(sh("cp '%s' '%s' && chmod 0777 '%s'", view, so, f), 0);
+        snprintf(p, sizeof p, "%s/instess", f);
+        at(p, copy, sizeof copy);
+        expect(run_env("SDL_VIDEODRIVER=dummy", copy, "view --frames 1 --size 16x16 -q"), 1, cases[k].what);
+        if (!strstr(err_buf, k == 3 ? f : so)) fail_msg("the message does not name %s:\n%s", k == 3 ? f : so, err_buf);
+        assert_false(pwned());
+    }
+}
+
 /* A module in the current directory is never loaded: INSTESS_CODEC_DIR must be absolute ('.', 'sub', './' are
  * refused with a message); unset or empty, the program's own module is used. */
 static void test_modules_not_from_the_current_directory(void **state)
@@ -368,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_modules_not_from_the_folder_above),
         cmocka_unit_test(test_modules_not_from_the_current_directory),
         cmocka_unit_test(test_wrong_and_hostile_modules),
+        cmocka_unit_test(test_wrong_and_hostile_window_modules),
         cmocka_unit_test(test_source_date_epoch),
         cmocka_unit_test(test_openmp_variables),
         cmocka_unit_test(test_decimal_comma_locale),

@@ -855,7 +855,9 @@ static void exe_dir(char *dir, size_t len)
 
 /* The window module's entry point, or NULL with the reason in err.  Looked for by absolute path beside the
  * executable (the build tree), in ../lib/instess beside it and in the folder compiled in (LIBDIR/instess, where
- * make install puts it) -- never in the current folder or the folder above the program. */
+ * make install puts it) -- never in the current folder or the folder above the program.  The first folder that
+ * holds the file decides, and the file gets the codec module's checks before it is loaded (image_module_open): a
+ * module there that is refused is an error, not a reason to look further. */
 static view_module_fn load_module(char *err, size_t errlen)
 {
     char dir[PATH_MAX], path[PATH_MAX + 64];
@@ -867,12 +869,16 @@ static view_module_fn load_module(char *err, size_t errlen)
     size_t n = (size_t)snprintf(err, errlen, "cannot load the window module " VIEW_MODULE);
     for (int k = 0; k < 3; k++) {
         snprintf(path, sizeof path, "%.*s/" VIEW_MODULE, PATH_MAX, dirs[k]);
-        if (access(path, R_OK) != 0) continue;
-        void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-        view_module_fn fn;
-        *(void **)&fn = h ? dlsym(h, VIEW_MODULE_ENTRY) : NULL;
+        struct stat st;
+        if (lstat(path, &st) != 0) continue;
+        char why[1024];
+        void *h = image_module_open(path, VIEW_MODULE_ENTRY, why, sizeof why);
+        view_module_fn fn = NULL;
+        if (h) *(void **)&fn = dlsym(h, VIEW_MODULE_ENTRY);
         if (fn) return fn;
-        if (n < errlen) n += (size_t)snprintf(err + n, errlen - n, "; %s", dlerror());
+        if (n < errlen) snprintf(err + n, errlen - n, ": %s", h ? dlerror() : why);
+        if (h) dlclose(h);
+        return NULL;
     }
     if (n < errlen)
         snprintf(err + n, errlen - n, " (looked in %.300s, %.300s and %.300s)", dirs[0], dirs[1], dirs[2]);
