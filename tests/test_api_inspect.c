@@ -15,6 +15,7 @@
 
 #include "../core/core.h"
 #include "../vs/vs.h"
+#include "util/dev_util.h"
 
 
 /* The buffer and declaration of the last device made (they hold their device: released with it by destroy). */
@@ -34,29 +35,10 @@ static void destroy(is_device *dev)
  * vertex buffer of float4s (stream 0, POSITION0). */
 static is_device *device_with_triangle(int samples)
 {
-    char err[256];
-    is_device *dev = dev_create(16, 16, samples, err, sizeof err);
-    assert_non_null(dev);
     const float verts[4][4] = {{-1, 1, 0.5f, 1}, {3, 1, 0.5f, 1}, {-1, -3, 0.5f, 1}, {0, 0, 0.5f, 1}};
-    is_vertex_buffer *vb;
-    assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
-    held_vb = vb;
-    memcpy(vb_lock(vb), verts, sizeof verts);
-    vb_unlock(vb);
     const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0}, IS_DECL_END};
-    is_vertex_declaration *decl;
-    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
-    held_decl = decl;
-    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
-    assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
-    float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
-    is_vs_constants c;
-    memset(&c, 0, sizeof c);
-    vs_set_constants(&c, &id, &id, (float4){1, 1, 1, 1}, NULL);
-    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, 10), IS_OK);
-    assert_int_equal(dev_set_vertex_shader(dev, &vs_shader_fixed), IS_OK);
-    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
-    return dev;
+    return tu_fixed_device(16, 16, samples, verts, sizeof verts, sizeof verts[0], el, (float4){1, 1, 1, 1}, &held_vb,
+                           &held_decl);
 }
 
 /* NULL arguments, pixels outside, multisampled targets; begin twice, end twice. */

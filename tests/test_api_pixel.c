@@ -16,6 +16,7 @@
 
 #include "../core/core.h"
 #include "../vs/vs.h"
+#include "util/dev_util.h"
 
 #define N 4   /* the target and the texture: N x N */
 
@@ -38,34 +39,15 @@ static void destroy(is_device *dev)
  * coordinate mapping texel centres to pixel centres (u = (X + 0.5) / N at screen X). */
 static is_device *device(void)
 {
-    char err[256];
-    is_device *dev = dev_create(N, N, 1, err, sizeof err);
-    assert_non_null(dev);
     /* clip x = X / (N/2) - 1 at pixel X; u = (X + 0.5) / N: at clip x = -1 (X = 0) u = 0.5/N, slope 1/N per pixel */
     const float verts[3][9] = {{-1, 1, 0.5f, 1, 0.5f / N, 0.5f / N, 0, 0, -1},
                                {3, 1, 0.5f, 1, 0.5f / N + 2.0f, 0.5f / N, 0, 0, -1},
                                {-1, -3, 0.5f, 1, 0.5f / N, 0.5f / N + 2.0f, 0, 0, -1}};
-    is_vertex_buffer *vb;
-    assert_int_equal(dev_create_vertex_buffer(dev, sizeof verts, &vb), IS_OK);
-    held_vb = vb;
-    memcpy(vb_lock(vb), verts, sizeof verts);
-    vb_unlock(vb);
     const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_POSITION, 0},
                                     {0, 16, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_TEXCOORD, 0},
                                     {0, 24, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_NORMAL, 0}, IS_DECL_END};
-    is_vertex_declaration *decl;
-    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
-    held_decl = decl;
-    assert_int_equal(dev_set_vertex_declaration(dev, decl), IS_OK);
-    assert_int_equal(dev_set_stream_source(dev, 0, vb, 0, sizeof verts[0]), IS_OK);
-    float4x4 id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
-    is_vs_constants c;
-    memset(&c, 0, sizeof c);
-    vs_set_constants(&c, &id, &id, (float4){0.25f, 0.5f, 0.75f, 1}, NULL);
-    assert_int_equal(dev_set_vertex_shader_constant_f(dev, 0, &c.c[0].x, 10), IS_OK);
-    assert_int_equal(dev_set_vertex_shader(dev, &vs_shader_fixed), IS_OK);
-    assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
-    return dev;
+    return tu_fixed_device(N, N, 1, verts, sizeof verts, sizeof verts[0], el, (float4){0.25f, 0.5f, 0.75f, 1},
+                           &held_vb, &held_decl);
 }
 
 /* Draw once into a cleared target; the colour plane's bytes into out. */

@@ -31,12 +31,9 @@ static int run(const char *args, const char **err_out)
     const char *bin = getenv("INSTESS_BIN") ? getenv("INSTESS_BIN") : "build/instess";
     snprintf(cmd, sizeof cmd, "%s %s 2>%s >/dev/null", bin, args, errfile);
     int st = system(cmd);
-    FILE *f = fopen(errfile, "r");
-    size_t n = f ? fread(errbuf, 1, sizeof errbuf - 1, f) : 0;
-    if (f) fclose(f);
-    errbuf[n] = 0;
+    prog_read_text(dir, "stderr.txt", errbuf, sizeof errbuf);
     if (err_out) *err_out = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+    return prog_exit_code(st);
 }
 
 static bool exists(const char *name)

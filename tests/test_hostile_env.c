@@ -38,15 +38,9 @@ static int run_env(const char *env, const char *program, const char *fmt, ...)
     snprintf(cmd, sizeof cmd, "cd '%s' && %s '%s' %s >'%s/out.txt' 2>'%s/err.txt'", dir, env ? env : "",
              program ? program : bin, args, dir, dir);
     int st = system(cmd);
-    char path[512];
-    size_t n;
-    unsigned char *t = prog_slurp(prog_path(dir, "out.txt", path, sizeof path), &n);
-    snprintf(out_buf, sizeof out_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    t = prog_slurp(prog_path(dir, "err.txt", path, sizeof path), &n);
-    snprintf(err_buf, sizeof err_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
+    prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
+    return prog_exit_code(st);
 }
 
 /* Assert exit `code` and `what` in the last run's stderr. */

@@ -46,15 +46,9 @@ static int run_to(const char *out, const char *fmt, ...)
     snprintf(cmd, sizeof cmd, "cd '%s' && rm -f out.txt && '%s' %s >%s 2>err.txt", dir, bin, args,
              out ? out : "out.txt");
     int st = system(cmd);
-    char path[512];
-    size_t n;
-    unsigned char *t = prog_slurp(prog_path(dir, "out.txt", path, sizeof path), &n);
-    snprintf(out_buf, sizeof out_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    t = prog_slurp(prog_path(dir, "err.txt", path, sizeof path), &n);
-    snprintf(err_buf, sizeof err_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
+    prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
+    return prog_exit_code(st);
 }
 #define run(...) run_to(NULL, __VA_ARGS__)
 

@@ -46,7 +46,7 @@ static int run(const char **err, const char *fmt, ...) __attribute__((format(pri
 static int run(const char **err, const char *fmt, ...)
 {
     static char errbuf[16384];
-    char args[4096], cmd[9000], bin[4096], p[600];
+    char args[4096], cmd[9000], bin[4096];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
@@ -54,12 +54,9 @@ static int run(const char **err, const char *fmt, ...)
     if (!realpath(prog_bin(), bin)) fail_msg("no program %s", prog_bin());
     snprintf(cmd, sizeof cmd, "cd '%s' && timeout -s KILL 300 '%s' %s >s.json 2>err.txt", dir, bin, args);
     int st = system(cmd);
-    size_t n = 0;
-    unsigned char *t = prog_slurp(prog_path(dir, "err.txt", p, sizeof p), &n);
-    snprintf(errbuf, sizeof errbuf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
+    prog_read_text(dir, "err.txt", errbuf, sizeof errbuf);
     *err = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return prog_exit_code(st);
 }
 
 /* Whether every value of dir/name (an OpenEXR file) is finite, but for the depth channel, whose background is

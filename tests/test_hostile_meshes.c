@@ -79,12 +79,9 @@ static int shell(const char **err_out, double *seconds, const char *fmt, ...)
     double t0 = now_s();
     int st = system(line);
     if (seconds) *seconds = now_s() - t0;
-    FILE *f = fopen(errfile, "r");
-    size_t n = f ? fread(errbuf, 1, sizeof errbuf - 1, f) : 0;
-    if (f) fclose(f);
-    errbuf[n] = 0;
+    prog_read_text(dir, "stderr.txt", errbuf, sizeof errbuf);
     if (err_out) *err_out = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return prog_exit_code(st);
 }
 
 /* The helpers of tests/util/prog.h on this file's work folder. */

@@ -41,7 +41,7 @@ static int teardown(void **state)
 static int run_view(const char *env, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int run_view(const char *env, const char *fmt, ...)
 {
-    char args[12000], cmd[16384 + 4096], p[600];
+    char args[12000], cmd[16384 + 4096];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
@@ -49,11 +49,8 @@ static int run_view(const char *env, const char *fmt, ...)
     snprintf(cmd, sizeof cmd, "cd '%s' && %s timeout -s KILL 120 '%s' view %s >/dev/null 2>err.txt", dir,
              env ? env : "SDL_VIDEODRIVER=dummy SDL_AUDIODRIVER=dummy", bin, args);
     int st = system(cmd);
-    size_t n = 0;
-    unsigned char *t = prog_slurp(prog_path(dir, "err.txt", p, sizeof p), &n);
-    snprintf(err_buf, sizeof err_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
+    return prog_exit_code(st);
 }
 
 /* Whether err_buf holds a control byte other than the newline (an escape sequence would reach the terminal). */

@@ -56,13 +56,9 @@ static int run(const char **err, const char *fmt, ...)
         snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s >stdout.txt 2>stderr.txt", dir, bin, args);
     }
     int st = system(cmd);
-    char p[600];
-    FILE *f = fopen(prog_path(dir, "stderr.txt", p, sizeof p), "r");
-    size_t n = f ? fread(errbuf, 1, sizeof errbuf - 1, f) : 0;
-    if (f) fclose(f);
-    errbuf[n] = 0;
+    prog_read_text(dir, "stderr.txt", errbuf, sizeof errbuf);
     if (err) *err = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return prog_exit_code(st);
 }
 
 /* One numeric option: the values that must be taken (its range's ends), those that must be refused (just past

@@ -34,15 +34,9 @@ static int run(const char *fmt, ...)
     if (!realpath(prog_bin(), bin)) fail_msg("no program %s", prog_bin());
     snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s >out.txt 2>err.txt", dir, bin, args);
     int st = system(cmd);
-    char path[512];
-    size_t n;
-    unsigned char *t = prog_slurp(prog_path(dir, "out.txt", path, sizeof path), &n);
-    snprintf(out_buf, sizeof out_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    t = prog_slurp(prog_path(dir, "err.txt", path, sizeof path), &n);
-    snprintf(err_buf, sizeof err_buf, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
-    free(t);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+    prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
+    prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
+    return prog_exit_code(st);
 }
 
 static int setup(void **state)

@@ -49,13 +49,9 @@ static int run_in_dir(const char **err, const char *fmt, ...)
     snprintf(cmd, sizeof cmd, "cd '%s' && SDL_VIDEODRIVER=dummy SDL_AUDIODRIVER=dummy '%s' %s 2>stderr.txt >/dev/null",
              dir, bin, args);
     int st = system(cmd);
-    char p[600];
-    size_t n = 0;
-    FILE *f = fopen(prog_path(dir, "stderr.txt", p, sizeof p), "r");
-    if (f) n = fread(errbuf, 1, sizeof errbuf - 1, f), fclose(f);
-    errbuf[n] = 0;
+    prog_read_text(dir, "stderr.txt", errbuf, sizeof errbuf);
     if (err) *err = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return prog_exit_code(st);
 }
 
 /* Whether dir/a and dir/b hold the same bytes. */

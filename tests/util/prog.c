@@ -58,7 +58,7 @@ int prog_run(const char *dir, const char **err, const char *prefix, const char *
     unlink(errfile);
     errbuf[n] = 0;
     if (err) *err = errbuf;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return prog_exit_code(st);
 }
 
 const char *prog_path(const char *dir, const char *name, char *buf, size_t len)
@@ -99,6 +99,20 @@ int prog_entries_with(const char *dir, const char *part)
     }
     closedir(d);
     return n;
+}
+
+void prog_read_text(const char *dir, const char *name, char *buf, size_t len)
+{
+    char p[1024];
+    size_t n = 0;
+    unsigned char *t = prog_slurp(prog_path(dir, name, p, sizeof p), &n);
+    snprintf(buf, len, "%.*s", t ? (int)n : 0, t ? (char *)t : "");
+    free(t);
+}
+
+int prog_exit_code(int status)
+{
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 unsigned char *prog_slurp(const char *path, size_t *n)

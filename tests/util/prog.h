@@ -25,6 +25,10 @@ int prog_run(const char *dir, const char **err, const char *prefix, const char *
     __attribute__((format(printf, 4, 5)));
 /* dir/name into buf. */
 const char *prog_path(const char *dir, const char *name, char *buf, size_t len);
+/* The text of dir/name into buf (len bytes, NUL-terminated, cut to fit; "" when it cannot be read). */
+void prog_read_text(const char *dir, const char *name, char *buf, size_t len);
+/* The exit code of a system() status: the program's, or 128 + N for a death by signal N. */
+int prog_exit_code(int status);
 /* Write n bytes (or a string) into dir/name; false on failure. */
 bool prog_write_bytes(const char *dir, const char *name, const void *data, size_t n);
 bool prog_write_text(const char *dir, const char *name, const char *text);
