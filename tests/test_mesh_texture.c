@@ -248,6 +248,74 @@ static void test_no_folder(void **state)
     prog_rmdir(dir);
 }
 
+/* The program: faerie.md2 without --texture is the file of --texture faerie2.bmp, byte for byte (the same
+ * description: the texture's path is the same), and says so on stderr (not with -q); --texture none is the
+ * untextured render (the same mesh beside no skin); a mesh whose skin is missing warns and renders untextured. */
+static void test_cli_own_texture(void **state)
+{
+    (void)state;
+    NEED(FAERIE);
+    char dir[256], a[512], b[512], mesh[512];
+    assert_int_equal(prog_mkdtemp(dir, "own-texture"), 0);
+    const char *view = "--size 48x80 --yaw 90 --pitch 0 --level 2 --msaa 1";
+    const char *e;
+    assert_int_equal(prog_run(dir, &e, "", FAERIE " %s -o %s", view, prog_path(dir, "own.png", a, sizeof a)), 0);
+    assert_non_null(strstr(e, "instess: " FAERIE ": textured with its own " MD2_DIR "faerie2.bmp (--texture none: "
+                              "without)"));
+    assert_int_equal(prog_run(dir, &e, "", FAERIE " %s --texture " MD2_DIR "faerie2.bmp -q -o %s", view,
+                              prog_path(dir, "given.png", b, sizeof b)), 0);
+    assert_true(prog_same_bytes(a, b));
+    assert_int_equal(prog_run(dir, &e, "", FAERIE " %s -q -o %s", view, prog_path(dir, "own.png", a, sizeof a)), 0);
+    assert_null(strstr(e, "textured with"));
+    /* --texture none: the untextured picture, as of the same mesh with no skin beside it */
+    assert_int_equal(prog_run(dir, &e, "", FAERIE " %s --texture none -q -o %s", view,
+                              prog_path(dir, "none.png", a, sizeof a)), 0);
+    assert_false(prog_same_pixels(a, b));
+    copy_file(FAERIE, dir, "faerie.md2");
+    assert_int_equal(prog_run(dir, &e, "", "%s %s -o %s", prog_path(dir, "faerie.md2", mesh, sizeof mesh), view,
+                              prog_path(dir, "bare.png", b, sizeof b)), 0);
+    assert_null(strstr(e, "textured with"));
+    assert_null(strstr(e, "untextured"));
+    assert_true(prog_same_pixels(a, b));
+    /* a named skin that is missing: a warning, and the untextured picture */
+    write_md2_with_skin(dir, "q2.md2", "skin.bmp");
+    assert_int_equal(prog_run(dir, &e, "", "%s %s -q -o %s", prog_path(dir, "q2.md2", mesh, sizeof mesh), view,
+                              prog_path(dir, "q2.png", b, sizeof b)), 0);
+    assert_non_null(strstr(e, "/q2.md2: its material names the texture 'skin.bmp', which is not in "
+                              "the mesh's folder: rendered untextured"));
+    assert_true(prog_same_pixels(a, b));
+    /* --texture none on a mesh without a texture: the same file as without it */
+    assert_int_equal(prog_run(dir, &e, "", "cube --size 32x32 --texture none -q -o %s",
+                              prog_path(dir, "c1.png", a, sizeof a)), 0);
+    assert_int_equal(prog_run(dir, &e, "", "cube --size 32x32 -q -o %s", prog_path(dir, "c2.png", b, sizeof b)), 0);
+    assert_true(prog_same_bytes(a, b));
+    prog_rmdir(dir);
+}
+
+/* The mesh's own texture is an input: -o never replaces it (as the mesh and --texture's file), nothing written. */
+static void test_cli_texture_not_replaced(void **state)
+{
+    (void)state;
+    NEED(FAERIE);
+    char dir[256], p[512], mesh[512];
+    assert_int_equal(prog_mkdtemp(dir, "own-texture-out"), 0);
+    copy_file(FAERIE, dir, "faerie.md2");
+    const char *e;
+    assert_int_equal(prog_run(dir, &e, "", "cube --size 220x193 -q -o %s", prog_path(dir, "faerie2.png", p, sizeof p)), 0);
+    size_t n0, n1;
+    unsigned char *before = prog_slurp(p, &n0);
+    assert_int_equal(prog_run(dir, &e, "", "%s --size 32x32 -q -o %s", prog_path(dir, "faerie.md2", mesh, sizeof mesh),
+                              p), 1);
+    assert_non_null(strstr(e, "faerie2.png: is the mesh's own texture; instess will not replace its input"));
+    assert_int_equal(prog_run(dir, &e, "", "cube --size 32x32 --texture %s -q -o %s", p, p), 1);
+    assert_non_null(strstr(e, "faerie2.png: is the image of --texture; instess will not replace its input"));
+    unsigned char *after = prog_slurp(p, &n1);
+    assert_true(n0 == n1 && memcmp(before, after, n0) == 0);
+    free(before);
+    free(after);
+    prog_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -257,6 +325,8 @@ int main(void)
         cmocka_unit_test(test_skin_outside),
         cmocka_unit_test(test_embedded),
         cmocka_unit_test(test_no_folder),
+        cmocka_unit_test(test_cli_own_texture),
+        cmocka_unit_test(test_cli_texture_not_replaced),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
