@@ -316,6 +316,23 @@ static void test_cli_texture_not_replaced(void **state)
     prog_rmdir(dir);
 }
 
+/* The note names a file of the mesh's folder: a control byte in its name reaches the terminal as '?'. */
+static void test_cli_note_sanitized(void **state)
+{
+    (void)state;
+    NEED(FAERIE);
+    char dir[256], p[512], out[512];
+    assert_int_equal(prog_mkdtemp(dir, "own-texture-note"), 0);
+    write_md2_with_skin(dir, "q2.md2", "a\x1b[2Jb.bmp");
+    copy_file(MD2_DIR "faerie2.bmp", dir, "a\x1b[2Jb.bmp");
+    const char *e;
+    assert_int_equal(prog_run(dir, &e, "", "%s --size 16x16 --level 1 -o %s", prog_path(dir, "q2.md2", p, sizeof p),
+                              prog_path(dir, "q.png", out, sizeof out)), 0);
+    assert_non_null(strstr(e, "a?[2Jb.bmp (--texture none: without)"));
+    assert_null(strchr(e, '\x1b'));
+    prog_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +344,7 @@ int main(void)
         cmocka_unit_test(test_no_folder),
         cmocka_unit_test(test_cli_own_texture),
         cmocka_unit_test(test_cli_texture_not_replaced),
+        cmocka_unit_test(test_cli_note_sanitized),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1356,6 +1356,8 @@ bool scene_use_mesh_texture(scene_opts *o, const is_mesh *m, void (*note)(void *
     o->texture = m->texture;
     char line[PATH_MAX + 600];
     snprintf(line, sizeof line, "%s: textured with its own %s (--texture none: without)", m->name, m->texture);
+    for (char *c = line; *c; c++)   /* a file's name from the mesh's folder: no escape sequence on the terminal */
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
     if (!o->quiet && note) note(user, line);
     return true;
 }
