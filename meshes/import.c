@@ -93,6 +93,7 @@ typedef struct merged {
     bool any_normals;
     const size_t *mesh_tris;     /* counting pass: triangles of each scene mesh (counted once, not per use) */
     size_t instances;            /* counting pass: mesh references made by the nodes so far */
+    mesh_texture_use tex;        /* filling pass: the diffuse textures of the meshes drawn (import_texture.c) */
 } merged;
 
 /* Why the counting walk stopped. */
@@ -165,6 +166,7 @@ static void append_mesh(merged *o, const struct aiScene *sc, unsigned k, const x
     } else {
         append_vertices(o, am, x);
         append_faces(o, am, o->nv, det3(x) < 0.0);
+        mesh_texture_note(&o->tex, sc, am);
     }
     o->nv += am->mNumVertices;
 }
@@ -453,6 +455,7 @@ typedef struct child_header {
     uint64_t nv, nt, skipped;
     char err[512];
     char note[512];              /* a refused side file the import did without */
+    mesh_texture_use tex;        /* the diffuse textures of the meshes drawn */
 } child_header;
 
 /* Write all of buf; false when the pipe broke. */
@@ -478,6 +481,7 @@ static _Noreturn void child_import(const import_src *src, const char *label, int
     h.rc = import_merged(src, label, &o, h.note, sizeof h.note, h.err, sizeof h.err);
     h.any_normals = o.any_normals;
     h.nv = o.nv; h.nt = o.nt; h.skipped = o.skipped;
+    h.tex = o.tex;
     bool ok = write_all(fd, &h, sizeof h);
     if (ok && h.rc == IS_MESH_OK)
         ok = write_all(fd, o.p, o.nv * sizeof(float3)) && write_all(fd, o.n, o.nv * sizeof(float3)) &&
@@ -535,6 +539,8 @@ static int receive(int fd, int64_t deadline, const char *label, merged *o, char 
     if (h.nv == 0 || h.nt == 0 || h.nv > MESH_MAX_IMPORT_VERTICES || h.nt > MESH_MAX_IMPORT_TRIANGLES)
         return RECV_DIED;
     o->nv = (size_t)h.nv; o->nt = (size_t)h.nt; o->skipped = (size_t)h.skipped; o->any_normals = h.any_normals;
+    h.tex.name[sizeof h.tex.name - 1] = '\0';
+    o->tex = h.tex;
     if (!merged_alloc(o)) {
         mesh_set_err(err, errlen, "%s: out of memory (%zu vertices, %zu triangles)", label, o->nv, o->nt);
         return IS_MESH_ERR_NOMEM;
@@ -698,13 +704,16 @@ static int import_sandboxed(const import_src *src, const char *label, merged *o,
     return r;
 }
 
-/* Warn about a side file the import did without, and about the file's normals. */
-static void import_warnings(is_mesh *m, const char *label, const char *note, const is_mesh_options *opt)
+/* Warn about a side file the import did without, and about the file's normals; the file's texture (path: the
+ * mesh file, NULL for a memory import). */
+static void import_warnings(is_mesh *m, const char *path, const char *label, const char *note,
+                            const mesh_texture_use *tex, const is_mesh_options *opt)
 {
     if (m->stats.primitives_skipped)
         mesh_warn(opt, "%s: skipped %zu point/line primitive(s)", label, m->stats.primitives_skipped);
     if (note[0]) mesh_warn(opt, "%s", note);
     mesh_check_normals(m, label, opt);
+    mesh_texture_resolve(m, path, label, tex, opt);
 }
 
 /* Import (in a child unless opt->in_process), then build *out from the merged arrays. */
@@ -720,7 +729,7 @@ static int import_mesh(const import_src *src, const char *label, const is_mesh_o
         rc = mesh_create(out, label, &d, opt, err, errlen);
         if (rc == IS_MESH_OK) {
             out->stats.primitives_skipped = o.skipped;
-            import_warnings(out, label, note, opt);
+            import_warnings(out, src->path, label, note, &o.tex, opt);
         }
     }
     merged_free(&o);

@@ -190,8 +190,8 @@ static bool is_material_library(const char *name)
     return n >= 4 && strcasecmp(name + n - 4, ".mtl") == 0;
 }
 
-/* Whether the resolved path lies inside the resolved folder. */
-static bool inside(const char *folder, const char *real)
+/* mesh_path_inside: see mesh_internal.h. */
+bool mesh_path_inside(const char *folder, const char *real)
 {
     size_t n = strlen(folder);
     if (n == 1 && folder[0] == '/') return true;
@@ -213,7 +213,7 @@ static struct aiFile *io_open(struct aiFileIO *fio, const char *name, const char
     char real[PATH_MAX], why[PATH_MAX + 64];
     if (!realpath(name, real)) return refuse_errno(io, name, named, errno);
     if (named || strcmp(real, io->real) == 0) return open_checked(io, name, real, true);
-    if (!inside(io->folder, real)) {
+    if (!mesh_path_inside(io->folder, real)) {
         snprintf(why, sizeof why, "is outside the mesh's folder %s", io->folder);
         return refuse(io, name, false, why);
     }
@@ -230,8 +230,8 @@ static void io_close(struct aiFileIO *fio, struct aiFile *af)
     free(f);
 }
 
-/* The folder of path (everything before the last '/', "." when none, "/" for "/x") into dir[len]. */
-static void folder_of(const char *path, char *dir, size_t len)
+/* mesh_folder_of: see mesh_internal.h. */
+void mesh_folder_of(const char *path, char *dir, size_t len)
 {
     const char *slash = strrchr(path, '/');
     if (!slash) { snprintf(dir, len, "."); return; }
@@ -258,7 +258,7 @@ int mesh_io_init_file(mesh_io *io, const char *path, const char *label, uint64_t
     size_t n = strlen(path);
     io->obj = n >= 4 && strcasecmp(path + n - 4, ".obj") == 0;
     char dir[PATH_MAX];
-    folder_of(path, dir, sizeof dir);
+    mesh_folder_of(path, dir, sizeof dir);
     if (!realpath(path, io->real) || !realpath(dir, io->folder)) {
         mesh_set_err(err, errlen, "%s: cannot open: %s", label, strerror(errno));
         return IS_MESH_ERR_IO;

@@ -10,6 +10,9 @@
 
 #include <assimp/cfileio.h>
 
+struct aiScene;
+struct aiMesh;
+
 #include "meshes.h"
 #include "../core/hlsl.h"
 
@@ -78,6 +81,32 @@ int mesh_io_init_file(mesh_io *io, const char *path, const char *label, uint64_t
 void mesh_io_init_memory(mesh_io *io, const void *data, size_t size, const char *hint, const char *label);
 /* The name to hand to aiImportFileEx with &io->fio. */
 const char *mesh_io_name(const mesh_io *io);
+/* The folder of path (everything before the last '/', "." when none, "/" for "/x") into dir[len]. */
+void mesh_folder_of(const char *path, char *dir, size_t len);
+/* Whether the resolved path `real` lies inside the resolved folder (at any depth). */
+bool mesh_path_inside(const char *folder, const char *real);
+
+/* ------------------------------ the file's texture (import_texture.c) ------------------------------ */
+
+/* assimp's MD2 loader names this diffuse texture when the file names no skin: a placeholder, never a file. */
+#define MESH_MD2_PLACEHOLDER "$texture_dummy.bmp"
+
+/* The diffuse textures of the meshes a scene draws, as the import child found them (and sends them). */
+typedef struct mesh_texture_use {
+    char name[1024];             /* the first texture named (assimp's aiString: at most 1023 bytes), or "" */
+    uint32_t names;              /* distinct texture names (counting stops at 2) */
+    uint32_t untextured;         /* drawn meshes without one (no texture, no texture coordinates, the placeholder) */
+    uint32_t placeholder;        /* drawn meshes with MESH_MD2_PLACEHOLDER */
+} mesh_texture_use;
+
+/* Record the diffuse texture of one drawn scene mesh (its material's, when it has texture coordinates). */
+void mesh_texture_note(mesh_texture_use *use, const struct aiScene *sc, const struct aiMesh *am);
+
+/* The texture of the imported mesh m into m->texture (meshes.h, mesh_load_file: "The file's texture") from what
+ * the import found: resolved in the folder of the mesh file `path` (NULL for a memory import: never), warnings
+ * naming label through opt.  Nothing is returned: a texture that cannot be used is a warning, not an error. */
+void mesh_texture_resolve(is_mesh *m, const char *path, const char *label, const mesh_texture_use *use,
+                          const is_mesh_options *opt);
 
 /* ------------------------------ checks before the import (import_check.c) ------------------------------ */
 

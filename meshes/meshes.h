@@ -94,6 +94,9 @@ typedef struct is_mesh_edge {
     uint32_t n_faces;
 } is_mesh_edge;
 
+/* The longest path is_mesh.texture holds, with its NUL (a longer one is not reported: a warning says so). */
+#define IS_MESH_TEXTURE_MAX 4096
+
 typedef struct is_mesh {
     char name[256];              /* built-in name or the file's path (truncated) */
     size_t n_vertices;
@@ -108,6 +111,10 @@ typedef struct is_mesh {
     is_mesh_edge *edges;         /* n_edges */
     uint32_t *tri_edge;          /* 3 * n_triangles: [3t+k] = the edge (index into edges) of edge k of triangle t */
     is_mesh_stats stats;
+    /* The mesh's own diffuse texture (mesh_load_file, "The file's texture"): the path of an image file inside the
+     * mesh's folder, for the texture coordinates above; "" when there is none (always for built-ins, mesh_create
+     * and mesh_load_memory).  Reported, never read: the caller decides whether to use it. */
+    char texture[IS_MESH_TEXTURE_MAX];
 } is_mesh;
 
 typedef void (*is_mesh_warn_fn)(void *user, const char *message);
@@ -174,7 +181,23 @@ INSTESS_API const char *const *mesh_builtin_names(void);
  * import's time and memory are limited (is_mesh_options).  Facet normals and normals against the winding are
  * warned about.  Errors name the path: missing, not a regular file, empty, too large, unknown extension, a
  * refused side file, assimp's message, assimp crashed / timed out / ran out of memory, no triangles, invalid
- * data. */
+ * data.
+ *
+ * The file's texture (out->texture): the diffuse texture of the material (assimp's AI_MATKEY_TEXTURE(
+ * aiTextureType_DIFFUSE, 0)) when every mesh the scene draws names the same one -- one texture is bound per
+ * draw -- as a regular file inside the mesh's folder, by the rules of side files above (its name read
+ * with '\' as '/'; tried as a path relative to the folder, then by its last component in the folder itself, as
+ * tools that copy a model's textures beside it leave them -- absolute names, "C:\..." too, only so -- then by
+ * that component in another case when the folder holds just one such file: "TEST.PNG" finds test.png).  Warned
+ * about, and then "" (the render goes on untextured): a named file that is not in the folder
+ * (missing, outside it, not a regular file, or a path longer than IS_MESH_TEXTURE_MAX), a texture embedded in the
+ * file ("*0": not read), meshes that name different textures or some none.  MD2: Quake 2's models name their skins
+ * in the file; one that names none (numSkins 0, as assimp's test models faerie.md2 and sydney.md2: assimp then
+ * reports its placeholder "$texture_dummy.bmp", which is never a file) gets the image in its folder that the
+ * skin's size recorded in the MD2 header identifies: a BMP, PNG or TGA whose name starts with the model's
+ * (faerie*, sydney*) and whose width and height are the header's (faerie2.bmp, 220x193; sydney.bmp, 308x193);
+ * none found: "" without a warning, several: a warning and "".  A material texture on a mesh without texture
+ * coordinates (a projection mapping) is no texture. */
 INSTESS_API int mesh_load_file(const char *path, const is_mesh_options *opt, is_mesh *out, char *err, size_t errlen);
 /* The same from memory (for fuzzers): hint is the format's extension ("obj", may be NULL or "" to let assimp
  * guess), label names the buffer in messages (NULL: "<memory>"). */

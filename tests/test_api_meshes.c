@@ -44,7 +44,9 @@ static void test_null_arguments(void **state)
     assert_int_equal(mesh_builtin("cube", NULL, err, sizeof err), IS_MESH_ERR_ARG);
     assert_int_equal(mesh_builtin("no such", &m, one, sizeof one), IS_MESH_ERR_ARG);
     assert_int_equal(mesh_builtin_ex(NULL, NULL, NULL, NULL, 0), IS_MESH_ERR_ARG);
+    memset(m.texture, 'x', sizeof m.texture);   /* is_mesh.texture: "" after a failed load, never a stale path */
     assert_int_equal(mesh_load_file(NULL, NULL, &m, err, sizeof err), IS_MESH_ERR_ARG);
+    assert_string_equal(m.texture, "");
     assert_int_equal(mesh_load_file("x.obj", NULL, NULL, err, sizeof err), IS_MESH_ERR_ARG);
     assert_int_equal(mesh_load_memory(NULL, 10, "obj", NULL, NULL, &m, err, sizeof err), IS_MESH_ERR_ARG);
     assert_int_equal(mesh_load_memory("v 0 0 0", 7, "obj", NULL, NULL, NULL, err, sizeof err), IS_MESH_ERR_ARG);
@@ -166,6 +168,7 @@ static void test_inputs(void **state)
     for (size_t k = 0; k < sizeof paths / sizeof paths[0]; k++) {
         assert_true(mesh_load_file(paths[k], NULL, &m, err, sizeof err) < 0);
         assert_true(strlen(err) > 0);
+        assert_string_equal(m.texture, "");
         mesh_free(&m);
         assert_true(mesh_open(paths[k], NULL, &m, err, sizeof err) < 0);
         mesh_free(&m);

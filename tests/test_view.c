@@ -612,6 +612,34 @@ static void test_shading_texture_keys(void **state)
     assert_non_null(strstr(err, "texture refused: no --texture FILE was given"));
 }
 
+/* A mesh file's own texture (faerie.md2's skin beside it): the viewer draws it as the CLI does without --texture
+ * (said on stderr), u turns it off (the CLI's --texture none) and, after --texture none, on. */
+static void test_own_texture_key(void **state)
+{
+    (void)state;
+    const char *md2 = "/usr/share/assimp/models/MD2/faerie.md2";
+    if (access(md2, R_OK) != 0) {
+        print_message("SKIP: %s is absent (scripts/setup.sh installs assimp-testmodels)\n", md2);
+        skip();
+    }
+    const char *err;
+    clean();
+    char scene[400];
+    snprintf(scene, sizeof scene, "%s --size 96x120 --level 2 --yaw 90 --pitch 0", md2);
+    assert_int_equal(run_in_dir(&err, "view --no-hud %s --frames 1 --capture a.png", scene), 0);
+    assert_non_null(strstr(err, "faerie.md2: textured with its own /usr/share/assimp/models/MD2/faerie2.bmp"));
+    assert_int_equal(run_in_dir(&err, "-q %s -o a_cli.png", scene), 0);
+    assert_true(same_file("a.png", "a_cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --keys u --capture b.png", scene), 0);
+    assert_int_equal(run_in_dir(&err, "-q %s --texture none -o b_cli.png", scene), 0);
+    assert_true(same_file("b.png", "b_cli.png"));
+    assert_false(same_file("a.png", "b.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --texture none --capture c.png", scene), 0);
+    assert_true(same_file("c.png", "b_cli.png"));
+    assert_int_equal(run_in_dir(&err, "view -q --no-hud %s --texture none --keys u --capture d.png", scene), 0);
+    assert_true(same_file("d.png", "a_cli.png"));
+}
+
 /* The inspector in the viewer: --pin names the fragment instess inspect finds at that pixel (its instance and
  * grid triangle: the whole history on stderr, as instess inspect prints it), the pixel is marked white and the picked instance drawn over the frame,
  * so the capture is no longer the CLI's file; I unpins (the CLI's file again). */
@@ -674,6 +702,7 @@ int main(void)
         cmocka_unit_test(test_normals_misfit),
         cmocka_unit_test(test_playback),
         cmocka_unit_test(test_shading_texture_keys),
+        cmocka_unit_test(test_own_texture_key),
         cmocka_unit_test(test_pin),
     };
     return cmocka_run_group_tests_name("view", tests, setup, teardown);

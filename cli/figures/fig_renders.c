@@ -41,7 +41,7 @@ static const char *view_option(fig_view *v, const char *key, const char *val, ch
     if (!strcmp(key, "--mesh")) return snprintf(v->mesh, sizeof v->mesh, "%s", val), NULL;
     if (!strcmp(key, "--displace"))
         return snprintf(v->displace, sizeof v->displace, "%s", val), o->displace = v->displace, NULL;
-    if (!strcmp(key, "--texture"))
+    if (!strcmp(key, "--texture") && strcmp(val, "none") != 0)   /* none: by the option table */
         return snprintf(v->texture, sizeof v->texture, "%s", val), o->texture = v->texture, NULL;
     const scene_option *opt = strncmp(key, "--", 2) == 0 ? scene_find_option(key + 2) : NULL;
     return opt ? scene_apply_option(o, opt, val, buf, len) : "unknown option";
@@ -374,7 +374,9 @@ static int fig_001_5(const fig_ctx *ctx, is_image *out, char *err, size_t errlen
                        s.panel, out, err, errlen);
 }
 
-#define V_MD2 "--yaw 90 --pitch 0 --distance 2.7"
+#define V_MD2_CAMERA "--yaw 90 --pitch 0 --distance 2.7"
+/* --texture none: the MD2 characters have skins beside them, which instess draws unless told not to */
+#define V_MD2 V_MD2_CAMERA " --texture none"
 /* Fig. 12: a family of game characters: input (Gouraud-shaded triangles), PN triangles, Gruen's smoothed patch. */
 static int fig_001_12(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
@@ -588,7 +590,7 @@ static int load_split_normals(const char *spec, is_mesh *out, char *err, size_t 
     return rc;
 }
 
-#define V_SEAMS "--mesh " SYDNEY " --patch npatch --normals linear --level 4 --yaw 180 --pitch 0 --distance 2.9"
+#define V_SEAMS "--mesh " SYDNEY " --patch npatch --normals linear --level 4 --yaw 180 --pitch 0 --distance 2.9 --texture none"
 /* Split normals at the texture seams of an MD2 character crack the PN triangles; welded normals do not. */
 static int fig_md2_seams(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {
@@ -647,7 +649,7 @@ static int fig_shading(const fig_ctx *ctx, is_image *out, char *err, size_t errl
     return render_grid(ctx, "Light per vertex and per pixel at level 4", p, 2, 2, s.panel, s.panel, out, err, errlen);
 }
 
-#define V_SKIN " --color 1,1,1 --normals quadratic " V_MD2
+#define V_SKIN " --color 1,1,1 --normals quadratic " V_MD2_CAMERA
 /* The MD2 characters with their skins, through a pixel shader: input, PN triangles, Gruen's smoothed patch. */
 static int fig_textured(const fig_ctx *ctx, is_image *out, char *err, size_t errlen)
 {

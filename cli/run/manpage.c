@@ -152,7 +152,13 @@ void scene_print_man(FILE *f, const char *render_codes, const scene_subcommand *
           "device modelled on IDirect3DDevice9, and a vertex shader turns each grid point into a point of a curved "
           "patch (N-Patch / PN triangles, Gruen's smoothed N-Patch, Phong tessellation, PN-AEN).  The image is "
           "written atomically: a failed run leaves no output.  The same renderer is the library libinstess "
-          "(pkg-config instess).\n", f);
+          "(pkg-config instess).\n.PP\nA mesh file's own texture -- its material's diffuse texture when it lies in "
+          "the mesh's folder, or for an MD2 model that names no skin the image beside it of the skin's size (the "
+          "skins of assimp's test models faerie.md2 and sydney.md2) -- is drawn as \\fB\\-\\-texture\\fR would "
+          "draw it, and a line on standard error (not with \\fB\\-q\\fR) names it; \\fB\\-\\-texture\\fR "
+          "\\fIFILE\\fR draws another, \\fB\\-\\-texture none\\fR none.  A texture the file names that cannot "
+          "be used (missing, outside the folder, embedded in the file) is a warning, and the mesh is drawn "
+          "untextured.\n", f);
     man_options(f);
     man_subcommands(f, subs, n);
     man_exit_status(f, render_codes, subs, n);

@@ -154,7 +154,8 @@ static const char *opt_shading(scene_opts *o, const char *a)
 }
 static const char *opt_texture(scene_opts *o, const char *a)
 {
-    o->texture = a;
+    o->texture_none = strcmp(a, "none") == 0;   /* a file named none: ./none */
+    o->texture = o->texture_none ? NULL : a;
     return NULL;
 }
 static const char *opt_color(scene_opts *o, const char *a)
@@ -415,8 +416,9 @@ const scene_option scene_options[] = {
      "pixel (a pixel shader evaluates the patch's --normals normal at each pixel's barycentrics and lights it; "
      "--path instanced, --lod uniform, no --displace)", "vertex", opt_shading, shading_choices, val_shading},
     {"texture", 0, "FILE", "multiply the colour by this image (PNG, BMP, TGA, EXR) at the mesh's texture "
-     "coordinates, in a pixel shader: mip-mapped, trilinear, wrapping (an MD2 model's skin, say)", NULL, opt_texture,
-     NULL, val_texture},
+     "coordinates, in a pixel shader: mip-mapped, trilinear, wrapping (an MD2 model's skin, say); without it a mesh "
+     "file's own texture (its material's, or an MD2's skin beside it) is used, said on stderr; none: untextured",
+     "the mesh's own, if any", opt_texture, NULL, val_texture},
     {"color", 0, "R,G,B", "the surface colour (g_vDiffuse), each 0..1, or #rrggbb", "0.85,0.78,0.62", opt_color, NULL, val_color},
     {"background", 0, "R,G,B", "the background colour, each 0..1, or #rrggbb", "#2e3440", opt_background, NULL, val_background},
     {"fit", 0, "F", "framing: sphere puts the camera --distance bounding radii away; box computes the distance at "

@@ -1336,6 +1336,32 @@ static void warn_stderr(void *user, const char *msg)
     scene_progress_print(user, line);
 }
 
+/* A note of the run ("instess: MSG") on stderr through the progress line pr (user), erased first. */
+static void note_stderr(void *user, const char *msg)
+{
+    char line[PATH_MAX + 1200];
+    snprintf(line, sizeof line, "instess: %s\n", msg);
+    scene_progress_print(user, line);
+}
+
+void scene_note_stderr(void *user, const char *msg)
+{
+    (void)user;
+    fprintf(stderr, "instess: %s\n", msg);
+}
+
+bool scene_use_mesh_texture(scene_opts *o, const is_mesh *m, void (*note)(void *user, const char *msg), void *user)
+{
+    if (o->texture || o->texture_none || !m->texture[0]) return false;
+    o->texture = m->texture;
+    char line[PATH_MAX + 600];
+    snprintf(line, sizeof line, "%s: textured with its own %s (--texture none: without)", m->name, m->texture);
+    for (char *c = line; *c; c++)   /* a file's name from the mesh's folder: no escape sequence on the terminal */
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+    if (!o->quiet && note) note(user, line);
+    return true;
+}
+
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -1412,6 +1438,9 @@ static int claim_outputs(const scene_opts *o, is_outputs *outs, char *err, size_
         if (names[k] && o->displace && outputs_same_target(names[k], o->displace))
             return snprintf(err, errlen, "%s: is the height map of --displace; instess will not replace its input",
                             names[k]), -1;
+        if (names[k] && o->texture && outputs_same_target(names[k], o->texture))
+            return snprintf(err, errlen, "%s: is the image of --texture; instess will not replace its input",
+                            names[k]), -1;
     }
     if (image_check_path(o->output, err, errlen) != 0 || outputs_add(outs, o->output, err, errlen) != 0) return -1;
     if (o->export_obj && outputs_add(outs, o->export_obj, err, errlen) != 1) return -1;
@@ -1472,6 +1501,12 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
     char misfit[1000];
     if (rc == 0 && scene_normals_misfit(&m, misfit, sizeof misfit)) warn_stderr(&pr, misfit);
+    if (rc == 0 && scene_use_mesh_texture(&od, &m, note_stderr, &pr))
+        for (int k = 0; k < 2 && rc == 0; k++) {   /* the outputs were claimed before the mesh named it */
+            const char *out = k == 0 ? o->output : o->export_obj;
+            if (out && outputs_same_target(out, od.texture))
+                rc = -1, snprintf(err, errlen, "%s: is the mesh's own texture; instess will not replace its input", out);
+        }
     if (rc == 0) rc = render_outputs(&od, &m, &outs, &pr, err, errlen);
     scene_progress_stop(&pr);
     outputs_abort(&outs);

@@ -121,6 +121,7 @@ typedef struct scene_opts {
     unsigned instances;         /* --instances: draw only the first N mesh triangles' patches (0: all) */
     const char *texture;        /* --texture: the image multiplied in at TEXCOORD0 (cli/run/shading.c), or NULL */
     const is_image *texture_map; /* the image already read, or NULL: read per draw */
+    bool texture_none;          /* --texture none: untextured, also a mesh with its own (scene_use_mesh_texture) */
     const char *displace;       /* --displace: the height map (cli/run/displace.c), or NULL */
     float displace_scale;       /* --displace-scale: bounding radii per unit of height (SCENE_DISPLACE_SCALE) */
     const is_image *displace_map; /* the map already read (scene_load_displacement), or NULL: read per draw */
@@ -223,6 +224,12 @@ int scene_load_displacement(const char *path, is_image *img, char *err, size_t e
  * into the pixel shader's, with the patch in c12.x: call it after each change of the vertex constants. */
 is_result scene_shading_bind(is_device *dev, const scene_opts *o, const is_mesh *m, is_texture **tex);
 void scene_shading_constants(is_device *dev, const scene_opts *o);
+/* Without --texture (and not --texture none), a mesh file's own texture (is_mesh.texture, meshes.h: "The file's
+ * texture") is drawn: o->texture becomes m->texture (m must outlive o's use), and unless o->quiet, note(user,
+ * "MESH: textured with its own FILE (--texture none: without)").  Whether o now draws m's texture.  The run, the
+ * Python call, inspect and the viewer call it after loading the mesh; the figures do not (their views say
+ * --texture when they are textured). */
+bool scene_use_mesh_texture(scene_opts *o, const is_mesh *m, void (*note)(void *user, const char *msg), void *user);
 /* --texture on dev: o's image (texture_map, or the file) as a mip-mapped texture on pixel sampler
  * SCENE_TEXTURE_SAMPLER (trilinear, wrapping; *tex: the caller releases it after the draw), and with --shading
  * vertex the pixel shader that multiplies COLOR0 by it.  IS_OK or the device's error. */
@@ -305,6 +312,8 @@ bool scene_normals_misfit(const is_mesh *m, char *msg, size_t len);
 is_mesh_options scene_mesh_options(const scene_opts *o, void (*warn)(void *user, const char *msg), void *user);
 /* A warn for scene_mesh_options: "instess: warning: MSG" on stderr unless *(const bool *)quiet (o->quiet). */
 void scene_warn_unless_quiet(void *quiet, const char *msg);
+/* A note for scene_use_mesh_texture: "instess: MSG" on stderr (user is not used). */
+void scene_note_stderr(void *user, const char *msg);
 /* Load o->mesh, render, write o->output atomically (and o->export_obj); print statistics unless quiet; warn
  * (scene_normals_misfit) when the file's normals do not fit its surface. */
 int scene_render_to_file(const scene_opts *o, char *err, size_t errlen);

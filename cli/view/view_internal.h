@@ -64,7 +64,7 @@ typedef struct view_state {
     int n_pin_lines;
     /* instance-by-instance playback (the X key): o.instances grows by step_speed per frame up to the mesh's
      * triangle count */
-    const char *texture_path; /* --texture's file (u turns o.texture off and on), or NULL */
+    const char *texture_path; /* --texture's file or the mesh's own (u turns o.texture off and on), or NULL */
     bool stepping;
     bool step_drawn;        /* the playback's first frame was drawn */
     unsigned step_speed;

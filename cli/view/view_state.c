@@ -200,11 +200,11 @@ static void act_shading(view_state *v)
     commit(v, &o, "shading");
 }
 
-/* --texture's image on or off (the file given on the command line). */
+/* --texture's image on or off (the file given on the command line, or the mesh's own). */
 static void act_texture(view_state *v)
 {
     if (!v->texture_path) {
-        notice(v, "texture refused: no --texture FILE was given");
+        notice(v, "texture refused: no --texture FILE was given and the mesh has no texture of its own");
         return;
     }
     scene_opts o = v->o;
@@ -274,7 +274,7 @@ const view_key view_keys[] = {
     {"W", "w", "next fill: solid, solid+wire, wire, point", act_fill},
     {"M", "m", "4x multisampling on / off", act_msaa},
     {"V", "v", "light per vertex (the listings) or per pixel (a pixel shader: --shading pixel)", act_shading},
-    {"U", "u", "--texture's image on / off", act_texture},
+    {"U", "u", "the texture on / off (--texture's, or the mesh's own)", act_texture},
     {"Tab", "Tab", "split screen: two patches side by side on one camera (labelled at the bottom)", act_split},
     {"C", "c", "next view: colour, normals, barycentrics, instance id, Gregory weights, cracks (odd counts red)",
      act_show},
@@ -829,6 +829,10 @@ static int view_load(view_state *v)
     if (rc == 0 && v->o.displace && (rc = scene_load_displacement(v->o.displace, &v->displace_map, err, sizeof err)) == 0)
         v->o.displace_map = &v->displace_map;
     if (rc == 0) rc = mesh_open(v->o.mesh, &mo, &v->mesh, err, sizeof err);
+    if (rc == 0 && !v->texture_path && v->mesh.texture[0]) {   /* u: the mesh's own, also after --texture none */
+        v->texture_path = v->mesh.texture;
+        scene_use_mesh_texture(&v->o, &v->mesh, scene_note_stderr, NULL);
+    }
     char misfit[1000];
     if (rc == 0 && scene_normals_misfit(&v->mesh, misfit, sizeof misfit))   /* also with -q, as the CLI */
         fprintf(stderr, "instess: warning: %s\n", misfit);
