@@ -14,6 +14,11 @@
  * (llvmpipe), the median of --frames frames after --warmup frames (instess: the thread counts' frames interleaved
  * on one device); for instess also the medians of the frame's phases (set-up region, tile pass, the rest: the
  * device's dev_stats with dev_set_timing on) and the minor page faults per frame (getrusage).  See bench/README.md.
+ *
+ * Scene P adds the pixel stage (core/pixel.h, core/texture.h): the cube at level 16 with the same patch shaders,
+ * a pixel shader that lights the interpolated normal per pixel and multiplies by a procedural 256x256 texture
+ * (its mip chain made by the library, trilinear, WRAP), against llvmpipe doing the same in GLSL with the same
+ * mip levels (the scene file's texture block).
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -51,6 +56,10 @@ extern char **environ;
 #define DIFF_MAX_FRACTION 0.0002
 #define COVERAGE_MAX_FRACTION 0.0001
 #define DIFF_MAX_MEAN 0.05
+/* Scene P's mean: llvmpipe filters 8-bit textures in 8-bit fixed point (its AoS sampling path), instess in float,
+ * so a third of the textured pixels differ by 1/255: measured 0.050/255 (0.016 with GALLIVM_PERF=no_aos_sampling);
+ * a LOD bias of 0.1 or the normal left unnormalised give 0.065..0.068, a quarter-texel shift 0.19 (bench/README.md). */
+#define DIFF_MAX_MEAN_TEXTURED 0.06
 /* Resident memory may grow by at most this much between the end of the warm-up and the last frame. */
 #define RSS_GROWTH_MAX_KB 1024
 /* The memory budget of the instess side: peak resident set of this process over every scene (the 2048x2048 target
@@ -60,18 +69,20 @@ extern char **environ;
 /* ---------------------------------------- the scenes ---------------------------------------- */
 
 typedef struct bench_scene_def {
-    char id;            /* 'A', 'B', 'C' */
+    char id;            /* 'A', 'B', 'C', 'P' */
     const char *what;   /* for the table */
     int level, width, height;
     int grid_side;      /* copies of the cube per side (1 or 10) */
     float spacing;      /* distance between the copies' centres */
     float distance;     /* camera distance in bounding radii (scene.h's --distance) */
+    int textured;       /* 1: the pixel shader and the texture (scene P) */
 } bench_scene_def;
 
 static const bench_scene_def bench_scenes[] = {
-    {'A', "cube, level 32, 1024x1024", 32, 1024, 1024, 1, 0.0f, 3.2f},
-    {'B', "100 cubes, level 16, 1024x1024", 16, 1024, 1024, 10, 3.0f, 2.4f},
-    {'C', "cube, level 4, 2048x2048", 4, 2048, 2048, 1, 0.0f, 3.2f},
+    {'A', "cube, level 32, 1024x1024", 32, 1024, 1024, 1, 0.0f, 3.2f, 0},
+    {'B', "100 cubes, level 16, 1024x1024", 16, 1024, 1024, 10, 3.0f, 2.4f, 0},
+    {'C', "cube, level 4, 2048x2048", 4, 2048, 2048, 1, 0.0f, 3.2f, 0},
+    {'P', "cube, level 16, 1024x1024, per-pixel light x texture", 16, 1024, 1024, 1, 0.0f, 3.2f, 1},
 };
 #define N_SCENES (sizeof bench_scenes / sizeof bench_scenes[0])
 
@@ -85,11 +96,16 @@ static const struct { const char *name; vs_patch patch; int gl_patch; } bench_pa
 static const float bench_diffuse[4] = {0.85f, 0.78f, 0.62f, 1.0f};
 static const unsigned char bench_background[3] = {46, 52, 64};
 
+/* Scene P's texture: BENCH_TEX_SIZE^2 texels (the whole mip chain), repeated BENCH_UV_SCALE times per unit of
+ * the cube's object space (its faces are 2 units wide) along a projection that no face is parallel to. */
+#define BENCH_TEX_SIZE 256u
+#define BENCH_UV_SCALE 1.5f
+#define BENCH_SAMPLER 0u
 /* ---------------------------------------- options ---------------------------------------- */
 
 typedef struct bench_args {
     int frames, warmup;
-    const char *scenes;   /* subset of "ABC" */
+    const char *scenes;   /* subset of "ABCDP" (and commas) */
     unsigned patches;     /* bit k: bench_patches[k] */
     int threads[2], n_threads;
     int lp_threads[4], n_lp;
@@ -103,9 +119,11 @@ typedef struct bench_args {
 /* Print the usage to f. */
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCD|A,B,C,D] [--patch npatch|smooth|both]\n"
+    fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCDP|A,B,C,D,P] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
                "             [--isa avx2|avx512]\n"
+               "  --scenes LIST     A, B, C (the fixed pixel path), P (pixel shader and texture): default ABCP;\n"
+               "                    D (adaptive level of detail, instess only; bench/README.md)\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
                "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
@@ -141,8 +159,8 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     if (strcmp(opt, "--isa") == 0) return (a->isa = rs_isa_parse(v)) >= 0 ? 0 : -1;
     if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
     if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
-    if (strcmp(opt, "--scenes") == 0) /* "ABCD" or "A,B,C,D" (D: bench/bench_lod.c) */
-        return a->scenes = v, strspn(v, "ABCD,") == strlen(v) && strpbrk(v, "ABCD") ? 0 : -1;
+    if (strcmp(opt, "--scenes") == 0) /* "ABCDP" or "A,B,C,D,P" (D: bench/bench_lod.c) */
+        return a->scenes = v, strspn(v, "ABCDP,") == strlen(v) && strpbrk(v, "ABCDP") ? 0 : -1;
     if (strcmp(opt, "--patch") == 0) {
         a->patches = strcmp(v, "npatch") == 0 ? 1u : strcmp(v, "smooth") == 0 ? 2u : strcmp(v, "both") == 0 ? 3u : 0u;
         return a->patches ? 0 : -1;
@@ -154,7 +172,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
 static int parse_args(int argc, char **argv, bench_args *a)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    *a = (bench_args){.frames = 31, .warmup = 3, .scenes = "ABC", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
+    *a = (bench_args){.frames = 31, .warmup = 3, .scenes = "ABCP", .patches = 3u, .threads = {1, cores > 0 ? (int)cores : 1},
                       .lp_threads = {1, 2}, .n_lp = 2, .isa = -1};
     for (int i = 1; i < argc; i++) {
         int used = 0;
@@ -181,6 +199,10 @@ typedef struct bench_data {
     core_grid grid;
     is_patch_instance *inst;
     float4x4 wvp, world;
+    /* scene P: the texture's mip chain as the library makes it (A8R8G8B8 DWORDs, level 0 first, rows tightly
+     * packed), which both sides upload level by level; tex_levels 0 for the other scenes */
+    uint32_t *texels;
+    unsigned tex_levels;
 } bench_data;
 
 /* The built-in cube, or grid_side^2 copies of it in a square in the z = 0 plane (scene B). */
@@ -236,11 +258,75 @@ static void make_camera(const bench_scene_def *d, const is_mesh *m, float4x4 *wv
     *wvp = mat_mul(&t, &proj);
 }
 
+/* Side of level l of the BENCH_TEX_SIZE^2 texture. */
+static unsigned tex_side(unsigned l)
+{
+    return BENCH_TEX_SIZE >> l > 0 ? BENCH_TEX_SIZE >> l : 1u;
+}
+
+/* Texel (x, y) of scene P's texture, level 0, as a D3DCOLOR (0xAARRGGBB): an 8 x 8 checker of 32-texel squares,
+ * the light squares a red-green gradient over x and y with constant blue, the dark ones the same at 45%. */
+static uint32_t bench_texel(unsigned x, unsigned y)
+{
+    unsigned r = 64u + x * 191u / 255u, g = 64u + y * 191u / 255u, b = 160u;
+    if (((x / 32u) ^ (y / 32u)) & 1u) r = r * 45u / 100u, g = g * 45u / 100u, b = b * 45u / 100u;
+    return IS_COLOR_ARGB(255, r, g, b);
+}
+
+/* Scene P's texture through the library on a scratch device: level 0 from bench_texel written with LockRect,
+ * levels 1.. by tex_filter_texture (D3DXFilterTexture's box filter), every level read back into bd->texels.
+ * 0 or -1 with a message. */
+static int make_texture_chain(bench_data *bd, char *err, size_t errlen)
+{
+    is_device *dev = dev_create(1, 1, 1, err, errlen);
+    if (!dev) return -1;
+    is_texture *tex = NULL;
+    is_locked_rect lr;
+    is_result e = dev_create_texture(dev, BENCH_TEX_SIZE, BENCH_TEX_SIZE, 0, 0, IS_FMT_A8R8G8B8, &tex);
+    if (e == IS_OK) e = tex_lock_rect(tex, 0, &lr, NULL, 0);
+    for (unsigned y = 0; e == IS_OK && y < BENCH_TEX_SIZE; y++)
+        for (unsigned x = 0; x < BENCH_TEX_SIZE; x++)
+            ((uint32_t *)((unsigned char *)lr.bits + (size_t)y * (size_t)lr.pitch))[x] = bench_texel(x, y);
+    if (e == IS_OK) e = tex_unlock_rect(tex, 0);
+    if (e == IS_OK) e = tex_filter_texture(tex);
+    unsigned levels = e == IS_OK ? tex_get_level_count(tex) : 0;
+    size_t n = 0;
+    for (unsigned l = 0; l < levels; l++) n += (size_t)tex_side(l) * tex_side(l);
+    bd->texels = e == IS_OK ? malloc(n * sizeof *bd->texels) : NULL;
+    if (e == IS_OK && !bd->texels) e = IS_ERR_OUTOFMEMORY;
+    uint32_t *out = bd->texels;
+    for (unsigned l = 0; e == IS_OK && l < levels; l++) {
+        unsigned w = tex_side(l);
+        e = tex_lock_rect(tex, l, &lr, NULL, IS_LOCK_READONLY);
+        for (unsigned y = 0; e == IS_OK && y < w; y++, out += w)
+            memcpy(out, (unsigned char *)lr.bits + (size_t)y * (size_t)lr.pitch, w * sizeof *out);
+        if (e == IS_OK) e = tex_unlock_rect(tex, l);
+    }
+    if (e != IS_OK) snprintf(err, errlen, "the texture: %s", dev_last_error(dev));
+    else bd->tex_levels = levels;
+    tex_release(tex);
+    dev_destroy(dev);
+    return e == IS_OK ? 0 : -1;
+}
+
+/* Scene P's texture coordinates: t = BENCH_UV_SCALE (x + z, z - y) of each vertex of the welded cube (the
+ * built-in's planar coordinates (x, y) would stretch one texel row over the four side faces); set before the
+ * instances are built, they change nothing but TEXCOORD9..11. */
+static void set_texcoords(is_mesh *m)
+{
+    for (size_t k = 0; k < m->n_vertices; k++) {
+        float3 p = m->positions[k];
+        m->texcoords[k] = f2(BENCH_UV_SCALE * (p.x + p.z), BENCH_UV_SCALE * (p.z - p.y));
+    }
+}
+
 /* Build the mesh, grid, instances and matrices of a scene; 0 or -1 with a message. */
 static int data_build(const bench_scene_def *d, bench_data *bd, char *err, size_t errlen)
 {
     memset(bd, 0, sizeof *bd);
     if (make_mesh(d, &bd->mesh, err, errlen) != 0) return -1;
+    if (d->textured) set_texcoords(&bd->mesh);
+    if (d->textured && make_texture_chain(bd, err, errlen) != 0) return -1;
     if (core_grid_make(CORE_GRID_REGULAR, (float)d->level, &bd->grid) != 0)
         return snprintf(err, errlen, "level %d: cannot build the grid", d->level), -1;
     bd->inst = malloc(bd->mesh.n_triangles * sizeof *bd->inst);
@@ -256,6 +342,7 @@ static void data_free(bench_data *bd)
     mesh_free(&bd->mesh);
     core_grid_free(&bd->grid);
     free(bd->inst);
+    free(bd->texels);
     memset(bd, 0, sizeof *bd);
 }
 
@@ -278,6 +365,15 @@ static int write_scene_file(const char *path, const bench_scene_def *d, int gl_p
     fwrite(bd->grid.bary, sizeof(float3), bd->grid.n_points, f);
     fwrite(bd->grid.idx, sizeof(uint32_t), 3 * bd->grid.n_triangles, f);
     fwrite(bd->inst, sizeof(is_patch_instance), bd->mesh.n_triangles, f);
+    if (bd->tex_levels) {
+        bench_texture_header th = {.shading = BENCH_SHADING_PIXEL_TEXTURE, .width = (int32_t)BENCH_TEX_SIZE,
+                                   .height = (int32_t)BENCH_TEX_SIZE, .levels = (int32_t)bd->tex_levels};
+        memcpy(th.magic, BENCH_TEXTURE_MAGIC, 8);
+        size_t n = 0;
+        for (unsigned l = 0; l < bd->tex_levels; l++) n += (size_t)tex_side(l) * tex_side(l);
+        fwrite(&th, sizeof th, 1, f);
+        fwrite(bd->texels, sizeof *bd->texels, n, f);
+    }
     int bad = ferror(f);
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
@@ -343,14 +439,61 @@ typedef struct inst_result {
 typedef struct inst_gpu {
     is_device *dev;
     tess_resources r;
+    is_texture *tex;   /* scene P's texture, or NULL */
 } inst_gpu;
 
 /* Release what inst_setup created. */
 static void inst_release(inst_gpu *g)
 {
     tess_resources_free(&g->r);
+    tex_release(g->tex);
     dev_destroy(g->dev);
     memset(g, 0, sizeof *g);
+}
+
+/* Scene P's pixel shader (gl_shaders.h's glsl_fs_pixel_texture in GLSL): the patch shader's world-space unit
+ * normal (TEXCOORD1) interpolated, normalised and lit per pixel -- saturate(dot(N, (0, 0, -1))) * g_vDiffuse
+ * (c0) -- times tex2D(s0, TEXCOORD0.xy) (D3DTOP_MODULATE), alpha 1; the quad's four coordinates give the level
+ * of detail. */
+static void ps_lit_textured(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    float2 uv[4];
+    for (int k = 0; k < 4; k++) uv[k] = f2_of(in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_TEX]);
+    for (int k = 0; k < 4; k++) {
+        if (!(in->need & (1u << k))) continue;
+        float3 n = normalize3(f3_of(in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]));
+        float d = saturate(dot3(n, f3(0.0f, 0.0f, -1.0f)));
+        float4 t = ps_tex2D(&c->s[BENCH_SAMPLER], uv, k);
+        out->color[k] = f4(d * c->c[0].x * t.x, d * c->c[0].y * t.y, d * c->c[0].z * t.z, 1.0f);
+    }
+}
+static const is_pixel_shader bench_ps_lit_textured = {"bench-lit-textured", ps_lit_textured};
+
+/* Scene P's pixel stage on g's device: the texture with bd's mip chain written level by level (LockRect), bound
+ * to sampler 0 with MIN/MAG/MIPFILTER LINEAR and ADDRESSU/V WRAP, the pixel shader, c0 = g_vDiffuse; IS_OK or
+ * the first error. */
+static is_result inst_pixel_stage(inst_gpu *g, const bench_data *bd)
+{
+    is_result e = dev_create_texture(g->dev, BENCH_TEX_SIZE, BENCH_TEX_SIZE, bd->tex_levels, 0, IS_FMT_A8R8G8B8,
+                                     &g->tex);
+    const uint32_t *src = bd->texels;
+    for (unsigned l = 0; e == IS_OK && l < bd->tex_levels; l++) {
+        is_locked_rect lr;
+        unsigned w = tex_side(l);
+        e = tex_lock_rect(g->tex, l, &lr, NULL, 0);
+        for (unsigned y = 0; e == IS_OK && y < w; y++, src += w)
+            memcpy((unsigned char *)lr.bits + (size_t)y * (size_t)lr.pitch, src, w * sizeof *src);
+        if (e == IS_OK) e = tex_unlock_rect(g->tex, l);
+    }
+    if (e == IS_OK) e = dev_set_texture(g->dev, BENCH_SAMPLER, g->tex);
+    static const struct { is_samp state; uint32_t value; } states[] = {
+        {IS_SAMP_MINFILTER, IS_TEXF_LINEAR}, {IS_SAMP_MAGFILTER, IS_TEXF_LINEAR}, {IS_SAMP_MIPFILTER, IS_TEXF_LINEAR},
+        {IS_SAMP_ADDRESSU, IS_TADDRESS_WRAP}, {IS_SAMP_ADDRESSV, IS_TADDRESS_WRAP}};
+    for (size_t k = 0; e == IS_OK && k < sizeof states / sizeof states[0]; k++)
+        e = dev_set_sampler_state(g->dev, BENCH_SAMPLER, states[k].state, states[k].value);
+    if (e == IS_OK) e = dev_set_pixel_shader(g->dev, &bench_ps_lit_textured);
+    if (e == IS_OK) e = dev_set_pixel_shader_constant_f(g->dev, 0, bench_diffuse, 1);
+    return e;
 }
 
 /* Create the device (1 sample, D3D9's default states), bind the scene layer's instanced draw of the scene, the
@@ -370,6 +513,7 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     is_result e = tess_bind_instanced(g->dev, &bd->mesh, &bd->grid, &g->r);
     if (e == IS_OK) e = dev_set_vertex_shader(g->dev, vs_patch_shader(patch));
     if (e == IS_OK) e = dev_set_vertex_shader_constant_f(g->dev, 0, &c.c[0].x, VS_C_COUNT);
+    if (e == IS_OK && d->textured) e = inst_pixel_stage(g, bd);
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
     dev_set_timing(g->dev, true);
     dev_set_patch_cull(g->dev, cull);
@@ -618,11 +762,12 @@ static img_diff compare_images(const uint32_t *a, const uint32_t *b, size_t n)
     return d;
 }
 
-/* True when the images agree within the thresholds of the README. */
-static int images_agree(const img_diff *d, size_t n)
+/* True when the images of scene s (n pixels) agree within the thresholds of the README. */
+static int images_agree(const img_diff *d, size_t n, const bench_scene_def *s)
 {
+    double max_mean = s->textured ? DIFF_MAX_MEAN_TEXTURED : DIFF_MAX_MEAN;
     return (double)d->n_differ <= DIFF_MAX_FRACTION * (double)n &&
-           (double)d->n_coverage <= COVERAGE_MAX_FRACTION * (double)n && d->mean <= DIFF_MAX_MEAN;
+           (double)d->n_coverage <= COVERAGE_MAX_FRACTION * (double)n && d->mean <= max_mean;
 }
 
 /* Write a packed RGBA8 image as a binary PPM (for --keep). */
@@ -786,7 +931,7 @@ static void print_notes(const bench_args *a, const bench_scene_def *d, const cas
     if (c->have_diff) {
         printf("      images: %s -- %ld pixels (%.3f%%) differ by > %d/255, %ld coverage mismatches, mean |diff| "
                "%.3f/255, max %d/255\n",
-               images_agree(&c->diff, n) ? "agree" : "DISAGREE", c->diff.n_differ, 100.0 * c->diff.n_differ / n,
+               images_agree(&c->diff, n, d) ? "agree" : "DISAGREE", c->diff.n_differ, 100.0 * c->diff.n_differ / n,
                DIFF_TOL, c->diff.n_coverage, c->diff.mean, c->diff.max);
     }
 }
@@ -878,7 +1023,7 @@ static int case_ok(const bench_args *a, const bench_scene_def *d, const case_res
     for (int t = 0; t < a->n_threads; t++)
         if (c->inst[t].rss_after_frames_kb - c->inst[t].rss_after_warmup_kb > RSS_GROWTH_MAX_KB) return 0;
     if (a->no_gl) return 1;
-    return !isnan(c->gl_best_ms) && c->have_diff && images_agree(&c->diff, (size_t)d->width * d->height);
+    return !isnan(c->gl_best_ms) && c->have_diff && images_agree(&c->diff, (size_t)d->width * d->height, d);
 }
 
 /* What the targets summary needs of one scene and patch. */
@@ -889,9 +1034,11 @@ typedef struct case_summary {
     double gl_ms;   /* llvmpipe at its best (NAN: not run) */
 } case_summary;
 
-/* The ratio target for a scene and patch (the targets of the second performance round, stated in bench/README.md): B npatch 5x, B smooth 4x, A 4x, C 2x. */
+/* The ratio target for a scene and patch (the targets of the second performance round, stated in bench/README.md):
+ * B npatch 5x, B smooth 4x, A 4x, C 2x; NAN for P, which has none (issue 28 asks for its ratio to be reported). */
 static double ratio_target(char scene, int pk)
 {
+    if (scene == 'P') return NAN;
     if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 5.0 : 4.0;
     return scene == 'A' ? 4.0 : 2.0;
 }
@@ -905,7 +1052,10 @@ static int print_targets(const bench_args *a, const case_summary *cs, int n)
     for (int i = 0; i < n; i++) {
         const case_summary *c = &cs[i];
         double want = ratio_target(c->scene, c->pk), ms = c->ms[a->n_threads - 1];
-        if (!isnan(c->gl_ms)) {
+        if (!isnan(c->gl_ms) && isnan(want)) {
+            printf("  scene %c %-6s llvmpipe / instess (%d threads): %5.2fx  (no target)\n", c->scene,
+                   bench_patches[c->pk].name, a->threads[a->n_threads - 1], c->gl_ms / ms);
+        } else if (!isnan(c->gl_ms)) {
             double got = c->gl_ms / ms;
             printf("  scene %c %-6s llvmpipe / instess (%d threads) >= %.0fx: %5.2fx  %s\n", c->scene,
                    bench_patches[c->pk].name, a->threads[a->n_threads - 1], want, got, got >= want ? "met" : "NOT met");
@@ -992,7 +1142,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench: cannot create a working directory: %s\n", strerror(errno));
         return 1;
     }
-    int bad = strpbrk(a.scenes, "ABC") ? run_all(&a, gl_path, dir) : 0;
+    int bad = strpbrk(a.scenes, "ABCP") ? run_all(&a, gl_path, dir) : 0;
     if (strchr(a.scenes, 'D'))
         bad += bench_scene_d(&(bench_lod_args){a.frames < 11 ? a.frames : 11, a.warmup, a.threads[a.n_threads - 1], a.patches});
     if (!a.keep) rmdir(dir);

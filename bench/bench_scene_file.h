@@ -6,6 +6,11 @@
  *   float    bary[n_points][3]            stream 0: the regular barycentric grid (core_grid_regular)
  *   uint32_t idx[n_indices]               its triangles (3 per triangle)
  *   uint8_t  inst[n_instances][stride]    stream 1: is_patch_instance (136 bytes, Listing 1.1.2's order)
+ *   optional, to the end of the file (scene P; a file that ends after inst draws the interpolated diffuse colour):
+ *   bench_texture_header                 the pixel stage: per-pixel light times a texture (BENCH_SHADING_*)
+ *   uint32_t texels[levels][...]          level l: max(1, width >> l) x max(1, height >> l) texels, top row first,
+ *                                         D3DFMT_A8R8G8B8 (one little-endian DWORD 0xAARRGGBB: bytes B, G, R, A),
+ *                                         instess's own mip chain (tex_filter_texture), levels 0..levels-1
  * Matrices are D3D's: row vectors, m[row][col] stored row by row, clip z in [0, w], pixel centres at integers.
  * bench-gl applies the OpenGL corrections itself (half-pixel offset, depth range, y flip on readback). */
 #ifndef INSTESS_BENCH_SCENE_FILE_H
@@ -32,5 +37,22 @@ typedef struct bench_scene_header {
     float diffuse[4];         /* g_vDiffuse */
     float clear_rgba[4];      /* background colour in [0, 1] */
 } bench_scene_header;
+
+#define BENCH_TEXTURE_MAGIC "ISBTEX01"
+
+/* What the pixel stage draws when a texture block follows the instances. */
+enum {
+    /* oC0 = saturate(dot(normalize(TEXCOORD1), (0, 0, -1))) * g_vDiffuse * tex2D(s0, TEXCOORD0.xy), alpha 1: the
+     * patch shader's world normal lit per pixel, times the texture sampled with the mip chain, trilinear
+     * filtering and WRAP in u and v (GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT) */
+    BENCH_SHADING_PIXEL_TEXTURE = 1
+};
+
+typedef struct bench_texture_header {
+    char magic[8];            /* BENCH_TEXTURE_MAGIC, no terminator */
+    int32_t shading;          /* BENCH_SHADING_* */
+    int32_t width, height;    /* level 0, texels (1..16384) */
+    int32_t levels;           /* levels that follow (1..the full chain) */
+} bench_texture_header;
 
 #endif

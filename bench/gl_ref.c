@@ -7,6 +7,8 @@
  * OpenGL 4.5 core context (3.3 core as a fallback).  Each frame is glClear + draw + glFinish, timed with
  * CLOCK_MONOTONIC; after the warm-up frames it prints the median and writes the last image as raw RGBA8, top
  * row first (the instess layout).  The environment (LP_NUM_THREADS, GLIBC_TUNABLES) is set by the parent.
+ * A scene file with a texture block (scene P) is drawn with the per-pixel light times the texture: its mip levels
+ * uploaded as they are in the file (instess's own chain), GL_LINEAR_MIPMAP_LINEAR / GL_LINEAR, GL_REPEAT.
  *
  * Usage: bench-gl SCENE_FILE [--frames N] [--warmup N] [--out FILE.rgba] [--ppm FILE.ppm] [--no-clip-control]
  * (--no-clip-control tests the GL 3.3 path: D3D's clip z in [0, w] mapped to GL's [-w, w] as z' = 2 z - w.)
@@ -97,6 +99,12 @@ typedef struct gl_api {
     PFNGLBEGINQUERYPROC BeginQuery;
     PFNGLENDQUERYPROC EndQuery;
     PFNGLGETQUERYOBJECTUI64VPROC GetQueryObjectui64v;
+    PFNGLGENTEXTURESPROC GenTextures;
+    PFNGLBINDTEXTUREPROC BindTexture;
+    PFNGLACTIVETEXTUREPROC ActiveTexture;
+    PFNGLTEXIMAGE2DPROC TexImage2D;
+    PFNGLTEXPARAMETERIPROC TexParameteri;
+    PFNGLUNIFORM1IPROC Uniform1i;
 } gl_api;
 
 /* Name and place of each entry point; `optional` ones may be missing. */
@@ -117,7 +125,9 @@ static const gl_entry gl_entries[] = {
     GL_ENTRY(Clear, 0), GL_ENTRY(Enable, 0), GL_ENTRY(Disable, 0), GL_ENTRY(DepthFunc, 0), GL_ENTRY(DepthMask, 0),
     GL_ENTRY(CullFace, 0), GL_ENTRY(FrontFace, 0), GL_ENTRY(DrawElementsInstanced, 0), GL_ENTRY(Finish, 0),
     GL_ENTRY(PixelStorei, 0), GL_ENTRY(ReadPixels, 0), GL_ENTRY(ClipControl, 1), GL_ENTRY(GenQueries, 0),
-    GL_ENTRY(BeginQuery, 0), GL_ENTRY(EndQuery, 0), GL_ENTRY(GetQueryObjectui64v, 0),
+    GL_ENTRY(BeginQuery, 0), GL_ENTRY(EndQuery, 0), GL_ENTRY(GetQueryObjectui64v, 0), GL_ENTRY(GenTextures, 0),
+    GL_ENTRY(BindTexture, 0), GL_ENTRY(ActiveTexture, 0), GL_ENTRY(TexImage2D, 0), GL_ENTRY(TexParameteri, 0),
+    GL_ENTRY(Uniform1i, 0),
 };
 
 /* Load every entry point; 0, or -1 naming the first required one missing. */
@@ -193,6 +203,9 @@ typedef struct gl_scene {
     float *bary;        /* 3 * n_points */
     uint32_t *idx;      /* n_indices */
     unsigned char *inst; /* n_instances * stride */
+    int textured;       /* a texture block follows (scene P): th and texels are set */
+    bench_texture_header th;
+    uint32_t *texels;   /* every level, level 0 first (bench_scene_file.h) */
 } gl_scene;
 
 /* Read exactly n bytes into a new buffer (NULL on a short read or no memory). */
@@ -201,6 +214,34 @@ static void *read_block(FILE *f, size_t n)
     void *p = malloc(n ? n : 1);
     if (p && fread(p, 1, n, f) != n) free(p), p = NULL;
     return p;
+}
+
+/* Texels of levels 0..levels-1 of a w x h chain. */
+static size_t chain_texels(int w, int h, int levels)
+{
+    size_t n = 0;
+    for (int l = 0; l < levels; l++) n += (size_t)(w >> l > 0 ? w >> l : 1) * (size_t)(h >> l > 0 ? h >> l : 1);
+    return n;
+}
+
+/* The optional texture block after the instances: 1 when there is none (the file ends), 0 when it was read into
+ * s, -1 when it is there but not valid (short, wrong magic, shading, size or level count, bytes after it). */
+static int texture_load(FILE *f, gl_scene *s)
+{
+    bench_texture_header *t = &s->th;
+    size_t got = fread(t, 1, sizeof *t, f);
+    if (got == 0 && feof(f)) return 1;
+    if (got != sizeof *t || memcmp(t->magic, BENCH_TEXTURE_MAGIC, 8) != 0 ||
+        t->shading != BENCH_SHADING_PIXEL_TEXTURE || t->width < 1 || t->height < 1 || t->width > 16384 ||
+        t->height > 16384 || t->levels < 1)
+        return -1;
+    int full = 1;
+    while ((t->width >> full) > 0 || (t->height >> full) > 0) full++;
+    if (t->levels > full) return -1;
+    s->texels = read_block(f, chain_texels(t->width, t->height, t->levels) * sizeof(uint32_t));
+    if (!s->texels || fgetc(f) != EOF) return -1;
+    s->textured = 1;
+    return 0;
 }
 
 /* Load and check a scene file; 0 or -1 with a message. */
@@ -216,6 +257,7 @@ static int scene_load(const char *path, gl_scene *s)
     if (ok) s->bary = read_block(f, (size_t)s->h.n_points * 3 * sizeof(float));
     if (ok && s->bary) s->idx = read_block(f, (size_t)s->h.n_indices * sizeof(uint32_t));
     if (ok && s->idx) s->inst = read_block(f, (size_t)s->h.n_instances * s->h.instance_stride);
+    if (ok && s->inst) ok = texture_load(f, s) >= 0;
     fclose(f);
     for (uint32_t k = 0; ok && s->inst && k < s->h.n_indices; k++) ok = s->idx[k] < s->h.n_points;
     if (!ok || !s->inst) return fprintf(stderr, "bench-gl: %s: not a valid bench scene file\n", path), -1;
@@ -225,16 +267,16 @@ static int scene_load(const char *path, gl_scene *s)
 /* Free the arrays of a scene. */
 static void scene_free(gl_scene *s)
 {
-    free(s->bary), free(s->idx), free(s->inst);
+    free(s->bary), free(s->idx), free(s->inst), free(s->texels);
 }
 
 /* ---------------------------------------- GL objects ---------------------------------------- */
 
-/* Compile one shader stage; 0 on failure (the log goes to stderr). */
-static GLuint compile_stage(const gl_api *gl, GLenum type, const char *src)
+/* Compile one shader stage from its n source strings; 0 on failure (the log goes to stderr). */
+static GLuint compile_stage(const gl_api *gl, GLenum type, const char *const *src, int n)
 {
     GLuint sh = gl->CreateShader(type);
-    gl->ShaderSource(sh, 1, &src, NULL);
+    gl->ShaderSource(sh, n, src, NULL);
     gl->CompileShader(sh);
     GLint ok = 0;
     gl->GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
@@ -247,11 +289,15 @@ static GLuint compile_stage(const gl_api *gl, GLenum type, const char *src)
     return sh;
 }
 
-/* Link the vertex shader of the patch with the diffuse fragment shader; 0 on failure. */
-static GLuint make_program(const gl_api *gl, int patch)
+/* Link the vertex shader of the patch with the diffuse fragment shader, or for a textured scene (pixel != 0) the
+ * vertex shader's BENCH_PIXEL variant with the per-pixel light times the texture; 0 on failure. */
+static GLuint make_program(const gl_api *gl, int patch, int pixel)
 {
-    GLuint vs = compile_stage(gl, GL_VERTEX_SHADER, patch == BENCH_PATCH_SMOOTH ? glsl_vs_smooth : glsl_vs_npatch);
-    GLuint fs = compile_stage(gl, GL_FRAGMENT_SHADER, glsl_fs_diffuse);
+    const char *body = patch == BENCH_PATCH_SMOOTH ? glsl_vs_smooth : glsl_vs_npatch;
+    const char *vsrc[3] = {glsl_version, pixel ? glsl_define_pixel : body, body};
+    const char *fsrc[2] = {glsl_version, pixel ? glsl_fs_pixel_texture : glsl_fs_diffuse};
+    GLuint vs = compile_stage(gl, GL_VERTEX_SHADER, vsrc, pixel ? 3 : 2);
+    GLuint fs = compile_stage(gl, GL_FRAGMENT_SHADER, fsrc, 2);
     if (!vs || !fs) return 0;
     GLuint prog = gl->CreateProgram();
     gl->AttachShader(prog, vs);
@@ -268,9 +314,10 @@ static GLuint make_program(const gl_api *gl, int patch)
     return prog;
 }
 
-/* The per-instance attributes: shader name and byte offset in is_patch_instance (Listing 1.1.2's order). */
-static const struct { const char *name; unsigned offset; } instance_attrs[] = {
-    {"v0", 0}, {"v1", 12}, {"v2", 24}, {"n0", 36}, {"n1", 48}, {"n2", 60}, {"opp0", 72}, {"opp1", 84}, {"opp2", 96},
+/* The per-instance attributes: shader name, byte offset in is_patch_instance (Listing 1.1.2's order) and floats. */
+static const struct { const char *name; unsigned offset; int size; } instance_attrs[] = {
+    {"v0", 0, 3}, {"v1", 12, 3}, {"v2", 24, 3}, {"n0", 36, 3}, {"n1", 48, 3}, {"n2", 60, 3}, {"opp0", 72, 3},
+    {"opp1", 84, 3}, {"opp2", 96, 3}, {"t0", 108, 2}, {"t1", 116, 2}, {"t2", 124, 2},
 };
 
 /* Upload a buffer object of `bytes` from data to `target`; returns its name. */
@@ -297,7 +344,7 @@ static GLenum make_vao(const gl_api *gl, GLuint prog, const gl_scene *s)
     for (size_t k = 0; k < sizeof instance_attrs / sizeof instance_attrs[0]; k++) {
         GLint loc = gl->GetAttribLocation(prog, instance_attrs[k].name);
         if (loc < 0) continue;
-        gl->VertexAttribPointer((GLuint)loc, 3, GL_FLOAT, GL_FALSE, (GLsizei)s->h.instance_stride,
+        gl->VertexAttribPointer((GLuint)loc, instance_attrs[k].size, GL_FLOAT, GL_FALSE, (GLsizei)s->h.instance_stride,
                                 (const void *)(uintptr_t)instance_attrs[k].offset);
         gl->VertexAttribDivisor((GLuint)loc, 1); /* = SetStreamSourceFreq(1, INSTANCEDATA | 1) */
         gl->EnableVertexAttribArray((GLuint)loc);
@@ -332,6 +379,32 @@ static int make_fbo(const gl_api *gl, int w, int h)
     if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return fprintf(stderr, "bench-gl: framebuffer incomplete\n"), -1;
     return 0;
+}
+
+/* Scene P's texture in unit 0: every level of the file's chain (A8R8G8B8's bytes B, G, R, A are GL_BGRA with
+ * GL_UNSIGNED_BYTE), GL_TEXTURE_MAX_LEVEL the last one, trilinear (GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR) and
+ * GL_REPEAT in s and t: D3D9's MIN/MAG/MIPFILTER LINEAR and ADDRESSU/V WRAP. */
+static void make_texture(const gl_api *gl, GLuint prog, const gl_scene *s)
+{
+    GLuint tex;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->GenTextures(1, &tex);
+    gl->BindTexture(GL_TEXTURE_2D, tex);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    const uint32_t *p = s->texels;
+    for (int l = 0; l < s->th.levels; l++) {
+        int w = s->th.width >> l > 0 ? s->th.width >> l : 1, h = s->th.height >> l > 0 ? s->th.height >> l : 1;
+        gl->TexImage2D(GL_TEXTURE_2D, l, GL_RGBA8, w, h, 0, GL_BGRA, GL_UNSIGNED_BYTE, p);
+        p += (size_t)w * h;
+    }
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, s->th.levels - 1);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    gl->UseProgram(prog);
+    gl->Uniform1i(gl->GetUniformLocation(prog, "s0"), 0);
 }
 
 /* D3D9's fixed-function state in GL: depth LESSEQUAL with writes, clockwise front faces, cull the back
@@ -495,8 +568,9 @@ static void time_frames(const gl_api *gl, const gl_scene *s, GLenum index_type, 
 /* Render and time the scene on a current context; 0 or -1. */
 static int run(const gl_api *gl, const egl_state *e, const gl_scene *s, const gl_args *a)
 {
-    GLuint prog = make_program(gl, s->h.patch);
+    GLuint prog = make_program(gl, s->h.patch, s->textured);
     if (!prog || make_fbo(gl, s->h.width, s->h.height) != 0) return -1;
+    if (s->textured) make_texture(gl, prog, s);
     GLenum index_type = make_vao(gl, prog, s);
     if (!index_type) return fprintf(stderr, "bench-gl: out of memory\n"), -1;
     int cc = set_state(gl, prog, s, !a->no_clip_control && gl->ClipControl &&

@@ -13,45 +13,71 @@
  * b2 n2), (float3x3)g_mWorld).  Matrices are D3D's row-major arrays uploaded untransposed, so that
  * mul(v, M) (HLSL, row vector) is M * v in GLSL.  u_clip turns D3D's clip space into GL's: xy += w * (1/W, -1/H)
  * moves GL's pixel centres (+0.5) onto D3D9's (integers); z = 2 z - w when glClipControl is missing.
- * The fragment shader writes the interpolated diffuse colour. */
+ * The fragment shader writes the interpolated diffuse colour.
+ *
+ * Scene P (the pixel stage, bench_scene_file.h's BENCH_SHADING_PIXEL_TEXTURE): compiled with "#define
+ * BENCH_PIXEL" after the #version line (glsl_version, glsl_define_pixel), the vertex shaders output, instead of
+ * Diffuse, what instess's patch shaders write to TEXCOORD1 and TEXCOORD0 (vs/vs.h): the world-space unit normal
+ * normalize(Normal) and the texture coordinates b.x t0 + b.y t1 + b.z t2 (the instance's TEXCOORD9..11), and
+ * glsl_fs_pixel_texture lights the normalised interpolated normal per fragment and multiplies by the texture, as
+ * bench.c's pixel shader does.  Texel centres need no correction: D3D9 and GL both put texel i of a level of
+ * width W at u = (i + 1/2) / W and read texture rows from the first one in memory at v = 0, so the same
+ * coordinates at the same pixel centres (the half-pixel offset above) read the same texels. */
 #ifndef INSTESS_BENCH_GL_SHADERS_H
 #define INSTESS_BENCH_GL_SHADERS_H
 
-/* Inputs, uniforms, the N-Patch and the transform-and-light tail shared by both vertex shaders. */
+/* The first source string of every stage, and the second one of scene P's vertex shader. */
+static const char *const glsl_version = "#version 330 core\n";
+static const char *const glsl_define_pixel = "#define BENCH_PIXEL 1\n";
+
+/* Inputs, uniforms, the N-Patch and the transform-and-light tail shared by both vertex shaders (after
+ * glsl_version). */
 #define GLSL_VS_COMMON                                                                                        \
-    "#version 330 core\n"                                                                                     \
-    "layout(location = 0) in vec3 b;    // POSITION: barycentric coords (stream 0, per vertex)\n"            \
-    "layout(location = 1) in vec3 v0;   // TEXCOORD0..2: the triangle (stream 1, per instance)\n"            \
+    "layout(location = 0) in vec3 b;    // POSITION: barycentric coords (stream 0, per vertex)\n"             \
+    "layout(location = 1) in vec3 v0;   // TEXCOORD0..2: the triangle (stream 1, per instance)\n"             \
     "layout(location = 2) in vec3 v1;\n"                                                                      \
     "layout(location = 3) in vec3 v2;\n"                                                                      \
-    "layout(location = 4) in vec3 n0;   // TEXCOORD3..5: its normals\n"                                      \
+    "layout(location = 4) in vec3 n0;   // TEXCOORD3..5: its normals\n"                                       \
     "layout(location = 5) in vec3 n1;\n"                                                                      \
     "layout(location = 6) in vec3 n2;\n"                                                                      \
     "uniform mat4 g_mWorldViewProjection;\n"                                                                  \
     "uniform mat4 g_mWorld;\n"                                                                                \
     "uniform vec4 g_vDiffuse;\n"                                                                              \
     "uniform vec3 u_clip;\n"                                                                                  \
+    "#ifdef BENCH_PIXEL\n"                                                                                    \
+    "layout(location = 10) in vec2 t0;  // TEXCOORD9..11: texture coordinates\n"                              \
+    "layout(location = 11) in vec2 t1;\n"                                                                     \
+    "layout(location = 12) in vec2 t2;\n"                                                                     \
+    "out vec3 Normal;                   // TEXCOORD1: the world-space unit normal\n"                          \
+    "out vec2 Tex;                      // TEXCOORD0: the texture coordinates\n"                              \
+    "#else\n"                                                                                                 \
     "out vec4 Diffuse;\n"                                                                                     \
+    "#endif\n"                                                                                                \
     "vec3 evaluateNPatch(vec3 b) {\n"                                                                         \
-    "  vec3 b102 = 2.0 * v2 + v0 - dot(v0 - v2, n2) * n2;\n"                                                 \
-    "  vec3 b012 = 2.0 * v2 + v1 - dot(v1 - v2, n2) * n2;\n"                                                 \
-    "  vec3 b201 = 2.0 * v0 + v2 - dot(v2 - v0, n0) * n0;\n"                                                 \
-    "  vec3 b021 = 2.0 * v1 + v2 - dot(v2 - v1, n1) * n1;\n"                                                 \
-    "  vec3 b210 = 2.0 * v0 + v1 - dot(v1 - v0, n0) * n0;\n"                                                 \
-    "  vec3 b120 = 2.0 * v1 + v0 - dot(v0 - v1, n1) * n1;\n"                                                 \
-    "  return b.x*b.x*b.x * v0 + b.y*b.y*b.y * v1 + b.z*b.z*b.z * v2 + b.x*b.z*b.z * b102\n"                 \
-    "       + b.y*b.z*b.z * b012 + b.x*b.x*b.z * b201 + b.y*b.y*b.z * b021\n"                                \
-    "       + b.x*b.x*b.y * b210 + b.x*b.y*b.y * b120\n"                                                     \
-    "       + b.x*b.y*b.z * (0.5 * (b210 + b120 + b021 + b012 + b102 + b201) - v0 - v1 - v2);\n"             \
+    "  vec3 b102 = 2.0 * v2 + v0 - dot(v0 - v2, n2) * n2;\n"                                                  \
+    "  vec3 b012 = 2.0 * v2 + v1 - dot(v1 - v2, n2) * n2;\n"                                                  \
+    "  vec3 b201 = 2.0 * v0 + v2 - dot(v2 - v0, n0) * n0;\n"                                                  \
+    "  vec3 b021 = 2.0 * v1 + v2 - dot(v2 - v1, n1) * n1;\n"                                                  \
+    "  vec3 b210 = 2.0 * v0 + v1 - dot(v1 - v0, n0) * n0;\n"                                                  \
+    "  vec3 b120 = 2.0 * v1 + v0 - dot(v0 - v1, n1) * n1;\n"                                                  \
+    "  return b.x*b.x*b.x * v0 + b.y*b.y*b.y * v1 + b.z*b.z*b.z * v2 + b.x*b.z*b.z * b102\n"                  \
+    "       + b.y*b.z*b.z * b012 + b.x*b.x*b.z * b201 + b.y*b.y*b.z * b021\n"                                 \
+    "       + b.x*b.x*b.y * b210 + b.x*b.y*b.y * b120\n"                                                      \
+    "       + b.x*b.y*b.z * (0.5 * (b210 + b120 + b021 + b012 + b102 + b201) - v0 - v1 - v2);\n"              \
     "}\n"                                                                                                     \
     "void transformAndLight(vec3 pos) {\n"                                                                    \
     "  vec4 p = g_mWorldViewProjection * vec4(pos, 1.0);\n"                                                   \
     "  p.xy += p.w * u_clip.xy;\n"                                                                            \
     "  if (u_clip.z != 0.0) p.z = 2.0 * p.z - p.w;\n"                                                         \
     "  gl_Position = p;\n"                                                                                    \
-    "  vec3 Normal = mat3(g_mWorld) * normalize(b.x * n0 + b.y * n1 + b.z * n2);\n"                           \
-    "  Diffuse = clamp(dot(Normal, vec3(0.0, 0.0, -1.0)), 0.0, 1.0) * g_vDiffuse;\n"                          \
+    "  vec3 N = mat3(g_mWorld) * normalize(b.x * n0 + b.y * n1 + b.z * n2);\n"                                \
+    "#ifdef BENCH_PIXEL\n"                                                                                    \
+    "  Normal = normalize(N);\n"                                                                              \
+    "  Tex = b.x * t0 + b.y * t1 + b.z * t2;\n"                                                               \
+    "#else\n"                                                                                                 \
+    "  Diffuse = clamp(dot(N, vec3(0.0, 0.0, -1.0)), 0.0, 1.0) * g_vDiffuse;\n"                               \
     "  Diffuse.w = 1.0;\n"                                                                                    \
+    "#endif\n"                                                                                                \
     "}\n"
 
 /* The original N-Patch (Eq. 1.1.1-1.1.2 in Listing 1.1.2's form). */
@@ -107,11 +133,23 @@ static const char *const glsl_vs_smooth = GLSL_VS_COMMON
     "}\n"
     "void main() { transformAndLight(smoothPatch()); }\n";
 
-/* The interpolated diffuse colour. */
+/* The interpolated diffuse colour (after glsl_version). */
 static const char *const glsl_fs_diffuse =
-    "#version 330 core\n"
     "in vec4 Diffuse;\n"
     "layout(location = 0) out vec4 color;\n"
     "void main() { color = Diffuse; }\n";
+
+/* Scene P: the interpolated normal normalised and lit per fragment, times the texture (after glsl_version). */
+static const char *const glsl_fs_pixel_texture =
+    "in vec3 Normal;\n"
+    "in vec2 Tex;\n"
+    "uniform vec4 g_vDiffuse;\n"
+    "uniform sampler2D s0;\n"
+    "layout(location = 0) out vec4 color;\n"
+    "void main() {\n"
+    "  vec3 n = normalize(Normal);\n"
+    "  vec4 t = texture(s0, Tex);\n"
+    "  color = vec4(clamp(dot(n, vec3(0.0, 0.0, -1.0)), 0.0, 1.0) * g_vDiffuse.rgb * t.rgb, 1.0);\n"
+    "}\n";
 
 #endif
