@@ -87,10 +87,16 @@ void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *
     rs_ps_out o;
     memset(&o, 0, sizeof o);
     j->st->ps(j->st->ps_ctx, q, &o);
-    if (o.kill & (1u << lane)) return;   /* texkill: the pixel ends here, before any test */
-    if (o.depth_written)
-        for (int s = 0; s < j->samples; s++) zs[s] = rs_zclamp(o.depth[lane], j->zlo, j->zhi);
-    const rs_vec4 c = o.color[lane];
+    rs_ps_write(j, t, x, y, cov, zs, back, &o, lane, a, b1, b2);
+}
+
+void rs_ps_write(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_out *o,
+                 int lane, const float *a, float b1, float b2)
+{
+    if (o->kill & (1u << lane)) return;   /* texkill: the pixel ends here, before any test */
+    if (o->depth_written)
+        for (int s = 0; s < j->samples; s++) zs[s] = rs_zclamp(o->depth[lane], j->zlo, j->zhi);
+    const rs_vec4 c = o->color[lane];
     rs_frag_out(j, t, x, y, cov, zs, back, rs_to8(c.x) | rs_to8(c.y) << 8 | rs_to8(c.z) << 16 | rs_to8(c.w) << 24,
                 a, b1, b2);
 }

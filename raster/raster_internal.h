@@ -356,6 +356,9 @@ void rs_ps_lane(const rs_job *j, const float *a, float b1, float b2, rs_vec4 *v)
  * by oDepth when the shader writes it) through rs_frag_out, unless the shader killed it. */
 void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_quad *q,
                 int lane, const float *a, float b1, float b2);
+/* rs_frag_ps after the shader: lane `lane` of its outputs o (pixel (x, y), ...) through rs_frag_out. */
+void rs_ps_write(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_out *o,
+                 int lane, const float *a, float b1, float b2);
 
 /* ---- small helpers ---- */
 /* floor(a / b) for b > 0. */

@@ -4,8 +4,9 @@
  * centroid sampling).  Shading and writes happen only for samples that pass the depth test.
  * This per-sample walk (tri_block, tri_pixel) is the reference: 1-sample targets off the reference path take
  * span.c's 8-lane walks instead, which write the same bytes.  A job with pixel.c's states (alpha test, stencil,
- * colour write mask, a pixel shader...) takes tri_tile_ext, the same coverage and interpolation through rs_frag_ext
- * (or the pixel shader's quad, tri_pixel_ps). */
+ * colour write mask...) takes tri_tile_ext, the same coverage and interpolation through rs_frag_ext; one with a
+ * pixel shader takes tri_tile_quads, one shader call per 2x2 quad for all its covered pixels (tri_quad_ps), or per
+ * pixel (tri_pixel_ps) where the quad would differ. */
 #include "raster_internal.h"
 
 #include <string.h>
@@ -178,23 +179,95 @@ static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const fl
     rs_frag_ps(j, t, x, y, cov, zs, p->back != 0, &q, lane, a, b1, b2);
 }
 
-/* Pixel (x, y) of triangle p with coverage cov for a job with pixel.c's states: each covered sample's depth and
- * the perspective barycentrics (as tri_pixel computes them), then rs_frag_ext. */
-static void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
+/* Pixel (x, y) of triangle p with coverage cov: each covered sample's depth into zs and the perspective
+ * barycentrics (as tri_pixel computes them) into *b1, *b2. */
+static void tri_pixel_at(const rs_job *j, const rs_tri *tr, int x, int y, unsigned cov, float *zs, float *b1,
+                         float *b2)
 {
-    const rs_tri *tr = &p->u.t;
     const float k = 1.0f / RS_SUB;
     float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
     float fy = (float)((int64_t)y * RS_SUB - j->cy - tr->vy) * k;
-    float zs[4] = { 0, 0, 0, 0 };
+    for (int s = 0; s < 4; s++) zs[s] = 0.0f;
     for (int s = 0; s < j->samples; s++) {
         float sx = fx + (float)j->sox[s] * k, sy = fy + (float)j->soy[s] * k;
         zs[s] = rs_zclamp(tr->z[2] + tr->z[0] * sx + tr->z[1] * sy, j->zlo, j->zhi);
     }
-    float b1, b2;
-    tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
+    tri_bary(j, tr, fx, fy, __builtin_ctz(cov), b1, b2);
+}
+
+/* Pixel (x, y) of triangle p with coverage cov for a job with pixel.c's states: tri_pixel_at, then rs_frag_ext
+ * (or the pixel shader's quad around the pixel). */
+static void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x, int y, unsigned cov)
+{
+    float zs[4], b1, b2;
+    tri_pixel_at(j, &p->u.t, x, y, cov, zs, &b1, &b2);
     if (j->st->ps) tri_pixel_ps(j, t, p, a, x, y, cov, zs, b1, b2);
     else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
+}
+
+/* The quad at (x0, y0) (even) of triangle p whose pixels have coverage cov[0..3], shaded by one call of the pixel
+ * shader for all its covered pixels; false (nothing done) when that quad would differ from the one tri_pixel_ps
+ * builds around each covered pixel alone -- a helper lane behind the eye (it takes the shaded pixel's inputs
+ * there), or a pixel covered by a sample but not at its centre (not live while its neighbours are shaded) -- so
+ * the bytes are tri_pixel_ps's either way (a triangle's pixels are distinct: their order does not matter). */
+static bool tri_quad_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0,
+                        const unsigned cov[4])
+{
+    const rs_tri *tr = &p->u.t;
+    const float k = 1.0f / RS_SUB;
+    rs_ps_quad q;
+    memset(&q, 0, sizeof q);
+    float zs[4][4], b[4][2];
+    for (int l = 0; l < 4; l++) {
+        int px = x0 + (l & 1), py = y0 + (l >> 1);
+        int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
+        bool in = true;
+        for (int e = 0; e < 3; e++) in &= (int64_t)tr->ea[e] * X + (int64_t)tr->eb[e] * Y + tr->ec[e] >= 0;
+        if (cov[l] && !in) return false;
+        q.live |= (unsigned)in << l;
+        q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
+        if (cov[l]) {
+            tri_pixel_at(j, tr, px, py, cov[l], zs[l], &b[l][0], &b[l][1]);
+        } else {
+            float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k, sv = tri_inv_w(tr, fx, fy);
+            if (!(sv > 0.0f)) return false;
+            tri_bary_of(tr, fx, fy, sv, &b[l][0], &b[l][1]);
+        }
+        rs_ps_lane(j, a, b[l][0], b[l][1], q.v[l]);
+        q.need |= (unsigned)(cov[l] != 0) << l;
+    }
+    q.front = p->back == 0;
+    rs_ps_out o;
+    memset(&o, 0, sizeof o);
+    j->st->ps(j->st->ps_ctx, &q, &o);
+    for (int l = 0; l < 4; l++)
+        if (cov[l]) rs_ps_write(j, t, x0 + (l & 1), y0 + (l >> 1), cov[l], zs[l], p->back != 0, &o, l, a, b[l][0], b[l][1]);
+    return true;
+}
+
+/* The pixel-shader walk of triangle p's pixels [x0, x1] x [y0, y1] (inside one tile, whose quads it holds whole):
+ * quad by quad, one shader call per quad (tri_quad_ps), or pixel by pixel where that would change a byte. */
+static void tri_tile_quads(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                           int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    walk w;
+    for (int i = 0; i < 3; i++)
+        for (int s = 0; s < j->samples; s++) w.eo[i][s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
+    for (int qy = y0 & ~1; qy <= y1; qy += 2)
+        for (int qx = x0 & ~1; qx <= x1; qx += 2) {
+            unsigned cov[4] = {0, 0, 0, 0}, any = 0;
+            for (int l = 0; l < 4; l++) {
+                int x = qx + (l & 1), y = qy + (l >> 1);
+                if (x < x0 || x > x1 || y < y0 || y > y1) continue;
+                int64_t X = (int64_t)x * RS_SUB - j->cx, Y = (int64_t)y * RS_SUB - j->cy, e[3];
+                for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
+                any |= cov[l] = coverage(j, &w, e);
+            }
+            if (!any || tri_quad_ps(j, t, p, a, qx, qy, cov)) continue;
+            for (int l = 0; l < 4; l++)
+                if (cov[l]) tri_pixel_ext(j, t, p, a, qx + (l & 1), qy + (l >> 1), cov[l]);
+        }
 }
 
 /* The walk of a job with pixel.c's states (rs_job.ext): every pixel of [x0, x1] x [y0, y1] with its exact sample
@@ -222,6 +295,7 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     int y0 = p->y0 > t->y0 ? p->y0 : t->y0, y1 = p->y1 < t->y1 - 1 ? p->y1 : t->y1 - 1;
     if (x0 > x1 || y0 > y1) return;
     if (rs_span_ok(j)) j->kern->tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
-    else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's states */
+    else if (j->ext && j->st->ps) tri_tile_quads(j, t, p, a, x0, y0, x1, y1);   /* a pixel shader */
+    else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's other states */
     else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }

@@ -233,6 +233,42 @@ static void test_stride_grows(void **state_)
     rs_target_free(&b);
 }
 
+/* Calls and shaded lanes of the counting shader (its ctx). */
+typedef struct ps_count { unsigned calls, lanes; } ps_count;
+
+/* oC0 = TEXCOORD0; counts its calls and the lanes it is asked for (need). */
+static void ps_counting(const void *ctx, const rs_ps_quad *q, rs_ps_out *o)
+{
+    ps_count *c = (ps_count *)ctx;
+    c->calls++, c->lanes += (unsigned)__builtin_popcount(q->need);
+    for (int k = 0; k < 4; k++) o->color[k] = q->v[k][RS_ATTR_TEXCOORD0];
+}
+
+/* The shader runs once per 2x2 quad, for all its covered pixels (need), not once per pixel: one triangle over the
+ * whole W x H target (W / 2 * H / 2 quads) takes that many calls and asks for every pixel once; on 4 samples as
+ * well (every pixel's centre covered). */
+static void test_one_call_per_quad(void **state_)
+{
+    (void)state_;
+    for (int samples = 1; samples <= 4; samples += 3) {
+        rs_vertex v[3] = {vtx(-1, -1, 0.5f, 1.0f, (rs_vec4){0, 0, 0, 1}), vtx(3 * W, -1, 0.5f, 2.0f, (rs_vec4){1, 0, 0, 1}),
+                          vtx(-1, 3 * H, 0.5f, 0.5f, (rs_vec4){0, 1, 0, 1})};
+        rs_target rt;
+        assert_int_equal(rs_target_init(&rt, W, H, samples), RS_OK);
+        rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, CLEAR, 1.0f);
+        rs_state st = state();
+        st.multisample = samples > 1;
+        ps_count c = {0, 0};
+        st.ps = ps_counting, st.ps_ctx = &c;
+        rs_context *rs = rs_create(1);
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+        rs_destroy(rs);
+        assert_int_equal(c.calls, (W / 2) * (H / 2));
+        assert_int_equal(c.lanes, W * H);
+        rs_target_free(&rt);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -241,6 +277,7 @@ int main(void)
         cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_kill_and_depth),
         cmocka_unit_test(test_stride_grows),
+        cmocka_unit_test(test_one_call_per_quad),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
