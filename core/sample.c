@@ -30,6 +30,7 @@ static float clamp_coord(float x)
 /* Texel index i of a side of n texels under address mode `mode`; *outside set when BORDER finds it outside. */
 static int64_t address(uint32_t mode, int64_t i, int64_t n, bool *outside)
 {
+    if ((uint64_t)i < (uint64_t)n) return i;   /* inside: every mode keeps it (no division) */
     int64_t m;
     switch (mode) {
     case IS_TADDRESS_MIRROR:
@@ -58,6 +59,13 @@ static float4 fetch(const is_sampler *s, const tex_level *l, int64_t i, int64_t 
     return outside ? border : texel(s->tex, l, (size_t)x, (size_t)y);
 }
 
+/* The texel at addressed indices (x, y) of level l, or the border colour when either side was outside. */
+static inline float4 texel_or_border(const is_sampler *s, const tex_level *l, int64_t x, bool ox, int64_t y, bool oy,
+                              float4 border)
+{
+    return ox || oy ? border : texel(s->tex, l, (size_t)x, (size_t)y);
+}
+
 /* a + (b - a) t per channel (exactly a at t = 0 and wherever a == b). */
 static float4 lerp4(float4 a, float4 b, float t)
 {
@@ -73,8 +81,12 @@ static float4 sample_level(const is_sampler *s, unsigned level, float u, float v
     x = clamp_coord(x - 0.5f), y = clamp_coord(y - 0.5f);
     float fx = floorf(x), fy = floorf(y), a = x - fx, b = y - fy;
     int64_t i = (int64_t)fx, j = (int64_t)fy;
-    float4 t00 = fetch(s, l, i, j, border), t10 = fetch(s, l, i + 1, j, border);
-    float4 t01 = fetch(s, l, i, j + 1, border), t11 = fetch(s, l, i + 1, j + 1, border);
+    bool ox0 = false, ox1 = false, oy0 = false, oy1 = false;   /* each side addressed once for the four texels */
+    uint32_t mu = s->state[IS_SAMP_ADDRESSU], mv = s->state[IS_SAMP_ADDRESSV];
+    int64_t x0 = address(mu, i, l->w, &ox0), x1 = address(mu, i + 1, l->w, &ox1);
+    int64_t y0 = address(mv, j, l->h, &oy0), y1 = address(mv, j + 1, l->h, &oy1);
+    float4 t00 = texel_or_border(s, l, x0, ox0, y0, oy0, border), t10 = texel_or_border(s, l, x1, ox1, y0, oy0, border);
+    float4 t01 = texel_or_border(s, l, x0, ox0, y1, oy1, border), t11 = texel_or_border(s, l, x1, ox1, y1, oy1, border);
     return lerp4(lerp4(t00, t10, a), lerp4(t01, t11, a), b);
 }
 
