@@ -90,19 +90,30 @@ static void npatch_cp_make(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1
 /* scale3(a, s) + p with a broadcast. */
 static inline f3x8 acc(f3x8 p, float3 a, v8f s) { return add(p, scl(b3(a), s)); }
 
-/* vs_evaluate_npatch's vertex part, per lane. */
-static f3x8 npatch8(const npatch_cp *c, f3x8 b)
+/* The cubic Bernstein products of b (without the 3s) in vs_evaluate_npatch's order and form: they depend on the
+ * grid point alone, so the grid plan computes them once per grid (the same expressions, the same bits). */
+enum { W_300, W_030, W_003, W_102, W_012, W_201, W_021, W_210, W_120, W_111, W_COUNT };
+static inline void npatch_weights(f3x8 b, v8f w[W_COUNT])
 {
-    f3x8 p = scl(b3(c->v[0]), b.x * b.x * b.x);
-    p = acc(p, c->v[1], b.y * b.y * b.y);
-    p = acc(p, c->v[2], b.z * b.z * b.z);
-    p = acc(p, c->b102, b.x * b.z * b.z);
-    p = acc(p, c->b012, b.y * b.z * b.z);
-    p = acc(p, c->b201, b.x * b.x * b.z);
-    p = acc(p, c->b021, b.y * b.y * b.z);
-    p = acc(p, c->b210, b.x * b.x * b.y);
-    p = acc(p, c->b120, b.x * b.y * b.y);
-    return acc(p, c->center, b.x * b.y * b.z);
+    w[W_300] = b.x * b.x * b.x, w[W_030] = b.y * b.y * b.y, w[W_003] = b.z * b.z * b.z;
+    w[W_102] = b.x * b.z * b.z, w[W_012] = b.y * b.z * b.z, w[W_201] = b.x * b.x * b.z;
+    w[W_021] = b.y * b.y * b.z, w[W_210] = b.x * b.x * b.y, w[W_120] = b.x * b.y * b.y;
+    w[W_111] = b.x * b.y * b.z;
+}
+
+/* vs_evaluate_npatch's vertex part, per lane, from the weights of npatch_weights. */
+static f3x8 npatch8_w(const npatch_cp *c, const v8f w[W_COUNT])
+{
+    f3x8 p = scl(b3(c->v[0]), w[W_300]);
+    p = acc(p, c->v[1], w[W_030]);
+    p = acc(p, c->v[2], w[W_003]);
+    p = acc(p, c->b102, w[W_102]);
+    p = acc(p, c->b012, w[W_012]);
+    p = acc(p, c->b201, w[W_201]);
+    p = acc(p, c->b021, w[W_021]);
+    p = acc(p, c->b210, w[W_210]);
+    p = acc(p, c->b120, w[W_120]);
+    return acc(p, c->center, w[W_111]);
 }
 
 /* ---------------------------------------------------------------- smoothed patch (Listing 1.1.2) */
@@ -136,16 +147,28 @@ static inline v8f param8(v8f bi, v8f bj)
 /* The instance part of the smoothed patch: the N-Patch control points, fn_k, the triangle. */
 typedef struct smooth_inst { npatch_cp cp; float3 fn; const vs_triangle *T; bool shortcut; } smooth_inst;
 
-/* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0); g gets the Gregory weights. */
-static f3x8 smooth8(const smooth_inst *s, f3x8 b, f3x8 *g)
+/* What vs_smooth_formula computes from b alone (the grid plan keeps it per grid): the Gregory weights g (valid where
+ * gok: the Gregory sum is positive), the curve parameters c and the centre blend bl. */
+typedef struct smooth_w { f3x8 g, c; v8f bl; v8i gok; } smooth_w;
+static inline void smooth_weights(f3x8 b, smooth_w *w)
+{
+    v8f b0b2 = b.x * b.z, b0b1 = b.x * b.y, b1b2 = b.y * b.z, sum = b0b2 + b0b1 + b1b2;
+    w->gok = sum > bf(0.0f);
+    w->g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
+    w->c = (f3x8){param8(b.x, b.y), param8(b.y, b.z), param8(b.z, b.x)};
+    w->bl = bf((float)(3 * 3 * 3)) * b.x * b.y * b.z;
+}
+
+/* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0) from b, its N-Patch weights w and its
+ * smooth_weights sw; g gets the Gregory weights. */
+static f3x8 smooth8_w(const smooth_inst *s, f3x8 b, const v8f w[W_COUNT], const smooth_w *sw, f3x8 *g)
 {
     const float3 *v = s->T->v, *n = s->T->n;
-    v8f b0b2 = b.x * b.z, b0b1 = b.x * b.y, b1b2 = b.y * b.z, sum = b0b2 + b0b1 + b1b2;
-    *g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
-    f3x8 c = {param8(b.x, b.y), param8(b.y, b.z), param8(b.z, b.x)};
+    *g = sw->g;
+    const f3x8 c = sw->c;
     float fn0 = s->fn.x, fn1 = s->fn.y, fn2 = s->fn.z;
-    f3x8 posN = npatch8(&s->cp, b);
-    v8f bl = bf((float)(3 * 3 * 3)) * b.x * b.y * b.z;
+    f3x8 posN = npatch8_w(&s->cp, w);
+    const v8f bl = sw->bl;
     bool all_one = fn0 == 1.0f && fn1 == 1.0f && fn2 == 1.0f;
     if (s->shortcut && all_one) return posN;
     f3x8 pos0 = posN, pos1 = posN, pos2 = posN;
@@ -265,17 +288,18 @@ static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input 
     vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
 }
 
-/* Evaluate a full or partial group of lanes; lanes needing a fallback go through vertex1. */
-static void group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+/* Evaluate a full or partial group of lanes from their b-only values (w: npatch_weights, sw: smooth_weights, read
+ * by the smoothed patch only); lanes needing a fallback go through vertex1. */
+static void group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const v8f w[W_COUNT], const smooth_w *sw)
 {
     f3x8 b = L->b, g = {bf(0.0f), bf(0.0f), bf(0.0f)};
     v8i ok = all_lanes;
     f3x8 pos;
     if (I->p == VS_PATCH_SMOOTH) {
-        ok &= b.x * b.z + b.x * b.y + b.y * b.z > bf(0.0f); /* vs_gregory's 0/0 case stays per vertex */
-        pos = smooth8(&I->s, b, &g);
+        ok &= sw->gok; /* vs_gregory's 0/0 case stays per vertex */
+        pos = smooth8_w(&I->s, b, w, sw, &g);
     } else {
-        pos = npatch8(&I->cp, b);
+        pos = npatch8_w(&I->cp, w);
     }
     ok &= finite3(pos);
     const float3 *n = I->T.n;
@@ -288,29 +312,58 @@ static void group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
         if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
 }
 
-/* Evaluate a group of edge lanes (edge_cubic, the linear edge normal, Gregory weights of bw); lanes needing a
- * fallback go through vertex1. */
-static void edge_group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+/* group8_w with the b-only values computed here. */
+static void group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+{
+    v8f w[W_COUNT];
+    smooth_w sw;
+    npatch_weights(L->b, w);
+    if (I->p == VS_PATCH_SMOOTH) smooth_weights(L->b, &sw);
+    group8_w(k, I, L, w, &sw);
+}
+
+/* What edge_group8 computes from an edge lane's end weights (s, t) and b alone: the cubic products of edge_cubic
+ * and, when gregory, the Gregory weights of bw (g valid where gok: the sum is positive). */
+typedef struct edge_w { v8f sss, ttt, sst, stt; f3x8 g; v8i gok; } edge_w;
+static inline void edge_weights(v8f s, v8f t, f3x8 b, bool gregory, edge_w *w)
+{
+    v8f zero = bf(0.0f);
+    w->sss = s * s * s, w->ttt = t * t * t, w->sst = s * s * t, w->stt = s * t * t;
+    if (!gregory) return;
+    f3x8 bw = {sel(b.x > zero, b.x, zero), sel(b.y > zero, b.y, zero), sel(b.z > zero, b.z, zero)};
+    v8f b0b2 = bw.x * bw.z, b0b1 = bw.x * bw.y, b1b2 = bw.y * bw.z, sum = b0b2 + b0b1 + b1b2;
+    w->gok = sum > zero;
+    w->g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
+}
+
+/* Evaluate a group of edge lanes (edge_cubic, the linear edge normal, Gregory weights of bw) from their b-only
+ * values w (edge_weights of L->s, L->t, L->b); lanes needing a fallback, and those not in ok, go through vertex1. */
+static void edge_group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const edge_w *w, v8i ok)
 {
     v8f s = L->s, t = L->t, zero = bf(0.0f);
-    v8i ok = all_lanes;
-    f3x8 p = add(scl(L->ap, s * s * s), scl(L->bp, t * t * t));
-    p = add(p, scl(L->b21, s * s * t));
-    p = add(p, scl(L->b12, s * t * t));
+    f3x8 p = add(scl(L->ap, w->sss), scl(L->bp, w->ttt));
+    p = add(p, scl(L->b21, w->sst));
+    p = add(p, scl(L->b12, w->stt));
     ok &= finite3(p);
     f3x8 N = normalize(add(scl(L->an, s), scl(L->bn, t)));
     ok &= finite3(N) & (dot(N, N) > zero);
     f3x8 g = {zero, zero, zero};
     if (I->p == VS_PATCH_SMOOTH) {
-        f3x8 bw = {sel(L->b.x > zero, L->b.x, zero), sel(L->b.y > zero, L->b.y, zero), sel(L->b.z > zero, L->b.z, zero)};
-        v8f b0b2 = bw.x * bw.z, b0b1 = bw.x * bw.y, b1b2 = bw.y * bw.z, sum = b0b2 + b0b1 + b1b2;
-        ok &= sum > zero;
-        g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
+        ok &= w->gok;
+        g = w->g;
     }
     outputs8(k, L, p, N, I->T.t, I->T.id, g);
     unsigned m = mask_of(ok);
     for (int i = 0; i < L->n_real; i++)
         if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
+}
+
+/* edge_group8_w with the b-only values computed here. */
+static void edge_group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
+{
+    edge_w w;
+    edge_weights(L->s, L->t, L->b, I->p == VS_PATCH_SMOOTH, &w);
+    edge_group8_w(k, I, L, &w, all_lanes);
 }
 
 /* Add an edge vertex (in, out) of edge e with end weights (ws, wt) to the edge lanes; run them when full. */
@@ -473,6 +526,225 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
     flush_lanes(&k, &I, &L, &E);
 }
 
+/* ---------------------------------------------------------------- the grid plan
+ * The device's fused path shades every instance of a draw over the same grid points (the per-vertex registers;
+ * the instance is in[0]'s shared registers).  Which vertices are interior, on an edge or corners, their lanes and
+ * every value route and the group functions derive from b alone (npatch_weights, smooth_weights, edge_weights in
+ * both end orders) are computed once per grid into the caller's workspace (is_vs_grid), by the same expressions:
+ * each lane then performs exactly the operations of batch8's lanes, so the bytes are batch8's. */
+
+/* Eight interior grid points (lanes past n_real repeat lane 0): b, their b-only values, their vertex indices. */
+typedef struct plan_int {
+    f3x8 b;
+    v8f w[W_COUNT];
+    smooth_w sw;
+    int32_t idx[8];
+    int32_t n_real;
+} plan_int;
+
+/* Eight edge grid points (sorted by edge; lanes past n_real repeat lane 0): b, the weights s, t of the ends of
+ * their edge e in its own order (v_e, v_e+1), edge_weights of (s, t) (w[0]) and of (t, s) (w[1]: the instance's
+ * canonical order swaps the ends), the lanes on each edge and the one edge of every lane (-1: several). */
+typedef struct plan_edge {
+    f3x8 b;
+    v8f s, t;
+    edge_w w[2];
+    v8i on[3];
+    int32_t idx[8];
+    int32_t n_real, edge;
+} plan_edge;
+
+#define PLAN_TAG 0x38686362u /* "bch8": a plan of this file */
+
+/* The plan of a grid of n vertices: ig[0..n_int) interior groups, eg[0..n_edge) edge groups, one[0..n_one) the
+ * vertices evaluated one by one (corners, points with two or more zero weights). */
+typedef struct grid_plan {
+    uint32_t tag;
+    size_t n;
+    uint32_t n_int, n_edge, n_one;
+    plan_int *ig;
+    plan_edge *eg;
+    uint32_t *one;
+} grid_plan;
+
+/* Align p up to 64 bytes. */
+static inline void *align64(void *p) { return (void *)(((uintptr_t)p + 63u) & ~(uintptr_t)63u); }
+
+/* The workspace bytes the plan of n vertices needs (alignment slack included). */
+static size_t plan_room(size_t n)
+{
+    size_t groups = n / 8 + 3; /* the lists of one, then plan_build's classification scratch behind them */
+    return 6 * 64 + sizeof(grid_plan) + groups * (sizeof(plan_int) + sizeof(plan_edge)) +
+           n * (3 * sizeof(uint32_t) + 1 + 2 * sizeof(float));
+}
+
+/* Where route sends grid point b: 0 interior, 1 edge (its edge *e, the weights *s at v_e and *t at v_e+1), 2 one
+ * by one -- route's tests on bw, in its order. */
+static int plan_kind(float4 b, int *e, float *s, float *t)
+{
+    float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
+    int zeros = (bw[0] == 0.0f) + (bw[1] == 0.0f) + (bw[2] == 0.0f);
+    if (zeros >= 2) return 2;
+    if (zeros == 0) return 0;
+    int zi = bw[0] == 0.0f ? 0 : (bw[1] == 0.0f ? 1 : 2);
+    *e = (zi + 1) % 3;
+    *s = bw[*e], *t = bw[(*e + 1) % 3];
+    return 1;
+}
+
+/* Fill the interior groups from the interior vertices list[0..m) of in. */
+static void plan_interior(grid_plan *P, const is_vs_input *in, const uint32_t *list, size_t m)
+{
+    for (size_t a = 0; a < m; a += 8) {
+        plan_int *G = &P->ig[P->n_int++];
+        G->n_real = (int32_t)(m - a < 8 ? m - a : 8);
+        for (int i = 0; i < 8; i++) {
+            uint32_t v = list[a + (size_t)(i < G->n_real ? i : 0)];
+            G->idx[i] = (int32_t)v;
+            G->b.x[i] = in[v].position[0].x, G->b.y[i] = in[v].position[0].y, G->b.z[i] = in[v].position[0].z;
+        }
+        npatch_weights(G->b, G->w);
+        smooth_weights(G->b, &G->sw);
+    }
+}
+
+/* Fill the edge groups from the edge vertices list[0..m) of in (sorted by edge; edge_of, s, t per vertex). */
+static void plan_edges(grid_plan *P, const is_vs_input *in, const uint32_t *list, size_t m, const int8_t *edge_of,
+                       const float *s, const float *t)
+{
+    for (size_t a = 0; a < m; a += 8) {
+        plan_edge *G = &P->eg[P->n_edge++];
+        G->n_real = (int32_t)(m - a < 8 ? m - a : 8);
+        G->edge = edge_of[list[a]];
+        for (int i = 0; i < 8; i++) {
+            uint32_t v = list[a + (size_t)(i < G->n_real ? i : 0)];
+            G->idx[i] = (int32_t)v;
+            G->b.x[i] = in[v].position[0].x, G->b.y[i] = in[v].position[0].y, G->b.z[i] = in[v].position[0].z;
+            G->s[i] = s[v], G->t[i] = t[v];
+            for (int e = 0; e < 3; e++) G->on[e][i] = edge_of[v] == e ? -1 : 0;
+            if (edge_of[v] != G->edge) G->edge = -1;
+        }
+        edge_weights(G->s, G->t, G->b, true, &G->w[0]);
+        edge_weights(G->t, G->s, G->b, true, &G->w[1]);
+    }
+}
+
+/* Build the plan of in[0..n) into P (room from plan_room: the lists go to the end of the workspace). */
+static void plan_build(grid_plan *P, const is_vs_input *in, size_t n)
+{
+    size_t groups = n / 8 + 3;
+    P->tag = PLAN_TAG, P->n = n, P->n_int = P->n_edge = P->n_one = 0;
+    P->ig = align64(P + 1);
+    P->eg = align64(P->ig + groups);
+    P->one = align64(P->eg + groups);
+    /* scratch for the classification: interior and edge lists share `one`'s room behind it (n entries each) */
+    uint32_t *ints = P->one + n, *edges = ints + n;
+    int8_t *edge_of = (int8_t *)(edges + n);
+    float *s = (float *)align64(edge_of + n), *t = s + n;
+    size_t ni = 0, ne[3] = {0, 0, 0};
+    for (size_t v = 0; v < n; v++) {
+        int e = -1, kind = plan_kind(in[v].position[0], &e, &s[v], &t[v]);
+        edge_of[v] = (int8_t)e;
+        if (kind == 0) ints[ni++] = (uint32_t)v;
+        else if (kind == 1) ne[e]++;
+        else P->one[P->n_one++] = (uint32_t)v;
+    }
+    size_t at[3] = {0, ne[0], ne[0] + ne[1]};
+    for (size_t v = 0; v < n; v++)
+        if (edge_of[v] >= 0) edges[at[edge_of[v]]++] = (uint32_t)v;
+    plan_interior(P, in, ints, ni);
+    plan_edges(P, in, edges, ne[0] + ne[1] + ne[2], edge_of, s, t);
+}
+
+/* The plan of in[0..n) in workspace g: built when g is not ready or holds another grid's size or kind; NULL when
+ * the workspace is too small. */
+static const grid_plan *plan_get(is_vs_grid *g, const is_vs_input *in, size_t n)
+{
+    if (!g->mem || g->room < plan_room(n)) return NULL;
+    grid_plan *P = align64(g->mem);
+    if (g->ready && P->tag == PLAN_TAG && P->n == n) return P;
+    plan_build(P, in, n);
+    g->ready = true;
+    return P;
+}
+
+/* The lanes of a plan group: b, and the outputs and inputs of its vertices (in + idx, out + idx). */
+static void plan_lanes(lanes8 *L, f3x8 b, const int32_t idx[8], int n_real, const is_vs_input *in, is_vs_output *out)
+{
+    L->b = b, L->n_real = n_real;
+    for (int i = 0; i < 8; i++) L->in[i] = in + idx[i], L->out[i] = out + idx[i];
+}
+
+/* x with the lanes of m replaced by y's (a blend per float). */
+static inline f3x8 pick3(f3x8 x, v8i m, f3x8 y) { return sel3(m, y, x); }
+
+/* The edge groups of plan P for instance I: the ends and control points of each lane's edge in canonical order,
+ * its end weights and edge_weights in that order; lanes on an edge without an order (ok false) go per vertex. */
+static void plan_run_edges(const vs_batch_consts *k, const inst8 *I, const grid_plan *P, const is_vs_input *in,
+                           is_vs_output *out)
+{
+    lanes8 L;
+    for (uint32_t q = 0; q < P->n_edge; q++) {
+        const plan_edge *G = &P->eg[q];
+        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        int e0 = G->edge >= 0 ? G->edge : 2;
+        const edge_cp *c = &I->e[e0];
+        L.ap = b3(c->ap), L.bp = b3(c->bp), L.an = b3(c->an), L.bn = b3(c->bn), L.b21 = b3(c->b21), L.b12 = b3(c->b12);
+        v8i swap = c->swapped ? all_lanes : (v8i){0}, ok = c->ok ? all_lanes : (v8i){0};
+        edge_w w = G->w[c->swapped];
+        if (G->edge < 0) { /* lanes of edges 0 and 1 over edge 2's */
+            for (int e = 0; e < 2; e++) {
+                const edge_cp *d = &I->e[e];
+                v8i m = G->on[e];
+                L.ap = pick3(L.ap, m, b3(d->ap)), L.bp = pick3(L.bp, m, b3(d->bp));
+                L.an = pick3(L.an, m, b3(d->an)), L.bn = pick3(L.bn, m, b3(d->bn));
+                L.b21 = pick3(L.b21, m, b3(d->b21)), L.b12 = pick3(L.b12, m, b3(d->b12));
+                swap = d->swapped ? swap | m : swap & ~m;
+                ok = d->ok ? ok | m : ok & ~m;
+            }
+            const edge_w *w0 = &G->w[0], *w1 = &G->w[1];
+            w.sss = sel(swap, w1->sss, w0->sss), w.ttt = sel(swap, w1->ttt, w0->ttt);
+            w.sst = sel(swap, w1->sst, w0->sst), w.stt = sel(swap, w1->stt, w0->stt);
+        }
+        L.s = sel(swap, G->t, G->s), L.t = sel(swap, G->s, G->t);
+        edge_group8_w(k, I, &L, &w, ok);
+    }
+}
+
+/* Shade instance I (read from in[0]) over the grid of plan P: the interior groups, the edge groups, the rest one by
+ * one. */
+static void plan_run(const vs_batch_consts *k, const inst8 *I, const grid_plan *P, const is_vs_input *in,
+                     is_vs_output *out)
+{
+    lanes8 L;
+    for (uint32_t q = 0; q < P->n_int; q++) {
+        const plan_int *G = &P->ig[q];
+        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        group8_w(k, I, &L, G->w, &G->sw);
+    }
+    plan_run_edges(k, I, P, in, out);
+    for (uint32_t q = 0; q < P->n_one; q++) vertex1(k, I, &in[P->one[q]], &out[P->one[q]]);
+}
+
+/* batch8 with the grid workspace g: the plan's path when the batch is the fused path's (the instance shared in
+ * in[0], POSITION0 per vertex) with linear normals and g has room, else batch8 itself. */
+static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                        uint32_t shared, is_vs_grid *g, is_vs_output *out)
+{
+    vs_batch_consts k;
+    vs_batch_consts_read(c, &k);
+    k.live = live;
+    bool fused = n && shared && !(inst_regs(p) & ~shared) && !(shared & 1u);
+    const grid_plan *P = g && fused && k.o.normals == VS_NORMALS_LINEAR ? plan_get(g, in, n) : NULL;
+    if (!P) {
+        batch8(p, c, in, n, live, shared, out);
+        return;
+    }
+    inst8 I;
+    inst_read(p, &k, in, &I);
+    plan_run(&k, &I, P, in, out);
+}
+
 #else /* without AVX2: the per-vertex evaluation */
 
 static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
@@ -486,6 +758,14 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
     for (size_t v = 0; v < n; v++) vs_shader_npatch.main(c, is_vs_input_at(in, v, shared, &t), &out[v]);
 }
 
+static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                        uint32_t shared, is_vs_grid *g, is_vs_output *out)
+{
+    batch8(p, c, in, n, live, shared, out);
+}
+
+static size_t plan_room(size_t n) { return 0; }
+
 #endif
 
 void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
@@ -498,4 +778,21 @@ void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, 
                      is_vs_output *out)
 {
     batch8(VS_PATCH_SMOOTH, c, in, n, live, shared, out);
+}
+
+void vs_npatch_grid_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                          is_vs_grid *grid, is_vs_output *out)
+{
+    grid_batch8(VS_PATCH_NPATCH, c, in, n, live, shared, grid, out);
+}
+
+void vs_smooth_grid_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                          is_vs_grid *grid, is_vs_output *out)
+{
+    grid_batch8(VS_PATCH_SMOOTH, c, in, n, live, shared, grid, out);
+}
+
+size_t vs_batch8_grid_room(size_t n)
+{
+    return n > SIZE_MAX / 64 ? 0 : plan_room(n);
 }
