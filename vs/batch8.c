@@ -101,40 +101,63 @@ static inline void npatch_weights(f3x8 b, v8f w[W_COUNT])
     w[W_111] = b.x * b.y * b.z;
 }
 
-/* vs_evaluate_npatch's vertex part, per lane, from the weights of npatch_weights. */
-static f3x8 npatch8_w(const npatch_cp *c, const v8f w[W_COUNT])
+/* The control points broadcast, in the order of the weights: cv[W_300] = v0, ..., cv[W_111] = center. */
+static void npatch_cp_lanes(const npatch_cp *c, f3x8 cv[W_COUNT])
 {
-    f3x8 p = scl(b3(c->v[0]), w[W_300]);
-    p = acc(p, c->v[1], w[W_030]);
-    p = acc(p, c->v[2], w[W_003]);
-    p = acc(p, c->b102, w[W_102]);
-    p = acc(p, c->b012, w[W_012]);
-    p = acc(p, c->b201, w[W_201]);
-    p = acc(p, c->b021, w[W_021]);
-    p = acc(p, c->b210, w[W_210]);
-    p = acc(p, c->b120, w[W_120]);
-    return acc(p, c->center, w[W_111]);
+    cv[W_300] = b3(c->v[0]), cv[W_030] = b3(c->v[1]), cv[W_003] = b3(c->v[2]), cv[W_102] = b3(c->b102);
+    cv[W_012] = b3(c->b012), cv[W_201] = b3(c->b201), cv[W_021] = b3(c->b021), cv[W_210] = b3(c->b210);
+    cv[W_120] = b3(c->b120), cv[W_111] = b3(c->center);
+}
+
+/* vs_evaluate_npatch's vertex part, per lane, from the control points of npatch_cp_lanes and the weights of
+ * npatch_weights: v0 w300 + v1 w030 + ... + center w111, in this order. */
+static f3x8 npatch8_w(const f3x8 cv[W_COUNT], const v8f w[W_COUNT])
+{
+    f3x8 p = scl(cv[W_300], w[W_300]);
+    for (int q = W_030; q < W_COUNT; q++) p = add(p, scl(cv[q], w[q]));
+    return p;
 }
 
 /* ---------------------------------------------------------------- smoothed patch (Listing 1.1.2) */
 
-/* vs_evaluate_curve per lane. */
-static f3x8 curve8(f3x8 v0, f3x8 v1, f3x8 n0, f3x8 n1, v8f b)
+/* vs_evaluate_curve per lane, in three parts: the Bernstein weights at b (without the 3s; they depend on b alone),
+ * the inner control points (on the ends alone) and the sum. */
+static inline void curve_weights(v8f b, v8f w[4])
 {
     v8f b_ = bf(1.0f) - b;
-    f3x8 b21 = sub(add(scl(v0, bf(2.0f)), v1), scl(n0, dot(sub(v1, v0), n0)));
-    f3x8 b12 = sub(add(scl(v1, bf(2.0f)), v0), scl(n1, dot(sub(v0, v1), n1)));
-    f3x8 p = add(scl(v0, b_ * b_ * b_), scl(v1, b * b * b));
-    p = add(p, scl(b21, b_ * b_ * b));
-    return add(p, scl(b12, b_ * b * b));
+    w[0] = b_ * b_ * b_, w[1] = b * b * b, w[2] = b_ * b_ * b, w[3] = b_ * b * b;
+}
+static inline void curve_cp8(f3x8 v0, f3x8 v1, f3x8 n0, f3x8 n1, f3x8 *b21, f3x8 *b12)
+{
+    *b21 = sub(add(scl(v0, bf(2.0f)), v1), scl(n0, dot(sub(v1, v0), n0)));
+    *b12 = sub(add(scl(v1, bf(2.0f)), v0), scl(n1, dot(sub(v0, v1), n1)));
+}
+static inline f3x8 curve8_w(f3x8 v0, f3x8 v1, f3x8 b21, f3x8 b12, const v8f w[4])
+{
+    f3x8 p = add(scl(v0, w[0]), scl(v1, w[1]));
+    p = add(p, scl(b21, w[2]));
+    return add(p, scl(b12, w[3]));
 }
 
-/* edge_patch of smooth.c per lane: P_k from the border point at st of edge va-vb to vc, at ct. */
-static f3x8 edge_patch8(float3 va, float3 vb, float3 vc, float3 na, float3 nb, float3 nc, v8f st, v8f ct)
+/* edge_patch of smooth.c, the instance part of P_k: the ends va, vb of its edge, the far vertex vc, their normals,
+ * broadcast, and the first curve's inner control points (curve_cp8 of the broadcasts: the same value in every
+ * lane, computed once per instance). */
+typedef struct pk_inst { f3x8 va, vb, vc, na, nb, nc, b21, b12; } pk_inst;
+static void pk_make(float3 va, float3 vb, float3 vc, float3 na, float3 nb, float3 nc, pk_inst *E)
 {
-    f3x8 pos = curve8(b3(va), b3(vb), b3(na), b3(nb), st);
-    f3x8 norm = normalize(lerp(b3(na), b3(nb), st));
-    return curve8(pos, b3(vc), norm, b3(nc), ct);
+    E->va = b3(va), E->vb = b3(vb), E->vc = b3(vc), E->na = b3(na), E->nb = b3(nb), E->nc = b3(nc);
+    curve_cp8(E->va, E->vb, E->na, E->nb, &E->b21, &E->b12);
+}
+
+/* edge_patch of smooth.c per lane: P_k from the border point at st of edge va-vb (curve weights w1 of st) to vc, at
+ * ct (curve weights w2 of ct). */
+static f3x8 edge_patch8_w(const pk_inst *E, v8f st, const v8f w1[4], const v8f w2[4])
+{
+    f3x8 pos = curve8_w(E->va, E->vb, E->b21, E->b12, w1);
+    f3x8 norm = normalize(lerp(E->na, E->nb, st));
+    f3x8 b21, b12;
+    curve_cp8(pos, E->vc, norm, E->nc, &b21, &b12);
+    return curve8_w(pos, E->vc, b21, b12, w2);
 }
 
 /* curve_param of smooth.c: bj / (bi + bj), 0.5 where the sum is not positive. */
@@ -145,11 +168,24 @@ static inline v8f param8(v8f bi, v8f bj)
 }
 
 /* The instance part of the smoothed patch: the N-Patch control points, fn_k, the triangle. */
-typedef struct smooth_inst { npatch_cp cp; float3 fn; const vs_triangle *T; bool shortcut; } smooth_inst;
+typedef struct smooth_inst {
+    const f3x8 *cv;
+    float3 fn;
+    const vs_triangle *T;
+    bool shortcut;
+    pk_inst pk[3]; /* P0..P2's instance parts (those the shortcut evaluates) */
+} smooth_inst;
+
+/* Does the smoothed patch evaluate P_k (fn_k of s)? */
+static inline bool smooth_evals(const smooth_inst *s, int k)
+{
+    return !s->shortcut || (&s->fn.x)[k] != 1.0f;
+}
 
 /* What vs_smooth_formula computes from b alone (the grid plan keeps it per grid): the Gregory weights g (valid where
- * gok: the Gregory sum is positive), the curve parameters c and the centre blend bl. */
-typedef struct smooth_w { f3x8 g, c; v8f bl; v8i gok; } smooth_w;
+ * gok: the Gregory sum is positive), the curve parameters c, the centre blend bl and the curve weights of each
+ * P_k (cw[k][0] at c_k along its edge, cw[k][1] at b_(k+2)%3 towards the far vertex). */
+typedef struct smooth_w { f3x8 g, c; v8f bl; v8i gok; v8f cw[3][2][4]; } smooth_w;
 static inline void smooth_weights(f3x8 b, smooth_w *w)
 {
     v8f b0b2 = b.x * b.z, b0b1 = b.x * b.y, b1b2 = b.y * b.z, sum = b0b2 + b0b1 + b1b2;
@@ -157,32 +193,33 @@ static inline void smooth_weights(f3x8 b, smooth_w *w)
     w->g = (f3x8){b0b2 / sum, b0b1 / sum, b1b2 / sum};
     w->c = (f3x8){param8(b.x, b.y), param8(b.y, b.z), param8(b.z, b.x)};
     w->bl = bf((float)(3 * 3 * 3)) * b.x * b.y * b.z;
+    const v8f ct[3] = {b.z, b.x, b.y};
+    for (int k = 0; k < 3; k++) curve_weights((&w->c.x)[k], w->cw[k][0]), curve_weights(ct[k], w->cw[k][1]);
 }
 
 /* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0) from b, its N-Patch weights w and its
  * smooth_weights sw; g gets the Gregory weights. */
 static f3x8 smooth8_w(const smooth_inst *s, f3x8 b, const v8f w[W_COUNT], const smooth_w *sw, f3x8 *g)
 {
-    const float3 *v = s->T->v, *n = s->T->n;
     *g = sw->g;
     const f3x8 c = sw->c;
     float fn0 = s->fn.x, fn1 = s->fn.y, fn2 = s->fn.z;
-    f3x8 posN = npatch8_w(&s->cp, w);
+    f3x8 posN = npatch8_w(s->cv, w);
     const v8f bl = sw->bl;
     bool all_one = fn0 == 1.0f && fn1 == 1.0f && fn2 == 1.0f;
     if (s->shortcut && all_one) return posN;
     f3x8 pos0 = posN, pos1 = posN, pos2 = posN;
-    if (!s->shortcut || fn0 != 1.0f) {
+    if (smooth_evals(s, 0)) {
         v8f t = bf(fn0) + bl;
-        pos0 = vlerp(edge_patch8(v[0], v[1], v[2], n[0], n[1], n[2], c.x, b.z), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+        pos0 = vlerp(edge_patch8_w(&s->pk[0], c.x, sw->cw[0][0], sw->cw[0][1]), posN, sel(t < bf(1.0f), t, bf(1.0f)));
     }
-    if (!s->shortcut || fn1 != 1.0f) {
+    if (smooth_evals(s, 1)) {
         v8f t = bf(fn1) + bl;
-        pos1 = vlerp(edge_patch8(v[1], v[2], v[0], n[1], n[2], n[0], c.y, b.x), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+        pos1 = vlerp(edge_patch8_w(&s->pk[1], c.y, sw->cw[1][0], sw->cw[1][1]), posN, sel(t < bf(1.0f), t, bf(1.0f)));
     }
-    if (!s->shortcut || fn2 != 1.0f) {
+    if (smooth_evals(s, 2)) {
         v8f t = bf(fn2) + bl;
-        pos2 = vlerp(edge_patch8(v[2], v[0], v[1], n[2], n[0], n[1], c.z, b.y), posN, sel(t < bf(1.0f), t, bf(1.0f)));
+        pos2 = vlerp(edge_patch8_w(&s->pk[2], c.z, sw->cw[2][0], sw->cw[2][1]), posN, sel(t < bf(1.0f), t, bf(1.0f)));
     }
     if (all_one) return posN;
     return vlerp(add(add(scl(pos2, g->x), scl(pos0, g->y)), scl(pos1, g->z)), posN, bl);
@@ -201,32 +238,46 @@ static void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
                          _mm256_castps256_ps128(u3), _mm256_extractf128_ps(u0, 1), _mm256_extractf128_ps(u1, 1),
                          _mm256_extractf128_ps(u2, 1), _mm256_extractf128_ps(u3, 1)};
     const size_t off = r < 0 ? offsetof(is_vs_output, pos) : offsetof(is_vs_output, attr) + (size_t)r * sizeof(float4);
+    if (L->n_real == 8) { /* a full group: eight stores, no loop */
+#pragma GCC unroll 8
+        for (int i = 0; i < 8; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
+        return;
+    }
     for (int i = 0; i < L->n_real; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
 }
 
-/* vs_write_outputs_k per lane; TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only oPos and the live
- * outputs (k->live) are computed and stored; the others stay as the device left them (zero). */
-static void outputs8(const vs_batch_consts *k, const lanes8 *L, f3x8 pos, f3x8 normal, const float2 t[3], float id,
-                     f3x8 g)
+/* The matrices and the diffuse colour broadcast once per batch (w[3][c] is the 1 * W[3][c] of oPos's product). */
+typedef struct consts8 { v8f w[4][4], m[3][3], diffuse[3]; } consts8;
+static void consts8_make(const vs_batch_consts *k, consts8 *K)
 {
-    const float4x4 *W = &k->wvp, *M = &k->world;
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) K->w[r][c] = r < 3 ? bf(k->wvp.m[r][c]) : bf(1.0f) * bf(k->wvp.m[r][c]);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) K->m[r][c] = bf(k->world.m[r][c]);
+    K->diffuse[0] = bf(k->diffuse.x), K->diffuse[1] = bf(k->diffuse.y), K->diffuse[2] = bf(k->diffuse.z);
+}
+
+/* vs_write_outputs_k per lane (K: consts8 of k); TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only
+ * oPos and the live outputs (k->live) are computed and stored; the others stay as the device left them (zero). */
+static void outputs8(const vs_batch_consts *k, const consts8 *K, const lanes8 *L, f3x8 pos, f3x8 normal,
+                     const float2 t[3], float id, f3x8 g)
+{
     const uint32_t live = k->live;
     v8f one = bf(1.0f), zero = bf(0.0f);
     v8f px[4];
-    for (int c = 0; c < 4; c++)
-        px[c] = pos.x * bf(W->m[0][c]) + pos.y * bf(W->m[1][c]) + pos.z * bf(W->m[2][c]) + one * bf(W->m[3][c]);
+    for (int c = 0; c < 4; c++) px[c] = pos.x * K->w[0][c] + pos.y * K->w[1][c] + pos.z * K->w[2][c] + K->w[3][c];
     store4(L, -1, px[0], px[1], px[2], px[3]);
     if (!(live & (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(VS_OUT_TEX) | IS_OUT_TEXCOORD(VS_OUT_NORMAL) | IS_OUT_TEXCOORD(VS_OUT_BARY) | IS_OUT_TEXCOORD(VS_OUT_INSTANCE) |
                   IS_OUT_TEXCOORD(VS_OUT_GREGORY))))
         return;
-    f3x8 N = {normal.x * bf(M->m[0][0]) + normal.y * bf(M->m[1][0]) + normal.z * bf(M->m[2][0]),
-              normal.x * bf(M->m[0][1]) + normal.y * bf(M->m[1][1]) + normal.z * bf(M->m[2][1]),
-              normal.x * bf(M->m[0][2]) + normal.y * bf(M->m[1][2]) + normal.z * bf(M->m[2][2])};
+    f3x8 N = {normal.x * K->m[0][0] + normal.y * K->m[1][0] + normal.z * K->m[2][0],
+              normal.x * K->m[0][1] + normal.y * K->m[1][1] + normal.z * K->m[2][1],
+              normal.x * K->m[0][2] + normal.y * K->m[1][2] + normal.z * K->m[2][2]};
     if (live & IS_OUT_COLOR0) {
         v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
         d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
         d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
-        store4(L, RS_ATTR_COLOR0, bf(k->diffuse.x) * d, bf(k->diffuse.y) * d, bf(k->diffuse.z) * d, one);
+        store4(L, RS_ATTR_COLOR0, K->diffuse[0] * d, K->diffuse[1] * d, K->diffuse[2] * d, one);
     }
     if (live & IS_OUT_TEXCOORD(VS_OUT_TEX)) {
         v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
@@ -255,8 +306,11 @@ typedef struct inst8 {
     vs_triangle T;
     vs_options o;
     npatch_cp cp;
+    f3x8 cv[W_COUNT]; /* cp broadcast (npatch_cp_lanes) */
+    f3x8 nv[3];       /* the normals broadcast */
     smooth_inst s;
     edge_cp e[3];
+    consts8 K;        /* the batch's constants broadcast */
 } inst8;
 
 /* Edge k of T (v_k, v_k+1) in canonical order with edge_cubic's control points, as patch.c computes them. */
@@ -288,6 +342,15 @@ static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input 
     vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
 }
 
+/* The lanes of L (below n_real) not in the 8-bit mask ok through the per-vertex path. */
+static inline void fallback(const vs_batch_consts *k, const inst8 *I, const lanes8 *L, unsigned ok)
+{
+    for (unsigned bad = ~ok & ((1u << L->n_real) - 1u); bad; bad &= bad - 1u) {
+        int i = __builtin_ctz(bad);
+        vertex1(k, I, L->in[i], L->out[i]);
+    }
+}
+
 /* Evaluate a full or partial group of lanes from their b-only values (w: npatch_weights, sw: smooth_weights, read
  * by the smoothed patch only); lanes needing a fallback go through vertex1. */
 static void group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const v8f w[W_COUNT], const smooth_w *sw)
@@ -299,17 +362,15 @@ static void group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const 
         ok &= sw->gok; /* vs_gregory's 0/0 case stays per vertex */
         pos = smooth8_w(&I->s, b, w, sw, &g);
     } else {
-        pos = npatch8_w(&I->cp, w);
+        pos = npatch8_w(I->cv, w);
     }
     ok &= finite3(pos);
-    const float3 *n = I->T.n;
-    f3x8 nl = add(add(scl(b3(n[0]), b.x), scl(b3(n[1]), b.y)), scl(b3(n[2]), b.z)); /* linear_normal_raw */
+    const f3x8 *n = I->nv;
+    f3x8 nl = add(add(scl(n[0], b.x), scl(n[1], b.y)), scl(n[2], b.z)); /* linear_normal_raw */
     f3x8 N = normalize(nl);
     ok &= finite3(N) & (dot(N, N) > bf(0.0f));
-    outputs8(k, L, pos, N, I->T.t, I->T.id, g);
-    unsigned m = mask_of(ok);
-    for (int i = 0; i < L->n_real; i++)
-        if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
+    outputs8(k, &I->K, L, pos, N, I->T.t, I->T.id, g);
+    fallback(k, I, L, mask_of(ok));
 }
 
 /* group8_w with the b-only values computed here. */
@@ -352,10 +413,8 @@ static void edge_group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, c
         ok &= w->gok;
         g = w->g;
     }
-    outputs8(k, L, p, N, I->T.t, I->T.id, g);
-    unsigned m = mask_of(ok);
-    for (int i = 0; i < L->n_real; i++)
-        if (!(m & (1u << i))) vertex1(k, I, L->in[i], L->out[i]);
+    outputs8(k, &I->K, L, p, N, I->T.t, I->T.id, g);
+    fallback(k, I, L, mask_of(ok));
 }
 
 /* edge_group8_w with the b-only values computed here. */
@@ -452,11 +511,16 @@ static void inst_read(vs_patch p, const vs_batch_consts *k, const is_vs_input *r
     }
     const float3 *v = I->T.v, *n = I->T.n;
     npatch_cp_make(v[0], v[1], v[2], n[0], n[1], n[2], &I->cp);
+    npatch_cp_lanes(&I->cp, I->cv);
+    for (int i = 0; i < 3; i++) I->nv[i] = b3(n[i]);
     if (p == VS_PATCH_SMOOTH) {
-        I->s.cp = I->cp;
+        I->s.cv = I->cv;
         I->s.fn = vs_smooth_fn(&I->T);
         I->s.T = &I->T;
         I->s.shortcut = !(I->o.flags & VS_FLAG_NO_SHORTCUT);
+        for (int q = 0; q < 3; q++) /* P_q: edge v_q - v_q+1, far vertex v_q+2 */
+            if (smooth_evals(&I->s, q))
+                pk_make(v[q], v[(q + 1) % 3], v[(q + 2) % 3], n[q], n[(q + 1) % 3], n[(q + 2) % 3], &I->s.pk[q]);
     }
     for (int e = 0; e < 3; e++) edge_cp_make(&I->T, e, &I->e[e]);
 }
@@ -514,6 +578,7 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
     vs_batch_consts_read(c, &k);
     k.live = live;
     inst8 I;
+    consts8_make(&k, &I.K);
     lanes8 L, E;
     L.n_real = E.n_real = 0;
     for (size_t v = 0; v < n; v++) {
@@ -741,6 +806,7 @@ static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input 
         return;
     }
     inst8 I;
+    consts8_make(&k, &I.K);
     inst_read(p, &k, in, &I);
     plan_run(&k, &I, P, in, out);
 }
