@@ -619,16 +619,27 @@ typedef struct plan_edge {
     int32_t n_real, edge;
 } plan_edge;
 
+/* Eight corner grid points (two or more weights <= 0; lanes past n_real repeat lane 0): b, the corner each lane
+ * is (vs_patch_eval's: the last positive weight's vertex, v0 when none is), its Gregory weights (vs_gregory of bw,
+ * the per-vertex function itself). */
+typedef struct plan_corner {
+    f3x8 b, g;
+    v8i on[3];
+    int32_t idx[8];
+    int32_t n_real;
+} plan_corner;
+
 #define PLAN_TAG 0x38686362u /* "bch8": a plan of this file */
 
-/* The plan of a grid of n vertices: ig[0..n_int) interior groups, eg[0..n_edge) edge groups, one[0..n_one) the
- * vertices evaluated one by one (corners, points with two or more zero weights). */
+/* The plan of a grid of n vertices: ig[0..n_int) interior groups, eg[0..n_edge) edge groups, cg[0..n_corner)
+ * corner groups; one[0..n_one) the corners' vertices. */
 typedef struct grid_plan {
     uint32_t tag;
     size_t n;
-    uint32_t n_int, n_edge, n_one;
+    uint32_t n_int, n_edge, n_corner, n_one;
     plan_int *ig;
     plan_edge *eg;
+    plan_corner *cg;
     uint32_t *one;
 } grid_plan;
 
@@ -639,7 +650,7 @@ static inline void *align64(void *p) { return (void *)(((uintptr_t)p + 63u) & ~(
 static size_t plan_room(size_t n)
 {
     size_t groups = n / 8 + 3; /* the lists of one, then plan_build's classification scratch behind them */
-    return 6 * 64 + sizeof(grid_plan) + groups * (sizeof(plan_int) + sizeof(plan_edge)) +
+    return 7 * 64 + sizeof(grid_plan) + groups * (sizeof(plan_int) + sizeof(plan_edge) + sizeof(plan_corner)) +
            n * (3 * sizeof(uint32_t) + 1 + 2 * sizeof(float));
 }
 
@@ -694,14 +705,35 @@ static void plan_edges(grid_plan *P, const is_vs_input *in, const uint32_t *list
     }
 }
 
+/* Fill the corner groups from the corner vertices list[0..m) of in. */
+static void plan_corners(grid_plan *P, const is_vs_input *in, const uint32_t *list, size_t m)
+{
+    for (size_t a = 0; a < m; a += 8) {
+        plan_corner *G = &P->cg[P->n_corner++];
+        G->n_real = (int32_t)(m - a < 8 ? m - a : 8);
+        for (int i = 0; i < 8; i++) {
+            uint32_t v = list[a + (size_t)(i < G->n_real ? i : 0)];
+            float4 b = in[v].position[0];
+            float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
+            int corner = bw[2] != 0.0f ? 2 : bw[1] != 0.0f ? 1 : 0; /* patch.c's classify: the last nonzero */
+            float3 g = vs_gregory(f3(bw[0], bw[1], bw[2]));
+            G->idx[i] = (int32_t)v;
+            G->b.x[i] = b.x, G->b.y[i] = b.y, G->b.z[i] = b.z;
+            G->g.x[i] = g.x, G->g.y[i] = g.y, G->g.z[i] = g.z;
+            for (int e = 0; e < 3; e++) G->on[e][i] = corner == e ? -1 : 0;
+        }
+    }
+}
+
 /* Build the plan of in[0..n) into P (room from plan_room: the lists go to the end of the workspace). */
 static void plan_build(grid_plan *P, const is_vs_input *in, size_t n)
 {
     size_t groups = n / 8 + 3;
-    P->tag = PLAN_TAG, P->n = n, P->n_int = P->n_edge = P->n_one = 0;
+    P->tag = PLAN_TAG, P->n = n, P->n_int = P->n_edge = P->n_corner = P->n_one = 0;
     P->ig = align64(P + 1);
     P->eg = align64(P->ig + groups);
-    P->one = align64(P->eg + groups);
+    P->cg = align64(P->eg + groups);
+    P->one = align64(P->cg + groups);
     /* scratch for the classification: interior and edge lists share `one`'s room behind it (n entries each) */
     uint32_t *ints = P->one + n, *edges = ints + n;
     int8_t *edge_of = (int8_t *)(edges + n);
@@ -719,6 +751,7 @@ static void plan_build(grid_plan *P, const is_vs_input *in, size_t n)
         if (edge_of[v] >= 0) edges[at[edge_of[v]]++] = (uint32_t)v;
     plan_interior(P, in, ints, ni);
     plan_edges(P, in, edges, ne[0] + ne[1] + ne[2], edge_of, s, t);
+    plan_corners(P, in, P->one, P->n_one);
 }
 
 /* The plan of in[0..n) in workspace g: built when g is not ready or holds another grid's size or kind; NULL when
@@ -776,8 +809,27 @@ static void plan_run_edges(const vs_batch_consts *k, const inst8 *I, const grid_
     }
 }
 
-/* Shade instance I (read from in[0]) over the grid of plan P: the interior groups, the edge groups, the rest one by
- * one. */
+/* The corner groups of plan P for instance I: vs_patch_eval's corner (position v_k, normal normalize(n_k), Gregory
+ * weights of bw); lanes whose normal needs a fallback go per vertex. */
+static void plan_run_corners(const vs_batch_consts *k, const inst8 *I, const grid_plan *P, const is_vs_input *in,
+                             is_vs_output *out)
+{
+    lanes8 L;
+    const f3x8 v0 = b3(I->T.v[0]), v1 = b3(I->T.v[1]), v2 = b3(I->T.v[2]);
+    for (uint32_t q = 0; q < P->n_corner; q++) {
+        const plan_corner *G = &P->cg[q];
+        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        f3x8 pos = pick3(pick3(v2, G->on[1], v1), G->on[0], v0);
+        f3x8 N = normalize(pick3(pick3(I->nv[2], G->on[1], I->nv[1]), G->on[0], I->nv[0]));
+        v8i ok = finite3(N) & (dot(N, N) > bf(0.0f));
+        f3x8 g = {bf(0.0f), bf(0.0f), bf(0.0f)};
+        if (I->p == VS_PATCH_SMOOTH) g = G->g;
+        outputs8(k, &I->K, &L, pos, N, I->T.t, I->T.id, g);
+        fallback(k, I, &L, mask_of(ok));
+    }
+}
+
+/* Shade instance I (read from in[0]) over the grid of plan P: the interior, edge and corner groups. */
 static void plan_run(const vs_batch_consts *k, const inst8 *I, const grid_plan *P, const is_vs_input *in,
                      is_vs_output *out)
 {
@@ -788,7 +840,7 @@ static void plan_run(const vs_batch_consts *k, const inst8 *I, const grid_plan *
         group8_w(k, I, &L, G->w, &G->sw);
     }
     plan_run_edges(k, I, P, in, out);
-    for (uint32_t q = 0; q < P->n_one; q++) vertex1(k, I, &in[P->one[q]], &out[P->one[q]]);
+    plan_run_corners(k, I, P, in, out);
 }
 
 /* batch8 with the grid workspace g: the plan's path when the batch is the fused path's (the instance shared in
