@@ -111,7 +111,7 @@ static void npatch_cp_lanes(const npatch_cp *c, f3x8 cv[W_COUNT])
 
 /* vs_evaluate_npatch's vertex part, per lane, from the control points of npatch_cp_lanes and the weights of
  * npatch_weights: v0 w300 + v1 w030 + ... + center w111, in this order. */
-static f3x8 npatch8_w(const f3x8 cv[W_COUNT], const v8f w[W_COUNT])
+static inline __attribute__((always_inline)) f3x8 npatch8_w(const f3x8 cv[W_COUNT], const v8f w[W_COUNT])
 {
     f3x8 p = scl(cv[W_300], w[W_300]);
     for (int q = W_030; q < W_COUNT; q++) p = add(p, scl(cv[q], w[q]));
@@ -228,7 +228,7 @@ static f3x8 smooth8_w(const smooth_inst *s, f3x8 b, const v8f w[W_COUNT], const 
 /* ---------------------------------------------------------------- outputs */
 
 /* Store float4 lanes (x, y, z, w) into register `r` of the outputs of lanes 0..n-1 (a 4x8 transpose). */
-static void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
+static inline __attribute__((always_inline)) void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
 {
     __m256 t0 = _mm256_unpacklo_ps((__m256)x, (__m256)y), t1 = _mm256_unpackhi_ps((__m256)x, (__m256)y);
     __m256 t2 = _mm256_unpacklo_ps((__m256)z, (__m256)w), t3 = _mm256_unpackhi_ps((__m256)z, (__m256)w);
@@ -259,7 +259,7 @@ static void consts8_make(const vs_batch_consts *k, consts8 *K)
 
 /* vs_write_outputs_k per lane (K: consts8 of k); TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only
  * oPos and the live outputs (k->live) are computed and stored; the others stay as the device left them (zero). */
-static void outputs8(const vs_batch_consts *k, const consts8 *K, const lanes8 *L, f3x8 pos, f3x8 normal,
+static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts *k, const consts8 *K, const lanes8 *L, f3x8 pos, f3x8 normal,
                      const float2 t[3], float id, f3x8 g)
 {
     const uint32_t live = k->live;
