@@ -308,7 +308,9 @@ static void test_device_grid_changes(void **state)
                 draw_image(ref, &o, &m, &g[d % 2], b);
                 size_t diff = 0;
                 for (size_t k = 0; k < px; k++) diff += a[k] != b[k];
-                if (diff) fail_msg("patch %d, %d threads, draw %d: %zu pixels differ from the reference path", p, threads, d, diff);
+                if (diff)
+                    fail_msg("patch %d, %d threads, draw %d: %zu pixels differ from the reference path", p, threads,
+                             d, diff);
             }
             free(a), free(b);
             dev_destroy(fast), dev_destroy(ref);

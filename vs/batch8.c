@@ -87,9 +87,6 @@ static void npatch_cp_make(float3 v0, float3 v1, float3 v2, float3 n0, float3 n1
     c->center = sub3(sub3(sub3(scale3(six, 0.5f), v0), v1), v2);
 }
 
-/* scale3(a, s) + p with a broadcast. */
-static inline f3x8 acc(f3x8 p, float3 a, v8f s) { return add(p, scl(b3(a), s)); }
-
 /* The cubic Bernstein products of b (without the 3s) in vs_evaluate_npatch's order and form: they depend on the
  * grid point alone, so the grid plan computes them once per grid (the same expressions, the same bits). */
 enum { W_300, W_030, W_003, W_102, W_012, W_201, W_021, W_210, W_120, W_111, W_COUNT };
@@ -120,18 +117,20 @@ static inline __attribute__((always_inline)) f3x8 npatch8_w(const f3x8 cv[W_COUN
 
 /* ---------------------------------------------------------------- smoothed patch (Listing 1.1.2) */
 
-/* vs_evaluate_curve per lane, in three parts: the Bernstein weights at b (without the 3s; they depend on b alone),
- * the inner control points (on the ends alone) and the sum. */
+/* vs_evaluate_curve per lane is three parts: the Bernstein weights at b (without the 3s; they depend on b alone),
+ * the inner control points (on the ends alone) and the sum.  The weights (1-b)^3, b^3, (1-b)^2 b, (1-b) b^2: */
 static inline void curve_weights(v8f b, v8f w[4])
 {
     v8f b_ = bf(1.0f) - b;
     w[0] = b_ * b_ * b_, w[1] = b * b * b, w[2] = b_ * b_ * b, w[3] = b_ * b * b;
 }
+/* The inner control points b21, b12 of the curve from v0 to v1 with end normals n0, n1: */
 static inline void curve_cp8(f3x8 v0, f3x8 v1, f3x8 n0, f3x8 n1, f3x8 *b21, f3x8 *b12)
 {
     *b21 = sub(add(scl(v0, bf(2.0f)), v1), scl(n0, dot(sub(v1, v0), n0)));
     *b12 = sub(add(scl(v1, bf(2.0f)), v0), scl(n1, dot(sub(v0, v1), n1)));
 }
+/* The curve's point: v0 w0 + v1 w1 + b21 w2 + b12 w3, in this order. */
 static inline f3x8 curve8_w(f3x8 v0, f3x8 v1, f3x8 b21, f3x8 b12, const v8f w[4])
 {
     f3x8 p = add(scl(v0, w[0]), scl(v1, w[1]));
@@ -197,9 +196,9 @@ static inline void smooth_weights(f3x8 b, smooth_w *w)
     for (int k = 0; k < 3; k++) curve_weights((&w->c.x)[k], w->cw[k][0]), curve_weights(ct[k], w->cw[k][1]);
 }
 
-/* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0) from b, its N-Patch weights w and its
+/* vs_smooth_formula per lane (interior: every b > 0, Gregory sum > 0) from b's N-Patch weights w and its
  * smooth_weights sw; g gets the Gregory weights. */
-static f3x8 smooth8_w(const smooth_inst *s, f3x8 b, const v8f w[W_COUNT], const smooth_w *sw, f3x8 *g)
+static f3x8 smooth8_w(const smooth_inst *s, const v8f w[W_COUNT], const smooth_w *sw, f3x8 *g)
 {
     *g = sw->g;
     const f3x8 c = sw->c;
@@ -259,8 +258,9 @@ static void consts8_make(const vs_batch_consts *k, consts8 *K)
 
 /* vs_write_outputs_k per lane (K: consts8 of k); TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only
  * oPos and the live outputs (k->live) are computed and stored; the others stay as the device left them (zero). */
-static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts *k, const consts8 *K, const lanes8 *L, f3x8 pos, f3x8 normal,
-                     const float2 t[3], float id, f3x8 g)
+static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts *k, const consts8 *K,
+                                                          const lanes8 *L, f3x8 pos, f3x8 normal, const float2 t[3],
+                                                          float id, f3x8 g)
 {
     const uint32_t live = k->live;
     v8f one = bf(1.0f), zero = bf(0.0f);
@@ -360,7 +360,7 @@ static void group8_w(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const 
     f3x8 pos;
     if (I->p == VS_PATCH_SMOOTH) {
         ok &= sw->gok; /* vs_gregory's 0/0 case stays per vertex */
-        pos = smooth8_w(&I->s, b, w, sw, &g);
+        pos = smooth8_w(&I->s, w, sw, &g);
     } else {
         pos = npatch8_w(I->cv, w);
     }
@@ -649,13 +649,13 @@ static inline void *align64(void *p) { return (void *)(((uintptr_t)p + 63u) & ~(
 /* The workspace bytes the plan of n vertices needs (alignment slack included). */
 static size_t plan_room(size_t n)
 {
-    size_t groups = n / 8 + 3; /* the lists of one, then plan_build's classification scratch behind them */
+    size_t groups = n / 8 + 3; /* the corners' list, then plan_build's classification scratch behind it */
     return 7 * 64 + sizeof(grid_plan) + groups * (sizeof(plan_int) + sizeof(plan_edge) + sizeof(plan_corner)) +
            n * (3 * sizeof(uint32_t) + 1 + 2 * sizeof(float));
 }
 
-/* Where route sends grid point b: 0 interior, 1 edge (its edge *e, the weights *s at v_e and *t at v_e+1), 2 one
- * by one -- route's tests on bw, in its order. */
+/* Where route sends grid point b: 0 interior, 1 edge (its edge *e, the weights *s at v_e and *t at v_e+1), 2 a
+ * corner -- route's tests on bw, in its order. */
 static int plan_kind(float4 b, int *e, float *s, float *t)
 {
     float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
@@ -755,10 +755,10 @@ static void plan_build(grid_plan *P, const is_vs_input *in, size_t n)
 }
 
 /* The plan of in[0..n) in workspace g: built when g is not ready or holds another grid's size or kind; NULL when
- * the workspace is too small. */
+ * the workspace is too small (or n does not fit the plan's int32 indices). */
 static const grid_plan *plan_get(is_vs_grid *g, const is_vs_input *in, size_t n)
 {
-    if (!g->mem || g->room < plan_room(n)) return NULL;
+    if (!g->mem || n > INT32_MAX || g->room < plan_room(n)) return NULL;
     grid_plan *P = align64(g->mem);
     if (g->ready && P->tag == PLAN_TAG && P->n == n) return P;
     plan_build(P, in, n);
