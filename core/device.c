@@ -221,6 +221,8 @@ void dev_destroy(is_device *dev)
     free(dev->in_ready.p);
     free(dev->npatch_lv.p);
     free(dev->culled.p);
+    free(dev->vs_grid.p);
+    free(dev->vs_grid_mem.p);
     dev->destroyed = true;
     if (!dev->resources) free(dev);
 }

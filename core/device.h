@@ -238,6 +238,24 @@ static inline const is_vs_input *is_vs_input_at(const is_vs_input *in, size_t v,
 typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                                uint32_t shared, is_vs_output *out);
 
+/* A batch shader's per-grid workspace (is_vertex_shader.grid_batch), the caller's memory: what the shader derives
+ * from the per-vertex registers alone -- the grid's points: their weights, which lie on an edge -- kept between
+ * batches over the same points (the device's fused path shades every instance of a draw over one grid).  mem
+ * holds room bytes (any alignment; room from grid_room); ready false tells the shader to derive it again from the
+ * batch's inputs (it sets ready then).  The caller clears ready whenever the per-vertex registers of in[0..n) may
+ * have changed -- the device does at each draw, when it fetches them. */
+typedef struct is_vs_grid {
+    void *mem;
+    size_t room;
+    bool ready;
+} is_vs_grid;
+/* is_vs_batch_fn with a grid workspace (NULL: none): the same bytes as `batch`, cheaper per batch while the
+ * workspace stays ready. */
+typedef void (*is_vs_grid_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
+                                    uint32_t shared, is_vs_grid *grid, is_vs_output *out);
+/* The workspace bytes grid_batch wants for batches of n vertices (0: it uses none). */
+typedef size_t (*is_vs_grid_room_fn)(size_t n);
+
 /* The hull stage (an extension of the D3D9 shader object, in the spirit of D3D11's hull shader and of
  * Hasselgren, Munkberg and Akenine-Moller's pre-tessellation culling): a conservative bound of what `main` writes
  * to oPos for one instance, over the barycentric domain b = POSITION0.xyz (b >= 0, b0 + b1 + b2 = 1, widened by
@@ -272,6 +290,8 @@ typedef struct is_vertex_shader {
     is_vs_batch_fn batch; /* NULL: the device calls main per vertex */
     is_vs_hull_fn hull;   /* NULL: no bound, every instance is shaded */
     is_vs_explain_fn explain; /* NULL: the shader publishes nothing to the inspector */
+    is_vs_grid_batch_fn grid_batch; /* NULL: the device calls batch (with batch only) */
+    is_vs_grid_room_fn grid_room;   /* with grid_batch */
 } is_vertex_shader;
 
 /* Read four constant registers starting at c[r] as a float4x4 (rows = registers, as with row_major). */

@@ -240,6 +240,8 @@ struct is_device {
     scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
     scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
+    scratch_buf vs_grid;    /* is_vs_grid: draw_fused's per-slot grid workspaces of the shader (grid_batch) */
+    scratch_buf vs_grid_mem; /* their memory, grid_room bytes per slot */
     struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
     const is_pixel_shader *ps;  /* SetPixelShader (core/pixel.c), NULL: the fixed path */
     uint32_t fvf;               /* SetFVF's value (core/fvf.c), 0 after SetVertexDeclaration */

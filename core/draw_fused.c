@@ -41,6 +41,7 @@ typedef struct fused_ctx {
     is_vs_input *in;           /* count input registers per slot (see shade_instance) */
     bool *in_ready;            /* per slot: its inputs hold the defaults and the per-vertex registers */
     uint32_t live;             /* live_outputs(dev) */
+    is_vs_grid *grid;          /* per slot: the shader's grid workspace (NULL: none; see fetch_instance) */
     cull_view cull;            /* the pre-tessellation cull (draw_cull.c) */
     uint64_t *culled;          /* per slot: instances culled */
 } fused_ctx;
@@ -54,7 +55,7 @@ typedef struct fused_ctx {
  * is told that every register but the per-vertex ones (fp->shared: the per-instance registers and the defaults)
  * is the same for all vertices and stored in in[0] only.  The outputs are not zeroed first: the rasterizer reads
  * oPos and the live outputs the shader writes (its `outputs` mask), nothing else of this scratch. */
-static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready)
+static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, is_vs_grid *grid)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
@@ -63,6 +64,7 @@ static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
         for (uint32_t v = 0; v < n; v++) input_defaults(&in[v]);
         fetch_cached(fp, f->cache, 0, n, in);
         *ready = true;
+        if (grid) grid->ready = false; /* the shader's grid workspace follows the per-vertex registers */
     }
     const uint32_t copies = vs->batch ? 1 : n;
     for (unsigned k = 0; k < fp->n; k++) {
@@ -73,13 +75,15 @@ static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
     }
 }
 
-/* Shade the instance whose inputs fetch_instance made ready: its `count` vertices into out[0..count). */
-static void shade_instance(const fused_ctx *f, const is_vs_input *in, rs_vertex *out)
+/* Shade the instance whose inputs fetch_instance made ready: its `count` vertices into out[0..count) (with the
+ * slot's grid workspace when the shader takes one). */
+static void shade_instance(const fused_ctx *f, const is_vs_input *in, is_vs_grid *grid, rs_vertex *out)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
     const is_vertex_shader *vs = f->dev->vs;
-    if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
+    if (grid) vs->grid_batch(&f->dev->consts, in, n, f->live, fp->shared, grid, out);
+    else if (vs->batch) vs->batch(&f->dev->consts, in, n, f->live, fp->shared, out);
     else
         for (uint32_t v = 0; v < n; v++) vs->main(&f->dev->consts, &in[v], &out[v]);
     post_shade(&f->dev->remap, out, n);
@@ -94,15 +98,16 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
     rs_vertex *out = f->out_v + (size_t)slot * f->slot_verts;
     is_vs_input *in = f->in + (size_t)slot * f->count;
+    is_vs_grid *grid = f->grid ? &f->grid[slot] : NULL;
     uint32_t kept = 0;
     for (uint32_t i = 0; i < n; i++) {
-        fetch_instance(f, f->i0 + a + i, in, &f->in_ready[slot]);
+        fetch_instance(f, f->i0 + a + i, in, &f->in_ready[slot], grid);
         is_patch_hull h;
         if (f->cull.on && f->dev->vs->hull(&f->dev->consts, in, &h) && cull_instance(&f->cull, &h)) {
             f->culled[slot]++;
             continue;
         }
-        shade_instance(f, in, out + (size_t)kept++ * f->count);
+        shade_instance(f, in, grid, out + (size_t)kept++ * f->count);
     }
     *verts = out, *n_verts = (size_t)kept * f->count, *idx = f->list; /* a short piece uses a prefix */
     return (size_t)kept * (f->n_idx / 3);
@@ -118,6 +123,19 @@ static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
     if (per * count > FUSED_PIECE_VERTICES) per = FUSED_PIECE_VERTICES / count;
     if (per * n_prims > FUSED_PIECE_PRIMS) per = FUSED_PIECE_PRIMS / n_prims;
     return per < 1 ? 1u : (uint32_t)per;
+}
+
+/* The slots' grid workspaces of the shader for instances of count vertices (device scratch, not ready), or NULL
+ * when the shader takes none or memory is short (the shader's plain batch then: the same bytes). */
+static is_vs_grid *fused_grids(is_device *dev, int slots, uint32_t count)
+{
+    const is_vertex_shader *vs = dev->vs;
+    size_t room = vs->grid_batch && vs->grid_room ? vs->grid_room(count) : 0;
+    is_vs_grid *g = room ? scratch_get(&dev->vs_grid, (size_t)slots, sizeof *g) : NULL;
+    unsigned char *mem = g ? scratch_get(&dev->vs_grid_mem, (size_t)slots, room) : NULL;
+    if (!mem) return NULL;
+    for (int k = 0; k < slots; k++) g[k] = (is_vs_grid){mem + (size_t)k * room, room, false};
+    return g;
 }
 
 /* Triangles off the reference path, at most FUSED_PIECE_VERTICES vertices per instance. */
@@ -153,7 +171,7 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
     if (in_ready) memset(in_ready, 0, (size_t)slots * sizeof *in_ready);
     if (culled) memset(culled, 0, (size_t)slots * sizeof *culled);
     fused_ctx f = {dev, fp, first, count, 0, 0, per_piece, 3 * n_prims, list, (size_t)per_piece * count, NULL, cache,
-                   in, in_ready, live_outputs(dev), {0}, culled};
+                   in, in_ready, live_outputs(dev), fused_grids(dev, slots, count), {0}, culled};
     cull_prepare(dev, fp, cache, list, n_prims, &f.cull);
     is_result r = cache && in && in_ready && culled
                       ? reserve_scratch(dev, (size_t)slots * f.slot_verts, 0)

@@ -81,7 +81,7 @@ static void pretransformed_main(const is_vs_constants *c, const is_vs_input *in,
 }
 
 static const is_vertex_shader pretransformed_vs = {
-    "pre-transformed (POSITIONT)", pretransformed_main, 0x3ffu, NULL, NULL, NULL,
+    "pre-transformed (POSITIONT)", pretransformed_main, 0x3ffu, NULL, NULL, NULL, NULL, NULL,
 };
 
 void raster_states_apply(const is_device *dev, rs_state *st)

@@ -72,4 +72,5 @@ static void VSInstancedNPatch(const is_vs_constants *c, const is_vs_input *in, i
 }
 
 const is_vertex_shader vs_shader_npatch = {"npatch", VSInstancedNPatch, VS_OUTPUTS, vs_npatch_batch,
-                                           vs_npatch_hull, vs_explain_npatch};
+                                           vs_npatch_hull, vs_explain_npatch, vs_npatch_grid_batch,
+                                           vs_batch8_grid_room};

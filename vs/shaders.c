@@ -207,11 +207,12 @@ static void VSPnAenBatch(const is_vs_constants *c, const is_vs_input *in, size_t
 }
 
 const is_vertex_shader vs_shader_flat = {"flat", VSFlat, VS_OUTPUTS, VSFlatBatch, vs_flat_hull,
-                                         vs_explain_flat};
-const is_vertex_shader vs_shader_phong = {"phong", VSPhong, VS_OUTPUTS, VSPhongBatch, NULL, vs_explain_phong};
+                                         vs_explain_flat, NULL, NULL};
+const is_vertex_shader vs_shader_phong = {"phong", VSPhong, VS_OUTPUTS, VSPhongBatch, NULL, vs_explain_phong,
+                                          NULL, NULL};
 const is_vertex_shader vs_shader_pn_aen = {"pn-aen", VSPnAen, VS_OUTPUTS, VSPnAenBatch, NULL,
-                                           vs_explain_pn_aen};
-const is_vertex_shader vs_shader_fixed = {"fixed", VSFixed, VS_OUTPUTS, NULL, NULL, NULL};
+                                           vs_explain_pn_aen, NULL, NULL};
+const is_vertex_shader vs_shader_fixed = {"fixed", VSFixed, VS_OUTPUTS, NULL, NULL, NULL, NULL, NULL};
 
 const is_vertex_shader *const vs_shaders[] = {&vs_shader_flat, &vs_shader_npatch, &vs_shader_smooth_initial,
                                               &vs_shader_smooth, &vs_shader_phong, &vs_shader_pn_aen,

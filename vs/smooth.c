@@ -188,6 +188,7 @@ static void VSInstancedPatchInitialBatch(const is_vs_constants *c, const is_vs_i
 }
 
 const is_vertex_shader vs_shader_smooth_initial = {"smooth-initial", VSInstancedPatchInitial, VS_OUTPUTS,
-                                                   VSInstancedPatchInitialBatch, NULL, vs_explain_smooth_initial};
+                                                   VSInstancedPatchInitialBatch, NULL, vs_explain_smooth_initial,
+                                                   NULL, NULL};
 const is_vertex_shader vs_shader_smooth = {"smooth", VSInstancedPatch, VS_OUTPUTS, vs_smooth_batch, NULL,
-                                           vs_explain_smooth};
+                                           vs_explain_smooth, vs_smooth_grid_batch, vs_batch8_grid_room};

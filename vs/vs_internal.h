@@ -51,6 +51,15 @@ void vs_npatch_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, 
 void vs_smooth_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
                      is_vs_output *out);
 
+/* The same with a grid workspace (is_vs_grid_batch_fn): the grid's b-only work (which vertices are interior, on an
+ * edge or corners; the Bernstein products, the Gregory weights, the curve parameters) once per grid, the same bytes;
+ * vs_batch8_grid_room is their is_vs_grid_room_fn. */
+void vs_npatch_grid_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                          is_vs_grid *grid, is_vs_output *out);
+void vs_smooth_grid_batch(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live, uint32_t shared,
+                          is_vs_grid *grid, is_vs_output *out);
+size_t vs_batch8_grid_room(size_t n);
+
 /* The smoothed patch's Listing 1.1.2 intermediates at one b (the pipeline inspector's view): the curve
  * parameters c, the face-normal factors fn, the N-Patch point posN, the centre blend bl, the blended P0..P2 (posN
  * where the shortcut skips one) and the Gregory weights g.  vs_smooth_formula is vs_smooth_traced without a
