@@ -482,10 +482,11 @@ INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype 
                                                     is_format index_format, const void *vertices, unsigned stride);
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
- * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are rasterized together
- * (one tile pass: raster.h's rs_set_scene) when the target is next read; dev_render_target does both, so call it
- * again after clearing and drawing before reading the planes -- a pointer kept across draws may see a target
- * they have not been drawn into yet.  dev_stats runs the queued tile pass too (its samples counters). */
+ * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are recorded and run
+ * together (one set-up region and one tile pass: dev_flush below, raster.h's rs_set_scene) when the target is next
+ * read; dev_render_target does both, so call it again after clearing and drawing before reading the planes -- a
+ * pointer kept across draws may see a target they have not been drawn into yet.  dev_stats runs the recorded
+ * draws too (their counters). */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
 /* Run the draws recorded so far now and report how they went.  Instanced triangle draws on the fast path are
  * recorded, not run (a snapshot of the shader, constants, samplers, fetch plan and indices; the vertex buffers

@@ -110,11 +110,13 @@ static void shade_instance(const fused_ctx *f, const is_vs_input *in, rs_vertex 
  * i * count), extended when the slot's list of f is shorter. */
 static const uint32_t *slot_list(const fused_ctx *f, const fused_scratch *z, int slot, uint32_t kept)
 {
-    uint32_t *l = z->list + (size_t)slot * z->list_slot;
-    if (z->ltag[slot] != f->serial) z->ltag[slot] = f->serial, z->lcount[slot] = 0;
-    for (uint32_t i = z->lcount[slot]; i < kept; i++)
-        for (size_t k = 0; k < f->n_idx; k++) l[(size_t)i * f->n_idx + k] = i * f->count + f->list0[k];
-    if (kept > z->lcount[slot]) z->lcount[slot] = kept;
+    uint32_t *restrict l = z->list + (size_t)slot * z->list_slot;
+    const uint32_t *restrict l0 = f->list0;
+    const size_t n = f->n_idx;
+    const uint32_t count = f->count, done = z->ltag[slot] == f->serial ? z->lcount[slot] : 0;
+    for (uint32_t i = done; i < kept; i++)   /* locals: the stores cannot alias them (the loop vectorizes) */
+        for (size_t k = 0; k < n; k++) l[(size_t)i * n + k] = i * count + l0[k];
+    z->ltag[slot] = f->serial, z->lcount[slot] = kept > done ? kept : done;
     return l;
 }
 
