@@ -2,7 +2,8 @@
  * instanced draws are recorded (shader, constants, fetch plan, indices copied; vertex buffers marked) and run at
  * the next flush in one set-up region and one tile pass.  A frame of many draws with varied states, constants,
  * instance buffers and counts -- a vertex buffer locked and changed between draws, the constants changed between
- * draws, line draws (not recorded) in between, a buffer released while a draw that reads it is recorded -- must
+ * draws, line draws (not recorded) in between, a buffer released while a draw that reads it is recorded, a vertex
+ * texture locked and rewritten between draws that sample it -- must
  * give the bytes of the reference path (each draw drawn at once) and the same bytes and counters on 1 and 2
  * threads; a frame without interruptions runs one set-up region and one tile pass; an error found at the flush
  * (the work bound) drops that draw and is reported by dev_flush.  Deterministic: fixed seeds. */
@@ -18,6 +19,7 @@
 
 #include "../core/core.h"
 #include "../core/hlsl.h"
+#include "../core/texture.h"
 
 enum { W = 160, H = 120, N = 5 /* grid points per side */, DRAWS = 60, MAX_INST = 40 };
 
@@ -41,6 +43,14 @@ static void vs_grid(const is_vs_constants *c, const is_vs_input *in, is_vs_outpu
                                    k.z * c->c[2].z, k.w * c->c[2].w);
 }
 static const is_vertex_shader vs = {.name = "grid", .main = vs_grid, .outputs = IS_OUT_COLOR0};
+
+/* vs_grid with the blue channel from vertex texture s0 at (u, v) (vertex texture fetch). */
+static void vs_grid_tex(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    vs_grid(c, in, out);
+    out->attr[RS_ATTR_COLOR0].z = tex2Dlod(&c->s[0], f4(in->position[0].x, in->position[0].y, 0, 0)).x;
+}
+static const is_vertex_shader vs_tex = {.name = "grid_tex", .main = vs_grid_tex, .outputs = IS_OUT_COLOR0};
 
 /* What a frame drew: colour, depth, counters. */
 typedef struct result {
@@ -243,6 +253,58 @@ static void test_one_region_per_frame(void **state)
     }
 }
 
+/* Texture t's 4x4 texels rewritten (locked), their red byte from seed k. */
+static void fill_texture(is_texture *t, unsigned k)
+{
+    is_locked_rect lr;
+    assert_int_equal(tex_lock_rect(t, 0, &lr, NULL, 0), IS_OK);
+    for (unsigned j = 0; j < 4; j++)
+        for (unsigned i = 0; i < 4; i++)
+            ((uint32_t *)((char *)lr.bits + j * (unsigned)lr.pitch))[i] = IS_COLOR_ARGB(255, (37 * k + 61 * i + 17 * j) & 255, 0, 0);
+    assert_int_equal(tex_unlock_rect(t, 0), IS_OK);
+}
+
+/* A frame of 12 draws that sample a vertex texture, the texture locked and rewritten after each draw, into color. */
+static void render_texture_frame(int threads, bool reference, uint32_t *color)
+{
+    scene sc = make_scene(threads, reference);
+    is_texture *t;
+    assert_int_equal(dev_create_texture(sc.dev, 4, 4, 1, 0, IS_FMT_A8R8G8B8, &t), IS_OK);
+    fill_texture(t, 0);
+    assert_int_equal(dev_set_texture(sc.dev, IS_VERTEXTEXTURESAMPLER(0), t), IS_OK);
+    dev_set_vertex_shader(sc.dev, &vs_tex);
+    uint64_t s = 11;
+    assert_int_equal(dev_clear(sc.dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0, 1.0f), IS_OK);
+    for (unsigned d = 0; d < 12; d++) {
+        random_states(sc.dev, &s);
+        dev_set_stream_source(sc.dev, 1, sc.inst[d % 2], 0, 32);
+        dev_set_stream_source_freq(sc.dev, 0, IS_STREAMSOURCE_INDEXEDDATA | (1 + 3 * d));
+        assert_int_equal(dev_draw_indexed_primitive(sc.dev, IS_PT_TRIANGLELIST, 0, 0, N * N, 0, 2 * (N - 1) * (N - 1)),
+                         IS_OK);
+        fill_texture(t, d + 1);   /* the draws recorded so far sampled the old texels */
+    }
+    assert_int_equal(dev_get_render_target_data(sc.dev, color, W * H), IS_OK);
+    tex_release(t);
+    decl_release(sc.decl);
+    vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
+    ib_release(sc.ib);
+    dev_destroy(sc.dev);
+}
+
+/* A texture locked between recorded draws: the reference path's bytes, 1 and 2 threads. */
+static void test_texture_lock_between_draws(void **state)
+{
+    (void)state;
+    uint32_t *ref = malloc(W * H * sizeof *ref), *fast = malloc(W * H * sizeof *fast);
+    assert_true(ref && fast);
+    render_texture_frame(1, true, ref);
+    for (int threads = 1; threads <= 2; threads++) {
+        render_texture_frame(threads, false, fast);
+        assert_memory_equal(ref, fast, W * H * sizeof *ref);
+    }
+    free(ref), free(fast);
+}
+
 /* A recorded draw that passes the frame's work bound at the flush: dropped whole, the draw call itself OK, the
  * error from dev_flush (once) with dev_last_error naming the bound; the draws before it are drawn. */
 static void test_error_at_flush(void **state)
@@ -284,6 +346,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frame_same_bytes),
         cmocka_unit_test(test_one_region_per_frame),
+        cmocka_unit_test(test_texture_lock_between_draws),
         cmocka_unit_test(test_error_at_flush),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
