@@ -635,7 +635,10 @@ static void scene_push(rs_context *rs, const rs_job *j, const rs_source *src)
     rs_scene_draw *d = &rs->q[rs->q_n];
     d->j = *j, d->st = *j->st, d->j.st = &d->st, d->src = *src;
     d->c0 = rs->q_chunks, d->nc = src->n_pieces;
-    for (size_t c = 0; c < src->n_pieces; c++) rs->chunks[d->c0 + c].draw = (uint32_t)rs->q_n, rs->chunks[d->c0 + c].piece = c;
+    for (size_t c = 0; c < src->n_pieces; c++) {
+        rs->chunks[d->c0 + c].draw = (uint32_t)rs->q_n;
+        rs->chunks[d->c0 + c].piece = c;
+    }
     rs->q_n++;
     rs->q_chunks += src->n_pieces, rs->q_prims += src->n_prims;
     if (src->max_verts > rs->q_max_verts) rs->q_max_verts = src->max_verts;   /* the slots' projection scratch */

@@ -99,7 +99,8 @@ static scene make_scene(int threads, bool reference)
     uint16_t *ix = ib_lock(sc.ib);
     for (int j = 0, k = 0; j + 1 < N; j++)
         for (int i = 0; i + 1 < N; i++) {
-            const uint16_t a = (uint16_t)(j * N + i), b = (uint16_t)(a + 1), c = (uint16_t)(a + N), d = (uint16_t)(c + 1);
+            const uint16_t a = (uint16_t)(j * N + i), b = (uint16_t)(a + 1), c = (uint16_t)(a + N);
+            const uint16_t d = (uint16_t)(c + 1);
             const uint16_t t[6] = {a, b, c, b, d, c};
             memcpy(ix + k, t, sizeof t), k += 6;
         }
@@ -260,7 +261,8 @@ static void fill_texture(is_texture *t, unsigned k)
     assert_int_equal(tex_lock_rect(t, 0, &lr, NULL, 0), IS_OK);
     for (unsigned j = 0; j < 4; j++)
         for (unsigned i = 0; i < 4; i++)
-            ((uint32_t *)((char *)lr.bits + j * (unsigned)lr.pitch))[i] = IS_COLOR_ARGB(255, (37 * k + 61 * i + 17 * j) & 255, 0, 0);
+            ((uint32_t *)((char *)lr.bits + j * (unsigned)lr.pitch))[i] =
+                IS_COLOR_ARGB(255, (37 * k + 61 * i + 17 * j) & 255, 0, 0);
     assert_int_equal(tex_unlock_rect(t, 0), IS_OK);
 }
 
