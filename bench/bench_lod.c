@@ -166,6 +166,7 @@ typedef struct d_result {
     double ms, deviation;
     uint64_t tessellated, drawn;
     size_t patterns, buckets;
+    uint64_t setup_regions, tile_regions;   /* the last frame's parallel regions (rs_stats, timing on) */
 } d_result;
 
 /* The median ms of frames timed frames of `frame` after warmup untimed ones. */
@@ -227,6 +228,7 @@ static is_device *d_device(vs_patch patch, const float4x4 *wvp, int threads)
     is_device *dev = dev_create(D_SIDE, D_SIDE, 1, NULL, 0);
     if (!dev) return NULL;
     dev_set_threads(dev, threads);
+    dev_set_timing(dev, true);   /* the frame's regions counted (rs_stats.setup_regions, tile_regions) */
     is_vs_constants c;
     memset(&c, 0, sizeof c);
     float4x4 id = mat_identity();
@@ -247,7 +249,9 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
     d_uniform s = {dev, &res};
     r->ms = 0;
     if (e == IS_OK) r->ms = d_time(d_uniform_frame, &s, a->frames, a->warmup, &e);
-    *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, dev_stats(dev)->prims_drawn, 1, 1};
+    const rs_stats *st = dev_stats(dev);
+    *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, st->prims_drawn, 1, 1, st->setup_regions,
+                    st->tile_regions};
     tess_resources_free(&res);
     core_grid_free(&g);
     dev_destroy(dev);
@@ -265,7 +269,9 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
     is_result err = s.dev && s.cache ? IS_OK : IS_ERR_OUTOFMEMORY;
     if (err == IS_OK) r->ms = d_time(d_adaptive_frame, &s, a->frames, a->warmup, &err);
     if (err == IS_OK) {
-        r->tessellated = s.a.n_triangles, r->drawn = dev_stats(s.dev)->prims_drawn;
+        const rs_stats *st = dev_stats(s.dev);
+        r->tessellated = s.a.n_triangles, r->drawn = st->prims_drawn;
+        r->setup_regions = st->setup_regions, r->tile_regions = st->tile_regions;
         r->patterns = s.a.n_patterns, r->buckets = s.a.n_buckets;
         r->deviation = d_deviation(m, e, patch, wvp, D_MAX_LEVEL, s.cache);
     }
@@ -278,11 +284,13 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
 /* One row of the table and its machine-readable line. */
 static void d_print(const char *patch, const char *mode, const d_result *r, int threads)
 {
-    printf("  %-7s %-16s %10llu %10llu %9.2f %12.3f %9zu %8zu\n", patch, mode, (unsigned long long)r->tessellated,
-           (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns, r->buckets);
+    printf("  %-7s %-16s %10llu %10llu %9.2f %12.3f %9zu %8zu %7llu/%llu\n", patch, mode,
+           (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
+           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
     printf("scene=D patch=%s mode=%s threads=%d triangles=%llu drawn=%llu ms=%.3f max_dev_px=%.4f patterns=%zu "
-           "buckets=%zu\n", patch, mode, threads, (unsigned long long)r->tessellated, (unsigned long long)r->drawn,
-           r->ms, r->deviation, r->patterns, r->buckets);
+           "buckets=%zu setup_regions=%llu tile_regions=%llu\n", patch, mode, threads,
+           (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
+           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
 }
 
 int bench_scene_d(const bench_lod_args *a)
@@ -297,8 +305,8 @@ int bench_scene_d(const bench_lod_args *a)
     printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs --lod screen "
            "(levels 1..%d), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS, m.n_triangles, D_SIDE, D_SIDE,
            D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
-    printf("  %-7s %-16s %10s %10s %9s %12s %9s %8s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
-           "max dev (px)", "patterns", "buckets");
+    printf("  %-7s %-16s %10s %10s %9s %12s %9s %8s %9s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
+           "max dev (px)", "patterns", "buckets", "regions");
     static const struct { const char *name; vs_patch p; } patches[] = {{"npatch", VS_PATCH_NPATCH}, {"smooth", VS_PATCH_SMOOTH}};
     int bad = 0;
     for (size_t pk = 0; pk < 2; pk++) {

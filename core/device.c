@@ -128,12 +128,14 @@ is_device *dev_create(int width, int height, int samples, char *err, size_t errl
     dev_viewport_update(dev);
     rs_target_clear(&dev->rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff000000u, 1.0f);
     rs_set_scene(dev->rs, &dev->stats);   /* a frame's instanced draws share one tile pass (raster.h) */
+    dev->scene.gen = 1;   /* a new buffer's generation (0) is none of the scene's */
     return dev;
 }
 
 void dev_reset(is_device *dev)
 {
     if (!dev_live(dev)) return;
+    dev_scene_flush(dev);
     sb_abort_recording(dev);
     if (dev->cur_rt != &dev->backbuffer || dev->cur_ds != &dev->auto_ds)   /* D3D9's Reset: the implicit ones */
         dev_bind_targets(dev, &dev->backbuffer, &dev->auto_ds);   /* (no memory needed: cannot fail) */
@@ -217,12 +219,8 @@ void dev_destroy(is_device *dev)
     free(dev->idx.p);
     free(dev->list.p);
     free(dev->fcache.p);
-    free(dev->in.p);
-    free(dev->in_ready.p);
     free(dev->npatch_lv.p);
-    free(dev->culled.p);
-    free(dev->vs_grid.p);
-    free(dev->vs_grid_mem.p);
+    dev_scene_free(dev);
     dev->destroyed = true;
     if (!dev->resources) free(dev);
 }
@@ -233,6 +231,7 @@ const char *dev_last_error(const is_device *dev) { return dev_live(dev) ? dev->e
 void dev_set_threads(is_device *dev, int threads)
 {
     if (!dev_live(dev)) return;
+    dev_scene_flush(dev);   /* the records' scratch has a slot per thread */
     dev->threads = threads < 0 ? 0 : threads;
     rs_set_threads(dev->rs, dev->threads);
 }
@@ -548,6 +547,7 @@ is_result dev_clear_rects_stencil(is_device *dev, unsigned count, const is_rect 
     if ((flags & IS_CLEAR_STENCIL) && dev->cur_ds->format != IS_FMT_D24S8)
         return dev_fail(dev, IS_ERR_INVALIDCALL, "Clear: STENCIL on a depth-stencil surface without stencil bits");
     if (count == 0 && rects) return IS_OK;   /* the runtime: nothing cleared */
+    dev_scene_flush(dev);   /* the recorded draws first (their counters, then zeroed below) */
     uint32_t a = argb >> 24, r = (argb >> 16) & 0xff, g = (argb >> 8) & 0xff, b = argb & 0xff;
     uint32_t rgba = r | g << 8 | b << 16 | a << 24;
     const is_viewport *vp = &dev->viewport;   /* the area: the viewport, within the target */
@@ -586,8 +586,19 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
 rs_target *dev_render_target(is_device *dev)
 {
     if (!dev_live(dev)) return NULL;
+    dev_scene_flush(dev);
     rs_target_flush(dev->rs, &dev->rt);
     return &dev->rt;
+}
+
+/* The recorded draws run now; the first error of one since the last call (device.h). */
+is_result dev_flush(is_device *dev)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    dev_scene_flush(dev);
+    const is_result r = dev->scene.err;
+    dev->scene.err = IS_OK;
+    return r;
 }
 is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count)
 {
@@ -602,17 +613,30 @@ is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t coun
     return IS_OK;
 }
 
-/* The counters (the queued draws' tile pass run first: their samples); a NULL (or destroyed) device has none:
- * zeros. */
+/* The recorded draws run (their counters), on a device a const getter was given: every device is dev_create's
+ * (never a const object), so the cast is sound. */
+static void flush_for_read(const is_device *dev) { dev_scene_flush((is_device *)(uintptr_t)dev); }
+
+/* The counters (the recorded draws run first: their counters); a NULL (or destroyed) device has none: zeros. */
 const rs_stats *dev_stats(const is_device *dev)
 {
     static const rs_stats none = {0};
     if (!dev_live(dev)) return &none;
-    rs_flush(dev->rs);
+    flush_for_read(dev);
     return &dev->stats;
 }
-uint64_t dev_vertices_shaded(const is_device *dev) { return dev_live(dev) ? dev->shaded : 0; }
-uint64_t dev_instances_culled(const is_device *dev) { return dev_live(dev) ? dev->instances_culled : 0; }
+uint64_t dev_vertices_shaded(const is_device *dev)
+{
+    if (!dev_live(dev)) return 0;
+    flush_for_read(dev);
+    return dev->shaded;
+}
+uint64_t dev_instances_culled(const is_device *dev)
+{
+    if (!dev_live(dev)) return 0;
+    flush_for_read(dev);
+    return dev->instances_culled;
+}
 
 /* The render-state values dev_rs_state and dev_clear pass to the rasterizer unchanged: D3D9's values on both
  * sides (core.h's IS_*, raster.h's RS_*), tied here so that a change to one side that breaks the other does not

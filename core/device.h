@@ -501,11 +501,23 @@ INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype 
                                                     is_format index_format, const void *vertices, unsigned stride);
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
- * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are rasterized together
- * (one tile pass: raster.h's rs_set_scene) when the target is next read; dev_render_target does both, so call it
- * again after clearing and drawing before reading the planes -- a pointer kept across draws may see a target
- * they have not been drawn into yet.  dev_stats runs the queued tile pass too (its samples counters). */
+ * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are recorded and run
+ * together (one set-up region and one tile pass: dev_flush below, raster.h's rs_set_scene) when the target is next
+ * read; dev_render_target does both, so call it again after clearing and drawing before reading the planes -- a
+ * pointer kept across draws may see a target they have not been drawn into yet.  dev_stats runs the recorded
+ * draws too (their counters). */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
+/* Run the draws recorded so far now and report how they went.  Instanced triangle draws on the fast path are
+ * recorded, not run (a snapshot of the shader, constants, samplers, fetch plan and indices; the vertex buffers
+ * they read stay the application's): the device runs them together -- one parallel set-up region and one tile
+ * pass for all of them -- at the next read of the target (dev_render_target, dev_get_render_target_data, the
+ * inspector), dev_clear, dev_stats, dev_vertices_shaded, dev_instances_culled, dev_set_threads, a draw that is not
+ * recorded, a Lock or release of a vertex buffer one of them reads, a Lock, mip generation or release of any
+ * texture, the end of a UP draw, dev_reset, or this call.  A draw's errors found only then -- the work bound
+ * (the frame would cover each pixel more than RS_MAX_OVERDRAW times: IS_ERR_OUTOFMEMORY), out of memory -- drop
+ * that draw whole (the others are drawn) and are kept: dev_flush returns the first one since its last call
+ * (IS_OK: none), dev_last_error says what it was.  IS_ERR_INVALIDCALL for a NULL or destroyed device. */
+INSTESS_API is_result dev_flush(is_device *dev);
 /* The image the device has drawn, in one call (D3D9's GetRenderTargetData): the target resolved to one packed
  * RGBA8 value per pixel (R in the low byte, rows top to bottom) into rgba, which holds `count` values (at least
  * width x height of the target).  IS_OK, or IS_ERR_INVALIDCALL for a NULL pointer or a buffer too small. */

@@ -42,6 +42,7 @@ struct is_vertex_buffer {
     dev_res res;            /* first: the registry's link (res.dev: the device) */
     unsigned char *data;
     size_t size;
+    uint64_t scene_gen;     /* a draw recorded in the device's scene generation scene_gen reads it (dev_scene) */
 };
 
 struct is_index_buffer {
@@ -195,6 +196,36 @@ typedef struct scratch_buf {
     size_t bytes;
 } scratch_buf;
 
+/* The frame's recorded draws (draw_fused.c): each instanced draw on the fused path is recorded -- a snapshot of
+ * its shader, constants, fetch plan, per-vertex inputs and index list -- and handed to the rasterizer, which runs
+ * the frame's recorded draws in one set-up region and one tile pass at its next flush (raster.h rs_set_scene).
+ * The records stay valid until dev_scene_flush (they are reused, never freed, between frames); the vertex
+ * buffers they read are marked with the generation (a Lock or a release of a marked buffer flushes first). */
+typedef struct fused_rec fused_rec;
+typedef struct dev_scene {
+    fused_rec **recs;       /* recs[0..n): this generation's records; recs[n..cap): free ones (or NULL) */
+    size_t n, cap;
+    uint64_t serial;        /* the last record's serial number (1, 2, ...: never reused) */
+    uint64_t gen;           /* the generation: dev_scene_flush starts the next */
+    is_result err;          /* the first error of a recorded draw at a flush, until dev_flush reports it */
+} dev_scene;
+
+/* The per-thread scratch of the recorded draws' producers (draw_fused.c), sized when a draw is recorded and used
+ * at the flush: per slot (rs_produce_fn's) v_slot shaded vertices, in_slot input registers and list_slot indices,
+ * and which record's inputs (tag) and index list (ltag, lcount instances of it) the slot holds. */
+typedef struct fused_scratch {
+    int slots;
+    size_t v_slot, in_slot, list_slot;
+    rs_vertex *v;
+    is_vs_input *in;
+    uint32_t *list;
+    uint64_t *tag, *ltag;
+    uint32_t *lcount;
+    is_vs_grid *grid;          /* per slot: the shader's grid workspace (grid_batch), grid_room bytes each */
+    unsigned char *grid_mem;
+    size_t grid_room;
+} fused_scratch;
+
 struct is_device {
     /* The registry of live buffers and declarations (dev_res above): they hold a reference to their device, as
      * D3D9's do, so a destroyed device's struct is freed with its last resource. */
@@ -234,14 +265,11 @@ struct is_device {
     uint32_t *out_i;
     size_t out_i_cap;
     scratch_buf idx;        /* uint32_t: the draw's index-stream entries (both draw calls) */
-    scratch_buf list;       /* uint32_t: draw_fused's index list of a full piece */
+    scratch_buf list;       /* uint32_t: draw_fused's index list of instance 0 */
     scratch_buf fcache;     /* float4: fetch_cache */
-    scratch_buf in;         /* is_vs_input: draw_fused's input registers, count per slot */
-    scratch_buf in_ready;   /* bool: draw_fused's per-slot flags (cleared per draw) */
     scratch_buf npatch_lv;  /* float[3]: the adaptive N-patch mode's edge levels per triangle of a draw */
-    scratch_buf culled;     /* uint64_t: draw_fused's instances culled per slot */
-    scratch_buf vs_grid;    /* is_vs_grid: draw_fused's per-slot grid workspaces of the shader (grid_batch) */
-    scratch_buf vs_grid_mem; /* their memory, grid_room bytes per slot */
+    dev_scene scene;        /* the frame's recorded draws (draw_fused.c) */
+    fused_scratch fz;       /* their producers' per-thread scratch */
     struct dev_inspector *inspector; /* the pipeline inspector while it records (core/inspect.c), else NULL */
     const is_pixel_shader *ps;  /* SetPixelShader (core/pixel.c), NULL: the fixed path */
     uint32_t fvf;               /* SetFVF's value (core/fvf.c), 0 after SetVertexDeclaration */
@@ -435,13 +463,19 @@ void dev_ps_run(const void *ctx, const rs_ps_quad *q, rs_ps_out *out);
 
 /* Whether the fused path takes a draw of rasterizer primitive `prim` with `count` vertices per instance. */
 bool draw_fused_takes(const is_device *dev, int prim, uint32_t count);
-/* The indices draw_fused's list must have room for (a full piece of instances of n_prims triangles). */
-size_t draw_fused_list_room(const fetch_plan *fp, uint32_t count, size_t n_prims);
 /* The fused draw of n_prims triangles per instance of fp's instances, vertices first..first+count-1: list holds
- * instance 0's index list (3 per triangle, rebased to first) and has draw_fused_list_room entries (it is
- * overwritten). */
+ * instance 0's index list (3 per triangle, rebased to first).  The draw is recorded (dev_scene): what it reads is
+ * copied, but for the vertex buffers, which are marked. */
 is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
-                     uint32_t *list);
+                     const uint32_t *list);
+/* Run the recorded draws (rs_flush), take their counters (instances culled) and any error of theirs (kept for
+ * dev_flush, the message in dev_last_error), and start the next generation: the records are free again. */
+void dev_scene_flush(is_device *dev);
+/* Whether a draw recorded since the last dev_scene_flush reads vertex buffer vb (then a Lock or a release of vb
+ * flushes first). */
+bool dev_scene_reads(const is_device *dev, const is_vertex_buffer *vb);
+/* Free the records and the producers' scratch (dev_destroy). */
+void dev_scene_free(is_device *dev);
 
 /* ---- the pre-tessellation cull of instanced draws (draw_cull.c) ---- */
 typedef struct cull_view {

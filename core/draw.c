@@ -360,7 +360,7 @@ static is_result draw_shaded_run(is_device *dev, const fetch_plan *fp, is_primty
     unsigned per;
     int prim = prim_raster_type(type, &per);
     if (draw_fused_takes(dev, prim, count)) { /* the fast path: draw_fused.c */
-        uint32_t *list = scratch_get(&dev->list, draw_fused_list_room(fp, count, n_prims), sizeof *list);
+        uint32_t *list = scratch_get(&dev->list, 3 * n_prims, sizeof *list);
         if (!list) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", n_prims * 3);
         for (size_t p = 0; p < n_prims; p++)
             for (unsigned c = 0; c < 3; c++) list[3 * p + c] = stream_idx[prim_vertex(type, p, c)];
@@ -543,6 +543,7 @@ is_result dev_draw_primitive_up(is_device *dev, is_primtype type, unsigned prim_
     bool pre = raster_pretransformed_begin(dev, &saved);   /* POSITIONT, as the buffer draws */
     r = draw_primitive(dev, call, type, 0, prim_count);
     if (pre) raster_pretransformed_end(dev, saved);
+    dev_scene_flush(dev);   /* a recorded draw reads the caller's vertices: only during the call */
     unset_stream0(dev);
     dev->up_vb.data = NULL, dev->up_vb.size = 0;
     return r;
@@ -577,6 +578,7 @@ is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype type, unsign
     bool pre = raster_pretransformed_begin(dev, &saved);   /* POSITIONT, as the buffer draws */
     r = draw_indexed(dev, call, type, 0, min_vertex_index, num_vertices, 0, prim_count);
     if (pre) raster_pretransformed_end(dev, saved);
+    dev_scene_flush(dev);   /* a recorded draw reads the caller's vertices: only during the call */
     unset_stream0(dev);
     dev->ib = NULL;
     dev->up_vb.data = NULL, dev->up_vb.size = 0, dev->up_ib.data = NULL, dev->up_ib.size = 0;

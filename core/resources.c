@@ -48,7 +48,19 @@ is_result dev_create_index_buffer(is_device *dev, size_t bytes, is_format fmt, i
 
 /* Lock: the buffer's memory (this device has no GPU copy, so Unlock has nothing to upload); NULL for a NULL
  * handle, or one whose device was destroyed (dev_destroy freed its memory). */
-void *vb_lock(is_vertex_buffer *vb) { return vb ? vb->data : NULL; }
+/* The draws recorded from vb run first (they read its bytes as they were at the draw). */
+static void vb_flush_readers(is_vertex_buffer *vb)
+{
+    is_device *dev = vb->res.dev;
+    if (dev_live(dev) && dev_scene_reads(dev, vb)) dev_scene_flush(dev);
+}
+
+void *vb_lock(is_vertex_buffer *vb)
+{
+    if (!vb) return NULL;
+    vb_flush_readers(vb);
+    return vb->data;
+}
 void vb_unlock(is_vertex_buffer *vb) { (void)vb; }
 size_t vb_size(const is_vertex_buffer *vb) { return vb ? vb->size : 0; }
 void *ib_lock(is_index_buffer *ib) { return ib ? ib->data : NULL; }
@@ -59,6 +71,7 @@ size_t ib_size(const is_index_buffer *ib) { return ib ? ib->size : 0; }
 void vb_release(is_vertex_buffer *vb)
 {
     if (!vb) return;
+    vb_flush_readers(vb);
     is_device *dev = vb->res.dev;
     for (int s = 0; s < IS_MAX_STREAMS; s++)
         if (dev->streams[s].vb == vb) dev->streams[s].vb = NULL;

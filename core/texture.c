@@ -96,9 +96,17 @@ static void unbind(is_device *dev, const is_texture *t)
     sb_forget(dev, t);   /* and from the stateblocks */
 }
 
+/* The recorded draws of t's device run first (a vertex shader may sample t; the samplers are recorded, not the
+ * texels). */
+static void tex_flush_readers(const is_texture *t)
+{
+    if (dev_live(t->dev) && t->dev->scene.n) dev_scene_flush(t->dev);
+}
+
 void tex_release(is_texture *t)
 {
     if (!t) return;
+    tex_flush_readers(t);
     is_device *dev = t->dev;
     surf_release_texture_levels(t);   /* its surfaces (the device's target goes back to the back buffer) */
     unbind(dev, t);
@@ -150,6 +158,7 @@ is_result tex_lock_rect(is_texture *t, unsigned level, is_locked_rect *out, cons
                             "%u's %ux%u texels", r->left, r->top, r->right, r->bottom, level, l->w, l->h);
         off = ((size_t)r->top * l->w + (size_t)r->left) * t->bpp;
     }
+    tex_flush_readers(t);
     t->locked |= 1u << level;
     if (level == 0) t->lock0_readonly = (flags & IS_LOCK_READONLY) != 0;
     *out = (is_locked_rect){(int)(l->w * t->bpp), l->bits + off};
@@ -210,7 +219,9 @@ is_result tex_unlock_rect(is_texture *t, unsigned level)
 
 void tex_generate_mip_sub_levels(is_texture *t)
 {
-    if (t && (t->usage & IS_USAGE_AUTOGENMIPMAP) && !(t->locked & 1u)) filter_levels(t);
+    if (!t || !(t->usage & IS_USAGE_AUTOGENMIPMAP) || (t->locked & 1u)) return;
+    tex_flush_readers(t);
+    filter_levels(t);
 }
 
 is_result tex_filter_texture(is_texture *t)
@@ -218,6 +229,7 @@ is_result tex_filter_texture(is_texture *t)
     if (!t) return IS_ERR_INVALIDCALL;
     if (t->locked) return dev_fail(t->dev, IS_ERR_INVALIDCALL, "D3DXFilterTexture: a level is locked (mask %#x)",
                                    t->locked);
+    tex_flush_readers(t);
     filter_levels(t);
     return IS_OK;
 }

@@ -123,7 +123,9 @@ static double phase_clock(const rs_context *rs)
 
 void rs_set_threads(rs_context *rs, int threads)
 {
-    if (rs) rs->threads = threads > 0 ? threads : 0;
+    if (!rs) return;
+    rs_flush(rs);   /* the recorded draws' scratch is sized for the thread count they were recorded with */
+    rs->threads = threads > 0 ? threads : 0;
 }
 
 /* Threads to use for a draw (0 in the context: all cores). */
@@ -363,8 +365,9 @@ static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const 
 }
 
 /* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each
- * vertex once (as the shared pass), set up and bin. */
-static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, rs_chunk *ch, int slot)
+ * vertex once (as the shared pass, into the slot's pv_slot vertices of rs->pv), set up and bin. */
+static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, rs_chunk *ch, int slot,
+                         size_t pv_slot)
 {
     rs_vertex *v = NULL;
     size_t nv = 0;
@@ -376,7 +379,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
     ch->first = 0, ch->count = np;
     if (np && nv <= 3 * np && nv <= src->max_verts && !j->reference) {
-        rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * src->max_verts * rs_pvert_size());
+        rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * pv_slot * rs_pvert_size());
         jl.kern->project_vertices(&jl, v, nv, pv);
         jl.pv = pv;
     }
@@ -529,6 +532,7 @@ static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_
     if (!stats) return;
     gather_stats(j, rs, 0, n_chunks, n_prims, stats);
     stats->setup_ms = setup_ms, stats->tile_ms = tile_ms;
+    stats->setup_regions = stats->tile_regions = rs->timing;   /* counted with timing on */
 }
 
 /* ------------------------------ the frame's scene (rs_set_scene) ------------------------------ */
@@ -537,20 +541,72 @@ static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_
  * written by the set-up and read back by the tile pass: 2^18 is ~40 MB). */
 #define SCENE_MAX_PRIMS (1u << 18)
 
+/* Set up the pieces of every recorded draw in one parallel region (each thread takes pieces across the draws, in
+ * any order: each piece has its own chunk); returns the region's ms (rs_set_timing). */
+static double scene_setup(rs_context *rs, int nt)
+{
+    const long nc = (long)rs->q_chunks;
+    const double t0 = phase_clock(rs);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && rs->q_prims >= PARALLEL_SETUP_MIN)
+    for (long c = 0; c < nc; c++) {
+        rs_chunk *ch = &rs->chunks[c];
+        const rs_scene_draw *d = &rs->q[ch->draw];
+        source_chunk(&d->j, rs, &d->src, ch->piece, ch, omp_get_thread_num(), rs->q_max_verts);
+    }
+    return phase_clock(rs) - t0;
+}
+
+/* Check recorded draw d after the set-up (its pieces' promises, memory, the frame's work, in submission order)
+ * and add its prims_* to the sink; a failing draw is dropped (nc = 0: the tile pass skips it) and the context
+ * keeps the first error. */
+static void scene_check(rs_context *rs, rs_scene_draw *d)
+{
+    int e = RS_OK;
+    size_t n_prims = 0;
+    for (size_t c = d->c0; c < d->c0 + d->nc; c++) {
+        if (rs->chunks[c].bad_piece && e == RS_OK) e = RS_EINVAL;
+        if (rs->chunks[c].oom && e == RS_OK) e = RS_ENOMEM;
+        n_prims += rs->chunks[c].count;
+    }
+    if (e == RS_OK && n_prims > d->src.n_prims) e = RS_EINVAL;
+    if (e == RS_OK && !add_work(rs, &d->j, d->c0, d->nc)) e = RS_EWORK;
+    if (e != RS_OK) {
+        if (rs->scene_err == RS_OK) rs->scene_err = e;
+        d->nc = 0;
+        return;
+    }
+    rs_stats s;
+    gather_chunk_stats(rs, d->c0, d->nc, n_prims, &s);
+    rs_stats *k = rs->sink;
+    k->prims_in += s.prims_in, k->prims_culled += s.prims_culled, k->prims_clipped_away += s.prims_clipped_away;
+    k->prims_degenerate += s.prims_degenerate, k->prims_drawn += s.prims_drawn;
+}
+
 void rs_flush(rs_context *rs)
 {
     if (!rs || rs->q_n == 0) return;
     for (size_t k = 0; k < rs->q_n; k++) rs->q[k].j.st = &rs->q[k].st;   /* the queue may have moved */
     const int nt = thread_count(rs);
+    rs_stats *s = rs->sink;   /* set while draws are recorded (rs_set_scene flushes before it changes) */
+    s->setup_ms += scene_setup(rs, nt);
+    for (size_t k = 0; k < rs->q_n; k++) scene_check(rs, &rs->q[k]);
     const double tile_ms = raster_scene(rs, rs->q, rs->q_n, nt);
     const int ntl = rs->q[0].j.n_tiles;
-    rs_stats *s = rs->sink;
-    for (int t = 0; s && t < ntl; t++) {
+    for (int t = 0; t < ntl; t++) {
         s->samples_tested += rs->tile_stats[2 * (size_t)t];
         s->samples_written += rs->tile_stats[2 * (size_t)t + 1];
     }
-    if (s) s->tile_ms += tile_ms;
-    rs->q_n = rs->q_chunks = rs->q_prims = 0;
+    s->tile_ms += tile_ms;
+    s->setup_regions += rs->timing, s->tile_regions += rs->timing;   /* counted with timing on */
+    rs->q_n = rs->q_chunks = rs->q_prims = rs->q_max_verts = 0;
+}
+
+int rs_scene_error(rs_context *rs)
+{
+    if (!rs) return RS_OK;
+    const int e = rs->scene_err;
+    rs->scene_err = RS_OK;
+    return e;
 }
 
 void rs_set_scene(rs_context *rs, rs_stats *sink)
@@ -583,14 +639,43 @@ static bool scene_takes(rs_context *rs, const rs_job *j, size_t n_pieces, size_t
     return take;
 }
 
-/* Queue draw j, set up into rs->chunks[q_chunks .. + nc) with n_prims set-up triangles (scene_takes made room). */
-static void scene_push(rs_context *rs, const rs_job *j, size_t nc, size_t n_prims)
+/* Record draw j of source src: its pieces to be set up into rs->chunks[q_chunks .. + n_pieces) at the flush
+ * (scene_takes made room in the queue, the caller in the chunks and the projection scratch). */
+static void scene_push(rs_context *rs, const rs_job *j, const rs_source *src)
 {
-    rs_scene_draw *d = &rs->q[rs->q_n++];
-    d->j = *j, d->st = *j->st, d->j.st = &d->st;
-    d->c0 = rs->q_chunks, d->nc = nc;
-    rs->q_chunks += nc, rs->q_prims += n_prims;
+    rs_scene_draw *d = &rs->q[rs->q_n];
+    d->j = *j, d->st = *j->st, d->j.st = &d->st, d->src = *src;
+    d->c0 = rs->q_chunks, d->nc = src->n_pieces;
+    for (size_t c = 0; c < src->n_pieces; c++) {
+        rs->chunks[d->c0 + c].draw = (uint32_t)rs->q_n;
+        rs->chunks[d->c0 + c].piece = c;
+    }
+    rs->q_n++;
+    rs->q_chunks += src->n_pieces, rs->q_prims += src->n_prims;
+    if (src->max_verts > rs->q_max_verts) rs->q_max_verts = src->max_verts;   /* the slots' projection scratch */
     rs->q_rt = j->rt, rs->q_color = j->rt->color;
+}
+
+/* rs_draw_source without the scene: set up every piece of src now (one parallel region) and rasterize them (one
+ * tile pass), draw j. */
+static int draw_source_now(rs_context *rs, const rs_job *j, const rs_source *src, int nt, rs_stats *stats)
+{
+    long nc = (long)src->n_pieces;
+    rs_chunk *ch = rs->chunks;
+    const double t0 = phase_clock(rs);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && src->n_prims >= PARALLEL_SETUP_MIN)
+    for (long c = 0; c < nc; c++) source_chunk(j, rs, src, (size_t)c, &ch[c], omp_get_thread_num(), src->max_verts);
+    const double setup_ms = phase_clock(rs) - t0;
+    size_t n_prims = 0;
+    for (size_t c = 0; c < src->n_pieces; c++) {
+        if (ch[c].bad_piece) return RS_EINVAL;
+        if (ch[c].oom) return RS_ENOMEM;
+        n_prims += ch[c].count;
+    }
+    if (n_prims > src->n_prims) return RS_EINVAL;
+    if (!add_work(rs, j, 0, src->n_pieces)) return RS_EWORK;
+    raster_tiles(j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
+    return RS_OK;
 }
 
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
@@ -608,30 +693,12 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     const size_t c0 = queued ? rs->q_chunks : 0;   /* not queued: the queue is empty */
     if (!reserve_context(rs, c0 + src->n_pieces, (size_t)j.n_tiles) || !reserve_pv(rs, (size_t)nt, src->max_verts))
         return RS_ENOMEM;
-    long nc = (long)src->n_pieces;
-    rs_chunk *ch = rs->chunks + c0;
-    const double t0 = phase_clock(rs);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && src->n_prims >= PARALLEL_SETUP_MIN)
-    for (long c = 0; c < nc; c++) source_chunk(&j, rs, src, (size_t)c, &ch[c], omp_get_thread_num());
-    const double setup_ms = phase_clock(rs) - t0;
-    size_t n_prims = 0;
-    for (size_t c = 0; c < src->n_pieces; c++) {
-        if (ch[c].bad_piece) return RS_EINVAL;
-        if (ch[c].oom) return RS_ENOMEM;
-        n_prims += ch[c].count;
-    }
-    if (n_prims > src->n_prims) return RS_EINVAL;
-    if (!add_work(rs, &j, c0, src->n_pieces)) return RS_EWORK;
-    if (!queued) {
-        raster_tiles(&j, rs, src->n_pieces, n_prims, nt, setup_ms, stats);
+    if (queued) {   /* set up and rasterized at the flush; its counters then go to the sink */
+        if (stats) stats->prims_in = 0;
+        scene_push(rs, &j, src);
         return RS_OK;
     }
-    scene_push(rs, &j, src->n_pieces, n_prims);
-    if (stats) {   /* the samples come with the tile pass, into the scene's sink */
-        gather_chunk_stats(rs, c0, src->n_pieces, n_prims, stats);
-        stats->setup_ms = setup_ms;
-    }
-    return RS_OK;
+    return draw_source_now(rs, &j, src, nt, stats);
 }
 
 int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const rs_vertex *verts, size_t n_verts,

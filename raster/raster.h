@@ -47,8 +47,9 @@
  *  - Frames: rs_target_clear_deferred starts a frame on a context (its clear is written tile by tile when a draw
  *    first touches a tile); until rs_target_flush the target's planes must be read or written only through that
  *    context.  The work bound (RS_MAX_OVERDRAW) counts per frame (each draw alone on a context that never
- *    started one).  With rs_set_scene on, a frame's rs_draw_source draws share one tile pass, run when the
- *    target is flushed or cleared (or at rs_flush): same bytes as drawing them one by one.
+ *    started one).  With rs_set_scene on, a frame's rs_draw_source draws are recorded and share one set-up
+ *    region and one tile pass, run when the target is flushed or cleared (or at rs_flush): same bytes as
+ *    drawing them one by one.
  *  - Draw sources: rs_draw_source draws triangles whose vertices a callback produces piece by piece on the
  *    set-up threads (the device's instanced draws); same bytes as rs_draw on the concatenated pieces.
  */
@@ -204,11 +205,14 @@ typedef struct rs_target {
  * rs_set_timing on (else 0, so that the counters of two runs compare equal byte for byte): setup_ms the set-up
  * region (projection, clipping, set-up and binning of every chunk; for rs_draw_source also the producer's
  * shading), tile_ms the tile pass (deferred clear into the tile buffers, rasterization, copy-out).  Everything
- * else of a draw (validation, the checks between the regions, summing the counters) is in neither. */
+ * else of a draw (validation, the checks between the regions, summing the counters) is in neither.
+ * setup_regions, tile_regions: the set-up regions and tile passes run (one each per draw, or per flush of the
+ * frame's scene: rs_set_scene), counted only with rs_set_timing on (else 0), whatever the thread count. */
 typedef struct rs_stats {
     uint64_t prims_in, prims_culled, prims_clipped_away, prims_degenerate, prims_drawn;
     uint64_t samples_tested, samples_written;
     double setup_ms, tile_ms;
+    uint64_t setup_regions, tile_regions;
 } rs_stats;
 
 typedef struct rs_context rs_context;
@@ -251,15 +255,22 @@ INSTESS_API const char *rs_isa_name(int isa);
 INSTESS_API int rs_isa_parse(const char *name);
 /* The frame's scene on (sink non-NULL) or off (NULL, the default; the queue is flushed first).  With it on, a
  * rs_draw_source draw on the fast path into the target of the frame the last rs_target_clear_deferred started is
- * set up at once (its errors returned, its prims_* counted in its rs_stats) but rasterized later: the queued
- * draws share one tile pass -- each tile walks them in submission order, so the same bytes -- run by rs_flush,
- * rs_target_flush, rs_target_clear_deferred, rs_draw, a draw on another target, or when the queue's set-up
- * memory passes its budget.  The queued draws' samples_tested / samples_written and tile_ms are then added to
- * *sink, not to the draws' rs_stats.  Until then the target's planes must not be read or written (as a deferred
- * clear's) and *sink must stay valid. */
+ * recorded, not run: its state and source are checked and copied (RS_EINVAL, RS_ENOMEM returned at once) and it
+ * returns RS_OK with its rs_stats zero.  A flush -- rs_flush, rs_target_flush, rs_target_clear_deferred, rs_draw,
+ * rs_set_threads, a draw on another target, or the queue's set-up memory passing its budget -- then runs ONE
+ * set-up region in which the threads take pieces across all recorded draws (shading, projection, set-up,
+ * binning), checks each draw in submission order (a draw whose pieces break their promise, that runs out of
+ * memory or that would pass the frame's work bound is dropped whole, its error kept for rs_scene_error), and
+ * runs ONE tile pass in which each tile walks the draws in submission order: the same bytes as drawing them one
+ * by one.  The recorded draws' counters (prims_* and samples_*, setup_ms, tile_ms) are added to *sink.  Until the
+ * flush the source's ctx and what its producer reads must stay valid and unchanged, the target's planes must not
+ * be read or written (as a deferred clear's), and *sink must stay valid. */
 INSTESS_API void rs_set_scene(rs_context *rs, rs_stats *sink);
-/* Rasterize the queued draws of rs_set_scene now (nothing when none is queued). */
+/* Run the recorded draws of rs_set_scene now (nothing when none is recorded). */
 INSTESS_API void rs_flush(rs_context *rs);
+/* The first error (RS_EINVAL, RS_ENOMEM, RS_EWORK) of a recorded draw that a flush dropped since the last call,
+ * or RS_OK; the call forgets it.  RS_OK for NULL. */
+INSTESS_API int rs_scene_error(rs_context *rs);
 /* Measure each draw's phase times into rs_stats.setup_ms / tile_ms (on) or leave them 0 (off, the default).
  * Timing changes no image byte and no counter; it costs two clock reads per region. */
 INSTESS_API void rs_set_timing(rs_context *rs, bool on);
@@ -303,8 +314,9 @@ INSTESS_API int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int p
 /* ---- draw sources: triangles whose vertices are produced piece by piece on the set-up threads ----
  * The device's fast path for instanced draws: each piece (a few instances) is shaded, projected, set up and
  * binned by one thread while its vertices are still in the cache, so one draw costs one set-up region and one
- * tile region, and the shaded vertices never go through memory.  Each piece is one set-up chunk, in order, so the
- * bytes are those of rs_draw on the concatenated pieces. */
+ * tile region (with rs_set_scene: a frame's recorded draws share one of each), and the shaded vertices never go
+ * through memory.  Each piece is one set-up chunk, in order, so the bytes are those of rs_draw on the
+ * concatenated pieces. */
 /* Produce piece `piece`: vertices into *verts (n_verts of them, at most the source's max_verts), its triangles'
  * indices (into *verts, 3 per triangle) into *idx; returns the triangle count.  `slot` (below rs_threads) is the
  * calling thread's: pieces produced at the same time have different slots, so a producer may keep one scratch

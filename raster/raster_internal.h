@@ -160,6 +160,8 @@ typedef struct rs_chunk {
     uint64_t work;               /* triangles' min(area, box) in RS_WORK_UNIT, saturating (RS_MAX_OVERDRAW) */
     bool oom;
     bool bad_piece;              /* rs_draw_source: the producer broke the piece's promise (RS_EINVAL) */
+    uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
+    size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
 
 /* Is rt well formed: planes present, sizes and samples in range, AOV planes (at most RS_MAX_AOV, on one sample)
@@ -167,11 +169,13 @@ typedef struct rs_chunk {
  * first (a hand-made target may say anything). */
 bool rs_target_valid(const rs_target *rt);
 
-/* A draw set up and waiting for the frame's tile pass (rs_set_scene): its job (j.st points at st once the tile
- * pass runs: the queue may move) and its chunks rs->chunks[c0 .. c0 + nc). */
+/* A draw recorded for the frame's scene (rs_set_scene): its job (j.st points at st once the flush runs: the queue
+ * may move), its source (set up at the flush, piece k into chunk c0 + k) and its chunks rs->chunks[c0 .. c0 + nc)
+ * (nc 0 once the flush has dropped it for an error). */
 typedef struct rs_scene_draw {
     rs_job j;
     rs_state st;
+    rs_source src;
     size_t c0, nc;
 } rs_scene_draw;
 
@@ -201,9 +205,11 @@ struct rs_context {
     rs_stats *sink;              /* rs_set_scene: the queued draws' tile counters go here; NULL: no queue */
     rs_scene_draw *q;            /* the queued draws, in submission order */
     size_t q_n, q_cap;
-    size_t q_chunks, q_prims;    /* chunks they use (rs->chunks[0 .. q_chunks)), their set-up primitives */
+    size_t q_chunks, q_prims;    /* chunks they use (rs->chunks[0 .. q_chunks)), the triangles their sources promise */
+    size_t q_max_verts;          /* their sources' largest max_verts: each set-up slot's share of rs->pv at the flush */
     rs_target *q_rt;             /* their target and its colour plane when queued */
     uint32_t *q_color;
+    int scene_err;               /* the first error of a recorded draw at a flush (rs_scene_error), else RS_OK */
 };
 
 /* A tile being rasterized by one thread: its pixel rectangle (inside the scissor), where its samples live and its

@@ -291,6 +291,24 @@ static void test_draw_source(void **state)
     assert_int_equal(rs_draw_source(rs, &st, &rt, &huge, &s), RS_ENOMEM);
     rs_source none = {.n_pieces = 0, .n_prims = 0, .max_verts = 0, .produce = produce, .ctx = &p};
     assert_int_equal(rs_draw_source(rs, &st, &rt, &none, &s), RS_OK);
+    /* recorded (the scene, a frame): the promises are checked at the flush, the error kept for rs_scene_error and
+     * the draw dropped whole (nothing of it in the sink) */
+    assert_int_equal(rs_scene_error(NULL), RS_OK);
+    rs_stats sink = {0};
+    rs_set_scene(rs, &sink);
+    for (int kind = P_GOOD; kind <= P_NO_INDICES; kind++) {
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+        memset(&sink, 0, sizeof sink);
+        producer q = {.kind = (producer_kind)kind};
+        rs_source src = {.n_pieces = 2, .n_prims = 2, .max_verts = 3, .produce = produce, .ctx = &q};
+        assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
+        assert_int_equal(s.prims_in, 0u);   /* its counters come with the flush */
+        rs_flush(rs);
+        assert_int_equal(rs_scene_error(rs), kind == P_GOOD ? RS_OK : RS_EINVAL);
+        assert_int_equal(rs_scene_error(rs), RS_OK);   /* forgotten once read */
+        assert_int_equal(sink.prims_in, kind == P_GOOD ? 2u : 0u);
+    }
+    rs_set_scene(rs, NULL);
     rs_target_free(&rt);
     rs_destroy(rs);
 }

@@ -794,7 +794,8 @@ int scene_render_on(is_device *dev, const scene_opts *o, const is_mesh *m, const
      * D3D9's ccw, so setting it only when the device is made drew the first frame alone as --cull says */
     dev_set_render_state(dev, IS_RS_CULLMODE, o->cull);
     char why[600] = "";
-    if (draw_scene(dev, o, m, g, NULL, st, why, sizeof why) != 0)
+    /* dev_flush: the recorded draws run, and a failure found only then (the work bound) is reported */
+    if (draw_scene(dev, o, m, g, NULL, st, why, sizeof why) != 0 || (!why[0] && dev_flush(dev) != IS_OK))
         return why[0] ? snprintf(err, errlen, "%s", why)
                       : snprintf(err, errlen, "%s: rendering failed: %s", m->name, dev_last_error(dev)), -1;
     if (st) {
