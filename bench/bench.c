@@ -1034,13 +1034,14 @@ typedef struct case_summary {
     double gl_ms;   /* llvmpipe at its best (NAN: not run) */
 } case_summary;
 
-/* The ratio target for a scene and patch (the targets of the second performance round, stated in bench/README.md):
- * B npatch 5x, B smooth 4x, A 4x, C 2x; NAN for P, which has none (issue 28 asks for its ratio to be reported). */
+/* The ratio target for a scene and patch (the third performance round's, issue 29, stated in bench/README.md):
+ * B npatch 6x, B smooth 5x, A 4x, C 2.6x ("not slower than today": the last round's measured 2.65x, as a ratio so
+ * that it holds on any machine); NAN for P, which has none (issue 28 asks for its ratio to be reported). */
 static double ratio_target(char scene, int pk)
 {
     if (scene == 'P') return NAN;
-    if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 5.0 : 4.0;
-    return scene == 'A' ? 4.0 : 2.0;
+    if (scene == 'B') return strcmp(bench_patches[pk].name, "npatch") == 0 ? 6.0 : 5.0;
+    return scene == 'A' ? 4.0 : 2.6;
 }
 
 /* The performance targets against this run's medians: llvmpipe ratios with all threads, the 2/1-thread speed-up,
@@ -1057,7 +1058,7 @@ static int print_targets(const bench_args *a, const case_summary *cs, int n)
                    bench_patches[c->pk].name, a->threads[a->n_threads - 1], c->gl_ms / ms);
         } else if (!isnan(c->gl_ms)) {
             double got = c->gl_ms / ms;
-            printf("  scene %c %-6s llvmpipe / instess (%d threads) >= %.0fx: %5.2fx  %s\n", c->scene,
+            printf("  scene %c %-6s llvmpipe / instess (%d threads) >= %.1fx: %5.2fx  %s\n", c->scene,
                    bench_patches[c->pk].name, a->threads[a->n_threads - 1], want, got, got >= want ? "met" : "NOT met");
             missed += got < want;
         }
