@@ -305,8 +305,10 @@ static void test_live_lanes(void **state_)
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             unsigned centres = 0, lane = (unsigned)((x & 1) + 2 * (y & 1));
-            for (unsigned l = 0; l < 4; l++)
-                centres |= (unsigned)(one.color[((y & ~1) + (int)(l >> 1)) * W + (x & ~1) + (int)(l & 1)] != CLEAR) << l;
+            for (unsigned l = 0; l < 4; l++) {
+                int px = (x & ~1) + (int)(l & 1), py = (y & ~1) + (int)(l >> 1);
+                centres |= (unsigned)(one.color[py * W + px] != CLEAR) << l;
+            }
             uint32_t c1 = one.color[y * W + x];
             if (c1 != CLEAR) {
                 assert_int_equal(c1 & 0xffu, centres);
