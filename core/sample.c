@@ -50,6 +50,7 @@ static int64_t address_outside(uint32_t mode, int64_t i, int64_t n, bool *outsid
         m = i < 0 ? -1 - i : i;
         return m >= n ? n - 1 : m;
     default: /* WRAP, and any value D3D9 does not define (DXVK decodes those as wrap too) */
+        if ((n & (n - 1)) == 0) return i & (n - 1);   /* a power of two: the same index without a division */
         m = i % n;
         return m < 0 ? m + n : m;
     }
@@ -92,21 +93,29 @@ static inline float4 lerp4(float4 a, float4 b, float t)
     return f4(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t, a.w + (b.w - a.w) * t);
 }
 
-/* The four texels (x0 | x1, y0 | y1) of level l into t00, t10, t01, t11 (each the border colour where a side was
- * outside): a level of an 8-bit format with all four inside read directly, the others through texel(). */
-static inline void texels4(const sample_ctx *c, const tex_level *l, const int64_t x[2], const bool ox[2],
-                           const int64_t y[2], const bool oy[2], float4 t[4])
+/* Four floats, one per channel (r, g, b, a), for the 8-bit bilinear path: the same IEEE operations per channel as
+ * float4's scalar code (conversion, division by 255, lerp4), four at a time. */
+typedef float v4f __attribute__((vector_size(16)));
+
+/* The texel at p of an 8-bit layout (bytes B, G, R, A) as (r, g, b, a) / 255; alpha 255 / 255 = 1 when !alpha. */
+static inline v4f texel_8888_v(const unsigned char *p, bool alpha)
 {
-    is_format f = c->t->format;
-    if ((f == IS_FMT_A8R8G8B8 || f == IS_FMT_X8R8G8B8) && !(ox[0] | ox[1] | oy[0] | oy[1])) {
-        const unsigned char *r0 = l->bits + (size_t)y[0] * l->w * 4, *r1 = l->bits + (size_t)y[1] * l->w * 4;
-        bool alpha = f == IS_FMT_A8R8G8B8;
-        t[0] = texel_8888(r0 + x[0] * 4, alpha), t[1] = texel_8888(r0 + x[1] * 4, alpha);
-        t[2] = texel_8888(r1 + x[0] * 4, alpha), t[3] = texel_8888(r1 + x[1] * 4, alpha);
-        return;
-    }
-    t[0] = texel_or_border(c, l, x[0], ox[0], y[0], oy[0]), t[1] = texel_or_border(c, l, x[1], ox[1], y[0], oy[0]);
-    t[2] = texel_or_border(c, l, x[0], ox[0], y[1], oy[1]), t[3] = texel_or_border(c, l, x[1], ox[1], y[1], oy[1]);
+    v4f c = {(float)p[2], (float)p[1], (float)p[0], alpha ? (float)p[3] : 255.0f};
+    return c / 255.0f;
+}
+
+/* The bilinear sample with weights (a, b) of the four texels (x0 | x1, y0 | y1), all inside, of 8-bit level l:
+ * lerp4(lerp4(t00, t10, a), lerp4(t01, t11, a), b), channel by channel as the scalar path computes it. */
+static inline float4 bilinear_8888(const tex_level *l, bool alpha, const int64_t x[2], const int64_t y[2], float a,
+                                   float b)
+{
+    const unsigned char *r0 = l->bits + (size_t)y[0] * l->w * 4, *r1 = l->bits + (size_t)y[1] * l->w * 4;
+    v4f t00 = texel_8888_v(r0 + x[0] * 4, alpha), t10 = texel_8888_v(r0 + x[1] * 4, alpha);
+    v4f t01 = texel_8888_v(r1 + x[0] * 4, alpha), t11 = texel_8888_v(r1 + x[1] * 4, alpha);
+    v4f av = {a, a, a, a}, bv = {b, b, b, b};
+    v4f top = t00 + (t10 - t00) * av, bottom = t01 + (t11 - t01) * av;
+    v4f r = top + (bottom - top) * bv;
+    return f4(r[0], r[1], r[2], r[3]);
 }
 
 /* One level's sample at (u, v): point or bilinear with D3D9's texel centres. */
@@ -121,9 +130,14 @@ static float4 sample_level(const sample_ctx *c, unsigned level, float u, float v
     bool ox[2] = {false, false}, oy[2] = {false, false};   /* each side addressed once for the four texels */
     int64_t xs[2] = {address(c->mu, i, l->w, &ox[0]), address(c->mu, i + 1, l->w, &ox[1])};
     int64_t ys[2] = {address(c->mv, j, l->h, &oy[0]), address(c->mv, j + 1, l->h, &oy[1])};
-    float4 t[4];
-    texels4(c, l, xs, ox, ys, oy, t);
-    return lerp4(lerp4(t[0], t[1], a), lerp4(t[2], t[3], a), b);
+    is_format f = c->t->format;
+    if ((f == IS_FMT_A8R8G8B8 || f == IS_FMT_X8R8G8B8) && !(ox[0] | ox[1] | oy[0] | oy[1]))
+        return bilinear_8888(l, f == IS_FMT_A8R8G8B8, xs, ys, a, b);
+    float4 t00 = texel_or_border(c, l, xs[0], ox[0], ys[0], oy[0]);
+    float4 t10 = texel_or_border(c, l, xs[1], ox[1], ys[0], oy[0]);
+    float4 t01 = texel_or_border(c, l, xs[0], ox[0], ys[1], oy[1]);
+    float4 t11 = texel_or_border(c, l, xs[1], ox[1], ys[1], oy[1]);
+    return lerp4(lerp4(t00, t10, a), lerp4(t01, t11, a), b);
 }
 
 /* A float from its bits (MIPMAPLODBIAS). */
