@@ -467,7 +467,10 @@ static void ps_lit_textured(const is_ps_constants *c, const is_ps_input *in, is_
         out->color[k] = f4(d * c->c[0].x * t.x, d * c->c[0].y * t.y, d * c->c[0].z * t.z, 1.0f);
     }
 }
-static const is_pixel_shader bench_ps_lit_textured = {"bench-lit-textured", ps_lit_textured};
+/* It reads TEXCOORD0 + VS_OUT_TEX and + VS_OUT_NORMAL only: the other slots are not interpolated (core/pixel.h). */
+static const is_pixel_shader bench_ps_lit_textured = {
+    "bench-lit-textured", ps_lit_textured,
+    (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_TEX)) | (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL))};
 
 /* Scene P's pixel stage on g's device: the texture with bd's mip chain written level by level (LockRect), bound
  * to sampler 0 with MIN/MAG/MIPFILTER LINEAR and ADDRESSU/V WRAP, the pixel shader, c0 = g_vDiffuse; IS_OK or

@@ -8,6 +8,10 @@
  *    (front: clockwise on screen); it writes oC0 per lane (saturated to 8 bits in the target), may write oDepth,
  *    and may kill lanes (texkill / clip).  Derivatives are the quad's lane differences: ddx = lane 1 - lane 0,
  *    ddy = lane 2 - lane 0 (coarse, as D3D9 hardware), defined on edge pixels too (helper lanes).
+ *  - Inputs read: a D3D9 pixel shader declares its inputs (dcl_texcoord0 ...); a C function cannot, so every slot
+ *    the vertex shader writes is interpolated for every lane.  is_pixel_shader.inputs may list the slots main reads
+ *    (bit k: slot k, as rs_ps_quad.v's index); the others are then not interpolated and read (0, 0, 0, 0), which
+ *    saves the interpolation's work.  0 (the default, e.g. an initializer that leaves it out) reads every slot.
  *  - After the shader: alpha test, stencil, depth test and write, blending, colour write mask, as without one.
  *    Without a pixel shader (NULL, the default) the pixel colour is COLOR0: the fixed path, byte for byte.
  *  - Constants: c0..c223 (ps_3_0's float constants), zero after dev_create and dev_reset.  Samplers s0..s15 are
@@ -41,6 +45,8 @@ typedef void (*is_ps_fn)(const is_ps_constants *c, const is_ps_input *in, is_ps_
 typedef struct is_pixel_shader {
     const char *name;
     is_ps_fn main;
+    uint32_t inputs;   /* the input slots main reads, bit k: slot k (1u << (RS_ATTR_TEXCOORD0 + n): TEXCOORDn);
+                          0 (the default): every slot.  An extension of instess: the others read (0, 0, 0, 0) */
 } is_pixel_shader;
 
 /* SetPixelShader (NULL: the fixed path) and GetPixelShader. */

@@ -74,7 +74,9 @@ static uint32_t keep_bytes(uint32_t disable)
 
 void rs_ps_lane(const rs_job *j, const float *a, float b1, float b2, rs_vec4 *v)
 {
+    uint32_t read = j->st->ps_inputs ? j->st->ps_inputs : ~0u;   /* the slots the shader reads */
     for (int i = 0; i < j->n_slots; i++) {
+        if (!((read >> j->slot[i]) & 1u)) continue;   /* not read: left 0 */
         const float *p = a + i * RS_ATTR_STRIDE;
         v[j->slot[i]] = (rs_vec4){p[0] + b1 * p[1] + b2 * p[2], p[3] + b1 * p[4] + b2 * p[5],
                                   p[6] + b1 * p[7] + b2 * p[8], p[9] + b1 * p[10] + b2 * p[11]};

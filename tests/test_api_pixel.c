@@ -64,7 +64,7 @@ static void ps_constant(const is_ps_constants *c, const is_ps_input *in, is_ps_o
     (void)in;
     for (int k = 0; k < 4; k++) out->color[k] = c->c[5];
 }
-static const is_pixel_shader PS_CONSTANT = {"constant", ps_constant};
+static const is_pixel_shader PS_CONSTANT = {"constant", ps_constant, 0};
 
 /* oC0 = tex2D(s0, TEXCOORD0). */
 static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
@@ -73,7 +73,7 @@ static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_ou
     for (int k = 0; k < 4; k++) uv[k] = (float2){in->v[k][RS_ATTR_TEXCOORD0].x, in->v[k][RS_ATTR_TEXCOORD0].y};
     for (int k = 0; k < 4; k++) out->color[k] = ps_tex2D(&c->s[0], uv, k);
 }
-static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture};
+static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture, 0};
 
 static void test_arguments(void **state)
 {
@@ -88,7 +88,7 @@ static void test_arguments(void **state)
     assert_int_equal(dev_get_pixel_shader(dev, NULL), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
     assert_null(got);   /* the default: the fixed path */
-    const is_pixel_shader empty = {"empty", NULL};
+    const is_pixel_shader empty = {"empty", NULL, 0};
     assert_int_equal(dev_set_pixel_shader(dev, &empty), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
     assert_null(got);
@@ -173,12 +173,45 @@ static void test_texture(void **state)
     destroy(dev);
 }
 
+/* oC0 = (COLOR0.x, TEXCOORD0.x, 0, 1). */
+static void ps_color_tex(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    (void)c;
+    for (int k = 0; k < 4; k++)
+        out->color[k] = (float4){in->v[k][RS_ATTR_COLOR0].x, in->v[k][RS_ATTR_TEXCOORD0].x, 0, 1};
+}
+
+/* is_pixel_shader.inputs: 0 reads every slot; a mask reads its slots, the others (0, 0, 0, 0).  At pixel (0, 0)
+ * COLOR0.x = 0.25 (64) and TEXCOORD0.x = 0.125 (32). */
+static void test_inputs_mask(void **state)
+{
+    (void)state;
+    const struct { uint32_t inputs, want; } rows[] = {
+        {0, 0xff002040u},
+        {1u << RS_ATTR_COLOR0, 0xff000040u},
+        {1u << RS_ATTR_TEXCOORD0, 0xff002000u},
+        {(1u << RS_ATTR_COLOR0) | (1u << RS_ATTR_TEXCOORD0), 0xff002040u},
+        {1u << RS_ATTR_COLOR1, 0xff000000u},
+    };
+    is_device *dev = device();
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        const is_pixel_shader ps = {"color-tex", ps_color_tex, rows[r].inputs};
+        uint32_t px[N * N];
+        assert_int_equal(dev_set_pixel_shader(dev, &ps), IS_OK);
+        draw(dev, px);
+        assert_int_equal(px[0], rows[r].want);
+    }
+    assert_int_equal(dev_set_pixel_shader(dev, NULL), IS_OK);
+    destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arguments),
         cmocka_unit_test(test_constant_and_fixed),
         cmocka_unit_test(test_texture),
+        cmocka_unit_test(test_inputs_mask),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
