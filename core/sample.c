@@ -60,6 +60,7 @@ static int64_t address_outside(uint32_t mode, int64_t i, int64_t n, bool *outsid
 static inline int64_t address(uint32_t mode, int64_t i, int64_t n, bool *outside)
 {
     if ((uint64_t)i < (uint64_t)n) return i;   /* inside: every mode keeps it (no division) */
+    if (mode == IS_TADDRESS_WRAP && (n & (n - 1)) == 0) return i & (n - 1);   /* address_outside's, inline */
     return address_outside(mode, i, n, outside);
 }
 
@@ -100,7 +101,11 @@ typedef float v4f __attribute__((vector_size(16)));
 /* The texel at p of an 8-bit layout (bytes B, G, R, A) as (r, g, b, a) / 255; alpha 255 / 255 = 1 when !alpha. */
 static inline v4f texel_8888_v(const unsigned char *p, bool alpha)
 {
-    v4f c = {(float)p[2], (float)p[1], (float)p[0], alpha ? (float)p[3] : 255.0f};
+    typedef unsigned char v4u8 __attribute__((vector_size(4)));
+    v4u8 bytes;
+    memcpy(&bytes, p, 4);
+    v4f c = __builtin_convertvector(__builtin_shufflevector(bytes, bytes, 2, 1, 0, 3), v4f);   /* exact */
+    if (!alpha) c[3] = 255.0f;
     return c / 255.0f;
 }
 
