@@ -151,7 +151,7 @@ void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const 
     }
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    uint32_t *col = t->color + base, keep = keep_bytes(st->color_write_disable);
+    uint32_t *col = t->color + base, keep = st->color_write_disable & 0xfu ? keep_bytes(st->color_write_disable) : 0;
     for (int s = 0; s < j->samples; s++) {
         if (!(pass & (1u << s))) continue;
         uint32_t v = st->blend_enable ? rs_blend(st->src_blend, st->dst_blend, src, col[s]) : src;

@@ -241,7 +241,8 @@ static bool tri_quad_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const flo
     memset(&o, 0, sizeof o);
     j->st->ps(j->st->ps_ctx, q, &o);
     for (int l = 0; l < 4; l++)
-        if (cov[l]) rs_ps_write(j, t, x0 + (l & 1), y0 + (l >> 1), cov[l], zs[l], p->back != 0, &o, l, a, b[l][0], b[l][1]);
+        if (cov[l])
+            rs_ps_write(j, t, x0 + (l & 1), y0 + (l >> 1), cov[l], zs[l], p->back != 0, &o, l, a, b[l][0], b[l][1]);
     return true;
 }
 
@@ -260,19 +261,26 @@ static void tri_quads_block(const rs_job *j, rs_tile *t, const rs_prim *p, const
                             int by, int bx1, int by1, const int64_t *e, bool all)
 {
     const rs_tri *tr = &p->u.t;
-    int64_t sa[3], sb[3], row[3];
+    int64_t sa[3], sb[3], row[3], off[4][3];   /* steps of one pixel in x and y; lane l's offset from its quad */
     for (int i = 0; i < 3; i++) sa[i] = (int64_t)tr->ea[i] * RS_SUB, sb[i] = (int64_t)tr->eb[i] * RS_SUB, row[i] = e[i];
+    for (int l = 0; l < 4; l++)
+        for (int i = 0; i < 3; i++) off[l][i] = (l & 1 ? sa[i] : 0) + (l >> 1 ? sb[i] : 0);
+    bool inbox = bx >= qw->x0 && bx1 <= qw->x1 && by >= qw->y0 && by1 <= qw->y1;   /* no pixel outside the box */
+    const unsigned full[4] = {qw->w.full, qw->w.full, qw->w.full, qw->w.full};
     for (int qy = by; qy <= by1; qy += 2) {
         int64_t v[3] = { row[0], row[1], row[2] };
         for (int qx = bx; qx <= bx1; qx += 2) {
-            unsigned cov[4], any = 0, in = all ? 0xfu : 0u;
-            for (int l = 0; l < 4; l++) {
-                int x = qx + (l & 1), y = qy + (l >> 1);
-                int64_t ev[3];
-                for (int i = 0; i < 3; i++) ev[i] = v[i] + (l & 1 ? sa[i] : 0) + (l >> 1 ? sb[i] : 0);
-                if (!all) in |= (unsigned)(ev[0] >= 0 && ev[1] >= 0 && ev[2] >= 0) << l;
-                bool box = x >= qw->x0 && x <= qw->x1 && y >= qw->y0 && y <= qw->y1;
-                any |= cov[l] = !box ? 0u : all ? qw->w.full : coverage(j, &qw->w, ev);
+            unsigned cov[4], any = 0, in = 0;
+            if (all && inbox) {   /* every lane inside, at its centre and every sample */
+                memcpy(cov, full, sizeof cov), any = in = 0xfu;
+            } else {
+                for (int l = 0; l < 4; l++) {
+                    int64_t ev[3] = {v[0] + off[l][0], v[1] + off[l][1], v[2] + off[l][2]};
+                    in |= (unsigned)(all || (ev[0] >= 0 && ev[1] >= 0 && ev[2] >= 0)) << l;
+                    int x = qx + (l & 1), y = qy + (l >> 1);
+                    bool box = inbox || (x >= qw->x0 && x <= qw->x1 && y >= qw->y0 && y <= qw->y1);
+                    any |= cov[l] = !box ? 0u : all ? qw->w.full : coverage(j, &qw->w, ev);
+                }
             }
             if (any && !tri_quad_ps(j, t, p, a, &qw->q, qx, qy, cov, in))
                 for (int l = 0; l < 4; l++)
