@@ -117,6 +117,15 @@ static void test_arguments(void **state)
     assert_true(t.x == 0 && t.w == 1);
     t = ps_tex2Dbias(NULL, uv, 1e30f, -1);
     assert_true(t.w == 1);
+    float4 four[4] = {{9, 9, 9, 9}, {9, 9, 9, 9}, {9, 9, 9, 9}, {9, 9, 9, 9}};
+    ps_tex2D_quad(&empty_s, uv, 0, four);           /* no lane: nothing written */
+    assert_true(four[0].x == 9 && four[3].w == 9);
+    ps_tex2D_quad(&empty_s, uv, 0xffffffffu, four);  /* bits past lane 3 ignored */
+    for (int k = 0; k < 4; k++) assert_true(four[k].x == 0 && four[k].w == 1);
+    four[1].w = 9;
+    ps_tex2D_quad(NULL, NULL, 1u, four);
+    assert_true(four[0].w == 1 && four[1].w == 9);
+    ps_tex2D_quad(&empty_s, uv, 0xfu, NULL);         /* nowhere to write: nothing */
     destroy(dev);
 }
 
@@ -205,6 +214,48 @@ static void test_inputs_mask(void **state)
     destroy(dev);
 }
 
+/* ps_tex2D_quad gives ps_tex2D's values lane by lane (trilinear over a mip chain, WRAP, quads from magnified to
+ * many levels down, the longer footprint along x or y, as floats bit for bit) and leaves the lanes outside its
+ * mask alone. */
+static void test_tex2D_quad(void **state)
+{
+    (void)state;
+    is_device *dev = device();
+    is_texture *tex;
+    assert_int_equal(dev_create_texture(dev, 16, 8, 0, 0, IS_FMT_A8R8G8B8, &tex), IS_OK);
+    unsigned levels = 0;
+    for (unsigned l = 0; l < 16; l++) {
+        is_locked_rect lr;
+        if (tex_lock_rect(tex, l, &lr, NULL, 0) != IS_OK) break;
+        levels++;
+        unsigned w = 16u >> l ? 16u >> l : 1u, h = 8u >> l ? 8u >> l : 1u;
+        for (unsigned y = 0; y < h; y++)
+            for (unsigned x = 0; x < w; x++) {
+                uint32_t v = (x * 37u + y * 91u + l * 13u) * 2654435761u;
+                memcpy((unsigned char *)lr.bits + (size_t)y * lr.pitch + 4 * x, &v, 4);
+            }
+        assert_int_equal(tex_unlock_rect(tex, l), IS_OK);
+    }
+    assert_true(levels == 5);
+    is_sampler s = tex_sampler_default(tex);
+    s.state[IS_SAMP_MINFILTER] = s.state[IS_SAMP_MAGFILTER] = s.state[IS_SAMP_MIPFILTER] = IS_TEXF_LINEAR;
+    for (int q = 0; q < 40; q++) {
+        float scale = 0.01f * (float)(1 << (q % 10)), u0 = -0.7f + 0.13f * (float)q, v0 = 0.31f - 0.07f * (float)q;
+        float dy = q % 2 ? 3.0f * scale : scale;   /* odd quads: the longer footprint along y */
+        float2 uv[4] = {{u0, v0}, {u0 + scale, v0 + 0.3f * scale}, {u0 - 0.2f * scale, v0 + dy},
+                        {u0 + 0.8f * scale, v0 + 1.3f * scale}};
+        unsigned lanes = (unsigned)(q % 16);
+        float4 got[4];
+        for (int k = 0; k < 4; k++) got[k] = (float4){-1, -1, -1, -1};
+        ps_tex2D_quad(&s, uv, lanes, got);
+        for (int k = 0; k < 4; k++) {
+            float4 want = lanes & (1u << k) ? ps_tex2D(&s, uv, k) : (float4){-1, -1, -1, -1};
+            assert_memory_equal(&got[k], &want, sizeof want);
+        }
+    }
+    destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -212,6 +263,7 @@ int main(void)
         cmocka_unit_test(test_constant_and_fixed),
         cmocka_unit_test(test_texture),
         cmocka_unit_test(test_inputs_mask),
+        cmocka_unit_test(test_tex2D_quad),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
