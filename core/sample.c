@@ -101,10 +101,12 @@ typedef float v4f __attribute__((vector_size(16)));
 /* The texel at p of an 8-bit layout (bytes B, G, R, A) as (r, g, b, a) / 255; alpha 255 / 255 = 1 when !alpha. */
 static inline v4f texel_8888_v(const unsigned char *p, bool alpha)
 {
-    typedef unsigned char v4u8 __attribute__((vector_size(4)));
-    v4u8 bytes;
-    memcpy(&bytes, p, 4);
-    v4f c = __builtin_convertvector(__builtin_shufflevector(bytes, bytes, 2, 1, 0, 3), v4f);   /* exact */
+    typedef int v4i __attribute__((vector_size(16)));
+    typedef unsigned v4u __attribute__((vector_size(16)));
+    uint32_t w = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    v4u words = {w, w, w, w}, shift = {16, 8, 0, 24};   /* bytes 2, 1, 0, 3: R, G, B, A */
+    v4i bytes = (v4i)((words >> shift) & 0xffu);
+    v4f c = __builtin_convertvector(bytes, v4f);   /* exact: integers below 256 */
     if (!alpha) c[3] = 255.0f;
     return c / 255.0f;
 }
