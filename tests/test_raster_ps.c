@@ -328,6 +328,36 @@ static void test_live_lanes(void **state_)
     rs_target_free(&four);
 }
 
+/* oC0 = (-0.5, 1.5, NaN, 0.5) in lane 0, (0.25, -inf, +inf, 0.999) in the others. */
+static void ps_out_of_range(const void *ctx, const rs_ps_quad *q, rs_ps_out *o)
+{
+    (void)ctx, (void)q;
+    o->color[0] = (rs_vec4){-0.5f, 1.5f, NAN, 0.5f};
+    for (int k = 1; k < 4; k++) o->color[k] = (rs_vec4){0.25f, -INFINITY, INFINITY, 0.999f};
+}
+
+/* The shader's colour is saturated (NaN as 0) and rounded to 8 bits as the fixed path's: 0.5 -> 128, 0.25 -> 64,
+ * 0.999 -> 255. */
+static void test_output_saturated(void **state_)
+{
+    (void)state_;
+    rs_state st = state();
+    st.ps = ps_out_of_range;
+    rs_target rt;
+    draw(&rt, &st, 1, false, RS_ISA_AVX2, RS_PRIM_TRIANGLES);
+    int seen[2] = {0, 0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            uint32_t c = rt.color[y * W + x];
+            if (c == CLEAR) continue;
+            bool lane0 = (x & 1) == 0 && (y & 1) == 0;
+            assert_int_equal(c, lane0 ? 0x8000ff00u : 0xffff0040u);
+            seen[lane0]++;
+        }
+    assert_true(seen[0] > 20 && seen[1] > 20);
+    rs_target_free(&rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -338,6 +368,7 @@ int main(void)
         cmocka_unit_test(test_stride_grows),
         cmocka_unit_test(test_one_call_per_quad),
         cmocka_unit_test(test_live_lanes),
+        cmocka_unit_test(test_output_saturated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
