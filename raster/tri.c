@@ -181,8 +181,8 @@ static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const fl
 
 /* Pixel (x, y) of triangle p with coverage cov: each covered sample's depth into zs and the perspective
  * barycentrics (as tri_pixel computes them) into *b1, *b2. */
-static void tri_pixel_at(const rs_job *j, const rs_tri *tr, int x, int y, unsigned cov, float *zs, float *b1,
-                         float *b2)
+static inline __attribute__((always_inline)) void tri_pixel_at(const rs_job *j, const rs_tri *tr, int x, int y,
+                                                              unsigned cov, float *zs, float *b1, float *b2)
 {
     const float k = 1.0f / RS_SUB;
     float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
