@@ -458,16 +458,21 @@ static void inst_release(inst_gpu *g)
 static void ps_lit_textured(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
 {
     float2 uv[4];
+    float4 tex[4];
     for (int k = 0; k < 4; k++) uv[k] = f2_of(in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_TEX]);
+    ps_tex2D_quad(&c->s[BENCH_SAMPLER], uv, in->need, tex);   /* ps_tex2D's values, one level of detail */
     for (int k = 0; k < 4; k++) {
         if (!(in->need & (1u << k))) continue;
         float3 n = normalize3(f3_of(in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL]));
         float d = saturate(dot3(n, f3(0.0f, 0.0f, -1.0f)));
-        float4 t = ps_tex2D(&c->s[BENCH_SAMPLER], uv, k);
+        float4 t = tex[k];
         out->color[k] = f4(d * c->c[0].x * t.x, d * c->c[0].y * t.y, d * c->c[0].z * t.z, 1.0f);
     }
 }
-static const is_pixel_shader bench_ps_lit_textured = {"bench-lit-textured", ps_lit_textured};
+/* It reads TEXCOORD0 + VS_OUT_TEX and + VS_OUT_NORMAL only: the other slots are not interpolated (core/pixel.h). */
+static const is_pixel_shader bench_ps_lit_textured = {
+    "bench-lit-textured", ps_lit_textured,
+    (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_TEX)) | (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL))};
 
 /* Scene P's pixel stage on g's device: the texture with bd's mip chain written level by level (LockRect), bound
  * to sampler 0 with MIN/MAG/MIPFILTER LINEAR and ADDRESSU/V WRAP, the pixel shader, c0 = g_vDiffuse; IS_OK or

@@ -701,6 +701,7 @@ rs_state dev_rs_state(const is_device *dev)
         .attr_mask = dev->vs ? dev->vs->outputs : 0,
         .ps = dev->ps ? dev_ps_run : NULL,
         .ps_ctx = dev,
+        .ps_inputs = dev->ps ? dev->ps->inputs : 0,
         .viewport = dev->rs_vp,
     };
     raster_states_apply(dev, &st);   /* core/raster_states.c */

@@ -66,3 +66,18 @@ float4 ps_tex2Dbias(const is_sampler *s, const float2 uv[4], float bias, int k)
     float2 ddx = {uv[1].x - uv[0].x, uv[1].y - uv[0].y}, ddy = {uv[2].x - uv[0].x, uv[2].y - uv[0].y};
     return tex_sample_bias(s, (float4){uv[k].x, uv[k].y, 0.0f, bias}, ddx, ddy);
 }
+
+void ps_tex2D_quad(const is_sampler *s, const float2 uv[4], unsigned lanes, float4 out[4])
+{
+    if (!out) return;
+    if (!uv || !s || !s->tex) {   /* as ps_tex2D: (0, 0, 0, 1) */
+        for (int k = 0; k < 4; k++)
+            if (lanes & (1u << k)) out[k] = (float4){0, 0, 0, 1};
+        return;
+    }
+    float2 ddx = {uv[1].x - uv[0].x, uv[1].y - uv[0].y}, ddy = {uv[2].x - uv[0].x, uv[2].y - uv[0].y};
+    /* tex_sample_bias's level of detail with bias 0 (ps_tex2D's), the same float operations */
+    float lod = tex_lod_from_gradients(s->tex->lv[0].w, s->tex->lv[0].h, ddx, ddy) + 0.0f;
+    for (int k = 0; k < 4; k++)
+        if (lanes & (1u << k)) out[k] = tex_sample_lod(s, (float4){uv[k].x, uv[k].y, 0.0f, lod});
+}

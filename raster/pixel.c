@@ -74,54 +74,19 @@ static uint32_t keep_bytes(uint32_t disable)
 
 void rs_ps_lane(const rs_job *j, const float *a, float b1, float b2, rs_vec4 *v)
 {
+    uint32_t read = j->st->ps_inputs ? j->st->ps_inputs : ~0u;   /* the slots the shader reads */
     for (int i = 0; i < j->n_slots; i++) {
+        if (!((read >> j->slot[i]) & 1u)) continue;   /* not read: left 0 */
         const float *p = a + i * RS_ATTR_STRIDE;
         v[j->slot[i]] = (rs_vec4){p[0] + b1 * p[1] + b2 * p[2], p[3] + b1 * p[4] + b2 * p[5],
                                   p[6] + b1 * p[7] + b2 * p[8], p[9] + b1 * p[10] + b2 * p[11]};
     }
 }
 
-void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_quad *q,
-                int lane, const float *a, float b1, float b2)
-{
-    rs_ps_out o;
-    memset(&o, 0, sizeof o);
-    j->st->ps(j->st->ps_ctx, q, &o);
-    rs_ps_write(j, t, x, y, cov, zs, back, &o, lane, a, b1, b2);
-}
-
-void rs_ps_write(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_out *o,
-                 int lane, const float *a, float b1, float b2)
-{
-    if (o->kill & (1u << lane)) return;   /* texkill: the pixel ends here, before any test */
-    if (o->depth_written)
-        for (int s = 0; s < j->samples; s++) zs[s] = rs_zclamp(o->depth[lane], j->zlo, j->zhi);
-    const rs_vec4 c = o->color[lane];
-    rs_frag_out(j, t, x, y, cov, zs, back, rs_to8(c.x) | rs_to8(c.y) << 8 | rs_to8(c.z) << 16 | rs_to8(c.w) << 24,
-                a, b1, b2);
-}
-
-void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
-                 const float *a, float b1, float b2)
-{
-    if (j->st->ps) {   /* a line or a point: a quad whose lanes all hold this pixel's inputs */
-        rs_ps_quad q;
-        memset(&q, 0, sizeof q);
-        int lane = (x & 1) + 2 * (y & 1);
-        for (int k = 0; k < 4; k++) {
-            rs_ps_lane(j, a, b1, b2, q.v[k]);
-            q.vpos[k][0] = (float)((x & ~1) + (k & 1)), q.vpos[k][1] = (float)((y & ~1) + (k >> 1));
-        }
-        q.front = true, q.live = q.need = 1u << lane;
-        float z[4] = {zs[0], zs[1], zs[2], zs[3]};
-        rs_frag_ps(j, t, x, y, cov, z, back, &q, lane, a, b1, b2);
-        return;
-    }
-    rs_frag_out(j, t, x, y, cov, zs, back, rs_shade_color(j, a, b1, b2), a, b1, b2);
-}
-
-void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back, uint32_t src,
-                 const float *a, float b1, float b2)
+/* rs_frag_out's body, inline in rs_ps_write (the pixel shader's path) and rs_frag_out. */
+static inline __attribute__((always_inline)) void frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov,
+                                                           const float *zs, bool back, uint32_t src, const float *a,
+                                                           float b1, float b2)
 {
     const rs_state *st = j->st;
     t->tested += (uint64_t)__builtin_popcount(cov);
@@ -149,11 +114,69 @@ void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const 
     }
     if (!pass) return;
     t->written += (uint64_t)__builtin_popcount(pass);
-    uint32_t *col = t->color + base, keep = keep_bytes(st->color_write_disable);
+    uint32_t *col = t->color + base, keep = st->color_write_disable & 0xfu ? keep_bytes(st->color_write_disable) : 0;
     for (int s = 0; s < j->samples; s++) {
         if (!(pass & (1u << s))) continue;
         uint32_t v = st->blend_enable ? rs_blend(st->src_blend, st->dst_blend, src, col[s]) : src;
         col[s] = write_masked(v, col[s], keep);
     }
     if (j->rt->n_aov > 0) rs_write_aov(j, a, b1, b2, x, y);
+}
+
+/* rs_to8(c.x) | rs_to8(c.y) << 8 | rs_to8(c.z) << 16 | rs_to8(c.w) << 24, four channels at a time: each
+ * saturated (NaN to 0), times 255, plus 0.5, truncated -- rs_to8's operations in its order. */
+static inline uint32_t pack8(rs_vec4 c)
+{
+    typedef float v4f __attribute__((vector_size(16)));
+    typedef int v4i __attribute__((vector_size(16)));
+    const v4f zero = {0, 0, 0, 0}, one = {1, 1, 1, 1}, k255 = {255, 255, 255, 255}, half = {0.5f, 0.5f, 0.5f, 0.5f};
+    v4f v = {c.x, c.y, c.z, c.w};
+    v4i above = v > zero, below = v < one;   /* all ones where true; both false for NaN */
+    v4f sat = (v4f)((((v4i)v & below) | ((v4i)one & ~below)) & above);   /* c > 0 ? (c < 1 ? c : 1) : 0 */
+    v4i q = __builtin_convertvector(sat * k255 + half, v4i);
+    return (uint32_t)q[0] | (uint32_t)q[1] << 8 | (uint32_t)q[2] << 16 | (uint32_t)q[3] << 24;
+}
+
+void rs_frag_ps(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_quad *q,
+                int lane, const float *a, float b1, float b2)
+{
+    rs_ps_out o;
+    memset(&o, 0, sizeof o);
+    j->st->ps(j->st->ps_ctx, q, &o);
+    rs_ps_write(j, t, x, y, cov, zs, back, &o, lane, a, b1, b2);
+}
+
+void rs_ps_write(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, float *zs, bool back, const rs_ps_out *o,
+                 int lane, const float *a, float b1, float b2)
+{
+    if (o->kill & (1u << lane)) return;   /* texkill: the pixel ends here, before any test */
+    if (o->depth_written)
+        for (int s = 0; s < j->samples; s++) zs[s] = rs_zclamp(o->depth[lane], j->zlo, j->zhi);
+    const rs_vec4 c = o->color[lane];
+    frag_out(j, t, x, y, cov, zs, back, pack8(c), a, b1, b2);
+}
+
+void rs_frag_ext(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back,
+                 const float *a, float b1, float b2)
+{
+    if (j->st->ps) {   /* a line or a point: a quad whose lanes all hold this pixel's inputs */
+        rs_ps_quad q;
+        memset(&q, 0, sizeof q);
+        int lane = (x & 1) + 2 * (y & 1);
+        for (int k = 0; k < 4; k++) {
+            rs_ps_lane(j, a, b1, b2, q.v[k]);
+            q.vpos[k][0] = (float)((x & ~1) + (k & 1)), q.vpos[k][1] = (float)((y & ~1) + (k >> 1));
+        }
+        q.front = true, q.live = q.need = 1u << lane;
+        float z[4] = {zs[0], zs[1], zs[2], zs[3]};
+        rs_frag_ps(j, t, x, y, cov, z, back, &q, lane, a, b1, b2);
+        return;
+    }
+    rs_frag_out(j, t, x, y, cov, zs, back, rs_shade_color(j, a, b1, b2), a, b1, b2);
+}
+
+void rs_frag_out(const rs_job *j, rs_tile *t, int x, int y, unsigned cov, const float *zs, bool back, uint32_t src,
+                 const float *a, float b1, float b2)
+{
+    frag_out(j, t, x, y, cov, zs, back, src, a, b1, b2);
 }

@@ -121,9 +121,12 @@ typedef struct rs_stencil_ops { int func, fail, zfail, pass; } rs_stencil_ops;
  * at each lane's pixel centre, also for helper lanes the primitive does not cover (extrapolated from its planes;
  * a lane where that is undefined -- behind the eye -- gets its quad's covered pixel's inputs), so ddx = lane 1 -
  * lane 0 and ddy = lane 2 - lane 0 exist everywhere (coarse derivatives, as D3D9 hardware).  Lines and points run
- * quads whose four lanes hold the same inputs (derivatives zero). */
+ * quads whose four lanes hold the same inputs (derivatives zero).  A shader that reads only some slots may say so in
+ * rs_state.ps_inputs (bit k: slot k is read; 0, the default: every slot): the others are not interpolated and
+ * read (0, 0, 0, 0). */
 typedef struct rs_ps_quad {
-    rs_vec4 v[4][RS_MAX_ATTR];  /* per lane: COLOR0, COLOR1, TEXCOORD0..7 (slots of attr_mask; others 0) */
+    rs_vec4 v[4][RS_MAX_ATTR];  /* per lane: COLOR0, COLOR1, TEXCOORD0..7 (slots of attr_mask and of rs_state's
+                                   ps_inputs when not 0; others 0) */
     float vpos[4][2];           /* vPos: the lane's pixel (integers: D3D9's pixel centres) */
     bool front;                 /* vFace > 0: a clockwise (front) triangle; lines and points are front */
     unsigned live;              /* lanes the primitive covers (bit k: lane k); the others are helpers */
@@ -172,6 +175,7 @@ typedef struct rs_state {
     float clip_plane[RS_MAX_CLIP_PLANES][4]; /* SetClipPlane, in clip space (a, b, c, d) */
     rs_ps_fn ps;              /* the pixel shader, or NULL: the fixed path (the pixel colour is COLOR0) */
     const void *ps_ctx;       /* its context (the device's constants and samplers) */
+    uint32_t ps_inputs;       /* slots the pixel shader reads (bit k: slot k; 0: every slot); the others read 0 */
     bool pretransformed;      /* POSITIONT / XYZRHW: pos is (X, Y, Z, RHW) in screen pixels, depth Z (no
                                  viewport mapping, no user planes), 1/w = RHW for perspective-correct attributes */
 } rs_state;

@@ -181,8 +181,8 @@ static void tri_pixel_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const fl
 
 /* Pixel (x, y) of triangle p with coverage cov: each covered sample's depth into zs and the perspective
  * barycentrics (as tri_pixel computes them) into *b1, *b2. */
-static void tri_pixel_at(const rs_job *j, const rs_tri *tr, int x, int y, unsigned cov, float *zs, float *b1,
-                         float *b2)
+static inline __attribute__((always_inline)) void tri_pixel_at(const rs_job *j, const rs_tri *tr, int x, int y,
+                                                              unsigned cov, float *zs, float *b1, float *b2)
 {
     const float k = 1.0f / RS_SUB;
     float fx = (float)((int64_t)x * RS_SUB - j->cx - tr->vx) * k;
@@ -205,69 +205,122 @@ static void tri_pixel_ext(const rs_job *j, rs_tile *t, const rs_prim *p, const f
     else rs_frag_ext(j, t, x, y, cov, zs, p->back != 0, a, b1, b2);
 }
 
-/* The quad at (x0, y0) (even) of triangle p whose pixels have coverage cov[0..3], shaded by one call of the pixel
- * shader for all its covered pixels; false (nothing done) when that quad would differ from the one tri_pixel_ps
- * builds around each covered pixel alone -- a helper lane behind the eye (it takes the shaded pixel's inputs
- * there), or a pixel covered by a sample but not at its centre (not live while its neighbours are shaded) -- so
- * the bytes are tri_pixel_ps's either way (a triangle's pixels are distinct: their order does not matter). */
-static bool tri_quad_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0,
-                        const unsigned cov[4])
+/* The quad at (x0, y0) (even) of triangle p whose pixels have coverage cov[0..3] and whose centres the triangle
+ * covers where `in` has the lane's bit, shaded by one call of the pixel shader for all its covered pixels; q is
+ * the walk's quad, whose slots outside the job's are zero (only the job's slots, vPos and the masks are written
+ * here).  False (nothing written to the target) when that quad would differ from the one tri_pixel_ps builds
+ * around each covered pixel alone -- a helper lane behind the eye (it takes the shaded pixel's inputs there), or a
+ * pixel covered by a sample but not at its centre (not live while its neighbours are shaded) -- so the bytes are
+ * tri_pixel_ps's either way (a triangle's pixels are distinct: their order does not matter). */
+static bool tri_quad_ps(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, rs_ps_quad *q, int x0, int y0,
+                        const unsigned cov[4], unsigned in)
 {
     const rs_tri *tr = &p->u.t;
     const float k = 1.0f / RS_SUB;
-    rs_ps_quad q;
-    memset(&q, 0, sizeof q);
+    unsigned need = 0;
+    for (int l = 0; l < 4; l++) need |= (unsigned)(cov[l] != 0) << l;
+    if (need & ~in) return false;
     float zs[4][4], b[4][2];
     for (int l = 0; l < 4; l++) {
         int px = x0 + (l & 1), py = y0 + (l >> 1);
-        int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
-        bool in = true;
-        for (int e = 0; e < 3; e++) in &= (int64_t)tr->ea[e] * X + (int64_t)tr->eb[e] * Y + tr->ec[e] >= 0;
-        if (cov[l] && !in) return false;
-        q.live |= (unsigned)in << l;
-        q.vpos[l][0] = (float)px, q.vpos[l][1] = (float)py;
         if (cov[l]) {
             tri_pixel_at(j, tr, px, py, cov[l], zs[l], &b[l][0], &b[l][1]);
         } else {
+            int64_t X = (int64_t)px * RS_SUB - j->cx, Y = (int64_t)py * RS_SUB - j->cy;
             float fx = (float)(X - tr->vx) * k, fy = (float)(Y - tr->vy) * k, sv = tri_inv_w(tr, fx, fy);
             if (!(sv > 0.0f)) return false;
             tri_bary_of(tr, fx, fy, sv, &b[l][0], &b[l][1]);
         }
-        rs_ps_lane(j, a, b[l][0], b[l][1], q.v[l]);
-        q.need |= (unsigned)(cov[l] != 0) << l;
     }
-    q.front = p->back == 0;
+    for (int l = 0; l < 4; l++) {
+        rs_ps_lane(j, a, b[l][0], b[l][1], q->v[l]);
+        q->vpos[l][0] = (float)(x0 + (l & 1)), q->vpos[l][1] = (float)(y0 + (l >> 1));
+    }
+    q->live = in, q->need = need, q->front = p->back == 0;
     rs_ps_out o;
     memset(&o, 0, sizeof o);
-    j->st->ps(j->st->ps_ctx, &q, &o);
+    j->st->ps(j->st->ps_ctx, q, &o);
     for (int l = 0; l < 4; l++)
-        if (cov[l]) rs_ps_write(j, t, x0 + (l & 1), y0 + (l >> 1), cov[l], zs[l], p->back != 0, &o, l, a, b[l][0], b[l][1]);
+        if (cov[l])
+            rs_ps_write(j, t, x0 + (l & 1), y0 + (l >> 1), cov[l], zs[l], p->back != 0, &o, l, a, b[l][0], b[l][1]);
     return true;
 }
 
+/* The walk's bounds: the box [x0, x1] x [y0, y1] of the triangle in the tile, the walk's quad q and the edge
+ * offsets w (with the pixel centre among the samples: a block that block_test accepts has every centre inside). */
+typedef struct quad_walk {
+    int x0, y0, x1, y1;
+    walk w;
+    rs_ps_quad q;
+} quad_walk;
+
+/* The quads of block [bx, bx1] x [by, by1] (bx, by even; bx1, by1 odd) of triangle p whose edge values at (bx, by)
+ * are e (all = every sample and centre inside): each pixel's centre edge values stepped from e (exact integers),
+ * its coverage, then tri_quad_ps, or pixel by pixel (tri_pixel_ext) where that would change a byte. */
+static void tri_quads_block(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, quad_walk *qw, int bx,
+                            int by, int bx1, int by1, const int64_t *e, bool all)
+{
+    const rs_tri *tr = &p->u.t;
+    int64_t sa[3], sb[3], row[3], off[4][3];   /* steps of one pixel in x and y; lane l's offset from its quad */
+    for (int i = 0; i < 3; i++) sa[i] = (int64_t)tr->ea[i] * RS_SUB, sb[i] = (int64_t)tr->eb[i] * RS_SUB, row[i] = e[i];
+    for (int l = 0; l < 4; l++)
+        for (int i = 0; i < 3; i++) off[l][i] = (l & 1 ? sa[i] : 0) + (l >> 1 ? sb[i] : 0);
+    bool inbox = bx >= qw->x0 && bx1 <= qw->x1 && by >= qw->y0 && by1 <= qw->y1;   /* no pixel outside the box */
+    const unsigned full[4] = {qw->w.full, qw->w.full, qw->w.full, qw->w.full};
+    for (int qy = by; qy <= by1; qy += 2) {
+        int64_t v[3] = { row[0], row[1], row[2] };
+        for (int qx = bx; qx <= bx1; qx += 2) {
+            unsigned cov[4], any = 0, in = 0;
+            if (all && inbox) {   /* every lane inside, at its centre and every sample */
+                memcpy(cov, full, sizeof cov), any = in = 0xfu;
+            } else {
+                for (int l = 0; l < 4; l++) {
+                    int64_t ev[3] = {v[0] + off[l][0], v[1] + off[l][1], v[2] + off[l][2]};
+                    in |= (unsigned)(all || (ev[0] >= 0 && ev[1] >= 0 && ev[2] >= 0)) << l;
+                    int x = qx + (l & 1), y = qy + (l >> 1);
+                    bool box = inbox || (x >= qw->x0 && x <= qw->x1 && y >= qw->y0 && y <= qw->y1);
+                    any |= cov[l] = !box ? 0u : all ? qw->w.full : coverage(j, &qw->w, ev);
+                }
+            }
+            if (any && !tri_quad_ps(j, t, p, a, &qw->q, qx, qy, cov, in))
+                for (int l = 0; l < 4; l++)
+                    if (cov[l]) tri_pixel_ext(j, t, p, a, qx + (l & 1), qy + (l >> 1), cov[l]);
+            for (int i = 0; i < 3; i++) v[i] += 2 * sa[i];
+        }
+        for (int i = 0; i < 3; i++) row[i] += 2 * sb[i];
+    }
+}
+
 /* The pixel-shader walk of triangle p's pixels [x0, x1] x [y0, y1] (inside one tile, whose quads it holds whole):
- * quad by quad, one shader call per quad (tri_quad_ps), or pixel by pixel where that would change a byte. */
+ * blocks of whole quads (at most 8x8 pixels) rejected or accepted whole by block_test, the others quad by quad
+ * (tri_quads_block).  The quad's slots are zeroed once here: every call writes the same slots. */
 static void tri_tile_quads(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                            int y1)
 {
     const rs_tri *tr = &p->u.t;
-    walk w;
-    for (int i = 0; i < 3; i++)
-        for (int s = 0; s < j->samples; s++) w.eo[i][s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
-    for (int qy = y0 & ~1; qy <= y1; qy += 2)
-        for (int qx = x0 & ~1; qx <= x1; qx += 2) {
-            unsigned cov[4] = {0, 0, 0, 0}, any = 0;
-            for (int l = 0; l < 4; l++) {
-                int x = qx + (l & 1), y = qy + (l >> 1);
-                if (x < x0 || x > x1 || y < y0 || y > y1) continue;
-                int64_t X = (int64_t)x * RS_SUB - j->cx, Y = (int64_t)y * RS_SUB - j->cy, e[3];
-                for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
-                any |= cov[l] = coverage(j, &w, e);
-            }
-            if (!any || tri_quad_ps(j, t, p, a, qx, qy, cov)) continue;
-            for (int l = 0; l < 4; l++)
-                if (cov[l]) tri_pixel_ext(j, t, p, a, qx + (l & 1), qy + (l >> 1), cov[l]);
+    quad_walk qw = {.x0 = x0, .y0 = y0, .x1 = x1, .y1 = y1};
+    qw.w.full = (1u << j->samples) - 1u;
+    for (int i = 0; i < 3; i++) {
+        qw.w.omin[i] = qw.w.omax[i] = 0;   /* the centre (offset 0) counts too */
+        for (int s = 0; s < j->samples; s++) {
+            int64_t o = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
+            qw.w.eo[i][s] = o;
+            if (o < qw.w.omin[i]) qw.w.omin[i] = o;
+            if (o > qw.w.omax[i]) qw.w.omax[i] = o;
         }
+    }
+    memset(&qw.q, 0, sizeof qw.q);
+    int qx1 = x1 | 1, qy1 = y1 | 1;
+    for (int by = y0 & ~1; by <= qy1; by = (by | (RS_BLOCK - 1)) + 1) {
+        int by1 = (by | (RS_BLOCK - 1)) < qy1 ? (by | (RS_BLOCK - 1)) : qy1;
+        for (int bx = x0 & ~1; bx <= qx1; bx = (bx | (RS_BLOCK - 1)) + 1) {
+            int bx1 = (bx | (RS_BLOCK - 1)) < qx1 ? (bx | (RS_BLOCK - 1)) : qx1;
+            int64_t X = (int64_t)bx * RS_SUB - j->cx, Y = (int64_t)by * RS_SUB - j->cy, e[3];
+            for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X + tr->eb[i] * Y + tr->ec[i];
+            int r = block_test(tr, &qw.w, e, bx1 - bx, by1 - by);
+            if (r >= 0) tri_quads_block(j, t, p, a, &qw, bx, by, bx1, by1, e, r > 0);
+        }
+    }
 }
 
 /* The walk of a job with pixel.c's states (rs_job.ext): every pixel of [x0, x1] x [y0, y1] with its exact sample

@@ -64,7 +64,7 @@ static void ps_constant(const is_ps_constants *c, const is_ps_input *in, is_ps_o
     (void)in;
     for (int k = 0; k < 4; k++) out->color[k] = c->c[5];
 }
-static const is_pixel_shader PS_CONSTANT = {"constant", ps_constant};
+static const is_pixel_shader PS_CONSTANT = {"constant", ps_constant, 0};
 
 /* oC0 = tex2D(s0, TEXCOORD0). */
 static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
@@ -73,7 +73,7 @@ static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_ou
     for (int k = 0; k < 4; k++) uv[k] = (float2){in->v[k][RS_ATTR_TEXCOORD0].x, in->v[k][RS_ATTR_TEXCOORD0].y};
     for (int k = 0; k < 4; k++) out->color[k] = ps_tex2D(&c->s[0], uv, k);
 }
-static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture};
+static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture, 0};
 
 static void test_arguments(void **state)
 {
@@ -88,7 +88,7 @@ static void test_arguments(void **state)
     assert_int_equal(dev_get_pixel_shader(dev, NULL), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
     assert_null(got);   /* the default: the fixed path */
-    const is_pixel_shader empty = {"empty", NULL};
+    const is_pixel_shader empty = {"empty", NULL, 0};
     assert_int_equal(dev_set_pixel_shader(dev, &empty), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_pixel_shader(dev, &got), IS_OK);
     assert_null(got);
@@ -117,6 +117,15 @@ static void test_arguments(void **state)
     assert_true(t.x == 0 && t.w == 1);
     t = ps_tex2Dbias(NULL, uv, 1e30f, -1);
     assert_true(t.w == 1);
+    float4 four[4] = {{9, 9, 9, 9}, {9, 9, 9, 9}, {9, 9, 9, 9}, {9, 9, 9, 9}};
+    ps_tex2D_quad(&empty_s, uv, 0, four);           /* no lane: nothing written */
+    assert_true(four[0].x == 9 && four[3].w == 9);
+    ps_tex2D_quad(&empty_s, uv, 0xffffffffu, four);  /* bits past lane 3 ignored */
+    for (int k = 0; k < 4; k++) assert_true(four[k].x == 0 && four[k].w == 1);
+    four[1].w = 9;
+    ps_tex2D_quad(NULL, NULL, 1u, four);
+    assert_true(four[0].w == 1 && four[1].w == 9);
+    ps_tex2D_quad(&empty_s, uv, 0xfu, NULL);         /* nowhere to write: nothing */
     destroy(dev);
 }
 
@@ -173,12 +182,88 @@ static void test_texture(void **state)
     destroy(dev);
 }
 
+/* oC0 = (COLOR0.x, TEXCOORD0.x, 0, 1). */
+static void ps_color_tex(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
+{
+    (void)c;
+    for (int k = 0; k < 4; k++)
+        out->color[k] = (float4){in->v[k][RS_ATTR_COLOR0].x, in->v[k][RS_ATTR_TEXCOORD0].x, 0, 1};
+}
+
+/* is_pixel_shader.inputs: 0 reads every slot; a mask reads its slots, the others (0, 0, 0, 0).  At pixel (0, 0)
+ * COLOR0.x = 0.25 (64) and TEXCOORD0.x = 0.125 (32). */
+static void test_inputs_mask(void **state)
+{
+    (void)state;
+    const struct { uint32_t inputs, want; } rows[] = {
+        {0, 0xff002040u},
+        {1u << RS_ATTR_COLOR0, 0xff000040u},
+        {1u << RS_ATTR_TEXCOORD0, 0xff002000u},
+        {(1u << RS_ATTR_COLOR0) | (1u << RS_ATTR_TEXCOORD0), 0xff002040u},
+        {1u << RS_ATTR_COLOR1, 0xff000000u},
+    };
+    is_device *dev = device();
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        const is_pixel_shader ps = {"color-tex", ps_color_tex, rows[r].inputs};
+        uint32_t px[N * N];
+        assert_int_equal(dev_set_pixel_shader(dev, &ps), IS_OK);
+        draw(dev, px);
+        assert_int_equal(px[0], rows[r].want);
+    }
+    assert_int_equal(dev_set_pixel_shader(dev, NULL), IS_OK);
+    destroy(dev);
+}
+
+/* ps_tex2D_quad gives ps_tex2D's values lane by lane (trilinear over a mip chain, WRAP, quads from magnified to
+ * many levels down, the longer footprint along x or y, as floats bit for bit) and leaves the lanes outside its
+ * mask alone. */
+static void test_tex2D_quad(void **state)
+{
+    (void)state;
+    is_device *dev = device();
+    is_texture *tex;
+    assert_int_equal(dev_create_texture(dev, 16, 8, 0, 0, IS_FMT_A8R8G8B8, &tex), IS_OK);
+    unsigned levels = 0;
+    for (unsigned l = 0; l < 16; l++) {
+        is_locked_rect lr;
+        if (tex_lock_rect(tex, l, &lr, NULL, 0) != IS_OK) break;
+        levels++;
+        unsigned w = 16u >> l ? 16u >> l : 1u, h = 8u >> l ? 8u >> l : 1u;
+        for (unsigned y = 0; y < h; y++)
+            for (unsigned x = 0; x < w; x++) {
+                uint32_t v = (x * 37u + y * 91u + l * 13u) * 2654435761u;
+                memcpy((unsigned char *)lr.bits + (size_t)y * lr.pitch + 4 * x, &v, 4);
+            }
+        assert_int_equal(tex_unlock_rect(tex, l), IS_OK);
+    }
+    assert_true(levels == 5);
+    is_sampler s = tex_sampler_default(tex);
+    s.state[IS_SAMP_MINFILTER] = s.state[IS_SAMP_MAGFILTER] = s.state[IS_SAMP_MIPFILTER] = IS_TEXF_LINEAR;
+    for (int q = 0; q < 40; q++) {
+        float scale = 0.01f * (float)(1 << (q % 10)), u0 = -0.7f + 0.13f * (float)q, v0 = 0.31f - 0.07f * (float)q;
+        float dy = q % 2 ? 3.0f * scale : scale;   /* odd quads: the longer footprint along y */
+        float2 uv[4] = {{u0, v0}, {u0 + scale, v0 + 0.3f * scale}, {u0 - 0.2f * scale, v0 + dy},
+                        {u0 + 0.8f * scale, v0 + 1.3f * scale}};
+        unsigned lanes = (unsigned)(q % 16);
+        float4 got[4];
+        for (int k = 0; k < 4; k++) got[k] = (float4){-1, -1, -1, -1};
+        ps_tex2D_quad(&s, uv, lanes, got);
+        for (int k = 0; k < 4; k++) {
+            float4 want = lanes & (1u << k) ? ps_tex2D(&s, uv, k) : (float4){-1, -1, -1, -1};
+            assert_memory_equal(&got[k], &want, sizeof want);
+        }
+    }
+    destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arguments),
         cmocka_unit_test(test_constant_and_fixed),
         cmocka_unit_test(test_texture),
+        cmocka_unit_test(test_inputs_mask),
+        cmocka_unit_test(test_tex2D_quad),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

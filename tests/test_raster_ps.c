@@ -269,6 +269,95 @@ static void test_one_call_per_quad(void **state_)
     }
 }
 
+/* oC0 = (the quad's live mask, its need mask, the lane) / 255. */
+static void ps_masks(const void *ctx, const rs_ps_quad *q, rs_ps_out *o)
+{
+    (void)ctx;
+    for (int k = 0; k < 4; k++)
+        o->color[k] = (rs_vec4){(float)q->live / 255.0f, (float)q->need / 255.0f, (float)k / 255.0f, 1};
+}
+
+/* Draw triangle v[0..2] of the scene with ps_masks on a fresh target of `samples` samples (1 thread). */
+static void draw_masks(rs_target *rt, int samples)
+{
+    rs_vertex v[9];
+    scene(v);
+    assert_int_equal(rs_target_init(rt, W, H, samples), RS_OK);
+    rs_target_clear(rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, CLEAR, 1.0f);
+    rs_state st = state();
+    st.multisample = samples > 1;
+    st.ps = ps_masks;
+    rs_context *rs = rs_create(1);
+    assert_int_equal(rs_draw(rs, &st, rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+    rs_destroy(rs);
+}
+
+/* live is the quad's lanes whose centre the triangle covers, helper lanes included: on one sample the written
+ * pixels of the quad; on four samples those plus the shaded pixel (covered by a sample, maybe not at its centre).
+ * The lane written is the pixel's, and need holds it. */
+static void test_live_lanes(void **state_)
+{
+    (void)state_;
+    rs_target one, four;
+    draw_masks(&one, 1);
+    draw_masks(&four, 4);
+    int partial = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            unsigned centres = 0, lane = (unsigned)((x & 1) + 2 * (y & 1));
+            for (unsigned l = 0; l < 4; l++) {
+                int px = (x & ~1) + (int)(l & 1), py = (y & ~1) + (int)(l >> 1);
+                centres |= (unsigned)(one.color[py * W + px] != CLEAR) << l;
+            }
+            uint32_t c1 = one.color[y * W + x];
+            if (c1 != CLEAR) {
+                assert_int_equal(c1 & 0xffu, centres);
+                assert_int_equal((c1 >> 16) & 0xffu, lane);
+                assert_true((c1 >> 8) & (1u << lane));
+                partial += centres != 0xfu;
+            }
+            for (int s = 0; s < 4; s++) {
+                uint32_t c4 = four.color[(size_t)(y * W + x) * 4 + (size_t)s];
+                if (c4 == CLEAR) continue;
+                assert_int_equal(c4 & 0xffu, centres | 1u << lane);
+                assert_int_equal((c4 >> 16) & 0xffu, lane);
+            }
+        }
+    assert_true(partial > 10);   /* edge quads with helper lanes seen */
+    rs_target_free(&one);
+    rs_target_free(&four);
+}
+
+/* oC0 = (-0.5, 1.5, NaN, 0.5) in lane 0, (0.25, -inf, +inf, 0.999) in the others. */
+static void ps_out_of_range(const void *ctx, const rs_ps_quad *q, rs_ps_out *o)
+{
+    (void)ctx, (void)q;
+    o->color[0] = (rs_vec4){-0.5f, 1.5f, NAN, 0.5f};
+    for (int k = 1; k < 4; k++) o->color[k] = (rs_vec4){0.25f, -INFINITY, INFINITY, 0.999f};
+}
+
+/* The shader's colour is saturated (NaN as 0) and rounded to 8 bits as the fixed path's: 0.5 -> 128, 0.25 -> 64,
+ * 0.999 -> 255. */
+static void test_output_saturated(void **state_)
+{
+    (void)state_;
+    rs_state st = state();
+    st.ps = ps_out_of_range;
+    rs_target rt;
+    draw(&rt, &st, 1, false, RS_ISA_AVX2, RS_PRIM_TRIANGLES);
+    int seen[2] = {0, 0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            uint32_t c = rt.color[y * W + x];
+            if (c == CLEAR) continue;
+            bool lane0 = (x & 1) == 0 && (y & 1) == 0;
+            assert_int_equal(c, lane0 ? 0x8000ff00u : 0xffff0040u);
+            seen[lane0]++;
+        }
+    assert_true(seen[0] > 20 && seen[1] > 20);
+    rs_target_free(&rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -278,6 +367,8 @@ int main(void)
         cmocka_unit_test(test_kill_and_depth),
         cmocka_unit_test(test_stride_grows),
         cmocka_unit_test(test_one_call_per_quad),
+        cmocka_unit_test(test_live_lanes),
+        cmocka_unit_test(test_output_saturated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

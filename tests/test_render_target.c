@@ -36,7 +36,7 @@ static void ps_pattern(const is_ps_constants *c, const is_ps_input *in, is_ps_ou
                                   (float)(p >> 16 & 0xff) / 255.0f, (float)(p >> 24) / 255.0f};
     }
 }
-static const is_pixel_shader PS_PATTERN = {"pattern", ps_pattern};
+static const is_pixel_shader PS_PATTERN = {"pattern", ps_pattern, 0};
 
 /* oC0 = tex2D(s0, TEXCOORD0). */
 static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
@@ -45,7 +45,7 @@ static void ps_texture(const is_ps_constants *c, const is_ps_input *in, is_ps_ou
     for (int k = 0; k < 4; k++) uv[k] = (float2){in->v[k][RS_ATTR_TEXCOORD0].x, in->v[k][RS_ATTR_TEXCOORD0].y};
     for (int k = 0; k < 4; k++) out->color[k] = ps_tex2D(&c->s[0], uv, k);
 }
-static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture};
+static const is_pixel_shader PS_TEXTURE = {"texture", ps_texture, 0};
 
 /* oC0 = white. */
 static void ps_white(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
@@ -53,7 +53,7 @@ static void ps_white(const is_ps_constants *c, const is_ps_input *in, is_ps_outp
     (void)c, (void)in;
     for (int k = 0; k < 4; k++) out->color[k] = (rs_vec4){1.0f, 1.0f, 1.0f, 1.0f};
 }
-static const is_pixel_shader PS_WHITE = {"white", ps_white};
+static const is_pixel_shader PS_WHITE = {"white", ps_white, 0};
 
 /* A device with a pre-transformed declaration and a buffer of 6 vertices bound. */
 typedef struct fixture { is_device *dev; is_vertex_buffer *vb; is_vertex_declaration *decl; } fixture;

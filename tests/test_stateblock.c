@@ -235,7 +235,7 @@ static void test_create_types(void **state)
 }
 
 static void ps_a_main(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out) { (void)c, (void)in, (void)out; }
-static const is_pixel_shader ps_a = {"a", ps_a_main};
+static const is_pixel_shader ps_a = {"a", ps_a_main, 0};
 
 /* The pixel shader and its constants: recorded into a block (the device keeps its own), in PIXELSTATE and ALL
  * blocks, not in VERTEXSTATE ones. */

@@ -221,6 +221,41 @@ static void test_formats(void **state)
     dev_destroy(dev);
 }
 
+/* The 8-bit formats under LINEAR (bilinear reads four texels at once): every byte value in each channel, read at
+ * the texel centres (weights 0: the texel as is), decoded as byte / 255 with R, G, B from bytes 2, 1, 0 and A from
+ * byte 3 (X8R8G8B8: 1); and the border colour with ADDRESSV BORDER alone. */
+static void test_formats_linear(void **state)
+{
+    is_device *dev = dev_create(8, 8, 1, NULL, 0);
+    for (int k = 0; k < 2; k++) {
+        is_texture *t;
+        is_locked_rect lr;
+        assert_int_equal(dev_create_texture(dev, 256, 2, 1, 0, k ? IS_FMT_X8R8G8B8 : IS_FMT_A8R8G8B8, &t), IS_OK);
+        assert_int_equal(tex_lock_rect(t, 0, &lr, NULL, 0), IS_OK);
+        for (int j = 0; j < 2; j++)
+            for (unsigned i = 0; i < 256; i++) {
+                unsigned char *p = (unsigned char *)lr.bits + j * lr.pitch + i * 4;
+                p[0] = (unsigned char)i, p[1] = (unsigned char)(255 - i);
+                p[2] = (unsigned char)(i * 7), p[3] = (unsigned char)(i ^ 0x55);
+            }
+        tex_unlock_rect(t, 0);
+        is_sampler s = tex_sampler_default(t);
+        s.state[IS_SAMP_MAGFILTER] = s.state[IS_SAMP_MINFILTER] = IS_TEXF_LINEAR;
+        for (unsigned i = 0; i < 256; i++) {
+            float4 c = tex2Dlod(&s, f4((i + 0.5f) / 256.0f, 0.25f, 0, 0));
+            float want[4] = {(float)(unsigned char)(i * 7) / 255.0f, (float)(255 - i) / 255.0f, (float)i / 255.0f,
+                             k ? 1.0f : (float)(i ^ 0x55) / 255.0f};
+            if (c.x != want[0] || c.y != want[1] || c.z != want[2] || c.w != want[3])
+                fail_msg("format %d, texel %u: %g %g %g %g", k, i, c.x, c.y, c.z, c.w);
+        }
+        s.state[IS_SAMP_ADDRESSV] = IS_TADDRESS_BORDER;   /* ADDRESSU stays WRAP */
+        s.state[IS_SAMP_BORDERCOLOR] = 0x80ff4020u;
+        float4 c = tex2Dlod(&s, f4(0.5f, -1.0f, 0, 0));
+        assert_true(c.x == 1.0f && c.y == 64 / 255.0f && c.z == 32 / 255.0f && c.w == 128 / 255.0f);
+    }
+    dev_destroy(dev);
+}
+
 /* POINT: texel (i, j) covers [i, i + 1) x [j, j + 1) in texel units; the boundary belongs to the right texel. */
 static void test_point_texel_centres(void **state)
 {
@@ -666,7 +701,7 @@ int main(void)
         cmocka_unit_test(test_mip_filter),          cmocka_unit_test(test_max_mip_level),
         cmocka_unit_test(test_lod_bias),            cmocka_unit_test(test_log2),
         cmocka_unit_test(test_grad_and_bias),       cmocka_unit_test(test_filter_texture_box),
-        cmocka_unit_test(test_autogen),
+        cmocka_unit_test(test_autogen),             cmocka_unit_test(test_formats_linear),
         cmocka_unit_test_setup_teardown(test_texture_files, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
