@@ -37,6 +37,8 @@ int image_png_read(is_image *img, const char *path, char *err, size_t errlen);
 
 /* printf into err (when err and errlen are given), always NUL-terminated: the message of a failed call. */
 void image_set_err(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* The folder of path (a file's path) into dir ("." if it has none; image_module.c). */
+void image_dir_of(const char *path, char *dir, size_t len);
 
 #ifdef __cplusplus
 }

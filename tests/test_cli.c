@@ -448,7 +448,8 @@ static void test_progress_line(void **state)
     assert_non_null(strstr(out, "import time limit of 3 s"));
     snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -q -o %s/p.png", dir);
     run_on_terminal(args, &out);
-    assert_non_null(strstr(out, "import time limit of 2 s"));
+    if (!strstr(out, "ran out of the import memory"))   /* as above: under ASan either limit may come first */
+        assert_non_null(strstr(out, "import time limit of 2 s"));
     assert_null(strstr(out, "reading the mesh"));
     const char *err;
     snprintf(args, sizeof args, "tests/data/meshes/truncated_header.ply --import-timeout 2 -o %s/p.png", dir);
