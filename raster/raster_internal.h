@@ -70,7 +70,7 @@ static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) 
 #define RS_MAX_POLY 16                /* 3 vertices + one per clip plane (6 + 6 user planes), with room */
 #define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
 
-enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
+enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2, RS_K_GROUP = 3 };
 
 typedef struct rs_pvert rs_pvert;
 typedef struct rs_kernels rs_kernels;
@@ -131,12 +131,18 @@ typedef struct rs_point {
     float z;
 } rs_point;
 
+/* A group of a grouped piece (RS_K_GROUP): triangles [first, first + count) of its chunk's gidx, binned as one
+ * entry with the union of their pixel boxes and set up inside the tile pass (rs_group_tile). */
+typedef struct rs_group {
+    uint32_t first, count;
+} rs_group;
+
 typedef struct rs_prim {
     int32_t x0, y0, x1, y1;      /* pixel bounding box clamped to the scissor, inclusive */
     int kind;                    /* RS_K_* */
     int back;                    /* 1: a triangle counter-clockwise on screen (two-sided stencil); set by the
                                     reference set-up only, read only by rs_frag_ext (in what was padding) */
-    union { rs_tri t; rs_line l; rs_point p; } u;
+    union { rs_tri t; rs_line l; rs_point p; rs_group g; } u;
 } rs_prim;
 _Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment states it");
 
@@ -160,6 +166,15 @@ typedef struct rs_chunk {
     uint64_t work;               /* triangles' min(area, box) in RS_WORK_UNIT, saturating (RS_MAX_OVERDRAW) */
     bool oom;
     bool bad_piece;              /* rs_draw_source: the producer broke the piece's promise (RS_EINVAL) */
+    /* a grouped piece (rs_draw_source with group_prims; rs_setup_groups): its projected vertices, their
+     * interpolated slots (n_slots rs_vec4 per vertex) and its indices, kept for the tile pass; prims then holds
+     * RS_K_GROUP entries only */
+    void *gpv;
+    size_t gpv_cap;              /* rs_pvert records */
+    rs_vec4 *gattr;
+    size_t gattr_cap;
+    uint32_t *gidx;
+    size_t gidx_cap;
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
@@ -275,6 +290,28 @@ void rs_project_vertices_avx512(const rs_job *j, const rs_vertex *v, size_t n, r
 void rs_setup_shared_avx2(const rs_job *j, rs_chunk *c);
 void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
 
+/* Grouped pieces (rs_source.group_prims; the fast path only, see rs_group_ok): the set-up region projects the
+ * piece's vertices into c->gpv, keeps their slots and the indices in the chunk, and pushes one RS_K_GROUP entry per
+ * run of group triangles with the union of the pixel boxes of its drawn triangles (culling and counting each
+ * triangle as rs_setup_shared does, no set-up record written); the tile pass sets up, per group entry of a tile's
+ * bin, the group's triangles whose box meets the tile -- rs_setup_shared's operations, into an L1 scratch -- and
+ * rasterizes each at once with rs_tri_tile, in the group's order.  rs_setup_groups returns false (the chunk left
+ * for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece is not PV_READY (clipping needed). */
+bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                          size_t np, size_t group);
+bool rs_setup_groups_avx512(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                            size_t np, size_t group);
+/* Rasterize group entry p of chunk c inside tile t (set-up of its triangles that meet the tile, then rs_tri_tile). */
+void rs_group_tile_avx2(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
+void rs_group_tile_avx512(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
+/* May draw j's pieces be grouped: the fast path's walk (1-sample target, off the reference path, so none of pixel.c's
+ * states), solid fill, Gouraud shading, no pixel shader, no AOV planes? */
+static inline bool rs_group_ok(const rs_job *j)
+{
+    return !RS_ONLY_REFERENCE && !j->reference && !j->ext && j->samples == 1 && j->prim == RS_PRIM_TRIANGLES &&
+           j->st->fill_mode == RS_FILL_SOLID && !j->flat && !j->st->ps && j->rt->n_aov == 0;
+}
+
 /* ---- bin.c ---- */
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
@@ -325,6 +362,9 @@ struct rs_kernels {
     void (*project_vertices)(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
     void (*project_vertex)(const rs_job *j, const rs_vertex *v, rs_pvert *out);
     void (*setup_shared)(const rs_job *j, rs_chunk *c); /* rs_setup_shared_* */
+    bool (*setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                         size_t np, size_t group);          /* rs_setup_groups_* */
+    void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
 const rs_kernels *rs_kernels_of(int isa);
