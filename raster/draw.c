@@ -97,7 +97,7 @@ void rs_destroy(rs_context *rs)
         free(c->bin_idx);
         free(c->gpv);
         free(c->gattr);
-        free(c->gidx);
+        free(c->gtri);
     }
     free(rs->chunks);
     free(rs->q);

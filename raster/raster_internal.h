@@ -131,8 +131,8 @@ typedef struct rs_point {
     float z;
 } rs_point;
 
-/* A group of a grouped piece (RS_K_GROUP): triangles [first, first + count) of its chunk's gidx, binned as one
- * entry with the union of their pixel boxes and set up inside the tile pass (rs_group_tile). */
+/* A group of a grouped piece (RS_K_GROUP): drawn triangles [first, first + count) of its chunk's gtri, binned as
+ * one entry with the union of their pixel boxes and set up inside the tile pass (rs_group_tile). */
 typedef struct rs_group {
     uint32_t first, count;
 } rs_group;
@@ -144,6 +144,14 @@ typedef struct rs_prim {
                                     reference set-up only, read only by rs_frag_ext (in what was padding) */
     union { rs_tri t; rs_line l; rs_point p; rs_group g; } u;
 } rs_prim;
+
+/* A drawn triangle of a grouped piece, as the set-up region leaves it for the tile pass: its vertices (indices into
+ * the chunk's gpv and gattr) in clockwise order, and its pixel box (x0, y0, x1, y1, inside the scissor: below
+ * RS_MAX_SIZE = 2^14, so int16) -- 20 bytes where today's path writes a 128-byte rs_prim and its attribute block. */
+typedef struct rs_gtri {
+    uint32_t v[3];
+    int16_t box[4];
+} rs_gtri;
 _Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment states it");
 
 /* ptile value of a primitive whose box touches more than one tile. */
@@ -167,14 +175,14 @@ typedef struct rs_chunk {
     bool oom;
     bool bad_piece;              /* rs_draw_source: the producer broke the piece's promise (RS_EINVAL) */
     /* a grouped piece (rs_draw_source with group_prims; rs_setup_groups): its projected vertices, their
-     * interpolated slots (n_slots rs_vec4 per vertex) and its indices, kept for the tile pass; prims then holds
-     * RS_K_GROUP entries only */
+     * interpolated slots (n_slots rs_vec4 per vertex) and its drawn triangles, kept for the tile pass; prims then
+     * holds RS_K_GROUP entries only */
     void *gpv;
     size_t gpv_cap;              /* rs_pvert records */
     rs_vec4 *gattr;
     size_t gattr_cap;
-    uint32_t *gidx;
-    size_t gidx_cap;
+    rs_gtri *gtri;
+    size_t gtri_cap;
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
@@ -291,11 +299,11 @@ void rs_setup_shared_avx2(const rs_job *j, rs_chunk *c);
 void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
 
 /* Grouped pieces (rs_source.group_prims; the fast path only, see rs_group_ok): the set-up region projects the
- * piece's vertices into c->gpv, keeps their slots and the indices in the chunk, and pushes one RS_K_GROUP entry per
- * run of group triangles with the union of the pixel boxes of its drawn triangles (culling and counting each
- * triangle as rs_setup_shared does, no set-up record written); the tile pass sets up, per group entry of a tile's
- * bin, the group's triangles whose box meets the tile -- rs_setup_shared's operations, into an L1 scratch -- and
- * rasterizes each at once with rs_tri_tile, in the group's order.  rs_setup_groups returns false (the chunk left
+ * piece's vertices into c->gpv, keeps their slots in c->gattr, culls each triangle as rs_setup_shared does (the
+ * same counters and work) and keeps each drawn one with a pixel as a 20-byte rs_gtri (oriented vertices, box), and
+ * pushes one RS_K_GROUP entry per run of group triangles with the union of their boxes; the tile pass sets up, per
+ * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
+ * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.  rs_setup_groups returns false (the chunk left
  * for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece is not PV_READY (clipping needed). */
 bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
                           size_t np, size_t group);

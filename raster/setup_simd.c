@@ -489,24 +489,24 @@ static inline int group_tri(const rs_pvert *pv, const uint32_t *id, bool cull_ne
     return 1;
 }
 
-/* Keep piece v[0..nv) (records in c->gpv), indices idx[0..3 np), in chunk c: the slots of each vertex and the
- * indices; false when out of memory (c->oom set). */
-static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx, size_t np)
+/* Keep the slots of piece v[0..nv) in chunk c and make room for np drawn triangles; false when out of memory
+ * (c->oom set). */
+static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, size_t np)
 {
     const size_t ns = (size_t)j->n_slots;
     if (!group_reserve((void **)&c->gattr, &c->gattr_cap, nv * ns + 1, sizeof(rs_vec4)) ||
-        !group_reserve((void **)&c->gidx, &c->gidx_cap, 3 * np, sizeof(uint32_t))) {
+        !group_reserve((void **)&c->gtri, &c->gtri_cap, np, sizeof(rs_gtri))) {
         c->oom = true;
         return false;
     }
     for (size_t i = 0; i < nv; i++)
         for (size_t s = 0; s < ns; s++) c->gattr[i * ns + s] = v[i].attr[j->slot[s]];
-    memcpy(c->gidx, idx, 3 * np * sizeof *idx);
     return true;
 }
 
-/* Push group entry [g0, g0 + n) with pixel box u into chunk c; false when out of memory. */
-static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t g0, size_t n)
+/* Push group entry of drawn triangles [first, first + n) of c->gtri with pixel box u into chunk c; false when out
+ * of memory. */
+static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t first, size_t n)
 {
     float *at;
     rs_prim *p = rs_push_raw(j, c, &at);
@@ -514,7 +514,7 @@ static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t 
     c->ptile[c->n - 1] = rs_tile_entry(j, u[0], u[1], u[2], u[3]);
     p->x0 = u[0], p->y0 = u[1], p->x1 = u[2], p->y1 = u[3];
     p->kind = RS_K_GROUP, p->back = 0;
-    p->u.g = (rs_group){ (uint32_t)g0, (uint32_t)n };
+    p->u.g = (rs_group){ (uint32_t)first, (uint32_t)n };
     return true;
 }
 
@@ -528,27 +528,32 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
-    if (!group_keep(j, c, v, nv, idx, np)) return true;
+    if (!group_keep(j, c, v, nv, np)) return true;
     const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
     const box_consts bc = box_consts_of(j);
     uint64_t culled = 0, degenerate = 0, drawn = 0;
+    size_t nt = 0;   /* drawn triangles kept */
     for (size_t g0 = 0; g0 < np; g0 += group) {
-        const size_t n = np - g0 < group ? np - g0 : group;
+        const size_t n = np - g0 < group ? np - g0 : group, first = nt;
         int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
         for (size_t k = g0; k < g0 + n; k++) {
             const rs_pvert *tv[3];
-            uint32_t ov[3];
+            rs_gtri *o = &c->gtri[nt];
             int64_t area;
-            const int r = group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, ov, &area);
+            const int r = group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, o->v, &area);
             if (r <= 0) { degenerate += r == 0, culled += r < 0; continue; }
             drawn++;
             int32_t box[4];
             if (!tri_box(j, &bc, tv, box)) continue;
+            RS_ASSERT(box[0] >= 0 && box[2] < RS_MAX_SIZE && box[1] >= 0 && box[3] < RS_MAX_SIZE);
             rs_count_work(c, area, box[0], box[1], box[2], box[3]);
+            o->box[0] = (int16_t)box[0], o->box[1] = (int16_t)box[1], o->box[2] = (int16_t)box[2];
+            o->box[3] = (int16_t)box[3];
+            nt++;
             u[0] = box[0] < u[0] ? box[0] : u[0], u[1] = box[1] < u[1] ? box[1] : u[1];
             u[2] = box[2] > u[2] ? box[2] : u[2], u[3] = box[3] > u[3] ? box[3] : u[3];
         }
-        if (u[0] <= u[2] && !group_push(j, c, u, g0, n)) break;   /* no pixel of the group: no entry */
+        if (nt > first && !group_push(j, c, u, first, nt - first)) break;   /* no pixel of the group: no entry */
     }
     c->culled += culled, c->degenerate += degenerate, c->drawn += drawn;
     return true;
@@ -565,29 +570,20 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
 void RS_KERNEL(rs_group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *g)
 {
     const rs_pvert *pv = c->gpv;
-    const uint32_t *idx = c->gidx;
     const size_t ns = (size_t)j->n_slots;
-    const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
-    const box_consts bc = box_consts_of(j);
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
     _Alignas(64) rs_prim sp[4];                                   /* the scratch: ~2.5 KB, in L1 */
     _Alignas(64) float sa[4][RS_MAX_ATTR * RS_ATTR_STRIDE];
     queued q[4];
     int nq = 0;
-    for (uint32_t k = g->u.g.first, end = g->u.g.first + g->u.g.count; k < end; k++) {
-        const rs_pvert *tv[3];
-        uint32_t ov[3];
-        int64_t area;
-        if (group_tri(pv, &idx[3 * (size_t)k], cull_neg, cull_pos, tv, ov, &area) <= 0) continue;
-        int32_t box[4];
-        if (!tri_box(j, &bc, tv, box)) continue;
-        if (box[0] > tx1 || box[2] < tx0 || box[1] > ty1 || box[3] < ty0) continue;   /* not in this tile */
+    for (const rs_gtri *r = c->gtri + g->u.g.first, *end = r + g->u.g.count; r < end; r++) {
+        if (r->box[0] > tx1 || r->box[2] < tx0 || r->box[1] > ty1 || r->box[3] < ty0) continue;   /* not here */
         rs_prim *p = &sp[nq];
-        memcpy(&p->x0, box, sizeof box);
+        p->x0 = r->box[0], p->y0 = r->box[1], p->x1 = r->box[2], p->y1 = r->box[3];
         p->kind = RS_K_TRI, p->back = 0;
-        const rs_vec4 *a0 = &c->gattr[ov[0] * ns], *a1 = &c->gattr[ov[1] * ns], *a2 = &c->gattr[ov[2] * ns];
+        const rs_vec4 *a0 = &c->gattr[r->v[0] * ns], *a1 = &c->gattr[r->v[1] * ns], *a2 = &c->gattr[r->v[2] * ns];
         for (size_t s = 0; s < ns; s++) rs_fill_slot(sa[nq] + s * RS_ATTR_STRIDE, &a0[s], &a1[s], &a2[s]);
-        q[nq] = (queued){ { tv[0], tv[1], tv[2] }, (size_t)nq };
+        q[nq] = (queued){ { &pv[r->v[0]], &pv[r->v[1]], &pv[r->v[2]] }, (size_t)nq };
         if (++nq == 4) group_flush(j, t, sp, sa, q, nq), nq = 0;
     }
     if (nq) group_flush(j, t, sp, sa, q, nq);
