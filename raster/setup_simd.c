@@ -559,6 +559,39 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     return true;
 }
 
+/* The tile rectangle [x0, x1] x [y0, y1] (inclusive) in the form gtri_out tests. */
+typedef struct tile_rect {
+#ifdef __SSE2__
+    __m128i lim;   /* int16 lanes x1, y1, x0, y0, x1, y1, x0, y0 */
+#else
+    int32_t x0, y0, x1, y1;
+#endif
+} tile_rect;
+
+/* tile_rect of [x0, x1] x [y0, y1] (within RS_MAX_SIZE: int16). */
+static inline tile_rect tile_rect_of(int32_t x0, int32_t y0, int32_t x1, int32_t y1)
+{
+#ifdef __SSE2__
+    return (tile_rect){ _mm_setr_epi16((int16_t)x1, (int16_t)y1, (int16_t)x0, (int16_t)y0, (int16_t)x1, (int16_t)y1,
+                                       (int16_t)x0, (int16_t)y0) };
+#else
+    return (tile_rect){ x0, y0, x1, y1 };
+#endif
+}
+
+/* Does the box of r miss rectangle tr (box x0 > x1 or y0 > y1 of the rectangle, or box x1 < x0 or y1 < y0)? */
+static inline bool gtri_out(const rs_gtri *r, const tile_rect *tr)
+{
+#ifdef __SSE2__
+    _Static_assert(offsetof(rs_gtri, box) == 12, "rs_gtri's box as one 8-byte load");
+    const __m128i b = _mm_loadl_epi64((const __m128i *)r->box);            /* x0 y0 x1 y1 */
+    const __m128i gt = _mm_cmpgt_epi16(b, tr->lim), lt = _mm_cmpgt_epi16(tr->lim, b);
+    return (_mm_movemask_epi8(gt) & 0x0f) | (_mm_movemask_epi8(lt) & 0xf0);
+#else
+    return r->box[0] > tr->x1 || r->box[1] > tr->y1 || r->box[2] < tr->x0 || r->box[3] < tr->y0;
+#endif
+}
+
 /* Set up queued triangles q[0..n) into the scratch primitives sp (finish_queued) and rasterize them in order. */
 static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS_MAX_ATTR * RS_ATTR_STRIDE],
                         queued q[4], int n)
@@ -571,13 +604,15 @@ void RS_KERNEL(rs_group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, co
 {
     const rs_pvert *pv = c->gpv;
     const size_t ns = (size_t)j->n_slots;
-    const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
+    const tile_rect tr = tile_rect_of(t->x0, t->y0, t->x1 - 1, t->y1 - 1);
+    /* a group in one tile: each of its boxes (inside the scissor) meets the tile's rectangle */
+    const bool all = ((g->x0 ^ g->x1) | (g->y0 ^ g->y1)) >> RS_TILE_BITS == 0;
     _Alignas(64) rs_prim sp[4];                                   /* the scratch: ~2.5 KB, in L1 */
     _Alignas(64) float sa[4][RS_MAX_ATTR * RS_ATTR_STRIDE];
     queued q[4];
     int nq = 0;
     for (const rs_gtri *r = c->gtri + g->u.g.first, *end = r + g->u.g.count; r < end; r++) {
-        if (r->box[0] > tx1 || r->box[2] < tx0 || r->box[1] > ty1 || r->box[3] < ty0) continue;   /* not here */
+        if (!all && gtri_out(r, &tr)) continue;   /* not in this tile */
         rs_prim *p = &sp[nq];
         p->x0 = r->box[0], p->y0 = r->box[1], p->x1 = r->box[2], p->y1 = r->box[3];
         p->kind = RS_K_TRI, p->back = 0;
