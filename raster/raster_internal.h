@@ -9,7 +9,9 @@
  *   3. in parallel over tiles (tri.c, span.c, line.c): walk the chunks in order and each chunk's bin in order, so
  *      every sample sees the primitives in submission order whatever the thread count.
  * rs_draw_source (raster.h; the device's fused path) is the same with step 2 fed piece by piece: each chunk's
- * vertices are produced (shaded) by the thread that sets the chunk up.
+ * vertices are produced (shaded) by the thread that sets the chunk up.  A grouped piece (rs_source.group_prims,
+ * rs_group_ok) is binned per instance instead of per triangle (RS_K_GROUP entries) and its triangles are set up in
+ * step 3, per tile, into an L1 scratch (setup_simd.c's rs_setup_groups / rs_group_tile).
  *
  * Every fast path sits in its own file beside its definition: setup.c (reference set-up) / setup_simd.c (shared
  * pass, four-lane finish); tri.c (reference walk) / span.c (8-lane walks).  setup_internal.h is what the two
