@@ -530,11 +530,14 @@ static inline size_t box_tiles(const int32_t u[4])
            (size_t)((u[3] >> RS_TILE_BITS) - (u[1] >> RS_TILE_BITS) + 1);
 }
 
+/* Culled, degenerate and drawn triangles, counted. */
+typedef struct tri_counts { uint64_t culled, degenerate, drawn; } tri_counts;
+
 /* Set up triangles [g0, g0 + n) of the piece (indices idx into c->gpv, slots of j->verts) per triangle into chunk
- * c as rs_setup_shared does, their culling already counted; queue q (nq entries) carries over.  False when out of
- * memory. */
+ * c as rs_setup_shared does, counting into *tc those from `from` on (the earlier ones are counted); queue q (nq
+ * entries) carries over.  False when out of memory. */
 static bool group_as_triangles(const rs_job *j, rs_chunk *c, const box_consts *bc, const uint32_t *idx, size_t g0,
-                               size_t n, queued q[4], int *nq)
+                               size_t n, size_t from, tri_counts *tc, queued q[4], int *nq)
 {
     const rs_pvert *pv = c->gpv;
     const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
@@ -542,7 +545,9 @@ static bool group_as_triangles(const rs_job *j, rs_chunk *c, const box_consts *b
         const rs_pvert *tv[3];
         uint32_t ov[3];
         int64_t area;
-        if (group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, ov, &area) <= 0) continue;
+        const int r = group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, ov, &area);
+        if (k >= from) tc->degenerate += r == 0, tc->culled += r < 0, tc->drawn += r > 0;
+        if (r <= 0) continue;
         const size_t prim = c->n;
         if (!push_front(j, c, bc, tv, ov, area)) {
             if (c->oom) return false;
@@ -567,7 +572,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     if (!group_keep(j, c, v, nv, np)) return true;
     const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
     const box_consts bc = box_consts_of(j);
-    uint64_t culled = 0, degenerate = 0, drawn = 0;
+    uint64_t culled = 0, degenerate = 0, drawn = 0;   /* (locals: kept in registers) */
     size_t nt = 0;   /* drawn triangles kept */
     queued q[4];     /* the triangles of groups set up per triangle, waiting for finish_queued */
     int nq = 0;
@@ -575,30 +580,39 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
         const size_t n = np - g0 < group ? np - g0 : group, first = nt;
         const uint64_t work = c->work;
         int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
-        for (size_t k = g0; k < g0 + n; k++) {
-            const rs_pvert *tv[3];
-            rs_gtri *o = &c->gtri[nt];
-            int64_t area;
-            const int r = group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, o->v, &area);
-            if (r <= 0) { degenerate += r == 0, culled += r < 0; continue; }
-            drawn++;
-            int32_t box[4];
-            if (!tri_box(j, &bc, tv, box)) continue;
-            RS_ASSERT(box[0] >= 0 && box[2] < RS_MAX_SIZE && box[1] >= 0 && box[3] < RS_MAX_SIZE);
-            rs_count_work(c, area, box[0], box[1], box[2], box[3]);
-            o->box[0] = (int16_t)box[0], o->box[1] = (int16_t)box[1], o->box[2] = (int16_t)box[2];
-            o->box[3] = (int16_t)box[3];
-            nt++;
-            u[0] = box[0] < u[0] ? box[0] : u[0], u[1] = box[1] < u[1] ? box[1] : u[1];
-            u[2] = box[2] > u[2] ? box[2] : u[2], u[3] = box[3] > u[3] ? box[3] : u[3];
+        size_t k = g0;   /* the triangles before k are counted */
+        bool big = false;
+        for (size_t kb = g0; kb < g0 + n && !big; kb += 16) {   /* 16 at a time, then: too large already? */
+            const size_t ke = g0 + n - kb < 16 ? g0 + n : kb + 16;
+            for (k = kb; k < ke; k++) {
+                const rs_pvert *tv[3];
+                rs_gtri *o = &c->gtri[nt];
+                int64_t area;
+                const int r = group_tri(pv, &idx[3 * k], cull_neg, cull_pos, tv, o->v, &area);
+                if (r <= 0) { degenerate += r == 0, culled += r < 0; continue; }
+                drawn++;
+                int32_t box[4];
+                if (!tri_box(j, &bc, tv, box)) continue;
+                RS_ASSERT(box[0] >= 0 && box[2] < RS_MAX_SIZE && box[1] >= 0 && box[3] < RS_MAX_SIZE);
+                rs_count_work(c, area, box[0], box[1], box[2], box[3]);
+                o->box[0] = (int16_t)box[0], o->box[1] = (int16_t)box[1], o->box[2] = (int16_t)box[2];
+                o->box[3] = (int16_t)box[3];
+                nt++;
+                u[0] = box[0] < u[0] ? box[0] : u[0], u[1] = box[1] < u[1] ? box[1] : u[1];
+                u[2] = box[2] > u[2] ? box[2] : u[2], u[3] = box[3] > u[3] ? box[3] : u[3];
+            }
+            big = nt > first && box_tiles(u) > GROUP_MAX_TILES;   /* it goes per triangle: stop here */
         }
         if (nt == first) continue;   /* no pixel of the group: no entry */
-        if (box_tiles(u) <= GROUP_MAX_TILES) {
+        if (!big) {
             if (!group_push(j, c, u, first, nt - first)) break;
             continue;
         }
         c->work = work, nt = first;   /* per triangle: push_front counts the work again */
-        if (!group_as_triangles(j, c, &bc, idx, g0, n, q, &nq)) break;
+        tri_counts tc = { 0, 0, 0 };
+        const bool ok = group_as_triangles(j, c, &bc, idx, g0, n, big ? k : g0 + n, &tc, q, &nq);
+        culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
+        if (!ok) break;
     }
     finish_queued(j, c->prims, q, nq);
     c->culled += culled, c->degenerate += degenerate, c->drawn += drawn;
