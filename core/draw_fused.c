@@ -291,7 +291,8 @@ static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *
     is_result r = fused_reserve(dev, rs_threads(dev->rs), f);
     if (r != IS_OK) return r;
     fused_reserve_grids(dev, f);
-    rs_source src = {(ni + per_piece - 1) / per_piece, (size_t)ni * n_prims, f->slot_verts, fused_produce, f};
+    /* each piece's triangles come in runs of n_prims, one per kept instance: the rasterizer bins them by instance */
+    rs_source src = {(ni + per_piece - 1) / per_piece, (size_t)ni * n_prims, f->slot_verts, fused_produce, f, n_prims};
     rs_state st = dev_rs_state(dev);
     rs_stats s = {0};
     dev->shaded += (uint64_t)ni * count;   /* the instances culled are taken off at the flush */

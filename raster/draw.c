@@ -23,13 +23,13 @@
 #ifndef RS_NO_KERNELS
 static const rs_kernels kernels[RS_ISA_COUNT] = {
     [RS_ISA_AVX2] = { "avx2", rs_tri_fast_avx2, rs_project_vertices_avx2, rs_project_vertex_avx2,
-                      rs_setup_shared_avx2 },
+                      rs_setup_shared_avx2, rs_setup_groups_avx2, rs_group_tile_avx2 },
     [RS_ISA_AVX512] = { "avx512", rs_tri_fast_avx512, rs_project_vertices_avx512, rs_project_vertex_avx512,
-                        rs_setup_shared_avx512 },
+                        rs_setup_shared_avx512, rs_setup_groups_avx512, rs_group_tile_avx512 },
 };
 #else /* the browser build: no kernels, the reference path only (raster_internal.h) */
-static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL},
-                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL}};
+static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL, NULL, NULL},
+                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL, NULL, NULL}};
 /* setup_simd.c's definition (sizeof(rs_pvert), asserted 24 there), for the scratch rs_draw_source reserves */
 size_t rs_pvert_size(void) { return 24; }
 #endif
@@ -95,6 +95,9 @@ void rs_destroy(rs_context *rs)
         free(c->attr);
         free(c->bin_off);
         free(c->bin_idx);
+        free(c->gpv);
+        free(c->gattr);
+        free(c->gtri);
     }
     free(rs->chunks);
     free(rs->q);
@@ -364,8 +367,21 @@ static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const 
     return np == 0 || max_index(idx, 3 * np) < nv;
 }
 
+/* Chunk ch's projected vertices of a grouped piece made to hold n records; false when out of memory. */
+static bool reserve_gpv(rs_chunk *ch, size_t n)
+{
+    if (n <= ch->gpv_cap) return true;
+    if (n > SIZE_MAX / rs_pvert_size()) return false;
+    void *p = realloc(ch->gpv, n * rs_pvert_size());
+    if (!p) return false;
+    ch->gpv = p, ch->gpv_cap = n;
+    return true;
+}
+
 /* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each
- * vertex once (as the shared pass, into the slot's pv_slot vertices of rs->pv), set up and bin. */
+ * vertex once (as the shared pass, into the slot's pv_slot vertices of rs->pv), set up and bin.  A piece of a
+ * source with group_prims that may be grouped (rs_group_ok; every vertex inside the clip volume) is projected into
+ * the chunk's own records instead and binned by groups (rs_setup_groups). */
 static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, rs_chunk *ch, int slot,
                          size_t pv_slot)
 {
@@ -378,10 +394,17 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     rs_job jl = *j;
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
     ch->first = 0, ch->count = np;
-    if (np && nv <= 3 * np && nv <= src->max_verts && !j->reference) {
-        rs_pvert *pv = (rs_pvert *)((char *)rs->pv + (size_t)slot * pv_slot * rs_pvert_size());
-        jl.kern->project_vertices(&jl, v, nv, pv);
-        jl.pv = pv;
+    if (np && nv <= src->max_verts && !j->reference) {
+        const bool grouped = src->group_prims && rs_group_ok(j) && reserve_gpv(ch, nv);
+        if (grouped || nv <= 3 * np) {
+            rs_pvert *pv = grouped ? ch->gpv : (rs_pvert *)((char *)rs->pv + (size_t)slot * pv_slot * rs_pvert_size());
+            jl.kern->project_vertices(&jl, v, nv, pv);
+            jl.pv = pv;
+        }
+        if (grouped && jl.kern->setup_groups(&jl, ch, v, nv, idx, np, src->group_prims)) {
+            rs_bin_chunk(&jl, ch);
+            return;
+        }
     }
     rs_setup_chunk(&jl, ch);
     rs_bin_chunk(&jl, ch);
@@ -427,6 +450,7 @@ static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int t
             const rs_prim *p = &ch->prims[i];
             const float *a = ch->attr + (size_t)i * (size_t)j->stride;
             if (p->kind == RS_K_TRI) rs_tri_tile(j, t, p, a);
+            else if (p->kind == RS_K_GROUP) j->kern->group_tile(j, t, ch, p);
             else if (p->kind == RS_K_LINE) rs_line_tile(j, t, p, a);
             else rs_point_tile(j, t, p, a);
         }

@@ -333,6 +333,10 @@ typedef struct rs_source {
     size_t max_verts;     /* vertices of the largest piece */
     rs_produce_fn produce;
     void *ctx;            /* passed to produce */
+    size_t group_prims;   /* 0, or the triangles of one instance: each piece's triangles in runs of this many
+                             (the last may be shorter) are binned to tiles as one entry and set up inside the
+                             tile pass, when the piece allows it (raster_internal.h: grouped pieces); the same
+                             bytes and counters either way */
 } rs_source;
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 INSTESS_API size_t rs_max_pieces(const rs_target *rt);

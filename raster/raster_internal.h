@@ -9,7 +9,9 @@
  *   3. in parallel over tiles (tri.c, span.c, line.c): walk the chunks in order and each chunk's bin in order, so
  *      every sample sees the primitives in submission order whatever the thread count.
  * rs_draw_source (raster.h; the device's fused path) is the same with step 2 fed piece by piece: each chunk's
- * vertices are produced (shaded) by the thread that sets the chunk up.
+ * vertices are produced (shaded) by the thread that sets the chunk up.  A grouped piece (rs_source.group_prims,
+ * rs_group_ok) is binned per instance instead of per triangle (RS_K_GROUP entries) and its triangles are set up in
+ * step 3, per tile, into an L1 scratch (setup_simd.c's rs_setup_groups / rs_group_tile).
  *
  * Every fast path sits in its own file beside its definition: setup.c (reference set-up) / setup_simd.c (shared
  * pass, four-lane finish); tri.c (reference walk) / span.c (8-lane walks).  setup_internal.h is what the two
@@ -70,7 +72,7 @@ static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) 
 #define RS_MAX_POLY 16                /* 3 vertices + one per clip plane (6 + 6 user planes), with room */
 #define RS_ATTR_STRIDE 12             /* floats per interpolated slot: 4 components x (v0, d1, d2) */
 
-enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2 };
+enum { RS_K_TRI = 0, RS_K_LINE = 1, RS_K_POINT = 2, RS_K_GROUP = 3 };
 
 typedef struct rs_pvert rs_pvert;
 typedef struct rs_kernels rs_kernels;
@@ -131,13 +133,27 @@ typedef struct rs_point {
     float z;
 } rs_point;
 
+/* A group of a grouped piece (RS_K_GROUP): drawn triangles [first, first + count) of its chunk's gtri, binned as
+ * one entry with the union of their pixel boxes and set up inside the tile pass (rs_group_tile). */
+typedef struct rs_group {
+    uint32_t first, count;
+} rs_group;
+
 typedef struct rs_prim {
     int32_t x0, y0, x1, y1;      /* pixel bounding box clamped to the scissor, inclusive */
     int kind;                    /* RS_K_* */
     int back;                    /* 1: a triangle counter-clockwise on screen (two-sided stencil); set by the
                                     reference set-up only, read only by rs_frag_ext (in what was padding) */
-    union { rs_tri t; rs_line l; rs_point p; } u;
+    union { rs_tri t; rs_line l; rs_point p; rs_group g; } u;
 } rs_prim;
+
+/* A drawn triangle of a grouped piece, as the set-up region leaves it for the tile pass: its vertices (indices into
+ * the chunk's gpv and gattr) in clockwise order, and its pixel box (x0, y0, x1, y1, inside the scissor: below
+ * RS_MAX_SIZE = 2^14, so int16) -- 20 bytes where today's path writes a 128-byte rs_prim and its attribute block. */
+typedef struct rs_gtri {
+    uint32_t v[3];
+    int16_t box[4];
+} rs_gtri;
 _Static_assert(sizeof(rs_prim) == 128, "rs_prim's size as rs_tri's comment states it");
 
 /* ptile value of a primitive whose box touches more than one tile. */
@@ -160,6 +176,15 @@ typedef struct rs_chunk {
     uint64_t work;               /* triangles' min(area, box) in RS_WORK_UNIT, saturating (RS_MAX_OVERDRAW) */
     bool oom;
     bool bad_piece;              /* rs_draw_source: the producer broke the piece's promise (RS_EINVAL) */
+    /* a grouped piece (rs_draw_source with group_prims; rs_setup_groups): its projected vertices, their
+     * interpolated slots (n_slots rs_vec4 per vertex) and its drawn triangles, kept for the tile pass; prims then
+     * holds RS_K_GROUP entries only */
+    void *gpv;
+    size_t gpv_cap;              /* rs_pvert records */
+    rs_vec4 *gattr;
+    size_t gattr_cap;
+    rs_gtri *gtri;
+    size_t gtri_cap;
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
@@ -275,6 +300,28 @@ void rs_project_vertices_avx512(const rs_job *j, const rs_vertex *v, size_t n, r
 void rs_setup_shared_avx2(const rs_job *j, rs_chunk *c);
 void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
 
+/* Grouped pieces (rs_source.group_prims; the fast path only, see rs_group_ok): the set-up region projects the
+ * piece's vertices into c->gpv, keeps their slots in c->gattr, culls each triangle as rs_setup_shared does (the
+ * same counters and work) and keeps each drawn one with a pixel as a 20-byte rs_gtri (oriented vertices, box), and
+ * pushes one RS_K_GROUP entry per run of group triangles with the union of their boxes; the tile pass sets up, per
+ * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
+ * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.  rs_setup_groups returns false (the chunk left
+ * for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece is not PV_READY (clipping needed). */
+bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                          size_t np, size_t group);
+bool rs_setup_groups_avx512(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                            size_t np, size_t group);
+/* Rasterize group entry p of chunk c inside tile t (set-up of its triangles that meet the tile, then rs_tri_tile). */
+void rs_group_tile_avx2(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
+void rs_group_tile_avx512(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
+/* May draw j's pieces be grouped: the fast path's walk (1-sample target, off the reference path, so none of pixel.c's
+ * states), solid fill, Gouraud shading, no pixel shader, no AOV planes? */
+static inline bool rs_group_ok(const rs_job *j)
+{
+    return !RS_ONLY_REFERENCE && !j->reference && !j->ext && j->samples == 1 && j->prim == RS_PRIM_TRIANGLES &&
+           j->st->fill_mode == RS_FILL_SOLID && !j->flat && !j->st->ps && j->rt->n_aov == 0;
+}
+
 /* ---- bin.c ---- */
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
@@ -325,6 +372,9 @@ struct rs_kernels {
     void (*project_vertices)(const rs_job *j, const rs_vertex *v, size_t n, rs_pvert *out);
     void (*project_vertex)(const rs_job *j, const rs_vertex *v, rs_pvert *out);
     void (*setup_shared)(const rs_job *j, rs_chunk *c); /* rs_setup_shared_* */
+    bool (*setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
+                         size_t np, size_t group);          /* rs_setup_groups_* */
+    void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
 const rs_kernels *rs_kernels_of(int isa);
