@@ -94,7 +94,18 @@ int rs_target_add_aov(rs_target *rt, int slot, int comps)
 /* A 32-bit word that may alias the float depth plane (fill32 and copy32 move depth bits as words). */
 typedef uint32_t word32 __attribute__((may_alias));
 
-/* Fill n 32-bit words at dst with `bits`, 8 at a time; streaming (non-temporal) stores when `stream`. */
+/* After streaming stores (when `stream`): the fence that orders them before what follows. */
+static inline void stream_fence(bool stream)
+{
+#ifdef __AVX2__
+    if (stream) _mm_sfence();
+#else
+    (void)stream;
+#endif
+}
+
+/* Fill n 32-bit words at dst with `bits`, 8 at a time; streaming (non-temporal) stores when `stream` (the caller
+ * fences: stream_fence). */
 static void fill32(word32 *dst, uint32_t bits, size_t n, bool stream)
 {
     size_t i = 0;
@@ -103,7 +114,6 @@ static void fill32(word32 *dst, uint32_t bits, size_t n, bool stream)
     for (; i < n && ((uintptr_t)(dst + i) & 31u); i++) dst[i] = bits;
     if (stream) {
         for (; i + 8 <= n; i += 8) _mm256_stream_si256((__m256i *)(dst + i), v);
-        _mm_sfence();
     } else {
         for (; i + 8 <= n; i += 8) _mm256_store_si256((__m256i *)(dst + i), v);
     }
@@ -145,6 +155,7 @@ static void clear_rows(rs_target *rt, unsigned flags, uint32_t rgba, float z, in
         }
     }
     if (flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, stream);
+    stream_fence(stream);
 }
 
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads)
@@ -203,25 +214,30 @@ void rs_target_resolve(const rs_target *rt, uint32_t *out)
     }
 }
 
-/* Write rt's deferred clear (as rs_target_clear with rs's pending values) into 64x64 tile (tx, ty). */
+/* Write rt's deferred clear (as rs_target_clear with rs's pending values) into 64x64 tile (tx, ty); streaming
+ * stores on the planes the tile copy-out streams into (the present's tiles no draw touched: on a 2048x2048 target
+ * most of its 32 MB, which plain stores would first read). */
 static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty)
 {
     int x0 = tx * RS_TILE, y0 = ty * RS_TILE;
     int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
     int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
     size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns;
+    const size_t row_bytes = (size_t)rt->width * ns * 4u;
+    const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= COPY_STREAM_BYTES;
     uint32_t zb;
     memcpy(&zb, &rs->pend_z, 4);
     for (int y = y0; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns;
-        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(rt->color + at, rs->pend_rgba, n, false);
-        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, false);
+        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(rt->color + at, rs->pend_rgba, n, stream);
+        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, stream);
         for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
                    (size_t)(x1 - x0) * c * sizeof(float));
         }
     }
+    stream_fence(stream);
 }
 
 /* Tiles of rt (64x64, the tile pass's grid). */
@@ -327,9 +343,7 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
         copy32(rt->color + at, t->color + bt, n, stream);
         copy32((word32 *)rt->depth + at, (const word32 *)t->depth + bt, n, stream);
     }
-#ifdef __AVX2__
-    if (stream) _mm_sfence();
-#endif
+    stream_fence(stream);
     rs->pend[tile] = 0;
 }
 

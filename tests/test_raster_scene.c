@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 enum { W = 200, H = 150, DRAWS = 40, PIECES = 3, PER_PIECE = 6 };
 
@@ -225,11 +226,49 @@ static void test_scene_defers(void **state)
     free(f);
 }
 
+/* A frame's clear reaches every pixel no draw touched at rs_target_flush, on targets whose planes take the
+ * streaming stores (1024 and 2048 wide, 4 MB and more) and on ones that do not (odd widths): one small triangle,
+ * then every other pixel holds the clear colour and depth, and the clear value is not the one before. */
+static void test_flush_fills_untouched_tiles(void **state)
+{
+    (void)state;
+    const int sizes[][2] = {{1024, 1024}, {2048, 1040}, {1000, 999}, {1536, 700}};
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+        const int w = sizes[k][0], h = sizes[k][1];
+        rs_target rt;
+        assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
+        rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x01020304u, 0.25f);
+        rs_context *rs = rs_create(2);
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff402010u, 1.0f);
+        rs_state st = test_rs_defaults(w, h);
+        st.cull_mode = RS_CULL_NONE;
+        rs_vertex v[3];
+        memset(v, 0, sizeof v);
+        v[0].pos = (rs_vec4){-1.0f, 1.0f, 0.5f, 1.0f}, v[1].pos = (rs_vec4){-0.98f, 1.0f, 0.5f, 1.0f};
+        v[2].pos = (rs_vec4){-1.0f, 0.98f, 0.5f, 1.0f};
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_OK);
+        rs_target_flush(rs, &rt);
+        size_t cleared = 0;
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                size_t p = (size_t)y * (size_t)w + (size_t)x;
+                if (x < 64 && y < 64) continue;   /* the triangle's tile */
+                if (rt.color[p] != 0xff402010u || rt.depth[p] != 1.0f)
+                    fail_msg("%dx%d: pixel (%d, %d) holds %08x, depth %g", w, h, x, y, rt.color[p], rt.depth[p]);
+                cleared++;
+            }
+        assert_int_equal(cleared, (size_t)w * (size_t)h - 64 * 64);
+        rs_destroy(rs);
+        rs_target_free(&rt);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scene_same_bytes),
         cmocka_unit_test(test_scene_defers),
+        cmocka_unit_test(test_flush_fills_untouched_tiles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
