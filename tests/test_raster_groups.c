@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
+#include "util/raster_util.h"
 
 enum { W = 300, H = 200, DRAWS = 12, PIECES = 4, INST = 6, N = 5 };
 enum { VERTS = (N + 1) * (N + 1), PRIMS = 2 * N * N };   /* per instance: an (N+1) x (N+1) grid, 2 N^2 triangles */
@@ -123,14 +124,6 @@ typedef struct result {
     rs_stats sum;
 } result;
 
-/* Add a draw's counters (the sink's too) to *sum. */
-static void add(rs_stats *sum, const rs_stats *s)
-{
-    sum->prims_in += s->prims_in, sum->prims_culled += s->prims_culled, sum->prims_drawn += s->prims_drawn;
-    sum->prims_clipped_away += s->prims_clipped_away, sum->prims_degenerate += s->prims_degenerate;
-    sum->samples_tested += s->samples_tested, sum->samples_written += s->samples_written;
-}
-
 /* How a frame is drawn. */
 typedef struct how { bool scene, reference; int threads, isa; size_t group; } how;
 
@@ -152,10 +145,10 @@ static void draw_frame(const frame *f, how h, result *out)
         ctx[d] = (src_ctx){f, d};
         rs_source src = {PIECES, PIECES * INST * PRIMS, INST * VERTS, produce, &ctx[d], h.group};
         assert_int_equal(rs_draw_source(rs, &f->st[d], &rt, &src, &s), RS_OK);
-        add(&out->sum, &s);
+        test_rs_stats_add(&out->sum, &s);
     }
     rs_flush(rs);
-    add(&out->sum, &sink);
+    test_rs_stats_add(&out->sum, &sink);
     rs_target_flush(rs, &rt);
     memcpy(out->color, rt.color, sizeof out->color);
     memcpy(out->depth, rt.depth, sizeof out->depth);

@@ -103,14 +103,6 @@ typedef struct result {
     rs_stats sum;
 } result;
 
-/* Add a draw's counters (the sink's too) to *sum. */
-static void add(rs_stats *sum, const rs_stats *s)
-{
-    sum->prims_in += s->prims_in, sum->prims_culled += s->prims_culled, sum->prims_drawn += s->prims_drawn;
-    sum->prims_clipped_away += s->prims_clipped_away, sum->prims_degenerate += s->prims_degenerate;
-    sum->samples_tested += s->samples_tested, sum->samples_written += s->samples_written;
-}
-
 /* Draw frame f on a fresh context: scene on or off, reference path or not, `threads` threads; every 7th draw is
  * followed by a line (rs_draw: the queue first), draw 20 also goes to a second target (the queue flushed). */
 static void draw_frame(const frame *f, bool scene, bool reference, int threads, result *out)
@@ -132,15 +124,15 @@ static void draw_frame(const frame *f, bool scene, bool reference, int threads, 
         rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &ctx[d], 0};
         rs_state st = f->st[d];   /* changed below after the draw: the queued draw keeps its own copy */
         assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
-        add(&out->sum, &s);
+        test_rs_stats_add(&out->sum, &s);
         st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_ALWAYS, st.viewport.x = 3;
         if (d % 7 == 6) {
             assert_int_equal(rs_draw(rs, &f->st[d], &rt, RS_PRIM_LINES, f->line[d], 2, NULL, 1, &s), RS_OK);
-            add(&out->sum, &s);
+            test_rs_stats_add(&out->sum, &s);
         }
         if (d == 20) {
             assert_int_equal(rs_draw_source(rs, &f->st[d], &rt2, &src, &s), RS_OK);
-            add(&out->sum, &s);
+            test_rs_stats_add(&out->sum, &s);
         }
     }
     if (scene) {   /* the draws after the last line not rasterized yet: their samples come with the flush */
@@ -149,7 +141,7 @@ static void draw_frame(const frame *f, bool scene, bool reference, int threads, 
         assert_true(sink.samples_tested > before);
         rs_flush(rs);   /* twice: nothing more */
     }
-    add(&out->sum, &sink);
+    test_rs_stats_add(&out->sum, &sink);
     rs_target_flush(rs, &rt);
     memcpy(out->color, rt.color, sizeof out->color);
     memcpy(out->depth, rt.depth, sizeof out->depth);

@@ -241,27 +241,6 @@ static void test_edge_cases(void **state)
     mesh_free(&m);
 }
 
-/* A deterministic pseudo-random float in [lo, hi). */
-static float rnd(uint32_t *st, float lo, float hi)
-{
-    *st = *st * 1664525u + 1013904223u;
-    return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
-}
-
-/* Instance registers of triangle `t` of a random family: ordinary, with shared position and normal bits on an edge
- * (degenerate edge), zero normals, or huge coordinates (non-finite intermediate results). */
-static void random_instance(uint32_t *st, int t, is_vs_input *in)
-{
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) ((float4 *)in)[k] = f4(0, 0, 0, 1);
-    for (int r = 0; r < 13; r++) in->texcoord[r] = f4(rnd(st, -1, 1), rnd(st, -1, 1), rnd(st, -1, 1), 1);
-    for (int k = 0; k < 3; k++) in->texcoord[VS_IN_N0 + k] = f4_of(normalize3(f3_of(in->texcoord[VS_IN_N0 + k])), 1);
-    int family = t % 5;
-    if (family == 1) in->texcoord[1] = in->texcoord[0], in->texcoord[4] = in->texcoord[3];
-    if (family == 2) in->texcoord[VS_IN_N0 + 1] = f4(0, 0, 0, 1);
-    if (family == 3) in->texcoord[2] = f4(3e38f, -3e38f, 3e38f, 1);
-    if (family == 4) in->texcoord[VS_IN_OPP0 + 1] = in->texcoord[0]; /* boundary edge: fn = 1 */
-}
-
 /* Barycentrics of vertex v of a batch: grid points of level 7 (interior, edges, corners), some negative zeros and
  * slightly negative or tiny components. */
 static float3 random_b(uint32_t *st, int v)
@@ -273,7 +252,7 @@ static float3 random_b(uint32_t *st, int v)
     if (v % 11 == 3) b.x = -0.0f;
     if (v % 13 == 5) b.y = -1e-7f;
     if (v % 17 == 7) b = f3(1e-30f, 1e-30f, 1.0f);
-    if (v % 19 == 9) b = f3(rnd(st, 0, 1), rnd(st, 0, 1), rnd(st, 0, 1));
+    if (v % 19 == 9) b = f3(lcg_float(st, 0, 1), lcg_float(st, 0, 1), lcg_float(st, 0, 1));
     return b;
 }
 
@@ -382,7 +361,7 @@ static void test_shader_batches(void **state)
             vs_set_constants(&c, &wvp, &world, f4(0.8f, 0.7f, 0.6f, 1), &o);
             for (int t = 0; t < 10; t++) {
                 is_vs_input inst;
-                random_instance(&st, t, &inst);
+                random_instance_regs(&st, t, &inst);
                 for (int v = 0; v < N; v++) {
                     in[v] = inst;
                     if (v >= 60 && t % 2) in[v].texcoord[0].x += 0.25f; /* a second instance in the batch */

@@ -22,27 +22,6 @@
 #include "../core/grid.h"
 #include "../core/hlsl.h"
 
-/* An LCG in [lo, hi). */
-static float rnd(uint32_t *st, float lo, float hi)
-{
-    *st = *st * 1664525u + 1013904223u;
-    return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
-}
-
-/* Instance registers of family t % 5: ordinary, shared position and normal bits on edge 0 (no canonical order),
- * a zero normal, huge coordinates (non-finite intermediates), a boundary edge (fn = 1). */
-static void random_instance(uint32_t *st, int t, is_vs_input *in)
-{
-    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) ((float4 *)in)[k] = f4(0, 0, 0, 1);
-    for (int r = 0; r < 13; r++) in->texcoord[r] = f4(rnd(st, -1, 1), rnd(st, -1, 1), rnd(st, -1, 1), 1);
-    for (int k = 0; k < 3; k++) in->texcoord[VS_IN_N0 + k] = f4_of(normalize3(f3_of(in->texcoord[VS_IN_N0 + k])), 1);
-    int family = t % 5;
-    if (family == 1) in->texcoord[1] = in->texcoord[0], in->texcoord[4] = in->texcoord[3];
-    if (family == 2) in->texcoord[VS_IN_N0 + 1] = f4(0, 0, 0, 1);
-    if (family == 3) in->texcoord[2] = f4(3e38f, -3e38f, 3e38f, 1);
-    if (family == 4) in->texcoord[VS_IN_OPP0 + 1] = in->texcoord[0];
-}
-
 /* The grids of the test: kind 0..7 regular levels, 8..11 adaptive patterns, 12..13 primitive-generator grids,
  * 14 odd points (negative zeros, tiny and slightly negative weights, no positive weight, a NaN weight, random
  * points); n points into *g. */
@@ -67,7 +46,7 @@ static void make_grid(int kind, core_grid *g, uint32_t *st)
             if (v % 11 == 3) b->x = -0.0f;
             if (v % 13 == 5) b->y = -1e-7f;
             if (v % 17 == 7) *b = f3(1e-30f, 1e-30f, 1.0f);
-            if (v % 19 == 9) *b = f3(rnd(st, 0, 1), rnd(st, 0, 1), rnd(st, 0, 1));
+            if (v % 19 == 9) *b = f3(lcg_float(st, 0, 1), lcg_float(st, 0, 1), lcg_float(st, 0, 1));
             if (v % 23 == 1) *b = f3(0.0f, -0.0f, 1.0f);
             if (v % 29 == 2) *b = f3(0.0f, 0.0f, 0.0f);     /* no positive weight: vertex 0 */
             if (v % 31 == 4) *b = f3(-0.5f, 0.0f, 1.5f);    /* outside the triangle: corner 2 */
@@ -190,7 +169,7 @@ static void test_grid_batch_same_bytes(void **state)
                 is_vs_grid ws = {mem, room, false};
                 for (int t = 0; t < 10; t++) {
                     is_vs_input inst;
-                    random_instance(&st, t, &inst);
+                    random_instance_regs(&st, t, &inst);
                     uint32_t shared = masks[(t + si) % 2];
                     make_inputs(&inst, &g, shared, B.sh, B.full);
                     char what[96];
@@ -226,7 +205,7 @@ static void test_grid_workspace_states(void **state)
     unsigned char *mem = malloc(room ? room : 1);
     assert_non_null(mem);
     is_vs_input inst;
-    random_instance(&st, 0, &inst);
+    random_instance_regs(&st, 0, &inst);
     make_inputs(&inst, &g1, shared, B1.sh, B1.full);
     make_inputs(&inst, &g2, shared, B2.sh, B2.full);
     is_vs_grid ws = {mem, room, false};

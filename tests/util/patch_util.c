@@ -89,3 +89,22 @@ int clear_and_draw(is_device *dev, const scene_opts *o, const is_mesh *m)
     core_grid_free(&g);
     return rc;
 }
+
+float lcg_float(uint32_t *st, float lo, float hi)
+{
+    *st = *st * 1664525u + 1013904223u;
+    return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
+}
+
+void random_instance_regs(uint32_t *st, int t, is_vs_input *in)
+{
+    for (size_t k = 0; k < sizeof *in / sizeof(float4); k++) ((float4 *)in)[k] = f4(0, 0, 0, 1);
+    for (int r = 0; r < 13; r++)
+        in->texcoord[r] = f4(lcg_float(st, -1, 1), lcg_float(st, -1, 1), lcg_float(st, -1, 1), 1);
+    for (int k = 0; k < 3; k++) in->texcoord[VS_IN_N0 + k] = f4_of(normalize3(f3_of(in->texcoord[VS_IN_N0 + k])), 1);
+    int family = t % 5;
+    if (family == 1) in->texcoord[1] = in->texcoord[0], in->texcoord[4] = in->texcoord[3];
+    if (family == 2) in->texcoord[VS_IN_N0 + 1] = f4(0, 0, 0, 1);
+    if (family == 3) in->texcoord[2] = f4(3e38f, -3e38f, 3e38f, 1);
+    if (family == 4) in->texcoord[VS_IN_OPP0 + 1] = in->texcoord[0]; /* boundary edge: fn = 1 */
+}

@@ -30,4 +30,11 @@ int cubes_mesh(int side, is_mesh *out);
  * device's error printed to stderr when it fails). */
 int clear_and_draw(is_device *dev, const scene_opts *o, const is_mesh *m);
 
+/* An LCG step of *st into a float in [lo, hi). */
+float lcg_float(uint32_t *st, float lo, float hi);
+/* Instance registers (Listing 1.1.2's per-instance data in is_vs_input) of triangle t of family t % 5: ordinary,
+ * shared position and normal bits on edge 0 (degenerate edge, no canonical order), a zero normal, huge coordinates
+ * (non-finite intermediate results), a boundary edge (fn = 1); the rest of *in is D3D9's default (0, 0, 0, 1). */
+void random_instance_regs(uint32_t *st, int t, is_vs_input *in);
+
 #endif

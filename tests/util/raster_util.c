@@ -31,3 +31,10 @@ rs_state test_rs_additive(int w, int h)
     st.dst_blend = RS_BLEND_ONE;
     return st;
 }
+
+void test_rs_stats_add(rs_stats *sum, const rs_stats *s)
+{
+    sum->prims_in += s->prims_in, sum->prims_culled += s->prims_culled, sum->prims_drawn += s->prims_drawn;
+    sum->prims_clipped_away += s->prims_clipped_away, sum->prims_degenerate += s->prims_degenerate;
+    sum->samples_tested += s->samples_tested, sum->samples_written += s->samples_written;
+}

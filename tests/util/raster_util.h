@@ -10,4 +10,7 @@ rs_state test_rs_defaults(int w, int h);
 /* Counting states: no culling, no depth, additive blending (ONE, ONE) of COLOR0. */
 rs_state test_rs_additive(int w, int h);
 
+/* Add the counters of a draw (prims in, culled, drawn, clipped away, degenerate; samples tested, written) to *sum. */
+void test_rs_stats_add(rs_stats *sum, const rs_stats *s);
+
 #endif
