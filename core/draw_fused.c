@@ -26,11 +26,10 @@
 #define FUSED_PIECE_VERTICES 4096u
 #define FUSED_PIECES 64u
 #define FUSED_PIECE_PRIMS 16384u
-/* Draws of fewer triangles than this are set up by one thread (raster/draw.c's PARALLEL_SETUP_MIN): their pieces
- * are made as large as the limits above allow, since more pieces buy no balance there and each costs the
- * rasterizer a pass over the tiles (binning, and the tile pass's walk over the pieces: scene D's adaptive frames
- * draw ~650 such draws, one instance per piece before). */
-#define FUSED_SMALL_DRAW 8192u
+/* Draws of fewer triangles than RS_PARALLEL_SETUP_MIN (raster.h) are set up by one thread: their pieces are made
+ * as large as the limits above allow, since more pieces buy no balance there and each costs the rasterizer a pass
+ * over the tiles (binning, and the tile pass's walk over the pieces: scene D's adaptive frames draw ~650 such
+ * draws, one instance per piece before). */
 /* Triangles per rs_draw_source call at most: bounds the set-up triangles held before the tile pass. */
 #define FUSED_MAX_PRIMS (1u << 19)
 
@@ -168,7 +167,7 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
 static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
 {
     uint64_t want = (uint64_t)n_inst * count / FUSED_PIECES;
-    if ((uint64_t)n_inst * n_prims < FUSED_SMALL_DRAW) want = (uint64_t)n_inst * count;
+    if ((uint64_t)n_inst * n_prims < RS_PARALLEL_SETUP_MIN) want = (uint64_t)n_inst * count;
     uint64_t per = want <= count ? 1u : want / count;
     if (per * count > FUSED_PIECE_VERTICES) per = FUSED_PIECE_VERTICES / count;
     if (per * n_prims > FUSED_PIECE_PRIMS) per = FUSED_PIECE_PRIMS / n_prims;

@@ -14,9 +14,6 @@
 #define CHUNK_MIN 1024            /* input primitives per chunk, at least */
 #define CHUNK_MAX_COUNT 256       /* chunks per draw, at most */
 #define BIN_OFFSETS_BUDGET (1u << 22) /* chunks * (tiles + 1) bin offsets per draw, at most */
-/* Draws of fewer triangles than this set up on one thread: waking a second one costs more (scene C, 192
- * triangles: the set-up region took 0.03 ms on 1 thread and 0.11-0.14 ms on 2; each triangle costs ~20-30 ns). */
-#define PARALLEL_SETUP_MIN 8192
 
 /* The kernel table: one row per instruction set (RS_ISA_*), each a copy of span.c and setup_simd.c compiled for
  * it (raster_internal.h, RS_KERNEL). */
@@ -571,7 +568,7 @@ static double scene_setup(rs_context *rs, int nt)
 {
     const long nc = (long)rs->q_chunks;
     const double t0 = phase_clock(rs);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && rs->q_prims >= PARALLEL_SETUP_MIN)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && rs->q_prims >= RS_PARALLEL_SETUP_MIN)
     for (long c = 0; c < nc; c++) {
         rs_chunk *ch = &rs->chunks[c];
         const rs_scene_draw *d = &rs->q[ch->draw];
@@ -687,7 +684,7 @@ static int draw_source_now(rs_context *rs, const rs_job *j, const rs_source *src
     long nc = (long)src->n_pieces;
     rs_chunk *ch = rs->chunks;
     const double t0 = phase_clock(rs);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && src->n_prims >= PARALLEL_SETUP_MIN)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && src->n_prims >= RS_PARALLEL_SETUP_MIN)
     for (long c = 0; c < nc; c++) source_chunk(j, rs, src, (size_t)c, &ch[c], omp_get_thread_num(), src->max_verts);
     const double setup_ms = phase_clock(rs) - t0;
     size_t n_prims = 0;
@@ -748,7 +745,7 @@ int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int prim, const r
     const double t0 = phase_clock(rs);
     shared_pass(rs, &j, n_verts, n_prims, nt);
     long nc = (long)n_chunks;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && n_prims >= PARALLEL_SETUP_MIN)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nc > 1 && n_prims >= RS_PARALLEL_SETUP_MIN)
     for (long c = 0; c < nc; c++) {
         rs_setup_chunk(&j, &rs->chunks[c]);
         rs_bin_chunk(&j, &rs->chunks[c]);

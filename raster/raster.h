@@ -340,6 +340,10 @@ typedef struct rs_source {
 } rs_source;
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 INSTESS_API size_t rs_max_pieces(const rs_target *rt);
+/* Set-up work of fewer triangles than this (a draw, or a flush of queued draws) runs on one thread: waking a
+ * second one costs more (scene C, 192 triangles: 0.03 ms on 1 thread, 0.11-0.14 ms on 2; ~20-30 ns a triangle).
+ * A producer may size its pieces by it (core/draw_fused.c: a small draw in few, large pieces). */
+#define RS_PARALLEL_SETUP_MIN 8192u
 /* Draw the triangles of src (rs_stats.prims_in counts those the pieces gave): RS_OK, or RS_EINVAL (bad state,
  * target or source: too many pieces, pieces whose triangles add up to more than n_prims, or a piece without
  * vertices or indices, with more than max_verts vertices or an index past its vertices), RS_ENOMEM or RS_EWORK with nothing drawn. */

@@ -85,7 +85,10 @@ static void ps_patch_lit(const is_ps_constants *c, const is_ps_input *in, is_ps_
         if (in->need & (1u << k)) out->color[k] = lit_lane(c, in, k, p, &o, &world);
     modulate(c, in, out);
 }
-static const is_pixel_shader patch_lit = {"patch-lit", ps_patch_lit, 0};   /* inputs 0: every slot */
+/* Its inputs: the barycentrics and the instance (lit_lane), the texture coordinates (modulate). */
+static const is_pixel_shader patch_lit = {"patch-lit", ps_patch_lit,
+                                          (1u << RS_ATTR_TEXCOORD0) | (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_BARY)) |
+                                              (1u << (RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE))};
 
 /* The pixel shader of --texture with --shading vertex: COLOR0 (the vertex shader's light) times the texture. */
 static void ps_textured(const is_ps_constants *c, const is_ps_input *in, is_ps_output *out)
@@ -93,7 +96,8 @@ static void ps_textured(const is_ps_constants *c, const is_ps_input *in, is_ps_o
     for (int k = 0; k < 4; k++) out->color[k] = in->v[k][RS_ATTR_COLOR0];
     modulate(c, in, out);
 }
-static const is_pixel_shader textured = {"textured", ps_textured, 0};   /* inputs 0: every slot */
+/* Its inputs: COLOR0 and the texture coordinates. */
+static const is_pixel_shader textured = {"textured", ps_textured, (1u << RS_ATTR_COLOR0) | (1u << RS_ATTR_TEXCOORD0)};
 
 void scene_shading_constants(is_device *dev, const scene_opts *o)
 {
