@@ -37,9 +37,19 @@ static float4 texel_of(uint32_t id, int r, unsigned w, unsigned h)
     return f4(((float)x + 0.5f) / (float)w, ((float)y + 0.5f) / (float)h, 0.0f, 0.0f);
 }
 
-/* Lane k's colour: the patch normal at the lane's barycentrics, in the world, lit. */
+/* The mesh triangle whose registers a quad's lanes fetched last: a quad is one grid triangle's, so all its lanes
+ * (helpers too: the instance id is constant over the triangle) name one instance and it is fetched once per call;
+ * the id check keeps a caller that mixed instances correct. */
+typedef struct lit_cache {
+    bool valid;
+    uint32_t id;
+    vs_triangle tri;
+} lit_cache;
+
+/* Lane k's colour: the patch normal at the lane's barycentrics, in the world, lit; the instance's triangle from
+ * *cache when it holds the lane's instance (the same registers, fetched once per quad). */
 static float4 lit_lane(const is_ps_constants *c, const is_ps_input *in, int k, vs_patch p, const vs_options *o,
-                       const float4x4 *world)
+                       const float4x4 *world, lit_cache *cache)
 {
     const is_sampler *s = &c->s[0];
     float4 bb = in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_BARY];
@@ -47,15 +57,17 @@ static float4 lit_lane(const is_ps_constants *c, const is_ps_input *in, int k, v
     float3 b = sum > 0.0f ? f3(bb.x / sum, bb.y / sum, bb.z / sum) : f3(1.0f / 3, 1.0f / 3, 1.0f / 3);
     float id = in->v[k][RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE].x;
     uint32_t i = id > 0.0f ? (uint32_t)(id + 0.5f) : 0u;   /* the same at all three vertices: rounding is exact */
-    is_texture_desc d = {0};
-    if (!s->tex || tex_get_level_desc(s->tex, 0, &d) != IS_OK) return f4(0, 0, 0, 1);
-    is_vs_input regs;
-    float4 *r = (float4 *)&regs;
-    for (int q = 0; q < REGS; q++) r[q] = tex_sample_lod(s, texel_of(i, q, d.width, d.height));
-    vs_triangle tri;
-    vs_triangle_from_input(&regs, &tri);
+    if (!cache->valid || cache->id != i) {
+        is_texture_desc d = {0};
+        if (!s->tex || tex_get_level_desc(s->tex, 0, &d) != IS_OK) return f4(0, 0, 0, 1);
+        is_vs_input regs;
+        float4 *r = (float4 *)&regs;
+        for (int q = 0; q < REGS; q++) r[q] = tex_sample_lod(s, texel_of(i, q, d.width, d.height));
+        vs_triangle_from_input(&regs, &cache->tri);
+        cache->valid = true, cache->id = i;
+    }
     float3 normal;
-    vs_patch_eval(p, &tri, b, o, NULL, &normal, NULL);
+    vs_patch_eval(p, &cache->tri, b, o, NULL, &normal, NULL);
     return scene_light_color(c->c, mul3x3(normal, world));
 }
 
@@ -81,8 +93,10 @@ static void ps_patch_lit(const is_ps_constants *c, const is_ps_input *in, is_ps_
     float4x4 world;
     for (int i = 0; i < 4; i++) world.m[i][0] = c->c[VS_C_WORLD + i].x, world.m[i][1] = c->c[VS_C_WORLD + i].y,
                                 world.m[i][2] = c->c[VS_C_WORLD + i].z, world.m[i][3] = c->c[VS_C_WORLD + i].w;
+    lit_cache cache;
+    cache.valid = false;
     for (int k = 0; k < 4; k++)
-        if (in->need & (1u << k)) out->color[k] = lit_lane(c, in, k, p, &o, &world);
+        if (in->need & (1u << k)) out->color[k] = lit_lane(c, in, k, p, &o, &world, &cache);
     modulate(c, in, out);
 }
 /* Its inputs: the barycentrics and the instance (lit_lane), the texture coordinates (modulate). */
