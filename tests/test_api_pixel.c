@@ -26,13 +26,7 @@ static is_vertex_buffer *held_vb;
 static is_vertex_declaration *held_decl;
 
 /* dev_destroy, then the resources the device helper made (the device's struct goes with the last of them). */
-static void destroy(is_device *dev)
-{
-    dev_destroy(dev);
-    vb_release(held_vb);
-    decl_release(held_decl);
-    held_vb = NULL, held_decl = NULL;
-}
+static void destroy(is_device *dev) { tu_device_destroy(dev, &held_vb, &held_decl); }
 
 /* A device drawing a screen-filling triangle (fixed shader, identity transform, normal towards the viewer: COLOR0
  * is the diffuse colour) whose TEXCOORD0 is the texture

@@ -30,17 +30,15 @@ static char out_buf[16384], err_buf[16384];
 static int run_env(const char *env, const char *program, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int run_env(const char *env, const char *program, const char *fmt, ...)
 {
-    char args[4096], cmd[9000];
+    char redirect[600];   /* absolute: env may change the folder (cd cwd &&) */
+    snprintf(redirect, sizeof redirect, ">'%s/out.txt' 2>'%s/err.txt'", dir, dir);
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = prog_vrun_in(dir, env, program ? program : bin, redirect, fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && %s '%s' %s >'%s/out.txt' 2>'%s/err.txt'", dir, env ? env : "",
-             program ? program : bin, args, dir, dir);
-    int st = system(cmd);
     prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
     prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
-    return prog_exit_code(st);
+    return rc;
 }
 
 /* Assert exit `code` and `what` in the last run's stderr. */

@@ -37,18 +37,15 @@ static char out_buf[16384], err_buf[16384];
 static int run_to(const char *out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int run_to(const char *out, const char *fmt, ...)
 {
-    char args[4096], cmd[9000], bin[4096];
+    char redirect[600];
+    snprintf(redirect, sizeof redirect, ">%s 2>err.txt", out ? out : "out.txt");
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = prog_vrun_in(dir, "rm -f out.txt &&", NULL, redirect, fmt, ap);
     va_end(ap);
-    if (!realpath(prog_bin(), bin)) fail_msg("no program %s", prog_bin());
-    snprintf(cmd, sizeof cmd, "cd '%s' && rm -f out.txt && '%s' %s >%s 2>err.txt", dir, bin, args,
-             out ? out : "out.txt");
-    int st = system(cmd);
     prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
     prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
-    return prog_exit_code(st);
+    return rc;
 }
 #define run(...) run_to(NULL, __VA_ARGS__)
 

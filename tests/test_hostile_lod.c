@@ -46,17 +46,13 @@ static int run(const char **err, const char *fmt, ...) __attribute__((format(pri
 static int run(const char **err, const char *fmt, ...)
 {
     static char errbuf[16384];
-    char args[4096], cmd[9000], bin[4096];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = prog_vrun_in(dir, "timeout -s KILL 300", NULL, ">s.json 2>err.txt", fmt, ap);
     va_end(ap);
-    if (!realpath(prog_bin(), bin)) fail_msg("no program %s", prog_bin());
-    snprintf(cmd, sizeof cmd, "cd '%s' && timeout -s KILL 300 '%s' %s >s.json 2>err.txt", dir, bin, args);
-    int st = system(cmd);
     prog_read_text(dir, "err.txt", errbuf, sizeof errbuf);
     *err = errbuf;
-    return prog_exit_code(st);
+    return rc;
 }
 
 /* Whether every value of dir/name (an OpenEXR file) is finite, but for the depth channel, whose background is

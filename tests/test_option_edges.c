@@ -42,23 +42,13 @@ static int run(const char **err, const char *fmt, ...) __attribute__((format(pri
 static int run(const char **err, const char *fmt, ...)
 {
     static char errbuf[8192];
-    char args[4000], cmd[6000];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = prog_vrun_in(dir, NULL, NULL, ">stdout.txt 2>stderr.txt", fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s >stdout.txt 2>stderr.txt", dir, prog_bin(), args);
-    char bin[300];
-    if (prog_bin()[0] != '/') {   /* relative to the repository, where the test runs */
-        char cwd[256];
-        if (!getcwd(cwd, sizeof cwd)) return -1;
-        snprintf(bin, sizeof bin, "%s/%s", cwd, prog_bin());
-        snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s >stdout.txt 2>stderr.txt", dir, bin, args);
-    }
-    int st = system(cmd);
     prog_read_text(dir, "stderr.txt", errbuf, sizeof errbuf);
     if (err) *err = errbuf;
-    return prog_exit_code(st);
+    return rc;
 }
 
 /* One numeric option: the values that must be taken (its range's ends), those that must be refused (just past

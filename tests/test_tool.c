@@ -26,17 +26,13 @@ static char out_buf[16384], err_buf[16384];
 static int run(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static int run(const char *fmt, ...)
 {
-    char args[4096], cmd[9000], bin[4096];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = prog_vrun_in(dir, NULL, NULL, ">out.txt 2>err.txt", fmt, ap);
     va_end(ap);
-    if (!realpath(prog_bin(), bin)) fail_msg("no program %s", prog_bin());
-    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s >out.txt 2>err.txt", dir, bin, args);
-    int st = system(cmd);
     prog_read_text(dir, "out.txt", out_buf, sizeof out_buf);
     prog_read_text(dir, "err.txt", err_buf, sizeof err_buf);
-    return prog_exit_code(st);
+    return rc;
 }
 
 static int setup(void **state)

@@ -32,3 +32,11 @@ is_device *tu_fixed_device(int w, int h, int samples, const void *verts, unsigne
     assert_int_equal(dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE), IS_OK);
     return dev;
 }
+
+void tu_device_destroy(is_device *dev, is_vertex_buffer **vb, is_vertex_declaration **decl)
+{
+    dev_destroy(dev);
+    vb_release(*vb);
+    decl_release(*decl);
+    *vb = NULL, *decl = NULL;
+}

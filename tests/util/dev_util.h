@@ -15,4 +15,7 @@ is_device *tu_fixed_device(int w, int h, int samples, const void *verts, unsigne
                            const is_vertex_element *el, float4 diffuse, is_vertex_buffer **vb,
                            is_vertex_declaration **decl);
 
+/* dev_destroy(dev), then release *vb and *decl (which hold the device's struct until then) and set them NULL. */
+void tu_device_destroy(is_device *dev, is_vertex_buffer **vb, is_vertex_declaration **decl);
+
 #endif

@@ -101,6 +101,22 @@ int prog_entries_with(const char *dir, const char *part)
     return n;
 }
 
+char *realpath(const char *path, char *resolved);   /* POSIX; glibc declares it only with _DEFAULT_SOURCE */
+
+int prog_vrun_in(const char *dir, const char *prefix, const char *program, const char *redirect, const char *fmt,
+                 va_list ap)
+{
+    char args[12000], cmd[16384 + 4096], bin[4096];
+    if (!program) {
+        if (!realpath(prog_bin(), bin)) return fprintf(stderr, "no program %s\n", prog_bin()), 127;
+        program = bin;
+    }
+    vsnprintf(args, sizeof args, fmt, ap);
+    snprintf(cmd, sizeof cmd, "cd '%s' && %s '%s' %s %s", dir, prefix ? prefix : "", program, args,
+             redirect ? redirect : "");
+    return prog_exit_code(system(cmd));
+}
+
 void prog_read_text(const char *dir, const char *name, char *buf, size_t len)
 {
     char p[1024];

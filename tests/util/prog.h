@@ -6,6 +6,7 @@
 #ifndef INSTESS_TESTS_PROG_H
 #define INSTESS_TESTS_PROG_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -25,6 +26,12 @@ int prog_run(const char *dir, const char **err, const char *prefix, const char *
     __attribute__((format(printf, 4, 5)));
 /* dir/name into buf. */
 const char *prog_path(const char *dir, const char *name, char *buf, size_t len);
+/* Run the shell line "cd DIR && PREFIX PROGRAM ARGS REDIRECT": PREFIX (NULL: none) e.g. "timeout -s KILL 120" or
+ * environment assignments, PROGRAM the program under test by its absolute path when NULL, ARGS fmt expanded with
+ * ap, REDIRECT e.g. ">out.txt 2>err.txt"; the exit code (128 + N for a death by signal N), 127 with a message on
+ * stderr when the program under test is not found. */
+int prog_vrun_in(const char *dir, const char *prefix, const char *program, const char *redirect, const char *fmt,
+                 va_list ap);
 /* The text of dir/name into buf (len bytes, NUL-terminated, cut to fit; "" when it cannot be read). */
 void prog_read_text(const char *dir, const char *name, char *buf, size_t len);
 /* The exit code of a system() status: the program's, or 128 + N for a death by signal N. */
