@@ -255,7 +255,7 @@ static is_result fused_reserve(is_device *dev, int slots, const fused_ctx *f)
 static void fused_reserve_grids(is_device *dev, const fused_ctx *f)
 {
     fused_scratch *z = &dev->fz;
-    if (f->grid_room <= z->grid_room && (z->grid || !f->grid_room)) return;
+    if (!f->grid_room || (z->grid && f->grid_room <= z->grid_room)) return;
     const size_t ns = (size_t)z->slots, room = f->grid_room > z->grid_room ? f->grid_room : z->grid_room;
     is_vs_grid *g = malloc(ns * sizeof *g);
     unsigned char *mem = room && ns <= SIZE_MAX / room ? malloc(ns * room) : NULL;
