@@ -316,6 +316,33 @@ static void test_cli_texture_not_replaced(void **state)
     prog_rmdir(dir);
 }
 
+/* A texture on a mesh whose file has no texture coordinates (every (u, v) is (0, 0)) shows one texel's colour:
+ * the program warns, also with -q, naming the mesh and the texture; a mesh with texture coordinates (the
+ * built-in cube) draws the same texture without the warning, and the OBJ without --texture without it too. */
+static void test_cli_texture_without_texcoords(void **state)
+{
+    (void)state;
+    char dir[256], tex[512], mesh[512], out[512];
+    assert_int_equal(prog_mkdtemp(dir, "no-texcoords"), 0);
+    assert_true(prog_write_text(dir, "tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"));
+    const char *e;
+    assert_int_equal(prog_run(dir, &e, "", "sphere --size 16x16 -q -o %s", prog_path(dir, "tex.png", tex, sizeof tex)), 0);
+    prog_path(dir, "tet.obj", mesh, sizeof mesh);
+    assert_int_equal(prog_run(dir, &e, "", "%s --size 24x24 --level 2 --texture %s -q -o %s", mesh, tex,
+                              prog_path(dir, "a.png", out, sizeof out)), 0);
+    char want[2048];
+    snprintf(want, sizeof want, "instess: warning: %s: has no texture coordinates (every vertex's (u, v) is (0, 0)): "
+                                "%s draws one colour over it", mesh, tex);
+    if (!strstr(e, want)) print_message("stderr: %s\nwant: %s\n", e, want);
+    assert_non_null(strstr(e, want));
+    assert_int_equal(prog_run(dir, &e, "", "%s --size 24x24 --level 2 -q -o %s", mesh, out), 0);
+    assert_null(strstr(e, "no texture coordinates"));
+    assert_int_equal(prog_run(dir, &e, "", "cube --size 24x24 --level 2 --texture %s -q -o %s", tex, out), 0);
+    assert_null(strstr(e, "no texture coordinates"));
+    prog_rmdir(dir);
+}
+
 /* The note names a file of the mesh's folder: a control byte in its name reaches the terminal as '?'. */
 static void test_cli_note_sanitized(void **state)
 {
@@ -345,6 +372,7 @@ int main(void)
         cmocka_unit_test(test_cli_own_texture),
         cmocka_unit_test(test_cli_texture_not_replaced),
         cmocka_unit_test(test_cli_note_sanitized),
+        cmocka_unit_test(test_cli_texture_without_texcoords),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -221,6 +221,8 @@ static int inspect_scene(const scene_opts *o, const inspect_args *a)
     if (o->displace && (rc = scene_load_displacement(o->displace, &map, err, sizeof err)) == 0) od.displace_map = &map;
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &mesh, err, sizeof err);
     if (rc == 0) scene_use_mesh_texture(&od, &mesh, scene_note_stderr, NULL);
+    char misfit[1000];
+    if (rc == 0 && scene_texture_misfit(&od, &mesh, misfit, sizeof misfit)) fprintf(stderr, "instess: warning: %s\n", misfit);
     is_inspect rec = {0};
     uint32_t color = 0;
     float depth = 0;

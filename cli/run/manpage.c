@@ -158,7 +158,8 @@ void scene_print_man(FILE *f, const char *render_codes, const scene_subcommand *
           "draw it, and a line on standard error (not with \\fB\\-q\\fR) names it; \\fB\\-\\-texture\\fR "
           "\\fIFILE\\fR draws another, \\fB\\-\\-texture none\\fR none.  A texture the file names that cannot "
           "be used (missing, outside the folder, embedded in the file) is a warning, and the mesh is drawn "
-          "untextured.\n", f);
+          "untextured.  A texture on a mesh without texture coordinates (every vertex's at (0, 0)) shows one "
+          "texel's colour: a warning says so, also with \\fB\\-q\\fR.\n", f);
     man_options(f);
     man_subcommands(f, subs, n);
     man_exit_status(f, render_codes, subs, n);

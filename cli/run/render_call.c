@@ -69,6 +69,8 @@ int scene_render_args(int argc, const char *const argv[], is_image_format fmt, i
     is_mesh_options mo = scene_mesh_options(&o, note, &n);
     if (rc == 0) rc = mesh_open(o.mesh, &mo, &m, err, errlen);
     if (rc == 0) scene_use_mesh_texture(&o, &m, note, &n);
+    char misfit[1000];
+    if (rc == 0 && scene_texture_misfit(&o, &m, misfit, sizeof misfit)) note(&n, misfit);
     if (rc == 0) rc = scene_render_mesh(&o, &m, img, NULL, err, errlen);
     mesh_free(&m);
     image_free(&map);

@@ -1363,6 +1363,19 @@ bool scene_use_mesh_texture(scene_opts *o, const is_mesh *m, void (*note)(void *
     return true;
 }
 
+bool scene_texture_misfit(const scene_opts *o, const is_mesh *m, char *msg, size_t len)
+{
+    if (!o->texture || m->n_vertices == 0) return false;
+    const float2 t0 = m->texcoords[0];
+    for (size_t v = 1; v < m->n_vertices; v++)
+        if (m->texcoords[v].x != t0.x || m->texcoords[v].y != t0.y) return false;
+    snprintf(msg, len, "%s: has no texture coordinates (every vertex's (u, v) is (%g, %g)): %s draws one colour over it",
+             m->name, (double)t0.x, (double)t0.y, o->texture);
+    for (char *c = msg; *c; c++)   /* names from the command line or the mesh's folder: no escape sequences */
+        if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+    return true;
+}
+
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -1502,7 +1515,9 @@ int scene_render_to_file(const scene_opts *o, char *err, size_t errlen)
     if (rc == 0) rc = mesh_open(o->mesh, &mo, &m, err, errlen);
     char misfit[1000];
     if (rc == 0 && scene_normals_misfit(&m, misfit, sizeof misfit)) warn_stderr(&pr, misfit);
-    if (rc == 0 && scene_use_mesh_texture(&od, &m, note_stderr, &pr))
+    const bool own_texture = rc == 0 && scene_use_mesh_texture(&od, &m, note_stderr, &pr);
+    if (rc == 0 && scene_texture_misfit(&od, &m, misfit, sizeof misfit)) warn_stderr(&pr, misfit);
+    if (own_texture)
         for (int k = 0; k < 2 && rc == 0; k++) {   /* the outputs were claimed before the mesh named it */
             const char *out = k == 0 ? o->output : o->export_obj;
             if (out && outputs_same_target(out, od.texture))

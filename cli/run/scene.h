@@ -230,6 +230,11 @@ void scene_shading_constants(is_device *dev, const scene_opts *o);
  * Python call, inspect and the viewer call it after loading the mesh; the figures do not (their views say
  * --texture when they are textured). */
 bool scene_use_mesh_texture(scene_opts *o, const is_mesh *m, void (*note)(void *user, const char *msg), void *user);
+/* Does o draw a texture (o->texture, after scene_use_mesh_texture) on a mesh m whose vertices all have the same
+ * texture coordinates (a file without them: (0, 0) everywhere), so that the whole mesh shows one texel's colour?
+ * Then msg holds "MESH: has no texture coordinates (every vertex's (u, v) is (U, V)): TEXTURE draws one colour
+ * over it" for a warning.  The run, the Python call, inspect and the viewer warn with it, also with -q. */
+bool scene_texture_misfit(const scene_opts *o, const is_mesh *m, char *msg, size_t len);
 /* --texture on dev: o's image (texture_map, or the file) as a mip-mapped texture on pixel sampler
  * SCENE_TEXTURE_SAMPLER (trilinear, wrapping; *tex: the caller releases it after the draw), and with --shading
  * vertex the pixel shader that multiplies COLOR0 by it.  IS_OK or the device's error. */

@@ -836,6 +836,10 @@ static int view_load(view_state *v)
     char misfit[1000];
     if (rc == 0 && scene_normals_misfit(&v->mesh, misfit, sizeof misfit))   /* also with -q, as the CLI */
         fprintf(stderr, "instess: warning: %s\n", misfit);
+    scene_opts textured = v->o;   /* the texture u shows, on or off now */
+    textured.texture = v->texture_path;
+    if (rc == 0 && scene_texture_misfit(&textured, &v->mesh, misfit, sizeof misfit))
+        fprintf(stderr, "instess: warning: %s\n", misfit);
     if (rc == 0) v->draw = scene_fit_mesh(&v->mesh, &v->fit_copy);
     if (rc == 0 && !within_limits(v, &v->o, err, sizeof err)) rc = -1;
     if (rc == 0 && !(v->frame = calloc((size_t)v->o.width * v->o.height, sizeof *v->frame)))
