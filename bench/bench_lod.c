@@ -27,7 +27,27 @@
 #include "../core/hlsl.h"
 #define PI_F 3.14159265358979f
 enum { D_SIDE = 1024, D_COLS = 8, D_ROWS = 12, D_MAX_LEVEL = 16 };
-static const float d_targets[] = {8.0f, 4.0f, 2.0f}; /* --lod-target values measured */
+static const float d_default_modes[] = {0.0f, 8.0f, 4.0f, 3.0f, 2.0f}; /* uniform, then --lod-target values */
+#define D_TARGET_DEV_PX 0.5   /* issue 29: adaptive at <= 0.5 px deviation ... */
+#define D_TARGET_RATIO 1.5    /* ... at least 1.5x faster than uniform level 16 */
+
+int bench_lod_parse_modes(bench_lod_args *a, const char *list)
+{
+    if (!a || !list) return -1;
+    int n = 0;
+    for (const char *p = list; *p;) {
+        const size_t len = strcspn(p, ",");
+        char *end;
+        float v = strtof(p, &end);
+        if ((len == 7 && strncmp(p, "uniform", 7) == 0) || (len == 1 && *p == 'u')) v = 0.0f, end = (char *)p + len;
+        else if (end == p || !(v > 0.0f && v <= 1000.0f)) return -1;
+        if (end != p + len || n == BENCH_LOD_MAX_MODES) return -1;
+        a->modes[n++] = v;
+        p += len + (p[len] == ',');
+        if (p[-1] == ',' && !*p) return -1;   /* a trailing comma */
+    }
+    return n > 0 ? (a->n_modes = n, 0) : -1;
+}
 
 /* The field: D_COLS x D_ROWS built-in spheres (unit radius), 2.5 apart across and 4 apart in depth. */
 static int d_mesh(is_mesh *out, char *err, size_t errlen)
@@ -211,6 +231,23 @@ static is_result d_adaptive_frame(void *ctx)
     return r;
 }
 
+/* With a->keep: the device's target (colour, then depth, raw as in memory) into DIR/D_<patch>_<mode>.raw, the
+ * mode's spaces as underscores; a message on stderr when it cannot be written. */
+static void d_keep(const bench_lod_args *a, is_device *dev, const char *patch, const char *mode)
+{
+    if (!a->keep) return;
+    char path[4096], m[32];
+    snprintf(m, sizeof m, "%s", mode);
+    for (char *c = m; *c; c++) *c = *c == ' ' ? '_' : *c;
+    snprintf(path, sizeof path, "%s/D_%s_%s.raw", a->keep, patch, m);
+    const rs_target *rt = dev_render_target(dev);
+    FILE *f = rt ? fopen(path, "wb") : NULL;
+    const size_t np = rt ? (size_t)rt->width * rt->height * rt->samples : 0;
+    bool ok = f && fwrite(rt->color, sizeof *rt->color, np, f) == np && fwrite(rt->depth, sizeof *rt->depth, np, f) == np;
+    if (f && fclose(f) != 0) ok = false;
+    if (!ok) fprintf(stderr, "bench: scene D: cannot write %s\n", path), remove(path);
+}
+
 /* A uniform frame: Clear, the one instanced draw and the present. */
 typedef struct d_uniform { is_device *dev; const tess_resources *r; } d_uniform;
 static is_result d_uniform_frame(void *ctx)
@@ -239,7 +276,8 @@ static is_device *d_device(vs_patch patch, const float4x4 *wvp, int threads)
 }
 
 /* Uniform level M: timed, counted; deviation 0 by definition. */
-static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, const bench_lod_args *a, d_result *r)
+static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, const bench_lod_args *a,
+                         const char *names[2], d_result *r)
 {
     core_grid g;
     is_device *dev = d_device(patch, wvp, a->threads);
@@ -252,6 +290,7 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
     const rs_stats *st = dev_stats(dev);
     *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, st->prims_drawn, 1, 1, st->setup_regions,
                     st->tile_regions};
+    if (e == IS_OK) d_keep(a, dev, names[0], names[1]);
     tess_resources_free(&res);
     core_grid_free(&g);
     dev_destroy(dev);
@@ -260,7 +299,8 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
 
 /* Adaptive at one target: timed, counted, its deviation. */
 static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, const float4x4 *view,
-                          const float4x4 *wvp, float target, const bench_lod_args *a, d_result *r)
+                          const float4x4 *wvp, float target, const bench_lod_args *a, const char *names[2],
+                          d_result *r)
 {
     d_adaptive s = {.dev = d_device(patch, wvp, a->threads), .m = m, .e = e, .cache = core_pattern_cache_create(0)};
     s.p = (tess_lod_params){.mode = TESS_LOD_SCREEN, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
@@ -273,6 +313,7 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
         r->tessellated = s.a.n_triangles, r->drawn = st->prims_drawn;
         r->setup_regions = st->setup_regions, r->tile_regions = st->tile_regions;
         r->patterns = s.a.n_patterns, r->buckets = s.a.n_buckets;
+        d_keep(a, s.dev, names[0], names[1]);
         r->deviation = d_deviation(m, e, patch, wvp, D_MAX_LEVEL, s.cache);
     }
     tess_adaptive_free(&s.a);
@@ -293,6 +334,35 @@ static void d_print(const char *patch, const char *mode, const d_result *r, int 
            r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
 }
 
+/* The index of the fastest mode of kind `adaptive` (else uniform) measured in res (ok), among the adaptive ones
+ * only those within D_TARGET_DEV_PX of the uniform surface; -1 when none. */
+static int d_pick(const float *modes, const d_result *res, const bool *ok, int n, bool adaptive)
+{
+    int best = -1;
+    for (int k = 0; k < n; k++) {
+        if (!ok[k] || (modes[k] > 0.0f) != adaptive || (adaptive && !(res[k].deviation <= D_TARGET_DEV_PX))) continue;
+        if (best < 0 || res[k].ms < res[best].ms) best = k;
+    }
+    return best;
+}
+
+/* Issue 29's scene D target line for one patch: the fastest adaptive mode within 0.5 px against uniform level 16,
+ * this run's medians at its thread count, "met" or "NOT met" (or why there is no ratio). */
+static void d_print_target(const char *patch, const float *modes, const d_result *res, const bool *ok, int n,
+                           int threads)
+{
+    const int u = d_pick(modes, res, ok, n, false), ad = d_pick(modes, res, ok, n, true);
+    printf("  target: scene D %-6s adaptive at <= %.1f px / uniform %d (%d thread%s) >= %.1fx: ", patch,
+           D_TARGET_DEV_PX, D_MAX_LEVEL, threads, threads == 1 ? "" : "s", D_TARGET_RATIO);
+    if (u < 0 || ad < 0) {
+        printf("no ratio (%s not measured)\n", u < 0 ? "uniform" : "no adaptive mode within the deviation");
+        return;
+    }
+    const double got = res[ad].ms > 0.0 ? res[u].ms / res[ad].ms : 0.0;
+    printf("%5.2fx (screen %g px, %.3f px, %.2f against %.2f ms)  %s\n", got, (double)modes[ad], res[ad].deviation,
+           res[ad].ms, res[u].ms, got >= D_TARGET_RATIO ? "met" : "NOT met");
+}
+
 int bench_scene_d(const bench_lod_args *a)
 {
     is_mesh m = {0};
@@ -308,20 +378,25 @@ int bench_scene_d(const bench_lod_args *a)
     printf("  %-7s %-16s %10s %10s %9s %12s %9s %8s %9s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
            "max dev (px)", "patterns", "buckets", "regions");
     static const struct { const char *name; vs_patch p; } patches[] = {{"npatch", VS_PATCH_NPATCH}, {"smooth", VS_PATCH_SMOOTH}};
+    const float *modes = a->n_modes ? a->modes : d_default_modes;
+    const int n_modes = a->n_modes ? a->n_modes : (int)(sizeof d_default_modes / sizeof *d_default_modes);
     int bad = 0;
     for (size_t pk = 0; pk < 2; pk++) {
         if (!(a->patches & (1u << pk))) continue;
-        d_result r;
-        char mode[32];
-        snprintf(mode, sizeof mode, "uniform %d", D_MAX_LEVEL);
-        if (d_run_uniform(&m, patches[pk].p, &wvp, a, &r) == 0) d_print(patches[pk].name, mode, &r, a->threads);
-        else bad++;
-        for (size_t k = 0; k < sizeof d_targets / sizeof d_targets[0]; k++) {
-            snprintf(mode, sizeof mode, "screen %g px", (double)d_targets[k]);
-            if (d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, d_targets[k], a, &r) == 0)
-                d_print(patches[pk].name, mode, &r, a->threads);
+        d_result res[BENCH_LOD_MAX_MODES];
+        bool ok[BENCH_LOD_MAX_MODES];
+        for (int k = 0; k < n_modes; k++) {
+            char mode[32];
+            if (modes[k] > 0.0f) snprintf(mode, sizeof mode, "screen %g px", (double)modes[k]);
+            else snprintf(mode, sizeof mode, "uniform %d", D_MAX_LEVEL);
+            const char *names[2] = {patches[pk].name, mode};
+            ok[k] = (modes[k] > 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names, &res[k])
+                                     : d_run_uniform(&m, patches[pk].p, &wvp, a, names, &res[k])) == 0;
+            if (ok[k]) d_print(patches[pk].name, mode, &res[k], a->threads);
             else bad++;
+            fflush(stdout);
         }
+        d_print_target(patches[pk].name, modes, res, ok, n_modes, a->threads);
     }
     if (bad) fprintf(stderr, "bench: scene D: %d case(s) failed\n", bad);
     tess_lod_edges_free(&e);
