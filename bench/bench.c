@@ -130,8 +130,9 @@ static void usage(FILE *f)
                "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
                "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n"
                "  --isa I           instess's rasterizer kernels: avx2, or avx512 (the default where the CPU has it)\n"
-               "  --lod-modes LIST  scene D's modes: uniform (or u) and pixels per segment, e.g. u,3 (default\n"
-               "                    uniform,8,4,3,2); with --keep each mode's last frame as DIR/D_<patch>_<mode>.raw\n");
+               "  --lod-modes LIST  scene D's modes: uniform (or u), pixels per segment (--lod screen) and d with the\n"
+               "                    pixels of deviation allowed (TESS_LOD_DEVIATION), e.g. u,3,d0.3 (default\n"
+               "                    uniform,8,4,3,2,d0.3); with --keep each mode's last frame as DIR/D_<patch>_<mode>.raw\n");
 }
 
 /* A comma-separated list of up to max integers in [lo, hi]; the count or -1. */

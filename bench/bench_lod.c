@@ -1,5 +1,6 @@
 /* bench/bench_lod.c -- scene D of `make bench` (`--scenes D`): a field of spheres receding from the camera, drawn
- * with one uniform level (the finest, M) and adaptively (--lod screen at a few targets, levels 1..M), each with
+ * with one uniform level (the finest, M) and adaptively (--lod screen at a few targets and TESS_LOD_DEVIATION,
+ * levels 1..M), each with
  * instess alone (llvmpipe has no adaptive counterpart here).  For each it prints the triangles tessellated and
  * drawn, the median ms per frame, and the largest screen-space deviation from the uniform level-M surface, so
  * that the saving at equal quality is a number.
@@ -12,6 +13,7 @@
  * patch shader computes them, projected to pixels); they are compared at the points of the level-2M grid (the
  * level-M vertices and the midpoints of their edges), each surface interpolated linearly in screen space inside
  * its triangle holding the point.  Uniform level M has deviation 0 by construction. */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,7 +29,8 @@
 #include "../core/hlsl.h"
 #define PI_F 3.14159265358979f
 enum { D_SIDE = 1024, D_COLS = 8, D_ROWS = 12, D_MAX_LEVEL = 16 };
-static const float d_default_modes[] = {0.0f, 8.0f, 4.0f, 3.0f, 2.0f}; /* uniform, then --lod-target values */
+/* uniform, screen at 8, 4, 3, 2 px per segment, deviation 0.3 px (bench_lod.h's encoding) */
+static const float d_default_modes[] = {0.0f, 8.0f, 4.0f, 3.0f, 2.0f, -0.3f};
 #define D_TARGET_DEV_PX 0.5   /* issue 29: adaptive at <= 0.5 px deviation ... */
 #define D_TARGET_RATIO 1.5    /* ... at least 1.5x faster than uniform level 16 */
 
@@ -37,12 +40,13 @@ int bench_lod_parse_modes(bench_lod_args *a, const char *list)
     int n = 0;
     for (const char *p = list; *p;) {
         const size_t len = strcspn(p, ",");
+        const bool dev = *p == 'd';
         char *end;
-        float v = strtof(p, &end);
+        float v = strtof(p + dev, &end);
         if ((len == 7 && strncmp(p, "uniform", 7) == 0) || (len == 1 && *p == 'u')) v = 0.0f, end = (char *)p + len;
-        else if (end == p || !(v > 0.0f && v <= 1000.0f)) return -1;
+        else if (end == p + dev || !isdigit((unsigned char)p[dev]) || !(v > 0.0f && v <= 1000.0f)) return -1;
         if (end != p + len || n == BENCH_LOD_MAX_MODES) return -1;
-        a->modes[n++] = v;
+        a->modes[n++] = dev ? -v : v;
         p += len + (p[len] == ',');
         if (p[-1] == ',' && !*p) return -1;   /* a trailing comma */
     }
@@ -299,11 +303,12 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
 
 /* Adaptive at one target: timed, counted, its deviation. */
 static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, const float4x4 *view,
-                          const float4x4 *wvp, float target, const bench_lod_args *a, const char *names[2],
+                          const float4x4 *wvp, float mode, const bench_lod_args *a, const char *names[2],
                           d_result *r)
 {
+    const float target = mode > 0.0f ? mode : -mode;
     d_adaptive s = {.dev = d_device(patch, wvp, a->threads), .m = m, .e = e, .cache = core_pattern_cache_create(0)};
-    s.p = (tess_lod_params){.mode = TESS_LOD_SCREEN, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
+    s.p = (tess_lod_params){.mode = mode > 0.0f ? TESS_LOD_SCREEN : TESS_LOD_DEVIATION, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
                              .max_level = D_MAX_LEVEL, .width = D_SIDE, .height = D_SIDE, .world_view = *view,
                              .wvp = *wvp};
     is_result err = s.dev && s.cache ? IS_OK : IS_ERR_OUTOFMEMORY;
@@ -334,13 +339,21 @@ static void d_print(const char *patch, const char *mode, const d_result *r, int 
            r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
 }
 
+/* A mode's name (bench_lod.h's encoding): "uniform 16", "screen 3 px", "deviation 0.3 px". */
+static void d_mode_name(float mode, char *out, size_t len)
+{
+    if (mode > 0.0f) snprintf(out, len, "screen %g px", (double)mode);
+    else if (mode < 0.0f) snprintf(out, len, "deviation %g px", (double)-mode);
+    else snprintf(out, len, "uniform %d", D_MAX_LEVEL);
+}
+
 /* The index of the fastest mode of kind `adaptive` (else uniform) measured in res (ok), among the adaptive ones
  * only those within D_TARGET_DEV_PX of the uniform surface; -1 when none. */
 static int d_pick(const float *modes, const d_result *res, const bool *ok, int n, bool adaptive)
 {
     int best = -1;
     for (int k = 0; k < n; k++) {
-        if (!ok[k] || (modes[k] > 0.0f) != adaptive || (adaptive && !(res[k].deviation <= D_TARGET_DEV_PX))) continue;
+        if (!ok[k] || (modes[k] != 0.0f) != adaptive || (adaptive && !(res[k].deviation <= D_TARGET_DEV_PX))) continue;
         if (best < 0 || res[k].ms < res[best].ms) best = k;
     }
     return best;
@@ -359,8 +372,10 @@ static void d_print_target(const char *patch, const float *modes, const d_result
         return;
     }
     const double got = res[ad].ms > 0.0 ? res[u].ms / res[ad].ms : 0.0;
-    printf("%5.2fx (screen %g px, %.3f px, %.2f against %.2f ms)  %s\n", got, (double)modes[ad], res[ad].deviation,
-           res[ad].ms, res[u].ms, got >= D_TARGET_RATIO ? "met" : "NOT met");
+    char name[32];
+    d_mode_name(modes[ad], name, sizeof name);
+    printf("%5.2fx (%s, %.3f px, %.2f against %.2f ms)  %s\n", got, name, res[ad].deviation, res[ad].ms, res[u].ms,
+           got >= D_TARGET_RATIO ? "met" : "NOT met");
 }
 
 int bench_scene_d(const bench_lod_args *a)
@@ -387,10 +402,9 @@ int bench_scene_d(const bench_lod_args *a)
         bool ok[BENCH_LOD_MAX_MODES];
         for (int k = 0; k < n_modes; k++) {
             char mode[32];
-            if (modes[k] > 0.0f) snprintf(mode, sizeof mode, "screen %g px", (double)modes[k]);
-            else snprintf(mode, sizeof mode, "uniform %d", D_MAX_LEVEL);
+            d_mode_name(modes[k], mode, sizeof mode);
             const char *names[2] = {patches[pk].name, mode};
-            ok[k] = (modes[k] > 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names, &res[k])
+            ok[k] = (modes[k] != 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names, &res[k])
                                      : d_run_uniform(&m, patches[pk].p, &wvp, a, names, &res[k])) == 0;
             if (ok[k]) d_print(patches[pk].name, mode, &res[k], a->threads);
             else bad++;

@@ -74,6 +74,15 @@ static void edge_polygon(float3 pa, float3 na, float3 pb, float3 nb, float3 q[4]
     q[2] = scale3(sub3(add3(scale3(pb, 2.0f), pa), scale3(nb, wba)), 1.0f / 3.0f);
 }
 
+/* The projected control polygon x[0..4), y[0..4) of an edge's cubic in; the segments (real) for which its polyline
+ * lies within `target` pixels of the cubic (tess.h, the deviation mode): sqrt(3/4 max|second difference| / target). */
+static double deviation_segments(const double x[4], const double y[4], double target)
+{
+    const double d1 = hypot(x[0] - 2.0 * x[1] + x[2], y[0] - 2.0 * y[1] + y[2]);
+    const double d2 = hypot(x[1] - 2.0 * x[2] + x[3], y[1] - 2.0 * y[2] + y[3]);
+    return sqrt(0.75 * (d1 > d2 ? d1 : d2) / target);
+}
+
 /* Edge k's level as p says (without the silhouette rule). */
 static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod_edges *e, size_t k)
 {
@@ -86,12 +95,12 @@ static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod
     if (!(p->target_px > 0.0f)) return p->max_level;   /* no pixels per segment (0, negative, NaN): the finest */
     float3 q[4];
     edge_polygon(pa, e->nrm[k][0], pb, e->nrm[k][1], q);
-    double len = 0.0, x0, y0, x1, y1;
-    if (!to_pixels(p, q[0], &x0, &y0)) return p->max_level;
-    for (int i = 1; i < 4; i++, x0 = x1, y0 = y1) {
-        if (!to_pixels(p, q[i], &x1, &y1)) return p->max_level;
-        len += hypot(x1 - x0, y1 - y0);
-    }
+    double x[4], y[4];
+    for (int i = 0; i < 4; i++)
+        if (!to_pixels(p, q[i], &x[i], &y[i])) return p->max_level;
+    if (p->mode == TESS_LOD_DEVIATION) return clamp_level(p, deviation_segments(x, y, p->target_px));
+    double len = 0.0;
+    for (int i = 1; i < 4; i++) len += hypot(x[i] - x[i - 1], y[i] - y[i - 1]);
     return clamp_level(p, len / p->target_px);
 }
 

@@ -24,6 +24,8 @@ static void test_modes_parse(void **state)
     assert_true(a.modes[0] == 0.0f && a.modes[1] == 2.5f);
     assert_int_equal(bench_lod_parse_modes(&a, "3"), 0);
     assert_true(a.n_modes == 1 && a.modes[0] == 3.0f);
+    assert_int_equal(bench_lod_parse_modes(&a, "d0.3,u,d2"), 0);   /* the deviation mode, as a negative value */
+    assert_true(a.n_modes == 3 && a.modes[0] == -0.3f && a.modes[1] == 0.0f && a.modes[2] == -2.0f);
 }
 
 /* Lists that do not parse leave a usage error. */
@@ -31,7 +33,7 @@ static void test_modes_refused(void **state)
 {
     (void)state;
     static const char *bad[] = {"", ",", "u,", ",u", "u,,2", "0", "-2", "1001", "nan", "2x", "un", "uniformx",
-                                "1,2,3,4,5,6,7,8,9", "u 2"};
+                                "1,2,3,4,5,6,7,8,9", "u 2", "d", "d0", "d-1", "d-0.5", "dd1", "d1x", "dnan", "d 1"};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         bench_lod_args a = {0};
         if (bench_lod_parse_modes(&a, bad[k]) == 0) fail_msg("\"%s\" parsed", bad[k]);
@@ -44,20 +46,22 @@ static void test_modes_refused(void **state)
 static void test_target_pick(void **state)
 {
     (void)state;
-    const float modes[] = {0.0f, 8.0f, 3.0f, 2.0f, 0.0f};
-    d_result r[5] = {{.ms = 60}, {.ms = 20, .deviation = 2.4}, {.ms = 35, .deviation = 0.47},
-                     {.ms = 50, .deviation = 0.32}, {.ms = 10}};
-    bool ok[5] = {true, true, true, true, false};
-    assert_int_equal(d_pick(modes, r, ok, 5, false), 0);   /* the failed uniform run is not taken */
-    assert_int_equal(d_pick(modes, r, ok, 5, true), 2);    /* 8 px is faster, but 2.4 px off */
+    const float modes[] = {0.0f, 8.0f, 3.0f, 2.0f, 0.0f, -0.3f};
+    d_result r[6] = {{.ms = 60}, {.ms = 20, .deviation = 2.4}, {.ms = 35, .deviation = 0.47},
+                     {.ms = 50, .deviation = 0.32}, {.ms = 10}, {.ms = 30, .deviation = 0.6}};
+    bool ok[6] = {true, true, true, true, false, true};
+    assert_int_equal(d_pick(modes, r, ok, 6, false), 0);   /* the failed uniform run is not taken */
+    assert_int_equal(d_pick(modes, r, ok, 6, true), 2);    /* 8 px is faster, but 2.4 px off */
     r[2].deviation = 0.5;
-    assert_int_equal(d_pick(modes, r, ok, 5, true), 2);    /* 0.5 px is within */
+    assert_int_equal(d_pick(modes, r, ok, 6, true), 2);    /* 0.5 px is within */
     r[2].deviation = 0.5001;
-    assert_int_equal(d_pick(modes, r, ok, 5, true), 3);
+    assert_int_equal(d_pick(modes, r, ok, 6, true), 3);
     ok[3] = false;
-    assert_int_equal(d_pick(modes, r, ok, 5, true), -1);
-    r[2].deviation = NAN;
-    assert_int_equal(d_pick(modes, r, ok, 5, true), -1);
+    assert_int_equal(d_pick(modes, r, ok, 6, true), -1);
+    r[5].deviation = 0.41;   /* the deviation mode (a negative value) is adaptive too */
+    assert_int_equal(d_pick(modes, r, ok, 6, true), 5);
+    r[5].deviation = 0.6, r[2].deviation = NAN;
+    assert_int_equal(d_pick(modes, r, ok, 6, true), -1);
 }
 
 int main(void)
