@@ -191,6 +191,8 @@ typedef struct d_result {
     uint64_t tessellated, drawn;
     size_t patterns, buckets;
     uint64_t setup_regions, tile_regions;   /* the last frame's parallel regions (rs_stats, timing on) */
+    long long colour_over;   /* pixels with a channel more than 8/255 from the uniform frame's (-1: not compared) */
+    double colour_mean;      /* the mean absolute difference of the R, G, B channels from it, in 1/255 */
 } d_result;
 
 /* The median ms of frames timed frames of `frame` after warmup untimed ones. */
@@ -279,9 +281,34 @@ static is_device *d_device(vs_patch patch, const float4x4 *wvp, int threads)
     return dev;
 }
 
+/* The colour of dev's last frame against the uniform frame's: with *ref NULL (the uniform run) a copy of it goes
+ * there and r is not compared; else r->colour_over and colour_mean (a shading difference, which the geometric
+ * deviation does not see: vertex colours are interpolated across larger triangles). */
+static void d_colour(is_device *dev, uint32_t **ref, d_result *r)
+{
+    r->colour_over = -1, r->colour_mean = 0.0;
+    const rs_target *rt = dev_render_target(dev);
+    if (!rt || !ref) return;
+    const size_t n = (size_t)rt->width * rt->height * rt->samples;
+    if (!*ref) {
+        if ((*ref = malloc(n * sizeof **ref))) memcpy(*ref, rt->color, n * sizeof **ref);
+        return;
+    }
+    uint64_t sum = 0, over = 0;
+    for (size_t p = 0; p < n; p++) {
+        int worst = 0;
+        for (int c = 0; c < 24; c += 8) {
+            const int d = abs((int)((rt->color[p] >> c) & 255u) - (int)(((*ref)[p] >> c) & 255u));
+            sum += (uint64_t)d, worst = d > worst ? d : worst;
+        }
+        over += worst > 8;
+    }
+    r->colour_over = (long long)over, r->colour_mean = (double)sum / (3.0 * (double)n);
+}
+
 /* Uniform level M: timed, counted; deviation 0 by definition. */
 static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, const bench_lod_args *a,
-                         const char *names[2], d_result *r)
+                         const char *names[2], uint32_t **ref, d_result *r)
 {
     core_grid g;
     is_device *dev = d_device(patch, wvp, a->threads);
@@ -293,8 +320,8 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
     if (e == IS_OK) r->ms = d_time(d_uniform_frame, &s, a->frames, a->warmup, &e);
     const rs_stats *st = dev_stats(dev);
     *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, st->prims_drawn, 1, 1, st->setup_regions,
-                    st->tile_regions};
-    if (e == IS_OK) d_keep(a, dev, names[0], names[1]);
+                    st->tile_regions, -1, 0.0};
+    if (e == IS_OK) d_keep(a, dev, names[0], names[1]), d_colour(dev, ref, r);
     tess_resources_free(&res);
     core_grid_free(&g);
     dev_destroy(dev);
@@ -304,7 +331,7 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
 /* Adaptive at one target: timed, counted, its deviation. */
 static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, const float4x4 *view,
                           const float4x4 *wvp, float mode, const bench_lod_args *a, const char *names[2],
-                          d_result *r)
+                          uint32_t **ref, d_result *r)
 {
     const float target = mode > 0.0f ? mode : -mode;
     d_adaptive s = {.dev = d_device(patch, wvp, a->threads), .m = m, .e = e, .cache = core_pattern_cache_create(0)};
@@ -319,6 +346,7 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
         r->setup_regions = st->setup_regions, r->tile_regions = st->tile_regions;
         r->patterns = s.a.n_patterns, r->buckets = s.a.n_buckets;
         d_keep(a, s.dev, names[0], names[1]);
+        d_colour(s.dev, ref, r);
         r->deviation = d_deviation(m, e, patch, wvp, D_MAX_LEVEL, s.cache);
     }
     tess_adaptive_free(&s.a);
@@ -330,13 +358,16 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
 /* One row of the table and its machine-readable line. */
 static void d_print(const char *patch, const char *mode, const d_result *r, int threads)
 {
-    printf("  %-7s %-16s %10llu %10llu %9.2f %12.3f %9zu %8zu %7llu/%llu\n", patch, mode,
+    char colour[40] = "        -";
+    if (r->colour_over >= 0) snprintf(colour, sizeof colour, "%7lld %5.2f", r->colour_over, r->colour_mean);
+    printf("  %-7s %-17s %10llu %10llu %9.2f %12.3f %9zu %8zu %7llu/%llu %s\n", patch, mode,
            (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
-           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
+           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions, colour);
     printf("scene=D patch=%s mode=%s threads=%d triangles=%llu drawn=%llu ms=%.3f max_dev_px=%.4f patterns=%zu "
-           "buckets=%zu setup_regions=%llu tile_regions=%llu\n", patch, mode, threads,
-           (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
-           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
+           "buckets=%zu setup_regions=%llu tile_regions=%llu colour_over8=%lld colour_mean=%.4f\n", patch, mode,
+           threads, (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation,
+           r->patterns, r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions,
+           r->colour_over, r->colour_mean);
 }
 
 /* A mode's name (bench_lod.h's encoding): "uniform 16", "screen 3 px", "deviation 0.3 px". */
@@ -390,8 +421,8 @@ int bench_scene_d(const bench_lod_args *a)
     printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs --lod screen "
            "(levels 1..%d), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS, m.n_triangles, D_SIDE, D_SIDE,
            D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
-    printf("  %-7s %-16s %10s %10s %9s %12s %9s %8s %9s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
-           "max dev (px)", "patterns", "buckets", "regions");
+    printf("  %-7s %-17s %10s %10s %9s %12s %9s %8s %9s %s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
+           "max dev (px)", "patterns", "buckets", "regions", "colour vs uniform: px > 8/255, mean (/255)");
     static const struct { const char *name; vs_patch p; } patches[] = {{"npatch", VS_PATCH_NPATCH}, {"smooth", VS_PATCH_SMOOTH}};
     const float *modes = a->n_modes ? a->modes : d_default_modes;
     const int n_modes = a->n_modes ? a->n_modes : (int)(sizeof d_default_modes / sizeof *d_default_modes);
@@ -400,17 +431,20 @@ int bench_scene_d(const bench_lod_args *a)
         if (!(a->patches & (1u << pk))) continue;
         d_result res[BENCH_LOD_MAX_MODES];
         bool ok[BENCH_LOD_MAX_MODES];
+        uint32_t *ref = NULL;   /* the uniform frame's colour, once measured: the adaptive ones compared with it */
         for (int k = 0; k < n_modes; k++) {
             char mode[32];
             d_mode_name(modes[k], mode, sizeof mode);
             const char *names[2] = {patches[pk].name, mode};
-            ok[k] = (modes[k] != 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names, &res[k])
-                                     : d_run_uniform(&m, patches[pk].p, &wvp, a, names, &res[k])) == 0;
+            ok[k] = (modes[k] != 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names,
+                                                       ref ? &ref : NULL, &res[k])
+                                      : d_run_uniform(&m, patches[pk].p, &wvp, a, names, &ref, &res[k])) == 0;
             if (ok[k]) d_print(patches[pk].name, mode, &res[k], a->threads);
             else bad++;
             fflush(stdout);
         }
         d_print_target(patches[pk].name, modes, res, ok, n_modes, a->threads);
+        free(ref);
     }
     if (bad) fprintf(stderr, "bench: scene D: %d case(s) failed\n", bad);
     tess_lod_edges_free(&e);

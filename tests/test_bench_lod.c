@@ -1,7 +1,7 @@
 /* tests/test_bench_lod.c -- scene D's options and target line (bench/bench_lod.c, compiled into this test): the
  * --lod-modes list (uniform / u and pixels per segment; empty items, a trailing comma, zero, negative, too many
  * and junk refused), and the pick behind the target line: the fastest adaptive mode within 0.5 px of the uniform
- * surface, never one beyond it, against the uniform mode. */
+ * surface, never one beyond it, against the uniform mode; the colour comparison with the uniform frame. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -64,12 +64,39 @@ static void test_target_pick(void **state)
     assert_int_equal(d_pick(modes, r, ok, 6, true), -1);
 }
 
+/* The colour comparison: the first call keeps the frame, later ones count pixels over 8/255 and the mean. */
+static void test_colour_against_uniform(void **state)
+{
+    (void)state;
+    is_device *dev = dev_create(4, 4, 1, NULL, 0);
+    assert_non_null(dev);
+    uint32_t *ref = NULL;
+    d_result r;
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 100, 100, 100), 1.0f), IS_OK);
+    d_colour(dev, &ref, &r);
+    assert_non_null(ref);
+    assert_int_equal(r.colour_over, -1);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(255, 100, 109, 100), 1.0f), IS_OK);
+    d_colour(dev, &ref, &r);
+    assert_int_equal(r.colour_over, 16);   /* 9 > 8 on every pixel */
+    assert_true(fabs(r.colour_mean - 3.0) < 1e-9);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET, IS_COLOR_ARGB(0, 92, 100, 108), 1.0f), IS_OK);
+    d_colour(dev, &ref, &r);
+    assert_int_equal(r.colour_over, 0);    /* 8 is not over; alpha is not compared */
+    assert_true(fabs(r.colour_mean - 16.0 / 3.0) < 1e-9);
+    d_colour(dev, NULL, &r);
+    assert_int_equal(r.colour_over, -1);
+    free(ref);
+    dev_destroy(dev);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_modes_parse),
         cmocka_unit_test(test_modes_refused),
         cmocka_unit_test(test_target_pick),
+        cmocka_unit_test(test_colour_against_uniform),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
