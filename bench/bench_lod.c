@@ -418,9 +418,9 @@ int bench_scene_d(const bench_lod_args *a)
         return fprintf(stderr, "bench: scene D: %s\n", err), mesh_free(&m), 1;
     float4x4 view, wvp;
     d_camera(&view, &wvp);
-    printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs --lod screen "
-           "(levels 1..%d), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS, m.n_triangles, D_SIDE, D_SIDE,
-           D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
+    printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs per-edge levels "
+           "1..%d (--lod screen, TESS_LOD_DEVIATION), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS,
+           m.n_triangles, D_SIDE, D_SIDE, D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
     printf("  %-7s %-17s %10s %10s %9s %12s %9s %8s %9s %s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
            "max dev (px)", "patterns", "buckets", "regions", "colour vs uniform: px > 8/255, mean (/255)");
     static const struct { const char *name; vs_patch p; } patches[] = {{"npatch", VS_PATCH_NPATCH}, {"smooth", VS_PATCH_SMOOTH}};
