@@ -114,6 +114,7 @@ typedef struct bench_args {
     int no_gl;
     int cull;             /* --cull: instess with its pre-tessellation cull (dev_set_patch_cull) */
     int isa;              /* --isa: the rasterizer's instruction set (RS_ISA_*), -1: the device's own choice */
+    bench_lod_args lod;   /* --lod-modes: scene D's modes (bench/bench_lod.c) */
 } bench_args;
 
 /* Print the usage to f. */
@@ -121,14 +122,17 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCDP|A,B,C,D,P] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
-               "             [--isa avx2|avx512]\n"
+               "             [--isa avx2|avx512] [--lod-modes LIST]\n"
                "  --scenes LIST     A, B, C (the fixed pixel path), P (pixel shader and texture): default ABCP;\n"
                "                    D (adaptive level of detail, instess only; bench/README.md)\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
                "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
                "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n"
-               "  --isa I           instess's rasterizer kernels: avx2, or avx512 (the default where the CPU has it)\n");
+               "  --isa I           instess's rasterizer kernels: avx2, or avx512 (the default where the CPU has it)\n"
+               "  --lod-modes LIST  scene D's modes: uniform (or u), pixels per segment (--lod screen) and d with the\n"
+               "                    pixels of deviation allowed (TESS_LOD_DEVIATION), e.g. u,3,d0.3 (default\n"
+               "                    uniform,8,4,3,2,d0.3); with --keep each mode's last frame as DIR/D_<patch>_<mode>.raw\n");
 }
 
 /* A comma-separated list of up to max integers in [lo, hi]; the count or -1. */
@@ -158,6 +162,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     if (strcmp(opt, "--gl") == 0) return a->gl_path = v, 0;
     if (strcmp(opt, "--isa") == 0) return (a->isa = rs_isa_parse(v)) >= 0 ? 0 : -1;
     if (strcmp(opt, "--keep") == 0) return a->keep = v, 0;
+    if (strcmp(opt, "--lod-modes") == 0) return bench_lod_parse_modes(&a->lod, v);
     if (strcmp(opt, "--lp-threads") == 0) return (a->n_lp = parse_int_list(v, a->lp_threads, 4, 0, 64)) > 0 ? 0 : -1;
     if (strcmp(opt, "--scenes") == 0) /* "ABCDP" or "A,B,C,D,P" (D: bench/bench_lod.c) */
         return a->scenes = v, strspn(v, "ABCDP,") == strlen(v) && strpbrk(v, "ABCDP") ? 0 : -1;
@@ -1149,8 +1154,11 @@ int main(int argc, char **argv)
         return 1;
     }
     int bad = strpbrk(a.scenes, "ABCP") ? run_all(&a, gl_path, dir) : 0;
-    if (strchr(a.scenes, 'D'))
-        bad += bench_scene_d(&(bench_lod_args){a.frames < 11 ? a.frames : 11, a.warmup, a.threads[a.n_threads - 1], a.patches});
+    if (strchr(a.scenes, 'D')) {
+        a.lod.frames = a.frames < 11 ? a.frames : 11, a.lod.warmup = a.warmup, a.lod.threads = a.threads[a.n_threads - 1];
+        a.lod.patches = a.patches, a.lod.keep = a.keep;
+        bad += bench_scene_d(&a.lod);
+    }
     if (!a.keep) rmdir(dir);
     if (bad) fprintf(stderr, "bench: %d scene(s) failed or disagree with llvmpipe\n", bad);
     return bad ? 1 : 0;

@@ -1,5 +1,6 @@
 /* bench/bench_lod.c -- scene D of `make bench` (`--scenes D`): a field of spheres receding from the camera, drawn
- * with one uniform level (the finest, M) and adaptively (--lod screen at a few targets, levels 1..M), each with
+ * with one uniform level (the finest, M) and adaptively (--lod screen at a few targets and TESS_LOD_DEVIATION,
+ * levels 1..M), each with
  * instess alone (llvmpipe has no adaptive counterpart here).  For each it prints the triangles tessellated and
  * drawn, the median ms per frame, and the largest screen-space deviation from the uniform level-M surface, so
  * that the saving at equal quality is a number.
@@ -12,6 +13,7 @@
  * patch shader computes them, projected to pixels); they are compared at the points of the level-2M grid (the
  * level-M vertices and the midpoints of their edges), each surface interpolated linearly in screen space inside
  * its triangle holding the point.  Uniform level M has deviation 0 by construction. */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,7 +29,29 @@
 #include "../core/hlsl.h"
 #define PI_F 3.14159265358979f
 enum { D_SIDE = 1024, D_COLS = 8, D_ROWS = 12, D_MAX_LEVEL = 16 };
-static const float d_targets[] = {8.0f, 4.0f, 2.0f}; /* --lod-target values measured */
+/* uniform, screen at 8, 4, 3, 2 px per segment, deviation 0.3 px (bench_lod.h's encoding) */
+static const float d_default_modes[] = {0.0f, 8.0f, 4.0f, 3.0f, 2.0f, -0.3f};
+#define D_TARGET_DEV_PX 0.5   /* issue 29: adaptive at <= 0.5 px deviation ... */
+#define D_TARGET_RATIO 1.5    /* ... at least 1.5x faster than uniform level 16 */
+
+int bench_lod_parse_modes(bench_lod_args *a, const char *list)
+{
+    if (!a || !list) return -1;
+    int n = 0;
+    for (const char *p = list; *p;) {
+        const size_t len = strcspn(p, ",");
+        const bool dev = *p == 'd';
+        char *end;
+        float v = strtof(p + dev, &end);
+        if ((len == 7 && strncmp(p, "uniform", 7) == 0) || (len == 1 && *p == 'u')) v = 0.0f, end = (char *)p + len;
+        else if (end == p + dev || !isdigit((unsigned char)p[dev]) || !(v > 0.0f && v <= 1000.0f)) return -1;
+        if (end != p + len || n == BENCH_LOD_MAX_MODES) return -1;
+        a->modes[n++] = dev ? -v : v;
+        p += len + (p[len] == ',');
+        if (p[-1] == ',' && !*p) return -1;   /* a trailing comma */
+    }
+    return n > 0 ? (a->n_modes = n, 0) : -1;
+}
 
 /* The field: D_COLS x D_ROWS built-in spheres (unit radius), 2.5 apart across and 4 apart in depth. */
 static int d_mesh(is_mesh *out, char *err, size_t errlen)
@@ -167,6 +191,8 @@ typedef struct d_result {
     uint64_t tessellated, drawn;
     size_t patterns, buckets;
     uint64_t setup_regions, tile_regions;   /* the last frame's parallel regions (rs_stats, timing on) */
+    long long colour_over;   /* pixels with a channel more than 8/255 from the uniform frame's (-1: not compared) */
+    double colour_mean;      /* the mean absolute difference of the R, G, B channels from it, in 1/255 */
 } d_result;
 
 /* The median ms of frames timed frames of `frame` after warmup untimed ones. */
@@ -211,6 +237,23 @@ static is_result d_adaptive_frame(void *ctx)
     return r;
 }
 
+/* With a->keep: the device's target (colour, then depth, raw as in memory) into DIR/D_<patch>_<mode>.raw, the
+ * mode's spaces as underscores; a message on stderr when it cannot be written. */
+static void d_keep(const bench_lod_args *a, is_device *dev, const char *patch, const char *mode)
+{
+    if (!a->keep) return;
+    char path[4096], m[32];
+    snprintf(m, sizeof m, "%s", mode);
+    for (char *c = m; *c; c++) *c = *c == ' ' ? '_' : *c;
+    snprintf(path, sizeof path, "%s/D_%s_%s.raw", a->keep, patch, m);
+    const rs_target *rt = dev_render_target(dev);
+    FILE *f = rt ? fopen(path, "wb") : NULL;
+    const size_t np = rt ? (size_t)rt->width * rt->height * rt->samples : 0;
+    bool ok = f && fwrite(rt->color, sizeof *rt->color, np, f) == np && fwrite(rt->depth, sizeof *rt->depth, np, f) == np;
+    if (f && fclose(f) != 0) ok = false;
+    if (!ok) fprintf(stderr, "bench: scene D: cannot write %s\n", path), remove(path);
+}
+
 /* A uniform frame: Clear, the one instanced draw and the present. */
 typedef struct d_uniform { is_device *dev; const tess_resources *r; } d_uniform;
 static is_result d_uniform_frame(void *ctx)
@@ -238,8 +281,34 @@ static is_device *d_device(vs_patch patch, const float4x4 *wvp, int threads)
     return dev;
 }
 
+/* The colour of dev's last frame against the uniform frame's: with *ref NULL (the uniform run) a copy of it goes
+ * there and r is not compared; else r->colour_over and colour_mean (a shading difference, which the geometric
+ * deviation does not see: vertex colours are interpolated across larger triangles). */
+static void d_colour(is_device *dev, uint32_t **ref, d_result *r)
+{
+    r->colour_over = -1, r->colour_mean = 0.0;
+    const rs_target *rt = dev_render_target(dev);
+    if (!rt || !ref) return;
+    const size_t n = (size_t)rt->width * rt->height * rt->samples;
+    if (!*ref) {
+        if ((*ref = malloc(n * sizeof **ref))) memcpy(*ref, rt->color, n * sizeof **ref);
+        return;
+    }
+    uint64_t sum = 0, over = 0;
+    for (size_t p = 0; p < n; p++) {
+        int worst = 0;
+        for (int c = 0; c < 24; c += 8) {
+            const int d = abs((int)((rt->color[p] >> c) & 255u) - (int)(((*ref)[p] >> c) & 255u));
+            sum += (uint64_t)d, worst = d > worst ? d : worst;
+        }
+        over += worst > 8;
+    }
+    r->colour_over = (long long)over, r->colour_mean = (double)sum / (3.0 * (double)n);
+}
+
 /* Uniform level M: timed, counted; deviation 0 by definition. */
-static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, const bench_lod_args *a, d_result *r)
+static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, const bench_lod_args *a,
+                         const char *names[2], uint32_t **ref, d_result *r)
 {
     core_grid g;
     is_device *dev = d_device(patch, wvp, a->threads);
@@ -251,7 +320,8 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
     if (e == IS_OK) r->ms = d_time(d_uniform_frame, &s, a->frames, a->warmup, &e);
     const rs_stats *st = dev_stats(dev);
     *r = (d_result){r->ms, 0.0, (uint64_t)m->n_triangles * g.n_triangles, st->prims_drawn, 1, 1, st->setup_regions,
-                    st->tile_regions};
+                    st->tile_regions, -1, 0.0};
+    if (e == IS_OK) d_keep(a, dev, names[0], names[1]), d_colour(dev, ref, r);
     tess_resources_free(&res);
     core_grid_free(&g);
     dev_destroy(dev);
@@ -260,10 +330,12 @@ static int d_run_uniform(const is_mesh *m, vs_patch patch, const float4x4 *wvp, 
 
 /* Adaptive at one target: timed, counted, its deviation. */
 static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, const float4x4 *view,
-                          const float4x4 *wvp, float target, const bench_lod_args *a, d_result *r)
+                          const float4x4 *wvp, float mode, const bench_lod_args *a, const char *names[2],
+                          uint32_t **ref, d_result *r)
 {
+    const float target = mode > 0.0f ? mode : -mode;
     d_adaptive s = {.dev = d_device(patch, wvp, a->threads), .m = m, .e = e, .cache = core_pattern_cache_create(0)};
-    s.p = (tess_lod_params){.mode = TESS_LOD_SCREEN, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
+    s.p = (tess_lod_params){.mode = mode > 0.0f ? TESS_LOD_SCREEN : TESS_LOD_DEVIATION, .target_px = target, .ref_depth = 1.0f, .min_level = 1,
                              .max_level = D_MAX_LEVEL, .width = D_SIDE, .height = D_SIDE, .world_view = *view,
                              .wvp = *wvp};
     is_result err = s.dev && s.cache ? IS_OK : IS_ERR_OUTOFMEMORY;
@@ -273,6 +345,8 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
         r->tessellated = s.a.n_triangles, r->drawn = st->prims_drawn;
         r->setup_regions = st->setup_regions, r->tile_regions = st->tile_regions;
         r->patterns = s.a.n_patterns, r->buckets = s.a.n_buckets;
+        d_keep(a, s.dev, names[0], names[1]);
+        d_colour(s.dev, ref, r);
         r->deviation = d_deviation(m, e, patch, wvp, D_MAX_LEVEL, s.cache);
     }
     tess_adaptive_free(&s.a);
@@ -284,13 +358,55 @@ static int d_run_adaptive(const is_mesh *m, tess_lod_edges *e, vs_patch patch, c
 /* One row of the table and its machine-readable line. */
 static void d_print(const char *patch, const char *mode, const d_result *r, int threads)
 {
-    printf("  %-7s %-16s %10llu %10llu %9.2f %12.3f %9zu %8zu %7llu/%llu\n", patch, mode,
+    char colour[40] = "        -";
+    if (r->colour_over >= 0) snprintf(colour, sizeof colour, "%7lld %5.2f", r->colour_over, r->colour_mean);
+    printf("  %-7s %-17s %10llu %10llu %9.2f %12.3f %9zu %8zu %7llu/%llu %s\n", patch, mode,
            (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
-           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
+           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions, colour);
     printf("scene=D patch=%s mode=%s threads=%d triangles=%llu drawn=%llu ms=%.3f max_dev_px=%.4f patterns=%zu "
-           "buckets=%zu setup_regions=%llu tile_regions=%llu\n", patch, mode, threads,
-           (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation, r->patterns,
-           r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions);
+           "buckets=%zu setup_regions=%llu tile_regions=%llu colour_over8=%lld colour_mean=%.4f\n", patch, mode,
+           threads, (unsigned long long)r->tessellated, (unsigned long long)r->drawn, r->ms, r->deviation,
+           r->patterns, r->buckets, (unsigned long long)r->setup_regions, (unsigned long long)r->tile_regions,
+           r->colour_over, r->colour_mean);
+}
+
+/* A mode's name (bench_lod.h's encoding): "uniform 16", "screen 3 px", "deviation 0.3 px". */
+static void d_mode_name(float mode, char *out, size_t len)
+{
+    if (mode > 0.0f) snprintf(out, len, "screen %g px", (double)mode);
+    else if (mode < 0.0f) snprintf(out, len, "deviation %g px", (double)-mode);
+    else snprintf(out, len, "uniform %d", D_MAX_LEVEL);
+}
+
+/* The index of the fastest mode of kind `adaptive` (else uniform) measured in res (ok), among the adaptive ones
+ * only those within D_TARGET_DEV_PX of the uniform surface; -1 when none. */
+static int d_pick(const float *modes, const d_result *res, const bool *ok, int n, bool adaptive)
+{
+    int best = -1;
+    for (int k = 0; k < n; k++) {
+        if (!ok[k] || (modes[k] != 0.0f) != adaptive || (adaptive && !(res[k].deviation <= D_TARGET_DEV_PX))) continue;
+        if (best < 0 || res[k].ms < res[best].ms) best = k;
+    }
+    return best;
+}
+
+/* Issue 29's scene D target line for one patch: the fastest adaptive mode within 0.5 px against uniform level 16,
+ * this run's medians at its thread count, "met" or "NOT met" (or why there is no ratio). */
+static void d_print_target(const char *patch, const float *modes, const d_result *res, const bool *ok, int n,
+                           int threads)
+{
+    const int u = d_pick(modes, res, ok, n, false), ad = d_pick(modes, res, ok, n, true);
+    printf("  target: scene D %-6s adaptive at <= %.1f px / uniform %d (%d thread%s) >= %.1fx: ", patch,
+           D_TARGET_DEV_PX, D_MAX_LEVEL, threads, threads == 1 ? "" : "s", D_TARGET_RATIO);
+    if (u < 0 || ad < 0) {
+        printf("no ratio (%s not measured)\n", u < 0 ? "uniform" : "no adaptive mode within the deviation");
+        return;
+    }
+    const double got = res[ad].ms > 0.0 ? res[u].ms / res[ad].ms : 0.0;
+    char name[32];
+    d_mode_name(modes[ad], name, sizeof name);
+    printf("%5.2fx (%s, %.3f px, %.2f against %.2f ms)  %s\n", got, name, res[ad].deviation, res[ad].ms, res[u].ms,
+           got >= D_TARGET_RATIO ? "met" : "NOT met");
 }
 
 int bench_scene_d(const bench_lod_args *a)
@@ -302,26 +418,33 @@ int bench_scene_d(const bench_lod_args *a)
         return fprintf(stderr, "bench: scene D: %s\n", err), mesh_free(&m), 1;
     float4x4 view, wvp;
     d_camera(&view, &wvp);
-    printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs --lod screen "
-           "(levels 1..%d), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS, m.n_triangles, D_SIDE, D_SIDE,
-           D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
-    printf("  %-7s %-16s %10s %10s %9s %12s %9s %8s %9s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
-           "max dev (px)", "patterns", "buckets", "regions");
+    printf("\nscene D: %d spheres receding from the camera (%zu triangles), %dx%d, uniform level %d vs per-edge levels "
+           "1..%d (--lod screen, TESS_LOD_DEVIATION), %d thread(s), medians of %d frames\n", D_COLS * D_ROWS,
+           m.n_triangles, D_SIDE, D_SIDE, D_MAX_LEVEL, D_MAX_LEVEL, a->threads, a->frames);
+    printf("  %-7s %-17s %10s %10s %9s %12s %9s %8s %9s %s\n", "patch", "mode", "triangles", "drawn", "ms/frame",
+           "max dev (px)", "patterns", "buckets", "regions", "colour vs uniform: px > 8/255, mean (/255)");
     static const struct { const char *name; vs_patch p; } patches[] = {{"npatch", VS_PATCH_NPATCH}, {"smooth", VS_PATCH_SMOOTH}};
+    const float *modes = a->n_modes ? a->modes : d_default_modes;
+    const int n_modes = a->n_modes ? a->n_modes : (int)(sizeof d_default_modes / sizeof *d_default_modes);
     int bad = 0;
     for (size_t pk = 0; pk < 2; pk++) {
         if (!(a->patches & (1u << pk))) continue;
-        d_result r;
-        char mode[32];
-        snprintf(mode, sizeof mode, "uniform %d", D_MAX_LEVEL);
-        if (d_run_uniform(&m, patches[pk].p, &wvp, a, &r) == 0) d_print(patches[pk].name, mode, &r, a->threads);
-        else bad++;
-        for (size_t k = 0; k < sizeof d_targets / sizeof d_targets[0]; k++) {
-            snprintf(mode, sizeof mode, "screen %g px", (double)d_targets[k]);
-            if (d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, d_targets[k], a, &r) == 0)
-                d_print(patches[pk].name, mode, &r, a->threads);
+        d_result res[BENCH_LOD_MAX_MODES];
+        bool ok[BENCH_LOD_MAX_MODES];
+        uint32_t *ref = NULL;   /* the uniform frame's colour, once measured: the adaptive ones compared with it */
+        for (int k = 0; k < n_modes; k++) {
+            char mode[32];
+            d_mode_name(modes[k], mode, sizeof mode);
+            const char *names[2] = {patches[pk].name, mode};
+            ok[k] = (modes[k] != 0.0f ? d_run_adaptive(&m, &e, patches[pk].p, &view, &wvp, modes[k], a, names,
+                                                       ref ? &ref : NULL, &res[k])
+                                      : d_run_uniform(&m, patches[pk].p, &wvp, a, names, &ref, &res[k])) == 0;
+            if (ok[k]) d_print(patches[pk].name, mode, &res[k], a->threads);
             else bad++;
+            fflush(stdout);
         }
+        d_print_target(patches[pk].name, modes, res, ok, n_modes, a->threads);
+        free(ref);
     }
     if (bad) fprintf(stderr, "bench: scene D: %d case(s) failed\n", bad);
     tess_lod_edges_free(&e);

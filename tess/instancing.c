@@ -81,44 +81,39 @@ void tess_adaptive_free(tess_adaptive *a)
     memset(a, 0, sizeof *a);
 }
 
-/* Patterns' points and indices gathered on the host before the buffers are created. */
+/* Every pattern's points fit 16-bit indices (level 64: 2,145 points), so the pool holds them as the index buffer
+ * will (INDEX16, as tess_index_buffer chooses for them). */
+_Static_assert((CORE_LOD_MAX_LEVEL + 1) * (CORE_LOD_MAX_LEVEL + 2) / 2 <= 65536, "pattern indices beyond 16 bits");
+
+/* Patterns' points and indices gathered on the host before the buffers are created, sized once per bind from an
+ * upper bound (a pattern of largest level M has at most the regular level-M grid's points and triangles). */
 typedef struct pattern_pool {
     float3 *pts;
-    uint32_t *idx;
-    size_t n_pts, n_idx, cap_pts, cap_idx, max_points;
+    uint16_t *idx;
+    size_t n_pts, n_idx, cap_pts, cap_idx;
 } pattern_pool;
 
-/* Grow *p (elements of size sz) to hold need; false when out of memory. */
-static bool grow(void **p, size_t *cap, size_t need, size_t sz)
-{
-    if (need <= *cap) return true;
-    size_t c = *cap ? *cap : 1024;
-    while (c < need) c *= 2;
-    void *q = realloc(*p, c * sz);
-    if (!q) return false;
-    *p = q, *cap = c;
-    return true;
-}
+/* Bucket keys: ((s0 - 1) * L + s1 - 1) * L + s2 - 1, then the parity, below 2^KEY_BITS (L = CORE_LOD_MAX_LEVEL). */
+enum { KEY_BITS = 19, RADIX_BITS = 10 };
+_Static_assert((uint64_t)CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL * 2 <= (1u << KEY_BITS) &&
+               KEY_BITS <= 2 * RADIX_BITS, "bucket keys beyond two radix passes");
 
-/* Append pattern g (its triangles, then the same with indices 1 and 2 swapped) to the pool; bucket b gets its
- * base vertex, point count, start index (of the unflipped range) and triangle count.  False when out of memory. */
+/* Append pattern g (its triangles, then the same with indices 1 and 2 swapped) to the pool; bucket b gets its base
+ * vertex, point count, start index (of the unflipped range) and triangle count.  False (nothing written) when the
+ * pool's room, reserved from pool_bounds, would not hold it. */
 static bool pool_add(pattern_pool *pool, const core_grid *g, tess_bucket *b)
 {
-    if (!grow((void **)&pool->pts, &pool->cap_pts, pool->n_pts + g->n_points, sizeof(float3)) ||
-        !grow((void **)&pool->idx, &pool->cap_idx, pool->n_idx + 6 * g->n_triangles, sizeof(uint32_t)))
-        return false;
+    if (g->n_points > pool->cap_pts - pool->n_pts || g->n_triangles > (pool->cap_idx - pool->n_idx) / 6) return false;
     b->base_vertex = (int)pool->n_pts, b->n_points = (unsigned)g->n_points;
     b->start_index = (unsigned)pool->n_idx, b->n_prims = (unsigned)g->n_triangles;
     memcpy(pool->pts + pool->n_pts, g->bary, g->n_points * sizeof(float3));
-    uint32_t *d = pool->idx + pool->n_idx;
-    for (size_t t = 0; t < g->n_triangles; t++) {
-        const uint32_t *s = &g->idx[3 * t];
-        d[3 * t] = s[0], d[3 * t + 1] = s[1], d[3 * t + 2] = s[2];
-        uint32_t *f = d + 3 * g->n_triangles + 3 * t;
-        f[0] = s[0], f[1] = s[2], f[2] = s[1];
+    uint16_t *d = pool->idx + pool->n_idx, *f = d + 3 * g->n_triangles;
+    const uint32_t *s = g->idx;
+    for (size_t t = 0; t < 3 * g->n_triangles; t += 3) {
+        d[t] = (uint16_t)s[t], d[t + 1] = (uint16_t)s[t + 1], d[t + 2] = (uint16_t)s[t + 2];
+        f[t] = (uint16_t)s[t], f[t + 1] = (uint16_t)s[t + 2], f[t + 2] = (uint16_t)s[t + 1];
     }
     pool->n_pts += g->n_points, pool->n_idx += 6 * g->n_triangles;
-    if (g->n_points > pool->max_points) pool->max_points = g->n_points;
     return true;
 }
 
@@ -136,18 +131,44 @@ static void triangle_keys(const is_mesh *m, const tess_lod_edges *e, uint64_t *k
     }
 }
 
-static int cmp_u64(const void *x, const void *y)
+/* keys[0..n) (bucket key << 32 | triangle, the triangles ascending) sorted by bucket key, ties in their order --
+ * the order of sorting the whole 64-bit values, since the triangles are distinct -- by two stable counting passes
+ * of RADIX_BITS over the key, through tmp[0..n). */
+static void sort_keys(uint64_t *keys, uint64_t *tmp, size_t n)
 {
-    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
-    return a < b ? -1 : a > b;
+    uint32_t count[1u << RADIX_BITS];
+    for (int pass = 0; pass < 2; pass++) {
+        const unsigned shift = 32u + (unsigned)pass * RADIX_BITS, mask = (1u << RADIX_BITS) - 1u;
+        memset(count, 0, sizeof count);
+        for (size_t i = 0; i < n; i++) count[keys[i] >> shift & mask]++;
+        uint32_t at = 0;
+        for (unsigned d = 0; d <= mask; d++) { uint32_t c = count[d]; count[d] = at, at += c; }
+        for (size_t i = 0; i < n; i++) tmp[count[keys[i] >> shift & mask]++] = keys[i];
+        memcpy(keys, tmp, n * sizeof *keys);
+    }
 }
 
-/* Sorted keys in; a->buckets, a->tri, a->perm (reordered from by-triangle tperm) and the pool filled.  IS_OK or
- * IS_ERR_OUTOFMEMORY. */
+/* The sorted keys' patterns: the number of buckets (*n_buckets) and the pool's room for their points and indices
+ * (upper bounds from each distinct pattern's largest level). */
+static void pool_bounds(const uint64_t *keys, size_t n, size_t *n_buckets, size_t *pts, size_t *idx)
+{
+    *n_buckets = *pts = *idx = 0;
+    for (size_t i = 0; i < n; i++) {
+        const uint64_t key = keys[i] >> 32;
+        if (i > 0 && key == keys[i - 1] >> 32) continue;
+        ++*n_buckets;
+        if (i > 0 && key >> 1 == keys[i - 1] >> 33) continue;   /* the other parity of the same pattern */
+        const int top = (int)(key >> 1) % CORE_LOD_MAX_LEVEL + 1;   /* s2, the largest level */
+        *pts += core_grid_points(top), *idx += 6 * core_grid_triangles(top);
+    }
+}
+
+/* Sorted keys in; a->buckets (room for n_buckets), a->tri, a->perm (reordered from by-triangle tperm) and the
+ * pool (with room) filled.  IS_OK, IS_ERR_OUTOFMEMORY (a pattern the cache could not make) or IS_ERR_INVALIDCALL
+ * (a pattern larger than pool_bounds allowed for). */
 static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tperm)[3], core_pattern_cache *cache,
                               tess_adaptive *a, pattern_pool *pool)
 {
-    size_t cap = 0;
     uint64_t pattern_key = UINT64_MAX;
     tess_bucket last = {0};
     for (size_t i = 0; i < n; i++) {
@@ -156,7 +177,6 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
         memcpy(a->perm[i], tperm[t], 3);
         const uint64_t key = keys[i] >> 32;
         if (i > 0 && key == keys[i - 1] >> 32) { a->buckets[a->n_buckets - 1].count++; continue; }
-        if (!grow((void **)&a->buckets, &cap, a->n_buckets + 1, sizeof *a->buckets)) return IS_ERR_OUTOFMEMORY;
         tess_bucket *b = &a->buckets[a->n_buckets++];
         *b = (tess_bucket){.odd = key & 1, .first = (unsigned)i, .count = 1};
         const uint64_t pk = key >> 1;
@@ -165,7 +185,8 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
         b->level[2] = (int)(pk % CORE_LOD_MAX_LEVEL) + 1;
         if (pk != pattern_key) {
             const core_grid *g = core_pattern_get(cache, b->level[0], b->level[1], b->level[2]);
-            if (!g || !pool_add(pool, g, b)) return IS_ERR_OUTOFMEMORY;
+            if (!g) return IS_ERR_OUTOFMEMORY;
+            if (!pool_add(pool, g, b)) return IS_ERR_INVALIDCALL;   /* a pattern beyond its bound: never */
             pattern_key = pk, a->n_patterns++;
         } else {
             b->base_vertex = last.base_vertex, b->n_points = last.n_points;
@@ -188,10 +209,12 @@ static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern
     if (!inst) return IS_ERR_OUTOFMEMORY;
     is_result e = dev_create_vertex_buffer(dev, pool->n_pts * sizeof(float3), &r->vb0);
     if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
-    if (e == IS_OK) e = tess_index_buffer(dev, pool->idx, pool->n_idx, pool->max_points, &r->ib);
+    if (e == IS_OK) e = dev_create_index_buffer(dev, pool->n_idx * sizeof *pool->idx, IS_FMT_INDEX16, &r->ib);
     if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
     if (e == IS_OK) {
         memcpy(vb_lock(r->vb0), pool->pts, pool->n_pts * sizeof(float3));
+        memcpy(ib_lock(r->ib), pool->idx, pool->n_idx * sizeof *pool->idx);
+        ib_unlock(r->ib);
         mesh_build_instances(m, inst);
         is_patch_instance *out = vb_lock(r->vb1);
         for (size_t i = 0; i < m->n_triangles; i++) tess_permute_instance(&inst[a->tri[i]], a->perm[i], &out[i]);
@@ -204,6 +227,22 @@ static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern
     return e;
 }
 
+/* Keys sorted in: the buckets, the pool and the buffers.  IS_OK or an error. */
+static is_result bind_sorted(is_device *dev, const is_mesh *m, const uint64_t *keys, const uint8_t (*tperm)[3],
+                             core_pattern_cache *cache, tess_adaptive *a)
+{
+    const size_t n = m->n_triangles;
+    size_t nb, np, ni;
+    pool_bounds(keys, n, &nb, &np, &ni);
+    pattern_pool pool = {malloc(np * sizeof *pool.pts), malloc(ni * sizeof *pool.idx), 0, 0, np, ni};
+    a->buckets = malloc(nb * sizeof *a->buckets);
+    is_result r = pool.pts && pool.idx && a->buckets ? IS_OK : IS_ERR_OUTOFMEMORY;
+    if (r == IS_OK) r = make_buckets(keys, n, tperm, cache, a, &pool);
+    if (r == IS_OK) r = upload_adaptive(dev, m, &pool, a);
+    free(pool.pts), free(pool.idx);
+    return r;
+}
+
 is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
                               tess_adaptive *a)
 {
@@ -211,18 +250,17 @@ is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_ed
     memset(a, 0, sizeof *a);
     if (!dev || !m || !e || !cache || !m->n_triangles || e->n_edges == 0) return IS_ERR_INVALIDCALL;
     const size_t n = m->n_triangles;
-    uint64_t *keys = malloc(n * sizeof *keys);
+    if (n > UINT32_MAX) return IS_ERR_INVALIDCALL;   /* triangles are 32-bit in the keys and in stream 1's counts */
+    uint64_t *keys = malloc(2 * n * sizeof *keys);
     uint8_t (*tperm)[3] = malloc(n * sizeof *tperm);
     a->tri = malloc(n * sizeof *a->tri), a->perm = malloc(n * sizeof *a->perm);
-    pattern_pool pool = {0};
     is_result r = keys && tperm && a->tri && a->perm ? IS_OK : IS_ERR_OUTOFMEMORY;
     if (r == IS_OK) {
         triangle_keys(m, e, keys, tperm);
-        qsort(keys, n, sizeof *keys, cmp_u64);
-        r = make_buckets(keys, n, (const uint8_t (*)[3])tperm, cache, a, &pool);
+        sort_keys(keys, keys + n, n);
+        r = bind_sorted(dev, m, keys, (const uint8_t (*)[3])tperm, cache, a);
     }
-    if (r == IS_OK) r = upload_adaptive(dev, m, &pool, a);
-    free(keys), free(tperm), free(pool.pts), free(pool.idx);
+    free(keys), free(tperm);
     return r;
 }
 

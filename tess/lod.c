@@ -74,8 +74,32 @@ static void edge_polygon(float3 pa, float3 na, float3 pb, float3 nb, float3 q[4]
     q[2] = scale3(sub3(add3(scale3(pb, 2.0f), pa), scale3(nb, wba)), 1.0f / 3.0f);
 }
 
-/* Edge k's level as p says (without the silhouette rule). */
-static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod_edges *e, size_t k)
+/* The projected control polygon x[0..4), y[0..4) of an edge's cubic in; the segments (real) for which its polyline
+ * lies within `target` pixels of the cubic (tess.h, the deviation mode): sqrt(3/4 max|second difference| / target). */
+static double deviation_segments(const double x[4], const double y[4], double target)
+{
+    const double d1 = hypot(x[0] - 2.0 * x[1] + x[2], y[0] - 2.0 * y[1] + y[2]);
+    const double d2 = hypot(x[1] - 2.0 * x[2] + x[3], y[1] - 2.0 * y[2] + y[3]);
+    return sqrt(0.75 * (d1 > d2 ? d1 : d2) / target);
+}
+
+/* A vertex in pixels (to_pixels; ok false: not in front of the eye). */
+typedef struct vpix { double x, y; bool ok; } vpix;
+
+/* m's vertices in pixels for the modes that project edges (screen, deviation), so that each edge looks its ends up
+ * instead of projecting them again (the same doubles); NULL for the other modes or when out of memory (the ends are
+ * then projected per edge). */
+static vpix *project_vertices(const tess_lod_params *p, const is_mesh *m)
+{
+    if (p->mode == TESS_LOD_UNIFORM || p->mode == TESS_LOD_DISTANCE || !(p->target_px > 0.0f) || !m->n_vertices)
+        return NULL;
+    vpix *v = malloc(m->n_vertices * sizeof *v);
+    for (size_t i = 0; v && i < m->n_vertices; i++) v[i].ok = to_pixels(p, m->positions[i], &v[i].x, &v[i].y);
+    return v;
+}
+
+/* Edge k's level as p says (without the silhouette rule); vp: the vertices in pixels, or NULL. */
+static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod_edges *e, const vpix *vp, size_t k)
 {
     const float3 pa = m->positions[e->ends[k][0]], pb = m->positions[e->ends[k][1]];
     if (p->mode == TESS_LOD_DISTANCE) {
@@ -86,12 +110,19 @@ static int edge_level(const tess_lod_params *p, const is_mesh *m, const tess_lod
     if (!(p->target_px > 0.0f)) return p->max_level;   /* no pixels per segment (0, negative, NaN): the finest */
     float3 q[4];
     edge_polygon(pa, e->nrm[k][0], pb, e->nrm[k][1], q);
-    double len = 0.0, x0, y0, x1, y1;
-    if (!to_pixels(p, q[0], &x0, &y0)) return p->max_level;
-    for (int i = 1; i < 4; i++, x0 = x1, y0 = y1) {
-        if (!to_pixels(p, q[i], &x1, &y1)) return p->max_level;
-        len += hypot(x1 - x0, y1 - y0);
+    double x[4], y[4];
+    if (vp) {   /* the ends looked up, the inner control points projected */
+        const vpix *a = &vp[e->ends[k][0]], *b = &vp[e->ends[k][1]];
+        if (!a->ok || !b->ok || !to_pixels(p, q[1], &x[1], &y[1]) || !to_pixels(p, q[2], &x[2], &y[2]))
+            return p->max_level;
+        x[0] = a->x, y[0] = a->y, x[3] = b->x, y[3] = b->y;
+    } else {
+        for (int i = 0; i < 4; i++)
+            if (!to_pixels(p, q[i], &x[i], &y[i])) return p->max_level;
     }
+    if (p->mode == TESS_LOD_DEVIATION) return clamp_level(p, deviation_segments(x, y, p->target_px));
+    double len = 0.0;
+    for (int i = 1; i < 4; i++) len += hypot(x[i] - x[i - 1], y[i] - y[i - 1]);
     return clamp_level(p, len / p->target_px);
 }
 
@@ -118,11 +149,13 @@ void tess_lod_levels(const tess_lod_params *params, const is_mesh *m, tess_lod_e
     if (!params || !m || !e || !hist) return;
     memset(hist, 0, (CORE_LOD_MAX_LEVEL + 1) * sizeof *hist);
     const tess_lod_params clamped = clamped_params(params), *p = &clamped;
+    vpix *vp = project_vertices(p, m);
     for (size_t k = 0; k < e->n_edges; k++) {
-        int l = p->mode == TESS_LOD_UNIFORM ? p->max_level : edge_level(p, m, e, k);
+        int l = p->mode == TESS_LOD_UNIFORM ? p->max_level : edge_level(p, m, e, vp, k);
         if (p->silhouette && e->n_faces[k] == 2 && facing(p, m, e->faces[k][0]) * facing(p, m, e->faces[k][1]) < 0)
             l = p->max_level;
         e->level[k] = (uint8_t)l;
         hist[l]++;
     }
+    free(vp);
 }

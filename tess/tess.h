@@ -76,9 +76,14 @@ INSTESS_API void tess_permute_adjacent_normals(const float3 in[3][2], const uint
  *    which max_level is reached; the scene uses the nearest depth of the object's bounding sphere);
  *  - screen: L = length in pixels of the projected N-Patch control polygon of the edge (b300 b210 b120 b030, the
  *    border curve's hull: a bound of the curve's projected length) / target (NVIDIA's GDC 2011 rule);
+ *  - deviation: L = sqrt(3/4 D / target), D the larger length in pixels of the projected control polygon's two
+ *    second differences (b300 - 2 b210 + b120, b210 - 2 b120 + b030): a cubic Bezier with those control points
+ *    lies within 3/4 D / L^2 of its polyline of L equal parameter steps, so target is the screen-space deviation
+ *    allowed to an edge.  An estimate, not a bound, for the surface: the projection is not affine and the
+ *    patch's interior is not its edges (bench/README.md, scene D, measures the whole surface);
  *  - then rounded up and clamped to [min_level, max_level]; an edge with a corner behind the eye gets max_level;
  *    with silhouette, an edge whose two faces face opposite ways (view space) gets max_level. */
-typedef enum { TESS_LOD_UNIFORM, TESS_LOD_DISTANCE, TESS_LOD_SCREEN } tess_lod_mode;
+typedef enum { TESS_LOD_UNIFORM, TESS_LOD_DISTANCE, TESS_LOD_SCREEN, TESS_LOD_DEVIATION } tess_lod_mode;
 typedef struct tess_lod_params {
     tess_lod_mode mode;
     float target_px, ref_depth;

@@ -202,7 +202,23 @@ static void test_detector_sees_a_level_mismatch(void **state)
     mesh_free(&m);
 }
 
-/* Through scene_draw: --lod distance and screen (with and without silhouettes) on the welded meshes, every patch. */
+/* The distinct levels tess_lod_levels gives m's edges under o. */
+static int lod_levels_used(const scene_opts *o, const is_mesh *m)
+{
+    tess_lod_edges e;
+    char err[256];
+    assert_int_equal(tess_lod_edges_build(m, &e, err, sizeof err), 0);
+    tess_lod_params lp = scene_lod_params_of(o, m);
+    uint64_t hist[CORE_LOD_MAX_LEVEL + 1];
+    tess_lod_levels(&lp, m, &e, hist);
+    int used = 0;
+    for (int l = 0; l <= CORE_LOD_MAX_LEVEL; l++) used += hist[l] != 0;
+    tess_lod_edges_free(&e);
+    return used;
+}
+
+/* Through scene_draw: --lod distance and screen (with and without silhouettes), and tess_lod_levels' deviation
+ * mode (which the program's --lod does not offer yet), on the welded meshes, every patch. */
 static void test_no_cracks_lod_modes(void **state)
 {
     static const char *const meshes[] = {"cube", "sphere", "icosahedron"};
@@ -211,10 +227,12 @@ static void test_no_cracks_lod_modes(void **state)
         char err[256];
         assert_int_equal(mesh_builtin(meshes[mi], &m, err, sizeof err), 0);
         for (int p = 0; p < VS_PATCH_COUNT; p++)
-            for (int mode = 0; mode < 3; mode++) {
+            for (int mode = 0; mode < 4; mode++) {   /* distance, screen, screen with silhouettes, deviation */
                 scene_opts o = test_opts((vs_patch)p);
-                o.lod = mode == 0 ? TESS_LOD_DISTANCE : TESS_LOD_SCREEN, o.max_level = 12, o.lod_target = 3.0f;
+                o.lod = mode == 0 ? TESS_LOD_DISTANCE : mode == 3 ? TESS_LOD_DEVIATION : TESS_LOD_SCREEN;
+                o.max_level = 12, o.lod_target = mode == 3 ? 0.5f : 3.0f;
                 o.distance = 1.6f, o.silhouette = mode == 2;
+                if (mode == 3) assert_true(lod_levels_used(&o, &m) >= 5);   /* levels that can crack */
                 is_device *dev = count_device((vs_patch)p);
                 assert_int_equal(scene_draw(dev, &o, &m, NULL, &count_batch), 0);
                 long covered, odd = odd_and_destroy(dev, &covered);

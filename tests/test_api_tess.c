@@ -132,7 +132,7 @@ static void test_lod_params(void **state)
     const int levels[][2] = {{1, 64}, {0, 0}, {-5, -1}, {1000, 2000}, {64, 1}, {INT_MIN, INT_MAX}, {30, 20}};
     const float targets[] = {8.0f, 0.0f, -1.0f, NAN, INFINITY, 1e-45f};
     float4x4 wv = mat_translation(0, 0, 3), proj = mat_perspective_fov_lh(1.0f, 1.0f, 0.1f, 10.0f);
-    for (int mode = TESS_LOD_UNIFORM; mode <= TESS_LOD_SCREEN; mode++)
+    for (int mode = TESS_LOD_UNIFORM; mode <= TESS_LOD_DEVIATION; mode++)
         for (size_t l = 0; l < sizeof levels / sizeof levels[0]; l++)
             for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++) {
                 tess_lod_params p = {.mode = (tess_lod_mode)mode, .target_px = targets[t], .ref_depth = targets[t],
