@@ -315,13 +315,17 @@ static void test_export_obj_closed(void **state)
     prog_path(dir, "a.png", png, sizeof png), prog_path(dir, "a.obj", obj, sizeof obj);
     static const struct { const char *mesh, *patch, *lod; } cases[] = {
         {"sphere", "smooth", "screen"}, {"cube", "npatch", "distance"}, {"icosahedron", "pn-aen", "screen"},
-        {"cylinder", "pn-aen", "screen"}, {"tetrahedron", "phong", "distance"},
+        {"cylinder", "pn-aen", "screen"}, {"tetrahedron", "phong", "distance"}, {"sphere", "npatch", "deviation"},
+        {"icosahedron", "smooth", "deviation"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const char *err;
         int rc = prog_run(dir, &err, "", "--mesh %s --patch %s --lod %s --max-level 12 %s --distance 2 "
                           "--size 128x128 -o %s --export-obj %s", cases[k].mesh, cases[k].patch, cases[k].lod,
-                          strcmp(cases[k].lod, "screen") == 0 ? "--lod-target 4" : "", png, obj);
+                          strcmp(cases[k].lod, "screen") == 0      ? "--lod-target 4"
+                          : strcmp(cases[k].lod, "deviation") == 0 ? "--lod-deviation 0.2"
+                                                                   : "",
+                          png, obj);
         if (rc != 0) fprintf(stderr, "%s\n", err);
         assert_int_equal(rc, 0);
         assert_non_null(strstr(err, "edge levels (--lod "));
@@ -339,6 +343,36 @@ static void test_export_obj_closed(void **state)
     long bad, faces;
     obj_closed(obj, &bad, &faces);
     assert_true(bad > 0);
+    prog_rmdir(dir);
+}
+
+/* --lod deviation follows --lod-deviation: an eighth of a pixel tessellates finer than the default half pixel,
+ * which tessellates finer than two pixels (the triangle counts of the run's summary line), and the default is
+ * the run with --lod-deviation 0.5, byte for byte. */
+static void test_deviation_target(void **state)
+{
+    (void)state;
+    char dir[256], a[512], b[512];
+    assert_int_equal(prog_mkdtemp(dir, "deviation"), 0);
+    const char *targets[] = {"2", "0.5", "0.125"};
+    long tris[3];
+    for (int k = 0; k < 3; k++) {
+        const char *err;
+        assert_int_equal(prog_run(dir, &err, "", "--mesh sphere --lod deviation --lod-deviation %s --max-level 16 "
+                                  "--size 256x256 --distance 2 -o %s", targets[k], prog_path(dir, "a.png", a, sizeof a)), 0);
+        const char *t = strstr(err, " buckets (one instanced draw each), ");
+        assert_non_null(t);
+        tris[k] = strtol(t + strlen(" buckets (one instanced draw each), "), NULL, 10);
+    }
+    fprintf(stderr, "triangles at 2, 0.5, 0.125 px: %ld %ld %ld\n", tris[0], tris[1], tris[2]);
+    assert_true(tris[0] < tris[1] && tris[1] < tris[2]);
+    const char *err;
+    assert_int_equal(prog_run(dir, &err, "", "--mesh sphere --lod deviation --max-level 16 --size 256x256 "
+                              "--distance 2 -q -o %s", prog_path(dir, "b.png", b, sizeof b)), 0);
+    assert_true(prog_same_bytes(a, b) == false);   /* a holds the 0.125 px run */
+    assert_int_equal(prog_run(dir, &err, "", "--mesh sphere --lod deviation --lod-deviation 0.5 --max-level 16 "
+                              "--size 256x256 --distance 2 -q -o %s", a), 0);
+    assert_true(prog_same_bytes(a, b));
     prog_rmdir(dir);
 }
 
@@ -401,9 +435,12 @@ static void test_lod_usage_errors(void **state)
         {"--lod distance --grid pg-equal", "--grid must be regular"},
         {"--lod distance --path cpu --patch npatch", "--path instanced"},
         {"--lod screen --lod-target 0", "--lod-target"},
-        {"--max-level 8", "need --lod distance or screen"},
-        {"--silhouette", "need --lod distance or screen"},
+        {"--max-level 8", "need --lod distance, screen or deviation"},
+        {"--silhouette", "need --lod distance, screen or deviation"},
         {"--lod distance --lod-target 4", "--lod-target needs --lod screen"},
+        {"--lod screen --lod-deviation 0.3", "--lod-deviation needs --lod deviation"},
+        {"--lod deviation --lod-deviation 0.1", "--lod-deviation takes pixels, 0.125..64"},
+        {"--lod deviation --lod-target 4", "--lod-target needs --lod screen"},
         {"--lod screen --level 7.5", "whole levels"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -424,6 +461,7 @@ int main(void)
         cmocka_unit_test(test_permuted_instance_same_surface),
         cmocka_unit_test(test_detector_sees_a_level_mismatch),
         cmocka_unit_test(test_export_obj_closed),
+        cmocka_unit_test(test_deviation_target),
         cmocka_unit_test(test_no_cracks_lod_modes),
         cmocka_unit_test(test_no_cracks_across_levels),
     };

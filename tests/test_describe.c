@@ -34,6 +34,7 @@ static const struct { const char *name, *arg, *context; } samples[] = {
     {"shading", "pixel", ""}, {"texture", "tests/data/textures/bumps.png", ""}, {"instances", "5", ""},
     {"color", "1,0,0", ""}, {"background", "#102030", ""}, {"fit", "box", ""}, {"cull", "cw", ""},
     {"msaa", "1", ""}, {"threads", "3", ""}, {"lod", "screen", ""}, {"lod-target", "2", "lod=screen"},
+    {"lod-deviation", "0.2", "lod=deviation"},
     {"min-level", "6", "lod=screen"}, {"max-level", "3", "lod=screen"}, {"silhouette", NULL, "lod=distance"},
     {"wire-levels", "on", "lod=screen,fill=solid+wire"}, {"recompute-normals", NULL, ""},
     {"import-timeout", "5", ""}, {"max-memory", "100", ""}, {"max-file-size", "10", ""},

@@ -267,13 +267,13 @@ static void test_views(void **state)
 
 /* Every key of the table acts: after each key the s screenshot differs from the one before (in its pixels, or
  * for t -- the three paths draw the same pixels -- in the description it stores; h is test_hud's; l three times:
- * distance, screen, then uniform again, since the LOD modes need the instanced path); q and Escape
+ * distance, screen, deviation, then uniform again, since the LOD modes need the instanced path); q and Escape
  * end the run before the keys after them. */
 static void test_every_key_acts(void **state)
 {
     const char *err;
     clean();
-    static const char *const keys[] = {"]", "[", "l", "l", "l", "t", "p", "Tab", "o", "Tab", "n", "g", "w", "m", "c",
+    static const char *const keys[] = {"]", "[", "l", "l", "l", "l", "t", "p", "Tab", "o", "Tab", "n", "g", "w", "m", "c",
                                        "Left", "Right", "Up", "Down", "PageUp", "PageDown"};
     const int n = (int)(sizeof keys / sizeof keys[0]);
     char list[400] = "s";
@@ -288,7 +288,7 @@ static void test_every_key_acts(void **state)
         if (same) fprintf(stderr, "key %s changed nothing\n", keys[k]);
         assert_false(same);
     }
-    assert_true(same_file("base.png", "instess-view-0022.png"));
+    assert_true(same_file("base.png", "instess-view-0023.png"));
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys q,] --capture q.png"), 0);
     assert_int_equal(run_in_dir(&err, "view -q --no-hud --size 96x96 --patch npatch --keys Escape,],s --capture e.png"),
                      0);
@@ -491,7 +491,7 @@ static void test_scripted_runs_end(void **state)
                                 "use --patch npatch or flat\n"));
     assert_null(strstr(err, "no other value works"));
     assert_int_equal(run_in_dir(&err, "view --no-hud --size 48x48 --patch npatch --path cpu --keys l"), 0);
-    assert_non_null(strstr(err, "instess view: lod refused: --lod distance and screen draw through instancing"));
+    assert_non_null(strstr(err, "instess view: lod refused: --lod distance, screen and deviation draw through instancing"));
     /* capture paths: a symbolic link or a folder is refused before the window opens, and left as it was */
     assert_true(prog_write_text(dir, "target.txt", "keep\n"));
     char link[600], target[600], folder[600];

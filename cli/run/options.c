@@ -250,6 +250,10 @@ static const char *opt_lod_target(scene_opts *o, const char *a)
 {
     return scene_parse_float(a, 0.25f, 4096.0f, &o->lod_target) ? NULL : "--lod-target takes pixels, 0.25..4096";
 }
+static const char *opt_lod_deviation(scene_opts *o, const char *a)
+{
+    return scene_parse_float(a, 0.125f, 64.0f, &o->lod_deviation) ? NULL : "--lod-deviation takes pixels, 0.125..64";
+}
 static const char *opt_min_level(scene_opts *o, const char *a)
 {
     return scene_parse_int(a, 1, CORE_LOD_MAX_LEVEL, &o->min_level) ? NULL : "--min-level must be 1..64";
@@ -314,6 +318,7 @@ VALUE_NAME(val_fit, scene_fit_names[o->fit])
 VALUE_NAME(val_cull, scene_cull_names[o->cull - IS_CULL_NONE])
 VALUE_NAME(val_lod, scene_lod_names[o->lod])
 VALUE_FLOAT(val_lod_target, lod_target)
+VALUE_FLOAT(val_lod_deviation, lod_deviation)
 VALUE_FLAG(val_silhouette, silhouette)
 VALUE_FLAG(val_wire_levels, wire_by_level)
 VALUE_FLAG(val_recompute, recompute_normals)
@@ -429,13 +434,15 @@ const scene_option scene_options[] = {
     {"msaa", 0, "1|4", "samples per pixel", "4", opt_msaa, NULL, val_msaa},
     {"threads", 0, "N", "threads (0: all cores; the image does not depend on it)", "0", opt_threads, NULL, NULL},
     {"lod", 0, "MODE", "level of detail: one --level for all (uniform), or a level per mesh edge from its "
-     "midpoint's view depth (distance) or its projected length (screen), drawn with one instanced call per "
-     "pattern", "uniform", opt_lod, lod_choices, val_lod},
+     "midpoint's view depth (distance), its projected length (screen) or how far its projected curve lies from "
+     "its segments (deviation), drawn with one instanced call per pattern", "uniform", opt_lod, lod_choices, val_lod},
     {"lod-target", 0, "PIXELS", "--lod screen: pixels per segment of an edge's projected control polygon", "8",
      opt_lod_target, NULL, val_lod_target},
-    {"min-level", 0, "N", "--lod distance|screen: the coarsest edge level, 1..64", "1", opt_min_level, NULL, val_min_level},
-    {"max-level", 0, "N", "--lod distance|screen: the finest edge level, 1..64", "--level", opt_max_level, NULL, val_max_level},
-    {"silhouette", 0, NULL, "--lod distance|screen: edges between a front and a back face get --max-level", NULL,
+    {"lod-deviation", 0, "PIXELS", "--lod deviation: the screen-space distance allowed between an edge's curve and "
+     "its segments", "0.5", opt_lod_deviation, NULL, val_lod_deviation},
+    {"min-level", 0, "N", "--lod distance|screen|deviation: the coarsest edge level, 1..64", "1", opt_min_level, NULL, val_min_level},
+    {"max-level", 0, "N", "--lod distance|screen|deviation: the finest edge level, 1..64", "--level", opt_max_level, NULL, val_max_level},
+    {"silhouette", 0, NULL, "--lod distance|screen|deviation: edges between a front and a back face get --max-level", NULL,
      opt_silhouette, NULL, val_silhouette},
     {"wire-levels", 0, "on|off", "--lod with a wireframe: each pattern's wire in the colour of its finest level "
      "(blue 1, green 8, red 64)", "off", opt_wire_levels, NULL, val_wire_levels},

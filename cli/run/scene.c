@@ -26,7 +26,8 @@ void scene_opts_default(scene_opts *o)
         .pitch = 20.0f, .distance = 3.2f, .fill = SCENE_FILL_SOLID, .msaa = 4, .threads = 0,
         .diffuse = {0.85f, 0.78f, 0.62f, 1.0f}, .wire_color = {0.0f, 0.0f, 0.0f, 1.0f},
         .background = IS_COLOR_ARGB(255, 46, 52, 64), .max_memory_mib = SCENE_DEFAULT_MAX_MEMORY_MIB,
-        .lod = TESS_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .min_level = 1, .max_level = 0,
+        .lod = TESS_LOD_UNIFORM, .lod_target = SCENE_LOD_DEFAULT_TARGET, .lod_deviation = SCENE_LOD_DEFAULT_DEVIATION,
+        .min_level = 1, .max_level = 0,
         .light = SCENE_LIGHT_HEADLIGHT, .fov = 45.0f,
         .cull = IS_CULL_CCW, .up = SCENE_UP_Y, .displace_scale = SCENE_DISPLACE_SCALE,
     };
@@ -250,8 +251,10 @@ const char *scene_check_opts(const scene_opts *o)
     if (o->grid == CORE_GRID_REGULAR && o->level != floorf(o->level) && o->lod == TESS_LOD_UNIFORM)
         return "a fractional --level needs a primitive-generator grid (--grid pg-fractional-odd or -even)";
     if (o->lod == TESS_LOD_UNIFORM && (o->max_level || o->min_level != 1 || o->silhouette || o->wire_by_level))
-        return "--min-level, --max-level, --silhouette and --wire-levels need --lod distance or screen";
+        return "--min-level, --max-level, --silhouette and --wire-levels need --lod distance, screen or deviation";
     if (o->lod != TESS_LOD_SCREEN && o->lod_target != SCENE_LOD_DEFAULT_TARGET) return "--lod-target needs --lod screen";
+    if (o->lod != TESS_LOD_DEVIATION && o->lod_deviation != SCENE_LOD_DEFAULT_DEVIATION)
+        return "--lod-deviation needs --lod deviation";
     if (!o->displace && o->displace_scale != SCENE_DISPLACE_SCALE) return "--displace-scale needs --displace FILE";
     if (o->displace && o->export_obj)
         return "--export-obj writes the patch without its displacement: it cannot be combined with --displace";
@@ -263,8 +266,9 @@ const char *scene_check_opts(const scene_opts *o)
     return o->lod == TESS_LOD_UNIFORM ? NULL : check_lod_opts(o);
 }
 
-/* The adaptive options' consistency (scene_check_opts for --lod distance and screen). */
-const char *const scene_lod_names[] = {"uniform", "distance", "screen", NULL};
+/* The adaptive options' consistency (scene_check_opts for --lod distance, screen and deviation). */
+const char *const scene_lod_names[] = {"uniform", "distance", "screen", "deviation", NULL};
+_Static_assert(TESS_LOD_DEVIATION == 3, "scene_lod_names follows tess_lod_mode");
 
 bool scene_parse_lod(const char *s, tess_lod_mode *out)
 {
@@ -282,14 +286,15 @@ int scene_lod_max_level(const scene_opts *o)
 
 static const char *check_lod_opts(const scene_opts *o)
 {
-    if (o->path != SCENE_PATH_INSTANCED) return "--lod distance and screen draw through instancing (--path instanced)";
-    if (o->grid != CORE_GRID_REGULAR) return "--lod distance and screen use their own patterns: --grid must be regular";
+    if (o->path != SCENE_PATH_INSTANCED) return "--lod distance, screen and deviation draw through instancing (--path instanced)";
+    if (o->grid != CORE_GRID_REGULAR) return "--lod distance, screen and deviation use their own patterns: --grid must be regular";
     if (o->max_level == 0 && o->level != floorf(o->level))
-        return "--lod distance and screen take whole levels: give --max-level (or an integer --level)";
+        return "--lod distance, screen and deviation take whole levels: give --max-level (or an integer --level)";
     if (o->max_level == 0 && o->level > (float)CORE_LOD_MAX_LEVEL)
-        return "--lod distance and screen need levels up to 64: give --max-level 1..64 (or a --level up to 64)";
+        return "--lod distance, screen and deviation need levels up to 64: give --max-level 1..64 (or a --level up to 64)";
     if (o->min_level < 1 || o->min_level > scene_lod_max_level(o)) return "--min-level must be 1..--max-level";
     if (!(o->lod_target > 0.0f)) return "--lod-target must be a positive number of pixels";
+    if (!(o->lod_deviation > 0.0f)) return "--lod-deviation must be a positive number of pixels";
     return NULL;
 }
 
@@ -409,7 +414,8 @@ tess_lod_params scene_lod_params_of(const scene_opts *o, const is_mesh *m)
     scene_camera cam = make_camera(o, m);
     int hi = scene_lod_max_level(o);
     if (hi > CORE_LOD_MAX_LEVEL) hi = CORE_LOD_MAX_LEVEL;
-    return (tess_lod_params){.mode = o->lod, .target_px = o->lod_target, .ref_depth = cam.ref_depth,
+    return (tess_lod_params){.mode = o->lod, .target_px = o->lod == TESS_LOD_DEVIATION ? o->lod_deviation : o->lod_target,
+                              .ref_depth = cam.ref_depth,
                               .min_level = o->min_level < hi ? o->min_level : hi, .max_level = hi,
                               .width = o->width, .height = o->height, .silhouette = o->silhouette,
                               .world_view = cam.world_view, .wvp = cam.wvp};

@@ -58,6 +58,7 @@ extern const char *const scene_shading_names[];   /* "vertex", "pixel", NULL */
 typedef enum { SCENE_D3D9_OFF, SCENE_D3D9_DEPTH, SCENE_D3D9_MDM } scene_d3d9_adaptive;
 /* Level of detail (--lod): one --level for all (uniform), or a level per mesh edge (tess/lod.c). */
 #define SCENE_LOD_DEFAULT_TARGET 8.0f   /* --lod-target: pixels per segment of an edge's control polygon */
+#define SCENE_LOD_DEFAULT_DEVIATION 0.5f /* --lod-deviation: pixels an edge's polyline may lie from its curve */
 /* The AOV channels of an EXR (--aov; README.md lists them with their background values): the patch's
  * unit normal N.X,N.Y,N.Z (0 on the background), barycentrics bary.* (0), the triangle's index `instance`
  * (SCENE_INSTANCE_BACKGROUND on the background: no triangle has it), Gregory coordinates gregory.* (0), and the
@@ -114,6 +115,7 @@ typedef struct scene_opts {
     float d3d9_mdm[4];          /* SCENE_D3D9_MDM: (ADAPTIVETESS_X, _Y, _Z, _W) as given */
     tess_lod_mode lod;              /* TESS_LOD_UNIFORM: o->level everywhere; else per-edge levels (tess/lod.c) */
     float lod_target;           /* screen: pixels per segment (SCENE_LOD_DEFAULT_TARGET) */
+    float lod_deviation;        /* deviation: pixels from the curve (SCENE_LOD_DEFAULT_DEVIATION) */
     int min_level, max_level;   /* per-edge levels are clamped to these (1..CORE_LOD_MAX_LEVEL); max 0: --level */
     bool silhouette;            /* edges whose two faces face opposite ways get max_level */
     bool wire_by_level;         /* the wireframe of an adaptive draw coloured by each bucket's finest level */

@@ -129,8 +129,8 @@ static void act_patch(view_state *v) { cycle(v, next_patch, VS_PATCH_COUNT, "pat
 static void next_normals(scene_opts *o) { o->normals = (vs_normals)((o->normals + 1) % 3); }
 static void act_normals(view_state *v) { cycle(v, next_normals, 3, "normals"); }
 
-static void next_lod(scene_opts *o) { o->lod = (tess_lod_mode)((o->lod + 1) % 3); }
-static void act_lod(view_state *v) { cycle(v, next_lod, 3, "lod"); }
+static void next_lod(scene_opts *o) { o->lod = (tess_lod_mode)((o->lod + 1) % (TESS_LOD_DEVIATION + 1)); }
+static void act_lod(view_state *v) { cycle(v, next_lod, TESS_LOD_DEVIATION + 1, "lod"); }
 
 /* The next path; the N-patch mode and the CPU path evaluate linear or quadratic normals only, so real normals
  * become linear there (the CLI's default for those paths), said on the HUD. */
@@ -270,7 +270,7 @@ const view_key view_keys[] = {
     {"N", "n", "next normals: linear, quadratic, real", act_normals},
     {"G", "g", "next grid: regular, pg-equal, pg-fractional-odd, pg-fractional-even", act_grid},
     {"T", "t", "next path: instanced, npatch-mode, cpu (where the patch allows)", act_path},
-    {"L", "l", "next level of detail: uniform, distance, screen (a level per mesh edge, --lod)", act_lod},
+    {"L", "l", "next level of detail: uniform, distance, screen, deviation (a level per mesh edge, --lod)", act_lod},
     {"W", "w", "next fill: solid, solid+wire, wire, point", act_fill},
     {"M", "m", "4x multisampling on / off", act_msaa},
     {"V", "v", "light per vertex (the listings) or per pixel (a pixel shader: --shading pixel)", act_shading},
