@@ -508,6 +508,11 @@ static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
         c->oom = true;
         return false;
     }
+    if (ns == 1) {   /* (the usual case, COLOR0 alone: one copy per vertex) */
+        const int s0 = j->slot[0];
+        for (size_t i = 0; i < nv; i++) c->gattr[i] = v[i].attr[s0];
+        return true;
+    }
     for (size_t i = 0; i < nv; i++)
         for (size_t s = 0; s < ns; s++) c->gattr[i * ns + s] = v[i].attr[j->slot[s]];
     return true;
@@ -853,7 +858,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
         const uint64_t work = c->work;
 #ifdef __AVX2__
         const size_t vb = g0 / group * gverts;
-        if (grid && n == group && vb + gverts <= nv && vb <= UINT32_MAX && grid_extent_ok(&gc, vb, gverts)) {
+        if (grid && n == group && vb + gverts <= nv && vb + gverts + RS_GRID_PAD <= UINT32_MAX && grid_extent_ok(&gc, vb, gverts)) {
             int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
             tri_counts tc = { 0, 0, 0 };
             const bool any = grid_group_setup(&gc, &gk, c, level, vb, &tc, c->grow + ng, u);
@@ -1014,7 +1019,6 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
             _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
-            const unsigned pos = mask8(o.pos);
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
                 grid_finish_half(j, &g, q0, q1, &o, h, sp + 4 * h);
@@ -1023,14 +1027,19 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                 store_t32(_mm_castsi128_ps(half4(o.x0, h)), _mm_castsi128_ps(half4(o.y0, h)),
                           _mm_castsi128_ps(half4(o.x1, h)), _mm_castsi128_ps(half4(o.y1, h)), bp, offsetof(rs_prim, x0));
             }
-            /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order */
+            /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
+             * indices (grid_verts8's lanes, swapped as the step's) */
+            uint32_t id[3][8];
+            const __m256i b0 = _mm256_set1_epi32((int32_t)q0), b1 = _mm256_set1_epi32((int32_t)q1);
+            const __m256i i1 = _mm256_add_epi32(_mm256_blend_epi32(b0, b1, 0xaa), _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4));
+            const __m256i i2 = _mm256_add_epi32(b1, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
+            _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
+            _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
+            _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
             for (; m; m &= m - 1) {
                 const int l = __builtin_ctz(m);
-                const size_t qa = q0 + (size_t)(l >> 1), qc = q1 + (size_t)(l >> 1), dn = (size_t)(l & 1);
-                const size_t v1 = dn ? qc + 1 : qa + 1, v2 = qc;   /* B or D, C */
-                const bool p = (pos >> l) & 1;
-                const rs_vec4 *a0 = &c->gattr[(qa + dn) * ns], *a1 = &c->gattr[(p ? v1 : v2) * ns];
-                const rs_vec4 *a2 = &c->gattr[(p ? v2 : v1) * ns];
+                const rs_vec4 *a0 = &c->gattr[id[0][l] * ns], *a1 = &c->gattr[id[1][l] * ns];
+                const rs_vec4 *a2 = &c->gattr[id[2][l] * ns];
                 for (size_t s = 0; s < ns; s++) rs_fill_slot(sa + s * RS_ATTR_STRIDE, &a0[s], &a1[s], &a2[s]);
                 RS_KERNEL(rs_tri_fast)(j, t, &sp[l], sa, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
             }
