@@ -963,13 +963,19 @@ static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si
  * finish4_lanes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
  * grid_verts8, swapped as o's). */
 static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
-                                    int h, rs_prim *sp)
+                                    int h, __m128i live, rs_prim *sp)
 {
     const size_t q = (size_t)(2 * h);   /* the half's first quad, from i */
     const __m128i pos = half4(o->pos, h);
     __m128i x[3], y[3];
     __m128 zf[3];
-    for (int v = 0; v < 3; v++) x[v] = half4(o->x[v], h), y[v] = half4(o->y[v], h);
+    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get the
+     * triangle (0, 0), (256, 0), (0, 256) at 1/w = 1 instead, so that no lane divides by zero (as finish4's
+     * spare lanes repeat a real triangle); their results are not used */
+    const __m128i dx1 = _mm_andnot_si128(live, _mm_set1_epi32(RS_SUB));
+    x[0] = _mm_and_si128(half4(o->x[0], h), live), y[0] = _mm_and_si128(half4(o->y[0], h), live);
+    x[1] = _mm_blendv_epi8(dx1, half4(o->x[1], h), live), y[1] = _mm_and_si128(half4(o->y[1], h), live);
+    x[2] = _mm_and_si128(half4(o->x[2], h), live), y[2] = _mm_blendv_epi8(dx1, half4(o->y[2], h), live);
     const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
     const __m128 zc = _mm_loadu_ps(g->z + r1 + q), zd = _mm_loadu_ps(g->z + r1 + q + 1);
     zf[0] = _mm_shuffle_ps(za, za, _MM_SHUFFLE(2, 1, 1, 0));               /* r0: 0 1 1 2 */
@@ -982,9 +988,11 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     const __m256d w1 = _mm256_setr_m128d(_mm_unpacklo_pd(wb, wd), _mm_unpackhi_pd(wb, wd));
     const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
     const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
+    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live)), one = _mm256_set1_pd(1.0);
     char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
-    finish4_lanes(j, x, y, zf, (v4d)w0, (v4d)_mm256_blendv_pd(w2, w1, pos64), (v4d)_mm256_blendv_pd(w1, w2, pos64),
-                  tr);
+    finish4_lanes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
+                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
+                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
 }
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
@@ -1013,15 +1021,16 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
-            unsigned m = mask8(_mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cx0, cx1),
-                                                                   _mm256_cmpgt_epi32(cy0, cy1)), o.drawn));
+            const __m256i live = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cx0, cx1),
+                                                                     _mm256_cmpgt_epi32(cy0, cy1)), o.drawn);
+            unsigned m = mask8(live);
             if (!m) continue;
             int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
             _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
-                grid_finish_half(j, &g, q0, q1, &o, h, sp + 4 * h);
+                grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
                 char *const bp[4] = { (char *)&sp[4 * h], (char *)&sp[4 * h + 1], (char *)&sp[4 * h + 2],
                                       (char *)&sp[4 * h + 3] };
                 store_t32(_mm_castsi128_ps(half4(o.x0, h)), _mm_castsi128_ps(half4(o.y0, h)),
