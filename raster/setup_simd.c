@@ -600,8 +600,9 @@ static inline grid_cols grid_cols_of(const rs_chunk *c)
     return (grid_cols){ w, x, x + c->gsoa_cap, (const float *)(x + 2 * c->gsoa_cap) };
 }
 
-/* Copy the records pv[0..nv) into chunk c's rows (gsoa), RS_GRID_PAD zeros after them; false when out of memory. */
-static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv)
+/* Copy the records pv[0..nv) into chunk c's rows (gsoa) with RS_GRID_PAD zeros after them, and their flags ANDed
+ * into *all; false (nothing ANDed) when out of memory. */
+static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv, unsigned *all)
 {
     const size_t n = nv + RS_GRID_PAD, each = sizeof(double) + 2 * sizeof(int32_t) + sizeof(float);
     if (n > c->gsoa_cap) {
@@ -617,6 +618,7 @@ static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv)
     int32_t *x = (int32_t *)g.x, *y = (int32_t *)g.y;
     float *z = (float *)g.z;
     size_t i = 0;
+    __m128i fl = _mm_set1_epi32(-1);   /* the records' fourth int32 (flags, oc, pad) ANDed per lane */
     for (; i + 4 <= nv; i += 4) {   /* four records transposed (gather4's shuffles) */
         const __m128i r0 = _mm_loadu_si128((const __m128i *)&pv[i]), r1 = _mm_loadu_si128((const __m128i *)&pv[i + 1]);
         const __m128i r2 = _mm_loadu_si128((const __m128i *)&pv[i + 2]), r3 = _mm_loadu_si128((const __m128i *)&pv[i + 3]);
@@ -625,10 +627,15 @@ static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv)
         _mm_storeu_si128((__m128i *)(x + i), _mm_unpacklo_epi64(t0, t1));
         _mm_storeu_si128((__m128i *)(y + i), _mm_unpackhi_epi64(t0, t1));
         _mm_storeu_si128((__m128i *)(z + i), _mm_unpacklo_epi64(t2, t3));
+        fl = _mm_and_si128(fl, _mm_unpackhi_epi64(t2, t3));
         _mm256_storeu_pd(w + i, _mm256_setr_pd(pv[i].iw, pv[i + 1].iw, pv[i + 2].iw, pv[i + 3].iw));
     }
-    for (; i < nv; i++) w[i] = pv[i].iw, x[i] = pv[i].x, y[i] = pv[i].y, z[i] = pv[i].z;
+    _Static_assert(offsetof(rs_pvert, flags) == 12, "the flags: the low byte of the fourth int32");
+    fl = _mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(1, 0, 3, 2)));
+    unsigned f = (unsigned)_mm_cvtsi128_si32(_mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(2, 3, 0, 1)))) & 0xffu;
+    for (; i < nv; i++) w[i] = pv[i].iw, x[i] = pv[i].x, y[i] = pv[i].y, z[i] = pv[i].z, f &= pv[i].flags;
     for (; i < n; i++) w[i] = 0.0, x[i] = 0, y[i] = 0, z[i] = 0.0f;
+    *all &= f;
     return true;
 }
 
@@ -815,15 +822,17 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
 #endif
 
 /* Can the piece of np triangles over nv vertices in groups of `group` take the grid rows at `level` (0: no)?  Its
- * rows and row boxes made room for in chunk c (records pv); false also when out of memory (the rs_gtri path then). */
-static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, size_t group, size_t level)
+ * rows (with the records' flags ANDed into *all) and row boxes made room for in chunk c (records pv); false also
+ * when out of memory (the rs_gtri path then). */
+static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, size_t group, size_t level,
+                       unsigned *all)
 {
 #ifdef __AVX2__
     if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
     const size_t rows = (np / group + 1) * level;
-    return group_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv);
+    return group_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
 #else
-    (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level;
+    (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
     return false;
 #endif
 }
@@ -833,7 +842,9 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
-    for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
+    const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
+    if (!grid)
+        for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
     if (!all || group == 0 || np > UINT32_MAX / 3) return false;   /* rs_setup_shared's fallbacks: clipping */
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
@@ -846,7 +857,6 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     size_t nt = 0;   /* drawn triangles kept */
     queued q[4];     /* the triangles of groups set up per triangle, waiting for finish_queued */
     int nq = 0;
-    const bool grid = grid_piece(c, pv, nv, np, group, level);
 #ifdef __AVX2__
     const grid_cols gc = grid ? grid_cols_of(c) : (grid_cols){ 0 };
     const grid_consts gk = grid_consts_of(j);
@@ -1047,9 +1057,12 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
             for (; m; m &= m - 1) {
                 const int l = __builtin_ctz(m);
-                const rs_vec4 *a0 = &c->gattr[id[0][l] * ns], *a1 = &c->gattr[id[1][l] * ns];
-                const rs_vec4 *a2 = &c->gattr[id[2][l] * ns];
-                for (size_t s = 0; s < ns; s++) rs_fill_slot(sa + s * RS_ATTR_STRIDE, &a0[s], &a1[s], &a2[s]);
+                const rs_vec4 *ga = c->gattr;
+                if (ns == 1) rs_fill_slot(sa, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                else
+                    for (size_t s = 0; s < ns; s++)
+                        rs_fill_slot(sa + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
+                                     &ga[id[2][l] * ns + s]);
                 RS_KERNEL(rs_tri_fast)(j, t, &sp[l], sa, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
             }
         }
