@@ -322,10 +322,11 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * is not PV_READY (clipping needed).
  * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose
  * vertices span less than 2^15 (1/256 px, 128 px) in x and in y keeps no rs_gtri: the set-up region counts and
- * boxes its triangles from contiguous loads of vertex rows r and r+1 (8 quads, 16 triangles, per step; no index
- * list) and keeps its rows' pixel boxes; the tile pass does the same per row meeting the tile and sets up the
- * triangles that meet it from those loads with finish4's operations, into the L1 scratch.  Other groups (larger,
- * partial, a piece without the promise) take the rs_gtri path above: the same bytes and counters either way. */
+ * boxes its triangles from contiguous loads of vertex rows r and r+1 (eight consecutive triangles of a row -- up,
+ * down, up, ... -- per step; no index list) and keeps its rows' pixel boxes; the tile pass does the same per row
+ * meeting the tile and sets up the triangles that meet it from those loads with finish4's operations, into the L1
+ * scratch.  Other groups (larger, over more than 4 tiles, partial, a piece without the promise) take the paths
+ * above: the same bytes and counters either way. */
 #define RS_GRID_PAD 16
 bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
                           size_t np, size_t group, size_t level);

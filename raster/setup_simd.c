@@ -9,6 +9,8 @@
  *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices
  *  are not all inside the clip volume (or a fill mode other than solid) goes back to the definition, in
  *  submission order.  Without AVX2 the same records are finished one triangle at a time (finish_one).
+ *  Grouped pieces (rs_setup_groups, rs_group_tile) and their grid groups, set up from the grid's vertex rows ("grid
+ *  rows" below), reuse finish4's operations (finish4_lanes): raster_internal.h says how.
  */
 #include <stddef.h>
 #include <stdlib.h>
@@ -581,7 +583,7 @@ static bool group_as_triangles(const rs_job *j, rs_chunk *c, const box_consts *b
  * span less than 2^15 (1/256 px: 128 px) in x and in y (grid_extent_ok), so every vertex difference is below 2^15
  * in magnitude, each product of two below 2^30 and the doubled area, a difference of two products, below 2^31:
  * exact in int32 lanes (vpmulld), the same value as area3's int64.  The pixel boxes are tri_box's int32 sums
- * (below 2^24).  A triangle's box is at most 129 x 129 pixels, its work units (129^2 * 2^17 < 2^32) and |area|
+ * (below 2^24).  A triangle's box is at most 130 x 130 pixels, its work units (130^2 * 2^17 < 2^32) and |area|
  * (< 2^31) compare as uint32.  The edges' ec and the planes are finish4_lanes': int64 and double lanes. */
 #ifdef __AVX2__
 
