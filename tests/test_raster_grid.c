@@ -36,6 +36,7 @@ static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (fl
 typedef struct draw_def {
     rs_state st;
     int level, inst;                /* level, instances per piece */
+    size_t cut;                     /* triangles the pieces leave off their end (the last group partial) */
     size_t points, prims;           /* per instance */
     rs_vertex *v[PIECES];           /* INST * points each */
     uint32_t *idx;                  /* INST instances: core_grid_regular's list moved by k * points */
@@ -48,7 +49,7 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     const draw_def *d = ctx;
     (void)slot;
     *verts = d->v[piece], *n_verts = (size_t)d->inst * d->points, *idx = d->idx;
-    return (size_t)d->inst * d->prims;
+    return (size_t)d->inst * d->prims - d->cut;
 }
 
 /* Random states on the fast path: cull, depth function and writes, blending, scissor, viewport offsets. */
@@ -103,7 +104,7 @@ static void make_instance(uint64_t *s, int L, float r, rs_vertex *v, bool far)
 static void make_draw(uint64_t *s, draw_def *d, int L, float rlo, float rhi)
 {
     d->st = random_state(s);
-    d->level = L, d->inst = INST, d->points = core_grid_points(L), d->prims = core_grid_triangles(L);
+    d->level = L, d->inst = INST, d->cut = 0, d->points = core_grid_points(L), d->prims = core_grid_triangles(L);
     d->idx = malloc(3 * INST * d->prims * sizeof *d->idx);
     float3 *bary = malloc(d->points * sizeof *bary);
     assert_true(d->idx && bary);
@@ -127,7 +128,8 @@ static void free_frame(frame *f)
     }
 }
 
-/* A frame: levels 1, 2, 5, 16 and 40, sizes from a few pixels to past the row path's budget. */
+/* A frame: levels 1, 2, 5, 16 and 40, sizes from a few pixels to past the row path's budget; two draws whose
+ * pieces end in a partial group. */
 static void make_frame(frame *f, uint64_t seed)
 {
     static const int levels[DRAWS] = { 1, 2, 5, 16, 5, 16, 40, 1, 16, 40 };
@@ -135,6 +137,7 @@ static void make_frame(frame *f, uint64_t seed)
     static const float rhi[DRAWS] = { 0.1f, 0.2f, 0.4f, 0.6f, 1.2f, 0.7f, 0.7f, 0.5f, 1.0f, 1.4f };
     uint64_t s = seed;
     for (int d = 0; d < DRAWS; d++) make_draw(&s, &f->d[d], levels[d], rlo[d], rhi[d]);
+    f->d[3].cut = 5, f->d[5].cut = 1;   /* a piece's last group short: the rs_gtri path for it */
 }
 
 /* What a frame drew: the planes, the summed counters and the grid groups the row path took (scene off only). */
