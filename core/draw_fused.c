@@ -281,7 +281,7 @@ static void mark_buffers(is_device *dev)
  * the scene does not take it). */
 static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *cache, const uint32_t *list,
                             size_t n_prims, uint32_t first, uint32_t count, uint32_t per_piece, const cull_view *cv,
-                            uint32_t i0, uint32_t ni)
+                            uint32_t i0, uint32_t ni, int level)
 {
     fused_ctx *f = fused_record(dev, fp, cache, (size_t)count * fp->n_vert + 1, list, n_prims, first, count,
                                 per_piece, cv);
@@ -290,15 +290,19 @@ static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *
     is_result r = fused_reserve(dev, rs_threads(dev->rs), f);
     if (r != IS_OK) return r;
     fused_reserve_grids(dev, f);
-    /* each piece's triangles come in runs of n_prims, one per kept instance: the rasterizer bins them by instance */
-    rs_source src = {(ni + per_piece - 1) / per_piece, (size_t)ni * n_prims, f->slot_verts, fused_produce, f, n_prims};
+    /* each piece's triangles come in runs of n_prims, one per kept instance: the rasterizer bins them by instance;
+     * when the instance list is the regular grid of `level` over the instance's `count` vertices (fused_produce
+     * puts kept instance k's vertices at k * count), it may set them up from the grid's rows */
+    rs_source src = {(ni + per_piece - 1) / per_piece, (size_t)ni * n_prims, f->slot_verts, fused_produce, f, n_prims,
+                     (size_t)level};
     rs_state st = dev_rs_state(dev);
     rs_stats s = {0};
     dev->shaded += (uint64_t)ni * count;   /* the instances culled are taken off at the flush */
     return draw_result(dev, rs_draw_source(dev->rs, &st, &dev->rt, &src, &s), &s);
 }
 
-/* The fused draw of n_prims triangles per instance (see above); list = instance 0's index list. */
+/* The fused draw of n_prims triangles per instance (see above); list = instance 0's index list, compared once
+ * per draw with the regular grid's (core_grid_regular_level: 0 when it is another list). */
 is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
                      const uint32_t *list)
 {
@@ -312,10 +316,11 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
     cull_view cv = {0};
     cull_prepare(dev, fp, cache, list, n_prims, &cv);
     mark_buffers(dev);
+    const int level = core_grid_regular_level(list, n_prims, count);
     is_result r = IS_OK;
     for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass)
         r = fused_pass(dev, fp, cache, list, n_prims, first, count, per_piece, &cv, i0,
-                       n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass);
+                       n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass, level);
     return r;
 }
 

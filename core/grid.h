@@ -39,6 +39,10 @@ static inline uint32_t core_grid_index(int level, int i, int j)
     /* rows j = 0..L hold L+1-j points each */
     return (uint32_t)(j * (level + 1) - j * (j - 1) / 2 + i);
 }
+/* The level L when idx[0 .. 3 n_triangles) is exactly core_grid_regular(L)'s index list and n_points its point
+ * count core_grid_points(L); else (another list, a NULL list, no triangles) 0.  A draw's instance list is
+ * compared once (core/draw_fused.c tells the rasterizer, rs_source.grid_level), never assumed. */
+INSTESS_API int core_grid_regular_level(const uint32_t *idx, size_t n_triangles, size_t n_points);
 
 /* The pattern of the OpenGL 4 / Direct3D 11 primitive generator for triangles (seed 001, Figs. 10-11):
  * concentric rings from the inner level, outer edges subdivided by the three outer levels (outer[k] belongs to

@@ -95,6 +95,8 @@ void rs_destroy(rs_context *rs)
         free(c->gpv);
         free(c->gattr);
         free(c->gtri);
+        free(c->gsoa);
+        free(c->grow);
     }
     free(rs->chunks);
     free(rs->q);
@@ -390,7 +392,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     if (ch->bad_piece) np = 0;   /* set up nothing of it: the draw fails (RS_EINVAL) */
     rs_job jl = *j;
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
-    ch->first = 0, ch->count = np;
+    ch->first = 0, ch->count = np, ch->grid_groups = 0;
     if (np && nv <= src->max_verts && !j->reference) {
         const bool grouped = src->group_prims && rs_group_ok(j) && reserve_gpv(ch, nv);
         if (grouped || nv <= 3 * np) {
@@ -398,7 +400,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
             jl.kern->project_vertices(&jl, v, nv, pv);
             jl.pv = pv;
         }
-        if (grouped && jl.kern->setup_groups(&jl, ch, v, nv, idx, np, src->group_prims)) {
+        if (grouped && jl.kern->setup_groups(&jl, ch, v, nv, idx, np, src->group_prims, src->grid_level)) {
             rs_bin_chunk(&jl, ch);
             return;
         }
@@ -699,11 +701,18 @@ static int draw_source_now(rs_context *rs, const rs_job *j, const rs_source *src
     return RS_OK;
 }
 
+/* Is src's grid_level 0, or a level up to RS_GRID_MAX_LEVEL whose grid has group_prims triangles? */
+static bool grid_level_ok(const rs_source *src)
+{
+    const size_t l = src->grid_level;
+    return l == 0 || (l <= RS_GRID_MAX_LEVEL && src->group_prims == l * l);
+}
+
 int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_source *src, rs_stats *stats)
 {
     if (stats) memset(stats, 0, sizeof *stats);
     if (!rs || !st || !rt || !src || !src->produce || !rs_target_valid(rt) || !valid_state(st, rt) ||
-        src->n_pieces > rs_max_pieces(rt))
+        src->n_pieces > rs_max_pieces(rt) || !grid_level_ok(src))
         return RS_EINVAL;
     if (stats) stats->prims_in = src->n_prims;
     if (src->n_pieces == 0 || src->n_prims == 0) return RS_OK;

@@ -337,7 +337,17 @@ typedef struct rs_source {
                              (the last may be shorter) are binned to tiles as one entry and set up inside the
                              tile pass, when the piece allows it (raster_internal.h: grouped pieces); the same
                              bytes and counters either way */
+    size_t grid_level;    /* 0, or L in 1..RS_GRID_MAX_LEVEL with group_prims = L*L (else RS_EINVAL): the producer
+                             promises that group g of each piece is the regular barycentric grid of level L
+                             (core_grid_regular) over its own P = (L+1)(L+2)/2 vertices g*P .. g*P+P-1: vertex
+                             rows k = 0..L of L+1-k vertices, row k starting at g*P + k*(L+1) - k*(k-1)/2; row k's
+                             triangles, in this order, (r_k[i], r_k[i+1], r_k+1[i]) and, for i < L-k-1,
+                             (r_k[i+1], r_k+1[i+1], r_k+1[i]) for i = 0..L-k-1.  The rasterizer may then set such
+                             groups up from the vertex rows without reading their indices (the same bytes; a
+                             piece that breaks the promise draws something else, never out of its vertices) */
 } rs_source;
+/* The largest rs_source.grid_level (core_grid_regular's limit). */
+#define RS_GRID_MAX_LEVEL 16384
 /* The most pieces one rs_draw_source may have on target rt (its tile bins must stay bounded). */
 INSTESS_API size_t rs_max_pieces(const rs_target *rt);
 /* Set-up work of fewer triangles than this (a draw, or a flush of queued draws) runs on one thread: waking a

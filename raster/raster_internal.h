@@ -133,10 +133,13 @@ typedef struct rs_point {
     float z;
 } rs_point;
 
-/* A group of a grouped piece (RS_K_GROUP): drawn triangles [first, first + count) of its chunk's gtri, binned as
- * one entry with the union of their pixel boxes and set up inside the tile pass (rs_group_tile). */
+/* A group of a grouped piece (RS_K_GROUP), binned as one entry with the union of its drawn triangles' pixel boxes
+ * and set up inside the tile pass (rs_group_tile): level 0, drawn triangles [first, first + count) of its chunk's
+ * gtri; or a grid group (rs_source.grid_level): the regular grid of level `level` over the chunk's vertices from
+ * vbase on, its rows' pixel boxes at grow[first .. first + count) (count = level rows). */
 typedef struct rs_group {
     uint32_t first, count;
+    uint32_t level, vbase;
 } rs_group;
 
 typedef struct rs_prim {
@@ -185,6 +188,15 @@ typedef struct rs_chunk {
     size_t gattr_cap;
     rs_gtri *gtri;
     size_t gtri_cap;
+    /* a grid piece (rs_source.grid_level): its projected vertices again as rows of x, y (int32), z (float) and
+     * 1/w (double), each array gsoa_cap entries long (RS_GRID_PAD zeros past the piece's vertices: the row loads
+     * read past a row's end), and per grid group per row the pixel box of its drawn triangles (x0, y0, x1, y1;
+     * x0 > x1 when none) */
+    void *gsoa;
+    size_t gsoa_cap;
+    int16_t (*grow)[4];
+    size_t grow_cap;
+    uint64_t grid_groups;        /* grid group entries pushed (the row path's; tests look) */
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
@@ -305,12 +317,21 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * same counters and work) and keeps each drawn one with a pixel as a 20-byte rs_gtri (oriented vertices, box), and
  * pushes one RS_K_GROUP entry per run of group triangles with the union of their boxes; the tile pass sets up, per
  * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
- * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.  rs_setup_groups returns false (the chunk left
- * for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece is not PV_READY (clipping needed). */
+ * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.
+ * rs_setup_groups returns false (the chunk left for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece
+ * is not PV_READY (clipping needed).
+ * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose
+ * vertices span less than 2^15 (1/256 px, 128 px) in x and in y keeps no rs_gtri: the set-up region counts and
+ * boxes its triangles from contiguous loads of vertex rows r and r+1 (eight consecutive triangles of a row -- up,
+ * down, up, ... -- per step; no index list) and keeps its rows' pixel boxes; the tile pass does the same per row
+ * meeting the tile and sets up the triangles that meet it from those loads with finish4's operations, into the L1
+ * scratch.  Other groups (larger, over more than 4 tiles, partial, a piece without the promise) take the paths
+ * above: the same bytes and counters either way. */
+#define RS_GRID_PAD 16
 bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
-                          size_t np, size_t group);
+                          size_t np, size_t group, size_t level);
 bool rs_setup_groups_avx512(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
-                            size_t np, size_t group);
+                            size_t np, size_t group, size_t level);
 /* Rasterize group entry p of chunk c inside tile t (set-up of its triangles that meet the tile, then rs_tri_tile). */
 void rs_group_tile_avx2(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
 void rs_group_tile_avx512(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p);
@@ -373,7 +394,7 @@ struct rs_kernels {
     void (*project_vertex)(const rs_job *j, const rs_vertex *v, rs_pvert *out);
     void (*setup_shared)(const rs_job *j, rs_chunk *c); /* rs_setup_shared_* */
     bool (*setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
-                         size_t np, size_t group);          /* rs_setup_groups_* */
+                         size_t np, size_t group, size_t level);   /* rs_setup_groups_* */
     void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */

@@ -9,6 +9,8 @@
  *  operations in the same order as the scalar functions, so the same rs_prim bytes.  A triangle whose vertices
  *  are not all inside the clip volume (or a fill mode other than solid) goes back to the definition, in
  *  submission order.  Without AVX2 the same records are finished one triangle at a time (finish_one).
+ *  Grouped pieces (rs_setup_groups, rs_group_tile) and their grid groups, set up from the grid's vertex rows ("grid
+ *  rows" below), reuse finish4's operations (finish4_lanes): raster_internal.h says how.
  */
 #include <stddef.h>
 #include <stdlib.h>
@@ -317,17 +319,14 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
     _mm256_storeu_si256((__m256i *)(base[3] + off), _mm256_permute2x128_si256(b, d, 0x31));
 }
 
-/* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane:
- * rs_tri_edge's integer operations in int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per
- * lane the same operations in the same order, so the same bytes. */
-static void finish4(const rs_job *j, rs_prim *prims, queued q[4], int n)
+/* finish_one for four triangles, one per lane, from their vertices in lanes (x, y int32, zf float, w0..w2 the
+ * 1/w of vertices 0..2, in clockwise order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in
+ * int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per lane the same operations in the
+ * same order, so the same bytes. */
+static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
+                                                                const __m128i y[3], const __m128 zf[3], v4d w0,
+                                                                v4d w1, v4d w2, char *const tr[4])
 {
-    for (int t = n; t < 4; t++) q[t] = q[0];
-    __m128i x[3], y[3];
-    __m128 zf[3];
-    gather4(q, 0, &x[0], &y[0], &zf[0]);   /* (unrolled by hand: gcc keeps loops over these arrays in memory) */
-    gather4(q, 1, &x[1], &y[1], &zf[1]);
-    gather4(q, 2, &x[2], &y[2], &zf[2]);
     __m128i ea[3], eb[3];
     __m256i ec[3];
     edge4(x[0], y[0], x[1], y[1], &ea[0], &eb[0], &ec[0]);
@@ -346,15 +345,9 @@ static void finish4(const rs_job *j, rs_prim *prims, queued q[4], int n)
     v4d dz1 = (v4d)_mm256_cvtps_pd(zf[1]) - z0, dz2 = (v4d)_mm256_cvtps_pd(zf[2]) - z0;
     v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
     v4d bias = (double)j->st->depth_bias + (double)j->st->slope_scale_depth_bias * max4(abs4(za), abs4(zb));
-    v4d w0 = { q[0].v[0]->iw, q[1].v[0]->iw, q[2].v[0]->iw, q[3].v[0]->iw };
-    v4d w1 = { q[0].v[1]->iw, q[1].v[1]->iw, q[2].v[1]->iw, q[3].v[1]->iw };
-    v4d w2 = { q[0].v[2]->iw, q[1].v[2]->iw, q[2].v[2]->iw, q[3].v[2]->iw };
     v4d m = max4(w0, max4(w1, w2));
     v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
     v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
-    /* the stores: lanes t >= n repeat lane 0's values into q[0]'s primitive, the same bytes */
-    char *const tr[4] = { (char *)&prims[q[0].prim].u.t, (char *)&prims[q[1].prim].u.t,
-                          (char *)&prims[q[2].prim].u.t, (char *)&prims[q[3].prim].u.t };
     _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
                    offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
                    offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
@@ -376,6 +369,24 @@ static void finish4(const rs_job *j, rs_prim *prims, queued q[4], int n)
     store_t32(F4(n1 * l1b), zero, F4(n2 * l2a), F4(n2 * l2b), tr, offsetof(rs_tri, q1[1])); /* q1[1..3), q2[0..2) */
     store_t32(zero, F4(s0), F4(s1), F4(n0), tr, offsetof(rs_tri, q2[2]));              /* q2[2], s[0..3) */
 #undef F4
+}
+
+/* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane (finish4_lanes). */
+static void finish4(const rs_job *j, rs_prim *prims, queued q[4], int n)
+{
+    for (int t = n; t < 4; t++) q[t] = q[0];
+    __m128i x[3], y[3];
+    __m128 zf[3];
+    gather4(q, 0, &x[0], &y[0], &zf[0]);   /* (unrolled by hand: gcc keeps loops over these arrays in memory) */
+    gather4(q, 1, &x[1], &y[1], &zf[1]);
+    gather4(q, 2, &x[2], &y[2], &zf[2]);
+    v4d w0 = { q[0].v[0]->iw, q[1].v[0]->iw, q[2].v[0]->iw, q[3].v[0]->iw };
+    v4d w1 = { q[0].v[1]->iw, q[1].v[1]->iw, q[2].v[1]->iw, q[3].v[1]->iw };
+    v4d w2 = { q[0].v[2]->iw, q[1].v[2]->iw, q[2].v[2]->iw, q[3].v[2]->iw };
+    /* the stores: lanes t >= n repeat lane 0's values into q[0]'s primitive, the same bytes */
+    char *const tr[4] = { (char *)&prims[q[0].prim].u.t, (char *)&prims[q[1].prim].u.t,
+                          (char *)&prims[q[2].prim].u.t, (char *)&prims[q[3].prim].u.t };
+    finish4_lanes(j, x, y, zf, w0, w1, w2, tr);
 }
 #endif
 
@@ -499,14 +510,21 @@ static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
         c->oom = true;
         return false;
     }
+    if (ns == 1) {   /* (the usual case, COLOR0 alone: one copy per vertex) */
+        const int s0 = j->slot[0];
+        for (size_t i = 0; i < nv; i++) c->gattr[i] = v[i].attr[s0];
+        return true;
+    }
     for (size_t i = 0; i < nv; i++)
         for (size_t s = 0; s < ns; s++) c->gattr[i * ns + s] = v[i].attr[j->slot[s]];
     return true;
 }
 
-/* Push group entry of drawn triangles [first, first + n) of c->gtri with pixel box u into chunk c; false when out
- * of memory. */
-static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t first, size_t n)
+/* Push group entry of drawn triangles [first, first + n) of c->gtri (level 0), or of grid level `level` over the
+ * vertices from vbase with its row boxes at c->grow[first .. first + n), with pixel box u into chunk c; false when
+ * out of memory. */
+static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t first, size_t n, size_t level,
+                       size_t vbase)
 {
     float *at;
     rs_prim *p = rs_push_raw(j, c, &at);
@@ -514,7 +532,7 @@ static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t 
     c->ptile[c->n - 1] = rs_tile_entry(j, u[0], u[1], u[2], u[3]);
     p->x0 = u[0], p->y0 = u[1], p->x1 = u[2], p->y1 = u[3];
     p->kind = RS_K_GROUP, p->back = 0;
-    p->u.g = (rs_group){ (uint32_t)first, (uint32_t)n };
+    p->u.g = (rs_group){ (uint32_t)first, (uint32_t)n, (uint32_t)level, (uint32_t)vbase };
     return true;
 }
 
@@ -559,16 +577,281 @@ static bool group_as_triangles(const rs_job *j, rs_chunk *c, const box_consts *b
     return true;
 }
 
+/* ---- grid rows (raster_internal.h, grid groups): a grid group set up from its vertex rows, no index list ----
+ *
+ * Bit budget: vertices satisfy |x|, |y| <= 2^22 (setup.c); a grid group takes the row path only when its vertices
+ * span less than 2^15 (1/256 px: 128 px) in x and in y (grid_extent_ok), so every vertex difference is below 2^15
+ * in magnitude, each product of two below 2^30 and the doubled area, a difference of two products, below 2^31:
+ * exact in int32 lanes (vpmulld), the same value as area3's int64.  The pixel boxes are tri_box's int32 sums
+ * (below 2^24).  A triangle's box is at most 130 x 130 pixels, its work units (130^2 * 2^17 < 2^32) and |area|
+ * (< 2^31) compare as uint32.  The edges' ec and the planes are finish4_lanes': int64 and double lanes. */
+#ifdef __AVX2__
+
+/* The rows of a grid piece in chunk c (c->gsoa): 1/w, x, y and z of each vertex, gsoa_cap entries each. */
+typedef struct grid_cols {
+    const double *w;
+    const int32_t *x, *y;
+    const float *z;
+} grid_cols;
+
+/* grid_cols of chunk c's gsoa. */
+static inline grid_cols grid_cols_of(const rs_chunk *c)
+{
+    const double *w = c->gsoa;
+    const int32_t *x = (const int32_t *)(w + c->gsoa_cap);
+    return (grid_cols){ w, x, x + c->gsoa_cap, (const float *)(x + 2 * c->gsoa_cap) };
+}
+
+/* Copy the records pv[0..nv) into chunk c's rows (gsoa) with RS_GRID_PAD zeros after them, and their flags ANDed
+ * into *all; false (nothing ANDed) when out of memory. */
+static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv, unsigned *all)
+{
+    const size_t n = nv + RS_GRID_PAD, each = sizeof(double) + 2 * sizeof(int32_t) + sizeof(float);
+    if (n > c->gsoa_cap) {
+        size_t cap = c->gsoa_cap ? c->gsoa_cap : 256;
+        while (cap < n) cap *= 2;
+        void *p = cap <= SIZE_MAX / each ? malloc(cap * each) : NULL;
+        if (!p) return false;
+        free(c->gsoa);
+        c->gsoa = p, c->gsoa_cap = cap;
+    }
+    const grid_cols g = grid_cols_of(c);
+    double *w = (double *)g.w;
+    int32_t *x = (int32_t *)g.x, *y = (int32_t *)g.y;
+    float *z = (float *)g.z;
+    size_t i = 0;
+    __m128i fl = _mm_set1_epi32(-1);   /* the records' fourth int32 (flags, oc, pad) ANDed per lane */
+    for (; i + 4 <= nv; i += 4) {   /* four records transposed (gather4's shuffles) */
+        const __m128i r0 = _mm_loadu_si128((const __m128i *)&pv[i]), r1 = _mm_loadu_si128((const __m128i *)&pv[i + 1]);
+        const __m128i r2 = _mm_loadu_si128((const __m128i *)&pv[i + 2]), r3 = _mm_loadu_si128((const __m128i *)&pv[i + 3]);
+        const __m128i t0 = _mm_unpacklo_epi32(r0, r1), t1 = _mm_unpacklo_epi32(r2, r3);
+        const __m128i t2 = _mm_unpackhi_epi32(r0, r1), t3 = _mm_unpackhi_epi32(r2, r3);
+        _mm_storeu_si128((__m128i *)(x + i), _mm_unpacklo_epi64(t0, t1));
+        _mm_storeu_si128((__m128i *)(y + i), _mm_unpackhi_epi64(t0, t1));
+        _mm_storeu_si128((__m128i *)(z + i), _mm_unpacklo_epi64(t2, t3));
+        fl = _mm_and_si128(fl, _mm_unpackhi_epi64(t2, t3));
+        _mm256_storeu_pd(w + i, _mm256_setr_pd(pv[i].iw, pv[i + 1].iw, pv[i + 2].iw, pv[i + 3].iw));
+    }
+    _Static_assert(offsetof(rs_pvert, flags) == 12, "the flags: the low byte of the fourth int32");
+    fl = _mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(1, 0, 3, 2)));
+    unsigned f = (unsigned)_mm_cvtsi128_si32(_mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(2, 3, 0, 1)))) & 0xffu;
+    for (; i < nv; i++) w[i] = pv[i].iw, x[i] = pv[i].x, y[i] = pv[i].y, z[i] = pv[i].z, f &= pv[i].flags;
+    for (; i < n; i++) w[i] = 0.0, x[i] = 0, y[i] = 0, z[i] = 0.0f;
+    *all &= f;
+    return true;
+}
+
+/* Do the vertices [v0, v0 + n) of rows g span less than 2^15 in x and in y (the bit budget above)? */
+static bool grid_extent_ok(const grid_cols *g, size_t v0, size_t n)
+{
+    __m256i mnx = _mm256_set1_epi32(INT32_MAX), mny = mnx, mxx = _mm256_set1_epi32(INT32_MIN), mxy = mxx;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i x = _mm256_loadu_si256((const __m256i *)(g->x + v0 + i));
+        const __m256i y = _mm256_loadu_si256((const __m256i *)(g->y + v0 + i));
+        mnx = _mm256_min_epi32(mnx, x), mxx = _mm256_max_epi32(mxx, x);
+        mny = _mm256_min_epi32(mny, y), mxy = _mm256_max_epi32(mxy, y);
+    }
+    int32_t a[8], b[8], cc[8], d[8];
+    _mm256_storeu_si256((__m256i *)a, mnx), _mm256_storeu_si256((__m256i *)b, mxx);
+    _mm256_storeu_si256((__m256i *)cc, mny), _mm256_storeu_si256((__m256i *)d, mxy);
+    int64_t x0 = INT32_MAX, x1 = INT32_MIN, y0 = INT32_MAX, y1 = INT32_MIN;
+    for (int k = 0; k < 8; k++) {
+        x0 = a[k] < x0 ? a[k] : x0, x1 = b[k] > x1 ? b[k] : x1;
+        y0 = cc[k] < y0 ? cc[k] : y0, y1 = d[k] > y1 ? d[k] : y1;
+    }
+    for (; i < n; i++) {
+        const int64_t x = g->x[v0 + i], y = g->y[v0 + i];
+        x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1, y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+    }
+    return x1 - x0 < (1 << 15) && y1 - y0 < (1 << 15);
+}
+
+/* The job's constants of the row steps: tri_box's offsets and clamps, the cull, in int32 lanes. */
+typedef struct grid_consts {
+    __m256i offx0, offy0, offx1, offy1;   /* cx - omax, cy - omax, cx + omax, cy + omax */
+    __m256i sx0, sy0, sx1, sy1;           /* the scissor, inclusive */
+    __m256i cull_sign;                    /* -1: negative areas are culled (CCW), 1: positive ones (CW), 0: none */
+} grid_consts;
+
+/* grid_consts of job j (box_consts_of asserts tri_box's ranges). */
+static grid_consts grid_consts_of(const rs_job *j)
+{
+    (void)box_consts_of(j);
+    const int32_t cx = (int32_t)j->cx, cy = (int32_t)j->cy;
+    return (grid_consts){ _mm256_set1_epi32(cx - j->omax), _mm256_set1_epi32(cy - j->omax),
+                          _mm256_set1_epi32(cx + j->omax), _mm256_set1_epi32(cy + j->omax),
+                          _mm256_set1_epi32(j->sx0), _mm256_set1_epi32(j->sy0), _mm256_set1_epi32(j->sx1 - 1),
+                          _mm256_set1_epi32(j->sy1 - 1),
+                          _mm256_set1_epi32(j->st->cull_mode == RS_CULL_CCW ? -1 : j->st->cull_mode == RS_CULL_CW) };
+}
+
+/* tri_box's pixel range of coordinates [mn, mx] (offsets o0, o1) clamped to [lo, hi]: ceil((mn + o0) / 256) and
+ * floor((mx + o1) / 256) by arithmetic shifts. */
+static inline void grid_range(__m256i mn, __m256i mx, __m256i o0, __m256i o1, __m256i lo, __m256i hi, __m256i *r0,
+                              __m256i *r1)
+{
+    const __m256i zero = _mm256_setzero_si256();
+    *r0 = _mm256_max_epi32(_mm256_sub_epi32(zero, _mm256_srai_epi32(_mm256_sub_epi32(zero, _mm256_add_epi32(mn, o0)),
+                                                                     RS_SUB_BITS)), lo);
+    *r1 = _mm256_min_epi32(_mm256_srai_epi32(_mm256_add_epi32(mx, o1), RS_SUB_BITS), hi);
+}
+
+/* Eight consecutive triangles of a grid row in lanes, from its triangle 2i on: lane l is the up triangle (A, B, C)
+ * of quad i + l/2 when l is even, its down triangle (B, D, C) when l is odd (A = r0[q], B = r0[q + 1], C = r1[q],
+ * D = r1[q + 1]): their vertices in clockwise order (x, y; vertices 1 and 2 swapped where the area is negative, as
+ * emit_tri does), doubled areas (area3's), pixel boxes (tri_box's) and drawn mask (in the row: lane below n; area
+ * not 0; not culled). */
+typedef struct step8 {
+    __m256i x[3], y[3], area, pos, x0, y0, x1, y1, in, drawn;
+} step8;
+
+/* Lanes (v[0], v[1], v[1], v[2], v[2], v[3], v[3], v[4]), (v[1], u[1], v[2], u[2], .., v[4], u[4]) and (u[0], u[0],
+ * u[1], u[1], .., u[3], u[3]) of rows v and u from index 0: vertices 0, 1 and 2 of eight consecutive triangles. */
+static inline void grid_verts8(const int32_t *v, const int32_t *u, __m256i o[3])
+{
+    const __m256i v8 = _mm256_loadu_si256((const __m256i *)v), u8 = _mm256_loadu_si256((const __m256i *)u);
+    o[0] = _mm256_permutevar8x32_epi32(v8, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4));
+    const __m128i a = _mm_loadu_si128((const __m128i *)(v + 1)), b = _mm_loadu_si128((const __m128i *)(u + 1));
+    o[1] = _mm256_setr_m128i(_mm_unpacklo_epi32(a, b), _mm_unpackhi_epi32(a, b));
+    o[2] = _mm256_permutevar8x32_epi32(u8, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
+}
+
+/* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o. */
+static inline __attribute__((always_inline)) void grid_step8(const grid_cols *g, const grid_consts *k, size_t r0,
+                                                             size_t r1, int n, step8 *o)
+{
+    __m256i x[3], y[3];
+    grid_verts8(g->x + r0, g->x + r1, x);
+    grid_verts8(g->y + r0, g->y + r1, y);
+    /* area3(v0, v1, v2), exact in int32 (the bit budget) */
+    const __m256i dx1 = _mm256_sub_epi32(x[1], x[0]), dy1 = _mm256_sub_epi32(y[1], y[0]);
+    const __m256i dx2 = _mm256_sub_epi32(x[2], x[0]), dy2 = _mm256_sub_epi32(y[2], y[0]);
+    o->area = _mm256_sub_epi32(_mm256_mullo_epi32(dx1, dy2), _mm256_mullo_epi32(dy1, dx2));
+    const __m256i zero = _mm256_setzero_si256();
+    o->pos = _mm256_cmpgt_epi32(o->area, zero);
+    o->x[0] = x[0], o->y[0] = y[0];
+    o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
+    o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]), _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]),
+               k->offx0, k->offx1, k->sx0, k->sx1, &o->x0, &o->x1);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(y[0], y[1]), y[2]), _mm256_max_epi32(_mm256_max_epi32(y[0], y[1]), y[2]),
+               k->offy0, k->offy1, k->sy0, k->sy1, &o->y0, &o->y1);
+    /* drawn: in the row, area not 0 and not culled (areas of the sign cull_sign are: cull_sign * area > 0) */
+    o->in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
+    o->drawn = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpeq_epi32(o->area, zero), cul), o->in);
+}
+
+/* 8-lane int32 mask -> 8 bits. */
+static inline unsigned mask8(__m256i m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
+
+/* Horizontal min / max of 8 int32 lanes. */
+static inline int32_t hmin8(__m256i v)
+{
+    __m128i m = _mm_min_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+static inline int32_t hmax8(__m256i v)
+{
+    __m128i m = _mm_max_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+
+/* First vertex of row k of the level-L grid whose vertices start at vbase (core_grid_index(L, 0, k)). */
+static inline size_t grid_row_start(size_t vbase, size_t L, size_t k) { return vbase + k * (L + 1) - k * (k - 1) / 2; }
+
+/* The set-up region's part of grid group (level L, vertices from vbase) in chunk c: counts its triangles into *tc
+ * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its rows' pixel boxes
+ * to rows[0..L) and the union of its drawn triangles' boxes to u; returns whether any has a pixel. */
+static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk *c, size_t L, size_t vbase,
+                             tri_counts *tc, int16_t (*rows)[4], int32_t u[4])
+{
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
+    __m256i work = zero;   /* 4 x uint64: below 2^28 triangles of below 2^31 units each */
+    unsigned culled = 0, degenerate = 0, drawn = 0;
+    bool any = false;
+    for (size_t r = 0; r < L; r++) {
+        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
+        const int nt = (int)(2 * (L - r) - 1);   /* the row's triangles */
+        __m256i bx0 = big, by0 = big, bx1 = small, by1 = small;
+        for (int t = 0; t < nt; t += 8) {
+            step8 o;
+            grid_step8(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
+            const unsigned zm = mask8(_mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
+            const unsigned dm = mask8(o.drawn), nz = (unsigned)__builtin_popcount(zm);
+            const unsigned nd = (unsigned)__builtin_popcount(dm);
+            degenerate += nz;
+            culled += (unsigned)(nt - t < 8 ? nt - t : 8) - nz - nd;
+            drawn += nd;
+            /* a pixel: drawn with a box (x0 <= x1, y0 <= y1) */
+            const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o.x0, o.x1),
+                                                                    _mm256_cmpgt_epi32(o.y0, o.y1)), o.drawn);
+            if (!mask8(pix)) continue;
+            /* rs_count_work: min(|area|, box pixels * RS_WORK_UNIT) as uint32 (the bit budget) */
+            const __m256i bp = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_sub_epi32(o.x1, o.x0), one),
+                                                  _mm256_add_epi32(_mm256_sub_epi32(o.y1, o.y0), one));
+            _Static_assert(RS_WORK_UNIT == 1u << 17, "RS_WORK_UNIT as a shift");
+            const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o.area), _mm256_slli_epi32(bp, 17)));
+            work = _mm256_add_epi64(work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
+                                                           _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
+            bx0 = _mm256_min_epi32(bx0, _mm256_blendv_epi8(big, o.x0, pix));
+            by0 = _mm256_min_epi32(by0, _mm256_blendv_epi8(big, o.y0, pix));
+            bx1 = _mm256_max_epi32(bx1, _mm256_blendv_epi8(small, o.x1, pix));
+            by1 = _mm256_max_epi32(by1, _mm256_blendv_epi8(small, o.y1, pix));
+        }
+        const int32_t x0 = hmin8(bx0), y0 = hmin8(by0), x1 = hmax8(bx1), y1 = hmax8(by1);
+        if (x0 > x1) {   /* no pixel in the row: a box no tile meets */
+            rows[r][0] = rows[r][1] = INT16_MAX, rows[r][2] = rows[r][3] = INT16_MIN;
+            continue;
+        }
+        RS_ASSERT(x0 >= 0 && x1 < RS_MAX_SIZE && y0 >= 0 && y1 < RS_MAX_SIZE);
+        rows[r][0] = (int16_t)x0, rows[r][1] = (int16_t)y0, rows[r][2] = (int16_t)x1, rows[r][3] = (int16_t)y1;
+        u[0] = x0 < u[0] ? x0 : u[0], u[1] = y0 < u[1] ? y0 : u[1];
+        u[2] = x1 > u[2] ? x1 : u[2], u[3] = y1 > u[3] ? y1 : u[3];
+        any = true;
+    }
+    uint64_t wl[4];
+    _mm256_storeu_si256((__m256i *)wl, work);
+    const uint64_t sum = wl[0] + wl[1] + wl[2] + wl[3], w = c->work + sum;
+    c->work = w < c->work ? UINT64_MAX : w;   /* rs_count_work's saturation: the same total in any order */
+    tc->culled += culled, tc->degenerate += degenerate, tc->drawn += drawn;
+    return any;
+}
+#endif
+
+/* Can the piece of np triangles over nv vertices in groups of `group` take the grid rows at `level` (0: no)?  Its
+ * rows (with the records' flags ANDed into *all) and row boxes made room for in chunk c (records pv); false also
+ * when out of memory (the rs_gtri path then). */
+static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, size_t group, size_t level,
+                       unsigned *all)
+{
+#ifdef __AVX2__
+    if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
+    const size_t rows = (np / group + 1) * level;
+    return group_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
+#else
+    (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
+    return false;
+#endif
+}
+
 bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
-                                size_t np, size_t group)
+                                size_t np, size_t group, size_t level)
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
-    for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
+    const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
+    if (!grid)
+        for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
     if (!all || group == 0 || np > UINT32_MAX / 3) return false;   /* rs_setup_shared's fallbacks: clipping */
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
+    c->grid_groups = 0;
     if (!group_keep(j, c, v, nv, np)) return true;
     const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
     const box_consts bc = box_consts_of(j);
@@ -576,9 +859,33 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     size_t nt = 0;   /* drawn triangles kept */
     queued q[4];     /* the triangles of groups set up per triangle, waiting for finish_queued */
     int nq = 0;
+#ifdef __AVX2__
+    const grid_cols gc = grid ? grid_cols_of(c) : (grid_cols){ 0 };
+    const grid_consts gk = grid_consts_of(j);
+    const size_t gverts = (level + 1) * (level + 2) / 2;   /* vertices of a grid group */
+    size_t ng = 0;    /* row boxes kept */
+#endif
     for (size_t g0 = 0; g0 < np; g0 += group) {
         const size_t n = np - g0 < group ? np - g0 : group, first = nt;
         const uint64_t work = c->work;
+#ifdef __AVX2__
+        const size_t vb = g0 / group * gverts;
+        if (grid && n == group && vb + gverts <= nv && vb + gverts + RS_GRID_PAD <= UINT32_MAX && grid_extent_ok(&gc, vb, gverts)) {
+            int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
+            tri_counts tc = { 0, 0, 0 };
+            const bool any = grid_group_setup(&gc, &gk, c, level, vb, &tc, c->grow + ng, u);
+            culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
+            if (!any) continue;   /* no pixel of the group: no entry */
+            if (box_tiles(u) <= GROUP_MAX_TILES) {
+                if (!group_push(j, c, u, ng, level, level, vb)) break;
+                ng += level, c->grid_groups++;
+                continue;
+            }
+            c->work = work;   /* per triangle, as below: push_front counts the work again */
+            if (!group_as_triangles(j, c, &bc, idx, g0, n, g0 + n, &tc, q, &nq)) break;
+            continue;
+        }
+#endif
         int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
         size_t k = g0;   /* the triangles before k are counted */
         bool big = false;
@@ -605,7 +912,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
         }
         if (nt == first) continue;   /* no pixel of the group: no entry */
         if (!big) {
-            if (!group_push(j, c, u, first, nt - first)) break;
+            if (!group_push(j, c, u, first, nt - first, 0, 0)) break;
             continue;
         }
         c->work = work, nt = first;   /* per triangle: push_front counts the work again */
@@ -660,8 +967,119 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
     for (int i = 0; i < n; i++) rs_tri_tile(j, t, &sp[i], sa[i]);
 }
 
+#ifdef __AVX2__
+/* Lanes 4h..4h+3 of an 8-lane int32 vector. */
+static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
+
+/* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8) into sp[0..4):
+ * finish4_lanes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
+ * grid_verts8, swapped as o's). */
+static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
+                                    int h, __m128i live, rs_prim *sp)
+{
+    const size_t q = (size_t)(2 * h);   /* the half's first quad, from i */
+    const __m128i pos = half4(o->pos, h);
+    __m128i x[3], y[3];
+    __m128 zf[3];
+    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get the
+     * triangle (0, 0), (256, 0), (0, 256) at 1/w = 1 instead, so that no lane divides by zero (as finish4's
+     * spare lanes repeat a real triangle); their results are not used */
+    const __m128i dx1 = _mm_andnot_si128(live, _mm_set1_epi32(RS_SUB));
+    x[0] = _mm_and_si128(half4(o->x[0], h), live), y[0] = _mm_and_si128(half4(o->y[0], h), live);
+    x[1] = _mm_blendv_epi8(dx1, half4(o->x[1], h), live), y[1] = _mm_and_si128(half4(o->y[1], h), live);
+    x[2] = _mm_and_si128(half4(o->x[2], h), live), y[2] = _mm_blendv_epi8(dx1, half4(o->y[2], h), live);
+    const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
+    const __m128 zc = _mm_loadu_ps(g->z + r1 + q), zd = _mm_loadu_ps(g->z + r1 + q + 1);
+    zf[0] = _mm_shuffle_ps(za, za, _MM_SHUFFLE(2, 1, 1, 0));               /* r0: 0 1 1 2 */
+    const __m128 z1 = _mm_unpacklo_ps(zb, zd), z2 = _mm_shuffle_ps(zc, zc, _MM_SHUFFLE(1, 1, 0, 0));
+    const __m128 fpos = _mm_castsi128_ps(pos);
+    zf[1] = _mm_blendv_ps(z2, z1, fpos), zf[2] = _mm_blendv_ps(z1, z2, fpos);
+    const __m256d wa = _mm256_loadu_pd(g->w + r0 + q), wc = _mm256_loadu_pd(g->w + r1 + q);
+    const __m128d wb = _mm_loadu_pd(g->w + r0 + q + 1), wd = _mm_loadu_pd(g->w + r1 + q + 1);
+    const __m256d w0 = _mm256_permute4x64_pd(wa, _MM_SHUFFLE(2, 1, 1, 0));
+    const __m256d w1 = _mm256_setr_m128d(_mm_unpacklo_pd(wb, wd), _mm_unpackhi_pd(wb, wd));
+    const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
+    const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
+    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live)), one = _mm256_set1_pd(1.0);
+    char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
+    finish4_lanes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
+                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
+                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
+}
+
+/* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
+ * (grid_step8), those that are drawn and meet the tile set up from the rows (grid_finish_half) into the L1 scratch
+ * and rasterized at once in the group's order, as rs_tri_tile does. */
+static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *gp)
+{
+    const grid_cols g = grid_cols_of(c);
+    const grid_consts k = grid_consts_of(j);
+    const size_t L = gp->u.g.level, vbase = gp->u.g.vbase, ns = (size_t)j->n_slots;
+    const int16_t (*rows)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
+    const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
+    const __m256i vtx0 = _mm256_set1_epi32(tx0), vty0 = _mm256_set1_epi32(ty0);
+    const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
+    _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 */
+    _Alignas(64) float sa[RS_MAX_ATTR * RS_ATTR_STRIDE];
+    for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
+    for (size_t r = 0; r < L; r++) {
+        const int16_t *rb = rows[r];
+        if (rb[0] > tx1 || rb[1] > ty1 || rb[2] < tx0 || rb[3] < ty0) continue;   /* (or no pixel in the row) */
+        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
+        const int nt = (int)(2 * (L - r) - 1);
+        for (int i = 0; 2 * i < nt; i += 4) {
+            step8 o;
+            const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
+            grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
+            const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
+            const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
+            const __m256i live = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cx0, cx1),
+                                                                     _mm256_cmpgt_epi32(cy0, cy1)), o.drawn);
+            unsigned m = mask8(live);
+            if (!m) continue;
+            int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
+            _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
+            _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
+            for (int h = 0; h < 2; h++) {
+                if (!((m >> (4 * h)) & 15)) continue;
+                grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
+                char *const bp[4] = { (char *)&sp[4 * h], (char *)&sp[4 * h + 1], (char *)&sp[4 * h + 2],
+                                      (char *)&sp[4 * h + 3] };
+                store_t32(_mm_castsi128_ps(half4(o.x0, h)), _mm_castsi128_ps(half4(o.y0, h)),
+                          _mm_castsi128_ps(half4(o.x1, h)), _mm_castsi128_ps(half4(o.y1, h)), bp, offsetof(rs_prim, x0));
+            }
+            /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
+             * indices (grid_verts8's lanes, swapped as the step's) */
+            uint32_t id[3][8];
+            const __m256i b0 = _mm256_set1_epi32((int32_t)q0), b1 = _mm256_set1_epi32((int32_t)q1);
+            const __m256i i1 = _mm256_add_epi32(_mm256_blend_epi32(b0, b1, 0xaa), _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4));
+            const __m256i i2 = _mm256_add_epi32(b1, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
+            _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
+            _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
+            _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
+            for (; m; m &= m - 1) {
+                const int l = __builtin_ctz(m);
+                const rs_vec4 *ga = c->gattr;
+                if (ns == 1) rs_fill_slot(sa, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                else
+                    for (size_t s = 0; s < ns; s++)
+                        rs_fill_slot(sa + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
+                                     &ga[id[2][l] * ns + s]);
+                RS_KERNEL(rs_tri_fast)(j, t, &sp[l], sa, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+            }
+        }
+    }
+}
+#endif
+
 void RS_KERNEL(rs_group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *g)
 {
+#ifdef __AVX2__
+    if (g->u.g.level) {
+        grid_tile(j, t, c, g);
+        return;
+    }
+#endif
     const rs_pvert *pv = c->gpv;
     const size_t ns = (size_t)j->n_slots;
     const tile_rect tr = tile_rect_of(t->x0, t->y0, t->x1 - 1, t->y1 - 1);

@@ -36,6 +36,17 @@ static void test_regular(void **state)
     assert_int_equal(core_grid_regular(2, bary, idx), 6);
     assert_int_equal(core_grid_points(2), 6);
     assert_int_equal(core_grid_triangles(2), 4);
+    /* core_grid_regular_level: the list just made is level 2; NULL, no triangles, huge counts, the wrong point
+     * count, a changed index, a count that is not a square: 0 */
+    assert_int_equal(core_grid_regular_level(idx, 4, 6), 2);
+    assert_int_equal(core_grid_regular_level(NULL, 4, 6), 0);
+    assert_int_equal(core_grid_regular_level(idx, 0, 6), 0);
+    assert_int_equal(core_grid_regular_level(idx, SIZE_MAX, 6), 0);
+    assert_int_equal(core_grid_regular_level(idx, 4, SIZE_MAX), 0);
+    assert_int_equal(core_grid_regular_level(idx, 4, 7), 0);
+    assert_int_equal(core_grid_regular_level(idx, 3, 6), 0);
+    idx[11] ^= 1;
+    assert_int_equal(core_grid_regular_level(idx, 4, 6), 0);
 }
 
 /* core_grid_make / core_grid_pg / core_grid_pg_clamp: kinds that do not exist, levels not finite, negative,

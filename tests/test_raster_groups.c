@@ -143,7 +143,7 @@ static void draw_frame(const frame *f, how h, result *out)
     src_ctx ctx[DRAWS];   /* a recorded draw's source context lives until the flush */
     for (int d = 0; d < DRAWS; d++) {
         ctx[d] = (src_ctx){f, d};
-        rs_source src = {PIECES, PIECES * INST * PRIMS, INST * VERTS, produce, &ctx[d], h.group};
+        rs_source src = {PIECES, PIECES * INST * PRIMS, INST * VERTS, produce, &ctx[d], h.group, 0};
         assert_int_equal(rs_draw_source(rs, &f->st[d], &rt, &src, &s), RS_OK);
         test_rs_stats_add(&out->sum, &s);
     }
@@ -239,7 +239,7 @@ static void test_group_over_tiles(void **state)
         rs_target rt;
         assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
         rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
-        rs_source src = {1, BPRIMS, BVERTS, produce_big, b, BPRIMS};
+        rs_source src = {1, BPRIMS, BVERTS, produce_big, b, BPRIMS, 0};
         assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &stats[pass]), RS_OK);
         col[pass] = malloc(sizeof(uint32_t) * W * H);
         assert_non_null(col[pass]);

@@ -121,7 +121,7 @@ static void draw_frame(const frame *f, bool scene, bool reference, int threads, 
     src_ctx ctx[DRAWS];   /* a recorded draw's source context lives until the flush */
     for (int d = 0; d < DRAWS; d++) {
         ctx[d] = (src_ctx){f, d};
-        rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &ctx[d], 0};
+        rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &ctx[d], 0, 0};
         rs_state st = f->st[d];   /* changed below after the draw: the queued draw keeps its own copy */
         assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);
         test_rs_stats_add(&out->sum, &s);
@@ -195,7 +195,7 @@ static void test_scene_defers(void **state)
     rs_stats sink = {0}, s;
     rs_set_scene(rs, &sink);
     src_ctx c = {f, 0};
-    rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &c, 0};
+    rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &c, 0, 0};
     rs_state st = f->st[0];
     st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_LESSEQUAL, st.blend_enable = false, st.scissor_enable = false, st.viewport = (rs_viewport){0, 0, W, H, 0.0f, 1.0f};
     rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
