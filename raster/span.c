@@ -458,17 +458,24 @@ static inline uint64_t take8(uint64_t *cov, int *n)
 /* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
  * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
- * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats) and frag8's
- * operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather, the
- * passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
+ * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
+ * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
+ * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
 ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, int wbits,
                               uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
 {
     const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
     const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
     const v8i off = row * bi(w) + col;
-    const rows8 r = rows8_at(j, tr, bi(Xs) + (col << RS_SUB_BITS));
-    const ypart y = ypart_at(j, tr, bi(Ys) + (row << RS_SUB_BITS));
+    /* rows8_at and ypart_at without their sample offsets: on a 1-sample target sox[0] = soy[0] = 0 (draw.c), and
+     * fx + 0.0f is fx (fx is an integer times 1/256, never -0) */
+    RS_ASSERT(j->sox[0] == 0 && j->soy[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f fx = __builtin_convertvector(bi(Xs) + (col << RS_SUB_BITS), v8f) * bf(k);
+    const v8f fy = __builtin_convertvector(bi(Ys) + (row << RS_SUB_BITS), v8f) * bf(k);
+    const rows8 r = {bf(tr->z[2]) + bf(tr->z[0]) * fx, bf(tr->s[2]) + bf(tr->s[0]) * fx,
+                     bf(tr->q1[2]) + bf(tr->q1[0]) * fx, bf(tr->q2[2]) + bf(tr->q2[0]) * fx};
+    const ypart y = {bf(tr->z[1]) * fy, bf(tr->s[1]) * fy, bf(tr->q1[1]) * fy, bf(tr->q2[1]) * fy};
     float *dep = t->depth + o;
     v8i pass = lane_idx < bi(nl);
     v8f z = bf(0.0f);

@@ -33,7 +33,9 @@ static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (fl
 static float near_edge(uint64_t *s, int n)
 {
     int k = (int)(rnd(s) % 3);
-    float c = k == 0 ? (float)(64 * (int)(rnd(s) % (unsigned)(n / 64 + 1))) : k == 1 ? (float)n : frnd(s, 0.0f, (float)n);
+    float c = k == 0   ? (float)(64 * (int)(rnd(s) % (unsigned)(n / 64 + 1)))
+              : k == 1 ? (float)n
+                       : frnd(s, 0.0f, (float)n);
     return c + frnd(s, -6.0f, 6.0f);
 }
 
@@ -97,7 +99,8 @@ static void one_size(uint64_t *s, int w, int h)
         rs_stats rst[2];
         assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
         draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, clear_z, rst);
-        if (rst[0].samples_tested <= 500) fail_msg("only %llu samples tested", (unsigned long long)rst[0].samples_tested);
+        if (rst[0].samples_tested <= 500)
+            fail_msg("only %llu samples tested", (unsigned long long)rst[0].samples_tested);
         for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
             if (!rs_isa_supported(isa)) continue;
             for (int k = 0; k < 4; k++) { /* deferred or not, 1 or 2 threads */
