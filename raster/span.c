@@ -14,7 +14,7 @@
  *
  * The walks (rs_tri_fast picks one per triangle):
  *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
- *    boxes of at most 16 pixels (4x4, or 8 wide and 2 tall) in the plain modes take the stamp walk: the coverage
+ *    boxes of at most 4x8 or 8x2 pixels in the plain modes take the stamp walk: the coverage
  *    of the whole box first, then only its covered pixels packed into the lanes (one pass of 8 for almost every
  *    triangle of a tessellated grid, where the 4x2 walk below drew about a third of its lanes), depth read by a
  *    gather and the passing pixels written one by one; larger boxes go 4x2 pixels at a time (two rows in the 8
@@ -524,8 +524,8 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
 }
 
 /* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
- * (4 or 8) columns by 64 / W rows (positions row * W + column, below 64; walk_small gives it boxes of at most 16
- * pixels).  Coverage first, 8 positions per vector (two rows of 4, or one of 8) with 32-bit edge values (modulo
+ * (4 or 8) columns by 64 / W rows (positions row * W + column, below 64; walk_small gives it boxes of at most 4x8
+ * or 8x2 pixels).  Coverage first, 8 positions per vector (two rows of 4, or one of 8) with 32-bit edge values (modulo
  * 2^32 as edges32: exact by coef_small), into one 64-bit mask; then the covered pixels packed into the lanes, 8 per
  * pass (stamp_pass): one pass for almost every small triangle, where the 4x2 walk drew a third of its lanes. */
 ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int wbits,
@@ -810,7 +810,7 @@ ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_pri
                               int y0, int x1, int y1)
 {
     RS_ASSERT(x1 - x0 < 8 && box_fits32(j, &p->u.t, x0, y0, x1, y1)); /* coef_small's claim */
-    if (m.plain && x1 - x0 < 4 && y1 - y0 < 4) { /* at most 16 pixels: the stamp walk */
+    if (m.plain && x1 - x0 < 4 && y1 - y0 < 8) { /* at most 32 pixels: the stamp walk */
         walk_band(m, j, t, p, a, 2, x0, y0, x1, y1);
     } else if (m.plain && y1 - y0 < 2) {
         walk_band(m, j, t, p, a, 3, x0, y0, x1, y1);
