@@ -876,7 +876,7 @@ INSTANCES(big, walk_big)
 
 typedef void walk_fn(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
 /* walks[walk][mode]: walk 0 small, 1 and 2 span (2 or 4 groups), 3 block; mode: the job's span_mode (0 LESSEQUAL,
- * 1 LESS, 2 any). */
+ * 1 LESS, 2 any).  rs_tri_fast runs walk 0 in mode 0 inline (small_le's entry is not called). */
 static walk_fn *const walks[4][3] = {
     {small_le, small_less, small_any},
     {span2_le, span2_less, span2_any},
@@ -890,7 +890,10 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
     const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
     const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
     const int walk = !small ? 3 : wbox <= 8 ? 0 : wbox <= 16 ? 1 : 2;
-    walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
+    if (walk == 0 && j->span_mode == 0) /* the tessellated grids' case, inline: no second call */
+        walk_small(MODE_LE, j, t, p, a, x0, y0, x1, y1);
+    else
+        walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
