@@ -455,6 +455,15 @@ static inline uint64_t take8(uint64_t *cov, int *n)
     return ids;
 }
 
+/* The positions of the set bits of the 16-bit mask m (at most 8 of them), one byte each from the low byte, as
+ * take8 gives them: _pdep_u64 spreads each bit of m over its nibble (times 0xf), _pext_u64 keeps those nibbles of
+ * 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64 widens the 8 low nibbles to bytes. */
+static inline uint64_t pack16(unsigned m)
+{
+    const uint64_t nib = _pext_u64(0xfedcba9876543210ull, _pdep_u64(m, 0x1111111111111111ull) * 0xfu);
+    return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
+}
+
 /* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
  * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
@@ -557,8 +566,14 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     const int32_t Ys = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
     const size_t o = rs_tile_index(t, x0, y0);
     const int32_t w = (int32_t)t->pitch;
-    int n;
-    uint64_t ids = take8(&cov, &n);
+    int n = __builtin_popcountll(cov);
+    uint64_t ids;
+    if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
+        ids = pack16((unsigned)cov);
+        cov = 0;
+    } else {
+        ids = take8(&cov, &n);
+    }
     stamp_pass(m, j, t, tr, pc, wbits, ids, n, o, w, Xs, Ys);
     while (cov) { /* more than 8 covered pixels: out of line */
         ids = take8(&cov, &n);
