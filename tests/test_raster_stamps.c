@@ -5,8 +5,9 @@
  * pixels take a second pass), placed around the 64-pixel tile borders and the target's right and bottom edges
  * (widths and heights that are not multiples of 4, 8 or 64), with every depth function, depth writes on and off and
  * depth off; they are drawn with a deferred clear (the tile buffers) and with an immediate one (the target's
- * planes), on 1 and 2 threads, with each instruction set the CPU has.  Every byte of colour and depth and every
- * counter must equal the reference path's.  Deterministic: a fixed xorshift seed. */
+ * planes), on 1 and 2 threads, with each instruction set the CPU has; and a deferred clear of one plane only (the
+ * tile buffer takes the other from the target).  Every byte of colour and depth and every counter must equal the
+ * reference path's.  Deterministic: a fixed xorshift seed. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -62,22 +63,31 @@ static rs_vertex *small_triangles(uint64_t *s, int n, int w, int h)
     return v;
 }
 
-/* Draw v (n triangles, twice) into rt with st: on the reference path (reference), else the fast path with
- * instruction set isa; deferred: clear with rs_target_clear_deferred (the tile buffers), else rs_target_clear. */
-static void draw(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa, int threads,
-                 bool deferred, float clear_z, rs_stats *stats)
+/* Draw v (n triangles, twice) into rt with st after a clear of the planes in flags (RS_CLEAR_*; the others keep
+ * a first clear to other values): on the reference path (reference), else the fast path with instruction set isa;
+ * deferred: clear with rs_target_clear_deferred (the tile buffers), else rs_target_clear. */
+static void draw_flags(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa,
+                       int threads, bool deferred, unsigned flags, float clear_z, rs_stats *stats)
 {
     rs_context *rs = rs_create(threads);
     assert_non_null(rs);
     rs_set_reference_path(rs, reference);
     if (!reference) assert_int_equal(rs_set_isa(rs, isa), RS_OK);
-    if (deferred) rs_target_clear_deferred(rs, rt, 3, 0x11223344u, clear_z);
-    else rs_target_clear(rt, 3, 0x11223344u, clear_z);
+    rs_target_clear(rt, 3, 0x55667788u, 0.35f);
+    if (deferred) rs_target_clear_deferred(rs, rt, flags, 0x11223344u, clear_z);
+    else rs_target_clear(rt, flags, 0x11223344u, clear_z);
     for (int pass = 0; pass < 2; pass++)
         assert_int_equal(rs_draw(rs, st, rt, RS_PRIM_TRIANGLES, v, (size_t)n * 3, NULL, (size_t)n, &stats[pass]),
                          RS_OK);
     rs_target_flush(rs, rt);
     rs_destroy(rs);
+}
+
+/* draw_flags with both planes cleared. */
+static void draw(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa, int threads,
+                 bool deferred, float clear_z, rs_stats *stats)
+{
+    draw_flags(rt, st, v, n, reference, isa, threads, deferred, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, clear_z, stats);
 }
 
 /* One target size: every depth state, deferred and immediate clear, 1 and 2 threads, each instruction set, the
@@ -134,10 +144,41 @@ static void test_stamps_same_bytes(void **state)
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) one_size(&s, sizes[i][0], sizes[i][1]);
 }
 
+/* A deferred clear of one plane (the tile buffer takes the other from the target, target.c's
+ * rs_tile_buffer_begin) against the same immediate clear on the reference path, at a width and height that are
+ * not multiples of 64. */
+static void test_partial_deferred_clear(void **state)
+{
+    (void)state;
+    uint64_t s = 0xc1ea7ull;
+    const int w = 150, h = 77, n = 1500;
+    rs_state st;
+    memset(&st, 0, sizeof st);
+    st.cull_mode = RS_CULL_NONE, st.fill_mode = RS_FILL_SOLID, st.shade_mode = RS_SHADE_GOURAUD;
+    st.attr_mask = 1u << RS_ATTR_COLOR0;
+    st.z_enable = st.z_write = true, st.z_func = RS_CMP_LESSEQUAL;
+    st.viewport = (rs_viewport){0, 0, w, h, 0.0f, 1.0f};
+    rs_vertex *v = small_triangles(&s, n, w, h);
+    for (unsigned flags = RS_CLEAR_COLOR; flags <= RS_CLEAR_DEPTH; flags <<= 1) {
+        rs_target rt[2];
+        rs_stats stats[2][2];
+        for (int k = 0; k < 2; k++) { /* k = 0: reference, immediate; 1: fast, deferred */
+            assert_int_equal(rs_target_init(&rt[k], w, h, 1), RS_OK);
+            draw_flags(&rt[k], &st, v, n, k == 0, RS_ISA_AVX2, 2, k == 1, flags, 0.6f, stats[k]);
+        }
+        assert_memory_equal(rt[0].color, rt[1].color, (size_t)w * (size_t)h * 4);
+        assert_memory_equal(rt[0].depth, rt[1].depth, (size_t)w * (size_t)h * 4);
+        assert_memory_equal(&stats[0][1].samples_written, &stats[1][1].samples_written, sizeof(uint64_t));
+        for (int k = 0; k < 2; k++) rs_target_free(&rt[k]);
+    }
+    free(v);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stamps_same_bytes),
+        cmocka_unit_test(test_partial_deferred_clear),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
