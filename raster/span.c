@@ -14,11 +14,11 @@
  *
  * The walks (rs_tri_fast picks one per triangle):
  *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
- *    boxes of at most 4x8 or 8x2 pixels in the plain modes take the stamp walk: the coverage
- *    of the whole box first, then only its covered pixels packed into the lanes (one pass of 8 for almost every
- *    triangle of a tessellated grid, where the 4x2 walk below drew about a third of its lanes), depth read by a
- *    gather and the passing pixels written one by one; larger boxes go 4x2 pixels at a time (two rows in the 8
- *    lanes) when at most 4 wide, the others one row of 8 lanes;
+ *    boxes of at most 4x8 or 8x2 pixels in the plain modes take the stamp walk: the coverage of the whole box
+ *    first, then only its covered pixels packed into the lanes (one pass of 8 for almost every triangle of a
+ *    tessellated grid, where the 4x2 walk below drew about a third of its lanes), depth read by a gather and the
+ *    passing pixels written one by one; larger boxes go 4x2 pixels at a time (two rows in the 8 lanes) when at
+ *    most 4 wide, the others one row of 8 lanes;
  *  - medium ones (box at most 32 wide, the same coefficients): the span walk, no blocks either: each row's
  *    coverage over a window of 2 or 4 groups of 8 columns (32-bit edge values), then 8-lane groups from the
  *    row's first covered pixel until its covered interval is done, so lanes hold only covered pixels' runs;
@@ -536,9 +536,10 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
 
 /* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
  * (4 or 8) columns by 64 / W rows (positions row * W + column, below 64; walk_small gives it boxes of at most 4x8
- * or 8x2 pixels).  Coverage first, 8 positions per vector (two rows of 4, or one of 8) with 32-bit edge values (modulo
- * 2^32 as edges32: exact by coef_small), into one 64-bit mask; then the covered pixels packed into the lanes, 8 per
- * pass (stamp_pass): one pass for almost every small triangle, where the 4x2 walk drew a third of its lanes. */
+ * or 8x2 pixels).  Coverage first, 8 positions per vector (two rows of 4, or one of 8) with 32-bit edge values
+ * (modulo 2^32 as edges32: exact by coef_small), into one 64-bit mask; then the covered pixels packed into the
+ * lanes (pack16, take8), 8 per pass (stamp_pass): one pass for almost every small triangle, where the 4x2 walk
+ * drew a third of its lanes. */
 ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int wbits,
                              int x0, int y0, int x1, int y1)
 {
