@@ -14,7 +14,11 @@
  *
  * The walks (rs_tri_fast picks one per triangle):
  *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
- *    boxes at most 4 wide go 4x2 pixels at a time (two rows in the 8 lanes), the others one row of 8 lanes;
+ *    boxes of at most 4x8 or 8x2 pixels in the plain modes take the stamp walk: the coverage of the whole box
+ *    first, then only its covered pixels packed into the lanes (one pass of 8 for almost every triangle of a
+ *    tessellated grid, where the 4x2 walk below drew about a third of its lanes), depth read by a gather and the
+ *    passing pixels written one by one; larger boxes go 4x2 pixels at a time (two rows in the 8 lanes) when at
+ *    most 4 wide, the others one row of 8 lanes;
  *  - medium ones (box at most 32 wide, the same coefficients): the span walk, no blocks either: each row's
  *    coverage over a window of 2 or 4 groups of 8 columns (32-bit edge values), then 8-lane groups from the
  *    row's first covered pixel until its covered interval is done, so lanes hold only covered pixels' runs;
@@ -435,6 +439,151 @@ ALWAYS_INLINE void walk_rows(fctx *c, zmode m, const rs_job *j, rs_tile *t, cons
     }
 }
 
+/* ---- the stamp walk: boxes at most 8 wide, plain modes ---- */
+
+/* The positions of the first (at most 8) set bits of *cov, one byte each from the low byte; they are cleared from
+ * *cov and their count goes to *n. */
+static inline uint64_t take8(uint64_t *cov, int *n)
+{
+    uint64_t ids = 0, c = *cov;
+    int k = 0;
+    do {
+        ids |= (uint64_t)__builtin_ctzll(c) << (8 * k++);
+        c &= c - 1;
+    } while (c && k < 8);
+    *cov = c, *n = k;
+    return ids;
+}
+
+/* The positions of the set bits of the 16-bit mask m (at most 8 of them), one byte each from the low byte, as
+ * take8 gives them: _pdep_u64 spreads each bit of m over its nibble (times 0xf), _pext_u64 keeps those nibbles of
+ * 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64 widens the 8 low nibbles to bytes.
+ * (BMI2's pdep / pext take one instruction each: fast on Intel since Haswell and on AMD since Zen 3, microcoded
+ * and slow on Zen 1 and 2.) */
+static inline uint64_t pack16(unsigned m)
+{
+    const uint64_t nib = _pext_u64(0xfedcba9876543210ull, _pdep_u64(m, 0x1111111111111111ull) * 0xfu);
+    return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
+}
+
+/* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
+ * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
+ * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
+ * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
+ * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
+ * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
+ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, int wbits,
+                              uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
+{
+    const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
+    const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
+    const v8i off = row * bi(w) + col;
+    /* rows8_at and ypart_at without their sample offsets: on a 1-sample target sox[0] = soy[0] = 0 (draw.c), and
+     * fx + 0.0f is fx (fx is an integer times 1/256, never -0) */
+    RS_ASSERT(j->sox[0] == 0 && j->soy[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f fx = __builtin_convertvector(bi(Xs) + (col << RS_SUB_BITS), v8f) * bf(k);
+    const v8f fy = __builtin_convertvector(bi(Ys) + (row << RS_SUB_BITS), v8f) * bf(k);
+    const rows8 r = {bf(tr->z[2]) + bf(tr->z[0]) * fx, bf(tr->s[2]) + bf(tr->s[0]) * fx,
+                     bf(tr->q1[2]) + bf(tr->q1[0]) * fx, bf(tr->q2[2]) + bf(tr->q2[0]) * fx};
+    const ypart y = {bf(tr->z[1]) * fy, bf(tr->s[1]) * fy, bf(tr->q1[1]) * fy, bf(tr->q2[1]) * fy};
+    float *dep = t->depth + o;
+    v8i pass = lane_idx < bi(nl);
+    v8f z = bf(0.0f);
+    if (m.ze) { /* lanes past nl read the stamp's position 0 (id 0): a pixel of the box, so inside the planes */
+        const v8f d = (v8f)_mm256_i32gather_ps(dep, (__m256i)off, 4);
+        z = zclamp8(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
+        pass &= zpass8(m.zf, z, d);
+    }
+    t->tested += (uint64_t)nl;
+    unsigned pm = mask_of(pass);
+    if (!pm) return;
+    t->written += (uint64_t)__builtin_popcount(pm);
+    const v8f rr = bf(1.0f) / (r.sx + y.sy);
+    const v8f b1 = (r.q1x + y.q1y) * rr;
+    const v8f b2 = (r.q2x + y.q2y) * rr;
+    const v8i src = pc ? shade8(pc, -1, b1, b2) : bi(-1);
+    int32_t ov[8]; /* unaligned: no realignment of the stack for them */
+    float zv[8];
+    uint32_t cv[8];
+    _mm256_storeu_si256((__m256i *)ov, (__m256i)off);
+    _mm256_storeu_si256((__m256i *)cv, (__m256i)src);
+    uint32_t *col0 = t->color + o;
+    if (m.ze && m.zw) {
+        _mm256_storeu_ps(zv, (__m256)z);
+        do {
+            const int l = __builtin_ctz(pm);
+            dep[ov[l]] = zv[l];
+            col0[ov[l]] = cv[l];
+        } while (pm &= pm - 1);
+    } else {
+        do {
+            const int l = __builtin_ctz(pm);
+            col0[ov[l]] = cv[l];
+        } while (pm &= pm - 1);
+    }
+}
+
+/* stamp_pass out of line, with the mode as a value: the passes after a band's first (more than 8 covered pixels),
+ * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
+static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
+                                                    const float *pc, int wbits, uint64_t ids, int nl, size_t o,
+                                                    int32_t w, int32_t Xs, int32_t Ys)
+{
+    if (wbits == 2) stamp_pass(m, j, t, tr, pc, 2, ids, nl, o, w, Xs, Ys);
+    else stamp_pass(m, j, t, tr, pc, 3, ids, nl, o, w, Xs, Ys);
+}
+
+/* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
+ * (4 or 8) columns by 64 / W rows (positions row * W + column, below 64; walk_small gives it boxes of at most 4x8
+ * or 8x2 pixels).  Coverage first, 8 positions per vector (two rows of 4, or one of 8) with 32-bit edge values
+ * (modulo 2^32 as edges32: exact by coef_small), into one 64-bit mask; then the covered pixels packed into the
+ * lanes (pack16, take8), 8 per pass (stamp_pass): one pass for almost every small triangle, where the 4x2 walk
+ * drew a third of its lanes. */
+ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int wbits,
+                             int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    const int vr = wbits == 2 ? 2 : 1; /* rows per vector */
+    const v8u Xl = bu((uint32_t)((int64_t)x0 * RS_SUB - j->cx)) +
+                   ((wbits == 2 ? (v8u)quad_col : (v8u)lane_idx) << RS_SUB_BITS);
+    const v8u Yl = bu((uint32_t)((int64_t)y0 * RS_SUB - j->cy)) + ((wbits == 2 ? (v8u)quad_row : bu(0)) << RS_SUB_BITS);
+    const v8u eb0 = bu((uint32_t)tr->eb[0]), eb1 = bu((uint32_t)tr->eb[1]), eb2 = bu((uint32_t)tr->eb[2]);
+    v8u e0 = Xl * bu((uint32_t)tr->ea[0]) + Yl * eb0 + bu((uint32_t)tr->ec[0]);
+    v8u e1 = Xl * bu((uint32_t)tr->ea[1]) + Yl * eb1 + bu((uint32_t)tr->ec[1]);
+    v8u e2 = Xl * bu((uint32_t)tr->ea[2]) + Yl * eb2 + bu((uint32_t)tr->ec[2]);
+    const int ds = RS_SUB_BITS + vr - 1; /* vr rows in 1/256 px, as a shift */
+    const v8u d0 = eb0 << ds, d1 = eb1 << ds, d2 = eb2 << ds;
+    const unsigned cols = (1u << (x1 - x0 + 1)) - 1u, vbox = wbits == 2 ? cols * 0x11u : cols;
+    const int nv = (y1 - y0) / vr + 1; /* vectors, at most 8 */
+    RS_ASSERT(x1 - x0 < (1 << wbits) && nv <= 8);
+    uint64_t cov = 0;
+    for (int v = 0; v < nv; v++) {
+        const unsigned bx = vr == 2 && 2 * v == y1 - y0 ? vbox & 0x0fu : vbox; /* the last row alone */
+        cov |= (uint64_t)(bx & ~mask_of((v8i)(e0 | e1 | e2))) << (8 * v); /* sign bit: some edge < 0 */
+        e0 += d0, e1 += d1, e2 += d2;
+    }
+    if (!cov) return;
+    const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
+    const int32_t Xs = (int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx);
+    const int32_t Ys = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
+    const size_t o = rs_tile_index(t, x0, y0);
+    const int32_t w = (int32_t)t->pitch;
+    int n = __builtin_popcountll(cov);
+    uint64_t ids;
+    if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
+        ids = pack16((unsigned)cov);
+        cov = 0;
+    } else {
+        ids = take8(&cov, &n);
+    }
+    stamp_pass(m, j, t, tr, pc, wbits, ids, n, o, w, Xs, Ys);
+    while (cov) { /* more than 8 covered pixels: out of line */
+        ids = take8(&cov, &n);
+        stamp_pass_rt(m, j, t, tr, pc, wbits, ids, n, o, w, Xs, Ys);
+    }
+}
+
 /* ---- the span walk ---- */
 
 /* Span windows are at most this many groups of 8 columns wide (boxes up to 32 px; wider ones of coef_small
@@ -678,13 +827,19 @@ ALWAYS_INLINE void walk_blocks(fctx *c, zmode m, const rs_job *j, rs_tile *t, co
 ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0,
                               int y0, int x1, int y1)
 {
-    fctx c;
-    fctx_make(&c, j, t, p, a);
     RS_ASSERT(x1 - x0 < 8 && box_fits32(j, &p->u.t, x0, y0, x1, y1)); /* coef_small's claim */
-    if (m.plain && x1 - x0 < 4 && y1 > y0) walk_quads(&c, m, j, t, x0, y0, x1, y1);
-    else walk_rows(&c, m, j, t, p, a, x0, y0, x1, y1);
-    t->tested += c.tested;
-    t->written += c.written;
+    if (m.plain && x1 - x0 < 4 && y1 - y0 < 8) { /* at most 32 pixels: the stamp walk */
+        walk_band(m, j, t, p, a, 2, x0, y0, x1, y1);
+    } else if (m.plain && y1 - y0 < 2) {
+        walk_band(m, j, t, p, a, 3, x0, y0, x1, y1);
+    } else { /* larger boxes, whose lanes the 4x2 and row walks fill better; blending or AOV planes */
+        fctx c;
+        fctx_make(&c, j, t, p, a);
+        if (m.plain && x1 - x0 < 4) walk_quads(&c, m, j, t, x0, y0, x1, y1);
+        else walk_rows(&c, m, j, t, p, a, x0, y0, x1, y1);
+        t->tested += c.tested;
+        t->written += c.written;
+    }
 }
 
 /* The same through the span walk (box at most 8 * ng wide, coef_small, tile at least 8 wide). */
@@ -739,7 +894,7 @@ INSTANCES(big, walk_big)
 
 typedef void walk_fn(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1);
 /* walks[walk][mode]: walk 0 small, 1 and 2 span (2 or 4 groups), 3 block; mode: the job's span_mode (0 LESSEQUAL,
- * 1 LESS, 2 any). */
+ * 1 LESS, 2 any).  rs_tri_fast runs walk 0 in mode 0 inline (small_le's entry is not called). */
 static walk_fn *const walks[4][3] = {
     {small_le, small_less, small_any},
     {span2_le, span2_less, span2_any},
@@ -753,7 +908,10 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
     const int wbox = x1 - x0 + 1; /* small: the small-triangle and span walks' conditions */
     const bool small = t->x1 - t->x0 >= 8 && wbox <= 8 * SPAN_GROUPS && coef_small(&p->u.t);
     const int walk = !small ? 3 : wbox <= 8 ? 0 : wbox <= 16 ? 1 : 2;
-    walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
+    if (walk == 0 && j->span_mode == 0) /* the tessellated grids' case, inline: no second call */
+        walk_small(MODE_LE, j, t, p, a, x0, y0, x1, y1);
+    else
+        walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */

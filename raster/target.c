@@ -115,6 +115,12 @@ static void fill32(word32 *dst, uint32_t bits, size_t n, bool stream)
     if (stream) {
         for (; i + 8 <= n; i += 8) _mm256_stream_si256((__m256i *)(dst + i), v);
     } else {
+        for (; i + 32 <= n; i += 32) { /* a tile buffer's planes: 4 stores per step (a third of the instructions) */
+            _mm256_store_si256((__m256i *)(dst + i), v);
+            _mm256_store_si256((__m256i *)(dst + i + 8), v);
+            _mm256_store_si256((__m256i *)(dst + i + 16), v);
+            _mm256_store_si256((__m256i *)(dst + i + 24), v);
+        }
         for (; i + 8 <= n; i += 8) _mm256_store_si256((__m256i *)(dst + i), v);
     }
 #endif
@@ -128,12 +134,19 @@ static void copy32(word32 *restrict dst, const word32 *restrict src, size_t n, b
     size_t i = 0;
 #ifdef __AVX2__
     for (; i < n && ((uintptr_t)(dst + i) & 31u); i++) dst[i] = src[i];
-    if (stream)
+    if (stream) {
         for (; i + 8 <= n; i += 8)
             _mm256_stream_si256((__m256i *)(dst + i), _mm256_loadu_si256((const __m256i *)(src + i)));
-    else
+    } else {
+        for (; i + 16 <= n; i += 16) { /* a tile row's copy-out: 2 vectors per step */
+            const __m256i a = _mm256_loadu_si256((const __m256i *)(src + i));
+            const __m256i b = _mm256_loadu_si256((const __m256i *)(src + i + 8));
+            _mm256_store_si256((__m256i *)(dst + i), a);
+            _mm256_store_si256((__m256i *)(dst + i + 8), b);
+        }
         for (; i + 8 <= n; i += 8)
             _mm256_store_si256((__m256i *)(dst + i), _mm256_loadu_si256((const __m256i *)(src + i)));
+    }
 #else
     (void)stream;
 #endif
@@ -312,12 +325,17 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)RS_TILE * ns;
     uint32_t *col = buf, *dep = col + row * RS_TILE, zb;
     memcpy(&zb, &rs->pend_z, 4);
-    for (int y = y0; y < y1; y++) {
+    /* a cleared plane is filled whole, its rows at once (the columns past the target's right edge too, which
+     * nothing copies out): one call per plane where one per row cost the fill's set-up 64 times */
+    const size_t rows = (size_t)(y1 - y0) * row;
+    if (rs->pend_flags & RS_CLEAR_COLOR) fill32(col, rs->pend_rgba, rows, false);
+    if (rs->pend_flags & RS_CLEAR_DEPTH) fill32(dep, zb, rows, false);
+    const bool keeps = (~rs->pend_flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)) != 0; /* a plane from the target */
+    const bool aov = (rs->pend_flags & RS_CLEAR_COLOR) && rt->n_aov > 0;
+    for (int y = y0; y < y1 && (keeps || aov); y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns, bt = (size_t)(y - y0) * row;
-        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(col + bt, rs->pend_rgba, n, false);
-        else memcpy(col + bt, rt->color + at, n * sizeof *col);
-        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32(dep + bt, zb, n, false);
-        else memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
+        if (!(rs->pend_flags & RS_CLEAR_COLOR)) memcpy(col + bt, rt->color + at, n * sizeof *col);
+        if (!(rs->pend_flags & RS_CLEAR_DEPTH)) memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
         for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
