@@ -360,6 +360,8 @@ static is_result draw_shaded_run(is_device *dev, const fetch_plan *fp, is_primty
     unsigned per;
     int prim = prim_raster_type(type, &per);
     if (draw_fused_takes(dev, prim, count)) { /* the fast path: draw_fused.c */
+        if (type == IS_PT_TRIANGLELIST) /* a list's index stream is its triangles' list: nothing to assemble */
+            return draw_fused(dev, fp, n_prims, first, count, stream_idx);
         uint32_t *list = scratch_get(&dev->list, 3 * n_prims, sizeof *list);
         if (!list) return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for %zu indices", n_prims * 3);
         for (size_t p = 0; p < n_prims; p++)
@@ -461,19 +463,53 @@ static is_result check_index_range(is_device *dev, const char *call, unsigned st
     return IS_OK;
 }
 
+/* Indices start..start+n_idx-1 of ib (in the buffer) rebased to min into out; true when every one lies in
+ * [min, min + num) (out is then the draw's list), false when one does not.  Eight indices per vector (GCC's -O2
+ * does not vectorize the loop by itself), the rest one by one. */
+static bool rebase_indices(const is_index_buffer *ib, unsigned start, size_t n_idx, unsigned min, unsigned num,
+                           uint32_t *restrict out)
+{
+    typedef uint32_t u32x8 __attribute__((vector_size(32)));
+    typedef uint16_t u16x8 __attribute__((vector_size(16)));
+    const bool i16 = ib->format == IS_FMT_INDEX16;
+    const unsigned char *src = ib->data + (i16 ? 2 : 4) * (size_t)start;
+    u32x8 bad8 = {0};
+    size_t k = 0;
+    for (; k + 8 <= n_idx; k += 8) {
+        u32x8 v;
+        if (i16) {
+            u16x8 h;
+            memcpy(&h, src + 2 * k, sizeof h);
+            v = __builtin_convertvector(h, u32x8);
+        } else
+            memcpy(&v, src + 4 * k, sizeof v);
+        const u32x8 r = v - min;
+        bad8 |= (u32x8)((v < min) | (r >= num));
+        memcpy(out + k, &r, sizeof r);
+    }
+    uint32_t bad = 0;
+    for (int q = 0; q < 8; q++) bad |= bad8[q];
+    for (; k < n_idx; k++) {
+        const uint32_t v = read_index(ib, start + k), r = v - min;
+        bad |= (v < min) | (r >= num);
+        out[k] = r;
+    }
+    return !bad;
+}
+
 /* Read the draw's indices (in the buffer: check_index_range), check them against [min, min + num) and rebase
  * them to min. */
 static is_result read_indices(is_device *dev, const char *call, unsigned start, size_t n_idx, unsigned min,
                               unsigned num, uint32_t *out)
 {
     const is_index_buffer *ib = dev->ib;
-    for (size_t k = 0; k < n_idx; k++) {
+    if (rebase_indices(ib, start, n_idx, min, num, out)) return IS_OK;
+    for (size_t k = 0; k < n_idx; k++) {   /* the first index outside, for the message */
         uint32_t v = read_index(ib, start + k);
         if (v < min || v - min >= num)
             return dev_fail(dev, IS_ERR_INVALIDCALL,
                             "%s: index %u at position %zu outside MinVertexIndex %u + NumVertices %u", call,
                             v, start + k, min, num);
-        out[k] = v - min;
     }
     return IS_OK;
 }
