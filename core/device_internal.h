@@ -210,9 +210,22 @@ typedef struct dev_scene {
     is_result err;          /* the first error of a recorded draw at a flush, until dev_flush reports it */
 } dev_scene;
 
+/* How a recorded draw fills a slot's input registers (draw_fused.c): its shader's entries, its vertex count, which
+ * registers its per-vertex elements fill (vreg[q] for the fetch cache's element q) and which its per-instance
+ * elements fill.  Two draws of the same layout whose per-vertex values are equal leave the same registers. */
+typedef struct fused_layout {
+    bool valid;                 /* false: the slot's registers are not known (fresh scratch) */
+    bool per_call;              /* the shader is called per vertex (per-instance registers in every entry) */
+    is_vs_grid_batch_fn grid_fn; /* the shader's grid_batch (its workspace's format) */
+    uint32_t count, inst_regs, n_vert;
+    uint8_t vreg[IS_MAX_ELEMENTS];
+} fused_layout;
+
 /* The per-thread scratch of the recorded draws' producers (draw_fused.c), sized when a draw is recorded and used
  * at the flush: per slot (rs_produce_fn's) v_slot shaded vertices, in_slot input registers and list_slot indices,
- * and which record's inputs (tag) and index list (ltag, lcount instances of it) the slot holds. */
+ * which record's inputs (tag) and index list (ltag, lcount instances of it) the slot holds, and the layout its
+ * input registers were last made with (lay: a draw of the same layout and per-vertex values keeps them, and the
+ * shader's grid workspace with them). */
 typedef struct fused_scratch {
     int slots;
     size_t v_slot, in_slot, list_slot;
@@ -221,6 +234,7 @@ typedef struct fused_scratch {
     uint32_t *list;
     uint64_t *tag, *ltag;
     uint32_t *lcount;
+    fused_layout *lay;
     is_vs_grid *grid;          /* per slot: the shader's grid workspace (grid_batch), grid_room bytes each */
     unsigned char *grid_mem;
     size_t grid_room;

@@ -53,6 +53,7 @@ typedef struct fused_ctx {
     uint32_t live;             /* live_outputs(dev) */
     size_t grid_room;          /* bytes of the shader's grid workspace per slot (0: it takes none) */
     cull_view cull;            /* the pre-tessellation cull (draw_cull.c) */
+    fused_layout lay;          /* how its pieces fill a slot's input registers */
     uint64_t serial;           /* the record's number (the slots' tags) */
     uint64_t culled;           /* instances culled at the flush (atomic) */
 } fused_ctx;
@@ -66,25 +67,55 @@ struct fused_rec {
     float4 data[];
 };
 
+/* Whether the slot's input registers in[0..count) (made with layout *have) already hold what record f's would be
+ * made of: the same layout and, register by register, the same bits as f's fetch cache (a vertex buffer rewritten
+ * between two draws gives other values, so the registers are made again). */
+static bool inputs_kept(const fused_ctx *f, const fused_layout *have, const is_vs_input *in)
+{
+    const fused_layout *want = &f->lay;
+    if (!have->valid || have->per_call != want->per_call || have->grid_fn != want->grid_fn ||
+        have->count != want->count || have->inst_regs != want->inst_regs || have->n_vert != want->n_vert ||
+        memcmp(have->vreg, want->vreg, want->n_vert))
+        return false;
+    const float4 *c = f->cache;
+    for (uint32_t v = 0; v < want->count; v++) {
+        const float4 *r = (const float4 *)&in[v];
+        for (uint32_t q = 0; q < want->n_vert; q++, c++)
+            if (memcmp(&r[want->vreg[q]], c, sizeof *c)) return false;
+    }
+    return true;
+}
+
+/* Make the slot's input registers in[0..count) ready for record f (once per record and slot: *ready), unless they
+ * already are (inputs_kept, from an earlier record): D3D9's defaults, then the per-vertex registers from the
+ * draw's fetch_cache (the same for every instance; no element shares a register with another).  The slot's grid
+ * workspace ws (NULL: none) follows the registers: made anew with them, kept with them. */
+static void slot_inputs(const fused_ctx *f, is_vs_input *in, fused_layout *lay, is_vs_grid *ws)
+{
+    if (inputs_kept(f, lay, in)) return;
+    for (uint32_t v = 0; v < f->count; v++) input_defaults(&in[v]);
+    fetch_cached(f->fp, f->cache, 0, f->count, in);
+    *lay = f->lay;
+    if (ws) ws->ready = false;
+}
+
 /* Make the inputs of `instance` ready for shade_instance, which shades all `count` vertices into out[0..count)
- * with one batch call (so the shader's 8-lane groups are full but for the instance's last ones).  in[0..count)
- * is the slot's input scratch, made ready once per record and slot (*ready; the slot's grid workspace, when the
- * shader takes one, is made anew with it): D3D9's defaults, then the per-vertex registers from the draw's fetch_cache (the same for every
- * instance; no element shares a register with another).  Per instance only the per-instance registers are
- * fetched: into in[0] alone for a batch shader, into every entry for a shader called per vertex.  A batch shader
- * is told that every register but the per-vertex ones (fp->shared: the per-instance registers and the defaults)
- * is the same for all vertices and stored in in[0] only.  The outputs are not zeroed first: the rasterizer reads
- * oPos and the live outputs the shader writes (its `outputs` mask), nothing else of this scratch. */
-static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, is_vs_grid *grid)
+ * with one batch call (so the shader's 8-lane groups are full but for the instance's last ones): the slot's
+ * registers for the record (slot_inputs, once per record and slot: *ready), then per instance only the
+ * per-instance registers, fetched into in[0] alone for a batch shader, into every entry for a shader called per
+ * vertex.  A batch shader is told that every register but the per-vertex ones (fp->shared: the per-instance
+ * registers and the defaults) is the same for all vertices and stored in in[0] only.  The outputs are not zeroed
+ * first: the rasterizer reads oPos and the live outputs the shader writes (its `outputs` mask), nothing else of
+ * this scratch. */
+static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *in, bool *ready, fused_layout *lay,
+                           is_vs_grid *ws)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
     const is_vertex_shader *vs = f->vs;
     if (!*ready) {
-        for (uint32_t v = 0; v < n; v++) input_defaults(&in[v]);
-        fetch_cached(fp, f->cache, 0, n, in);
+        slot_inputs(f, in, lay, ws);
         *ready = true;
-        if (grid) grid->ready = false; /* the shader's grid workspace follows the per-vertex registers */
     }
     const uint32_t copies = vs->batch ? 1 : n;
     for (unsigned k = 0; k < fp->n; k++) {
@@ -144,11 +175,12 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
     uint32_t a = (uint32_t)piece * f->per_piece, n = f->ni - a < f->per_piece ? f->ni - a : f->per_piece;
     rs_vertex *out = z->v + (size_t)slot * z->v_slot;
     is_vs_input *in = z->in + (size_t)slot * z->in_slot;
-    is_vs_grid *grid = f->grid_room && z->grid_room >= f->grid_room ? &z->grid[slot] : NULL;
+    is_vs_grid *ws = z->grid ? &z->grid[slot] : NULL;
+    is_vs_grid *grid = f->grid_room && z->grid_room >= f->grid_room ? ws : NULL;
     bool ready = z->tag[slot] == f->serial;   /* the slot's inputs were made for this record */
     uint32_t kept = 0;
     for (uint32_t i = 0; i < n; i++) {
-        fetch_instance(f, f->i0 + a + i, in, &ready, grid);
+        fetch_instance(f, f->i0 + a + i, in, &ready, &z->lay[slot], ws);
         is_patch_hull h;
         if (f->cull.on && f->vs->hull(&f->consts, in, &h) && cull_instance(&f->cull, &h)) {
 #pragma omp atomic
@@ -201,6 +233,18 @@ static fused_rec *rec_take(dev_scene *sc, size_t bytes)
     return r;
 }
 
+/* The layout (fused_layout) record f's pieces fill a slot's input registers with. */
+static void layout_of(const fused_ctx *f, fused_layout *lay)
+{
+    const fetch_plan *fp = f->fp;
+    memset(lay, 0, sizeof *lay);
+    lay->valid = true, lay->per_call = f->vs->batch == NULL, lay->count = f->count, lay->n_vert = fp->n_vert;
+    lay->grid_fn = f->vs->grid_batch;
+    for (unsigned q = 0; q < fp->n_vert; q++) lay->vreg[q] = (uint8_t)(fp->el[fp->vert[q]].reg_offset / sizeof(float4));
+    for (unsigned k = 0; k < fp->n; k++)
+        if (fp->el[k].per_instance) lay->inst_regs |= 1u << (fp->el[k].reg_offset / sizeof(float4));
+}
+
 /* Record a pass of the draw (instances set by the caller): copies of the shader, constants, viewport map, fetch
  * plan, fetch cache (nc float4), instance 0's index list (3 n_prims) and cull; NULL when out of memory. */
 static fused_ctx *fused_record(is_device *dev, const fetch_plan *fp, const float4 *cache, size_t nc,
@@ -219,6 +263,7 @@ static fused_ctx *fused_record(is_device *dev, const fetch_plan *fp, const float
     f->n_idx = 3 * n_prims, f->list0 = l0, f->slot_verts = (size_t)per_piece * count, f->cache = r->data;
     f->live = live_outputs(dev), f->cull = *cull, f->serial = ++dev->scene.serial, f->culled = 0;
     f->grid_room = r->vs.grid_batch && r->vs.grid_room ? r->vs.grid_room(count) : 0;
+    layout_of(f, &f->lay);
     return f;
 }
 
@@ -236,12 +281,12 @@ static is_result fused_reserve(is_device *dev, int slots, const fused_ctx *f)
     const size_t ns = (size_t)n.slots;
     n.v = malloc(ns * n.v_slot * sizeof *n.v), n.in = malloc(ns * n.in_slot * sizeof *n.in);
     n.list = malloc(ns * n.list_slot * sizeof *n.list), n.lcount = calloc(ns, sizeof *n.lcount);
-    n.tag = calloc(ns, sizeof *n.tag), n.ltag = calloc(ns, sizeof *n.ltag);
-    if (!n.v || !n.in || !n.list || !n.lcount || !n.tag || !n.ltag) {
-        free(n.v), free(n.in), free(n.list), free(n.lcount), free(n.tag), free(n.ltag);
+    n.tag = calloc(ns, sizeof *n.tag), n.ltag = calloc(ns, sizeof *n.ltag), n.lay = calloc(ns, sizeof *n.lay);
+    if (!n.v || !n.in || !n.list || !n.lcount || !n.tag || !n.ltag || !n.lay) {
+        free(n.v), free(n.in), free(n.list), free(n.lcount), free(n.tag), free(n.ltag), free(n.lay);
         return dev_fail(dev, IS_ERR_OUTOFMEMORY, "draw: out of memory for the shading scratch");
     }
-    free(z->v), free(z->in), free(z->list), free(z->lcount), free(z->tag), free(z->ltag);
+    free(z->v), free(z->in), free(z->list), free(z->lcount), free(z->tag), free(z->ltag), free(z->lay);
     if (n.slots != z->slots) {   /* the grid workspaces are per slot: fused_reserve_grids makes them again */
         free(z->grid), free(z->grid_mem);
         n.grid = NULL, n.grid_mem = NULL, n.grid_room = 0;
@@ -354,7 +399,7 @@ void dev_scene_free(is_device *dev)
     for (size_t k = 0; k < dev->scene.cap; k++) free(dev->scene.recs[k]);
     free(dev->scene.recs);
     fused_scratch *z = &dev->fz;
-    free(z->v), free(z->in), free(z->list), free(z->lcount), free(z->tag), free(z->ltag);
+    free(z->v), free(z->in), free(z->list), free(z->lcount), free(z->tag), free(z->ltag), free(z->lay);
     free(z->grid), free(z->grid_mem);
     memset(&dev->scene, 0, sizeof dev->scene), memset(z, 0, sizeof *z);
 }

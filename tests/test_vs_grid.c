@@ -298,6 +298,79 @@ static void test_device_grid_changes(void **state)
     mesh_free(&m);
 }
 
+/* On dev (whose shader and constants scene_draw set), grid g0 bound by tess_bind_instanced and drawn, then the
+ * same vertex and index buffers locked and rewritten with grid g1 (the same sizes: the same buffer pointers) and
+ * drawn again: the two images into img[0] and img[1]. */
+static void draw_rewritten(is_device *dev, const scene_opts *o, const is_mesh *m, const core_grid *g0,
+                           const core_grid *g1, uint32_t *img[2])
+{
+    tess_resources r = {0};
+    assert_int_equal(tess_bind_instanced(dev, m, g0, &r), IS_OK);
+    const size_t px = (size_t)o->width * (size_t)o->height;
+    for (int d = 0; d < 2; d++) {
+        if (d == 1) {   /* Lock, new contents, Unlock: stream 0's points and the indices of g1 */
+            memcpy(vb_lock(r.vb0), g1->bary, g1->n_points * sizeof(float3));
+            vb_unlock(r.vb0);
+            uint16_t *ix = ib_lock(r.ib);
+            for (size_t k = 0; k < 3 * g1->n_triangles; k++) ix[k] = (uint16_t)g1->idx[k];
+            ib_unlock(r.ib);
+        }
+        assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, o->background, 1.0f), IS_OK);
+        assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, r.n_vertices, 0, r.n_prims), IS_OK);
+        assert_int_equal(dev_get_render_target_data(dev, img[d], px), IS_OK);
+    }
+    tess_resources_free(&r);
+}
+
+/* The fused path keeps a slot's input registers and grid plan from one draw to the next when their per-vertex
+ * values are the same; here the stream-0 buffer is rewritten between two draws (Lock, the points reversed,
+ * Unlock: the same buffer, the same size, the same layout), and the second draw must render the new grid: both
+ * images are the reference path's, and the first is scene_draw's, for both patches on 1 and 2 threads. */
+static void test_device_grid_rewritten(void **state)
+{
+    (void)state;
+    is_mesh m;
+    assert_int_equal(cubes_mesh(2, &m), 0);
+    for (int p = 0; p < 2; p++)
+        for (int threads = 1; threads <= 2; threads++) {
+            scene_opts o;
+            scene_opts_default(&o);
+            o.width = 160, o.height = 120, o.threads = threads, o.level = 6;
+            o.patch = p ? VS_PATCH_SMOOTH : VS_PATCH_NPATCH;
+            o.normals = VS_NORMALS_LINEAR;
+            core_grid g[2];
+            assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[0]), 0);
+            assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[1]), 0);
+            reverse_grid(&g[1]);
+            is_device *dev[2];
+            const size_t px = (size_t)o.width * (size_t)o.height;
+            uint32_t *img[2][2], *first = malloc(px * sizeof *first);
+            assert_non_null(first);
+            for (int d = 0; d < 2; d++) {   /* 0: the fused path, 1: the reference path */
+                dev[d] = dev_create(o.width, o.height, 1, NULL, 0);
+                assert_non_null(dev[d]);
+                dev_set_threads(dev[d], threads);
+                dev_set_reference_path(dev[d], d == 1);
+                img[d][0] = malloc(px * sizeof(uint32_t)), img[d][1] = malloc(px * sizeof(uint32_t));
+                assert_true(img[d][0] && img[d][1]);
+                draw_image(dev[d], &o, &m, &g[0], first);   /* the shader and constants */
+                draw_rewritten(dev[d], &o, &m, &g[0], &g[1], img[d]);
+                assert_memory_equal(img[d][0], first, px * sizeof *first);
+            }
+            for (int k = 0; k < 2; k++) {
+                size_t diff = 0;
+                for (size_t q = 0; q < px; q++) diff += img[0][k][q] != img[1][k][q];
+                if (diff)
+                    fail_msg("patch %d, %d threads, draw %d: %zu pixels differ from the reference path", p, threads,
+                             k, diff);
+            }
+            for (int d = 0; d < 2; d++) free(img[d][0]), free(img[d][1]), dev_destroy(dev[d]);
+            free(first);
+            core_grid_free(&g[0]), core_grid_free(&g[1]);
+        }
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +378,7 @@ int main(void)
         cmocka_unit_test(test_grid_batch_same_bytes),
         cmocka_unit_test(test_grid_workspace_states),
         cmocka_unit_test(test_device_grid_changes),
+        cmocka_unit_test(test_device_grid_rewritten),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
