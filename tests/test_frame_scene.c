@@ -343,6 +343,81 @@ static void test_error_at_flush(void **state)
     dev_destroy(sc.dev);
 }
 
+/* vs_grid with the colour made of every component of three per-vertex elements (FLOAT1 texcoord1, FLOAT3
+ * texcoord2, FLOAT4 texcoord3), each with its own weight: a component read wrong, or a default other than D3D9's
+ * (0, 0, 1), changes it. */
+static void vs_floats(const is_vs_constants *c, const is_vs_input *in, is_vs_output *out)
+{
+    vs_grid(c, in, out);
+    const float4 a = in->texcoord[1], b = in->texcoord[2], d = in->texcoord[3];
+    out->attr[RS_ATTR_COLOR0] = f4(0.1f * a.x + 0.2f * a.y + 0.3f * a.z + 0.4f * a.w,
+                                   0.1f * b.x + 0.2f * b.y + 0.3f * b.z + 0.4f * b.w,
+                                   0.1f * d.x + 0.2f * d.y + 0.3f * d.z + 0.4f * d.w, 1.0f);
+}
+static const is_vertex_shader vs_fl = {.name = "floats", .main = vs_floats, .outputs = IS_OUT_COLOR0};
+
+/* Two instanced draws of a grid whose vertices hold FLOAT2, FLOAT1, FLOAT3 and FLOAT4 elements (40 bytes): the
+ * whole grid inside its buffer, then stream 0 moved by 8 bytes so that the last vertex's FLOAT4 lies past the
+ * buffer's end (it reads zeros); the image into color. */
+static void render_floats(int threads, bool reference, uint32_t *color)
+{
+    scene sc = make_scene(threads, reference);
+    is_device *dev = sc.dev;
+    is_vertex_buffer *vb;
+    assert_int_equal(dev_create_vertex_buffer(dev, N * N * 40, &vb), IS_OK);
+    float (*v)[10] = vb_lock(vb);
+    uint64_t s = 77;
+    for (int k = 0; k < N * N; k++) {
+        v[k][0] = (float)(k % N) / (N - 1), v[k][1] = (float)(k / N) / (N - 1);
+        for (int q = 2; q < 10; q++) v[k][q] = frnd(&s, 0, 1);
+    }
+    vb_unlock(vb);
+    const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
+                                    {0, 8, IS_DECLTYPE_FLOAT1, 0, IS_DECLUSAGE_TEXCOORD, 1},
+                                    {0, 12, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 2},
+                                    {0, 24, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 3},
+                                    {1, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0},
+                                    {1, 16, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_COLOR, 0}, IS_DECL_END};
+    is_vertex_declaration *decl;
+    assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
+    dev_set_vertex_declaration(dev, decl);
+    dev_set_vertex_shader(dev, &vs_fl);
+    assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff203040u, 1.0f), IS_OK);
+    for (int d = 0; d < 2; d++) {
+        random_states(dev, &s);
+        dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
+        dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 0);
+        dev_set_stream_source(dev, 0, vb, 8u * (unsigned)d, 40);
+        dev_set_stream_source(dev, 1, sc.inst[d], 0, 32);
+        dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 12u);
+        assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, N * N, 0, 2 * (N - 1) * (N - 1)),
+                         IS_OK);
+    }
+    assert_int_equal(dev_get_render_target_data(dev, color, W * H), IS_OK);
+    decl_release(decl), decl_release(sc.decl);
+    vb_release(vb), vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
+    ib_release(sc.ib);
+    dev_destroy(dev);
+}
+
+/* The fused path's per-vertex fetch of FLOAT1..FLOAT4 elements (draw.c's fetch_floats, and the element read past
+ * its buffer's end, which takes decl_fetch) gives the reference path's image on 1 and 2 threads. */
+static void test_per_vertex_floats(void **state)
+{
+    (void)state;
+    uint32_t *ref = malloc(W * H * sizeof *ref), *img = malloc(W * H * sizeof *img);
+    assert_true(ref && img);
+    render_floats(1, true, ref);
+    size_t lit = 0;
+    for (size_t k = 0; k < W * H; k++) lit += ref[k] != 0xff203040u;
+    assert_true(lit > 1000);
+    for (int threads = 1; threads <= 2; threads++) {
+        render_floats(threads, false, img);
+        assert_memory_equal(ref, img, W * H * sizeof *ref);
+    }
+    free(ref), free(img);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -350,6 +425,7 @@ int main(void)
         cmocka_unit_test(test_one_region_per_frame),
         cmocka_unit_test(test_texture_lock_between_draws),
         cmocka_unit_test(test_error_at_flush),
+        cmocka_unit_test(test_per_vertex_floats),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
