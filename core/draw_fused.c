@@ -121,7 +121,7 @@ static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
     for (unsigned k = 0; k < fp->n; k++) {
         const fetch_elem *e = &fp->el[k];
         if (!e->per_instance) continue;
-        float4 r = decl_fetch(e->type, fetch_at(e, instance));
+        float4 r = decl_fetch_inline(e->type, fetch_at(e, instance));
         for (uint32_t v = 0; v < copies; v++) *(float4 *)((unsigned char *)&in[v] + e->reg_offset) = r;
     }
 }

@@ -356,10 +356,12 @@ static void vs_floats(const is_vs_constants *c, const is_vs_input *in, is_vs_out
 }
 static const is_vertex_shader vs_fl = {.name = "floats", .main = vs_floats, .outputs = IS_OUT_COLOR0};
 
-/* Two instanced draws of a grid whose vertices hold FLOAT2, FLOAT1, FLOAT3 and FLOAT4 elements (40 bytes): the
- * whole grid inside its buffer, then stream 0 moved by 8 bytes so that the last vertex's FLOAT4 lies past the
- * buffer's end (it reads zeros); the image into color. */
-static void render_floats(int threads, bool reference, uint32_t *color)
+/* Two instanced draws (25 instances) of a grid whose vertices hold FLOAT2, FLOAT1, FLOAT3 and FLOAT4 elements (40
+ * bytes): the whole grid inside its buffer, then stream 0 moved by 8 bytes so that the last vertex's FLOAT4 lies
+ * past the buffer's end (it reads zeros); with per_instance the FLOAT1, FLOAT3 and FLOAT4 elements are read per
+ * instance instead (stream 2, INSTANCEDATA | 1, the same buffer: the last instance's FLOAT4 past the end); the
+ * image into color. */
+static void render_floats(int threads, bool reference, bool per_instance, uint32_t *color)
 {
     scene sc = make_scene(threads, reference);
     is_device *dev = sc.dev;
@@ -372,10 +374,11 @@ static void render_floats(int threads, bool reference, uint32_t *color)
         for (int q = 2; q < 10; q++) v[k][q] = frnd(&s, 0, 1);
     }
     vb_unlock(vb);
+    const uint16_t st = per_instance ? 2 : 0;
     const is_vertex_element el[] = {{0, 0, IS_DECLTYPE_FLOAT2, 0, IS_DECLUSAGE_POSITION, 0},
-                                    {0, 8, IS_DECLTYPE_FLOAT1, 0, IS_DECLUSAGE_TEXCOORD, 1},
-                                    {0, 12, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 2},
-                                    {0, 24, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 3},
+                                    {st, 8, IS_DECLTYPE_FLOAT1, 0, IS_DECLUSAGE_TEXCOORD, 1},
+                                    {st, 12, IS_DECLTYPE_FLOAT3, 0, IS_DECLUSAGE_TEXCOORD, 2},
+                                    {st, 24, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 3},
                                     {1, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0},
                                     {1, 16, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_COLOR, 0}, IS_DECL_END};
     is_vertex_declaration *decl;
@@ -387,9 +390,14 @@ static void render_floats(int threads, bool reference, uint32_t *color)
         random_states(dev, &s);
         dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
         dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 0);
-        dev_set_stream_source(dev, 0, vb, 8u * (unsigned)d, 40);
+        if (per_instance) {
+            dev_set_stream_source(dev, 0, sc.grid, 0, 8);
+            dev_set_stream_source(dev, 2, vb, 8u * (unsigned)d, 40);
+            dev_set_stream_source_freq(dev, 2, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+        } else
+            dev_set_stream_source(dev, 0, vb, 8u * (unsigned)d, 40);
         dev_set_stream_source(dev, 1, sc.inst[d], 0, 32);
-        dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 12u);
+        dev_set_stream_source_freq(dev, 0, IS_STREAMSOURCE_INDEXEDDATA | 25u);
         assert_int_equal(dev_draw_indexed_primitive(dev, IS_PT_TRIANGLELIST, 0, 0, N * N, 0, 2 * (N - 1) * (N - 1)),
                          IS_OK);
     }
@@ -400,20 +408,23 @@ static void render_floats(int threads, bool reference, uint32_t *color)
     dev_destroy(dev);
 }
 
-/* The fused path's per-vertex fetch of FLOAT1..FLOAT4 elements (draw.c's fetch_floats, and the element read past
- * its buffer's end, which takes decl_fetch) gives the reference path's image on 1 and 2 threads. */
+/* The fused path's fetch of FLOAT1..FLOAT4 elements, per vertex (draw.c's fetch_floats, and the element read past
+ * its buffer's end, which takes decl_fetch) and per instance (decl_fetch_inline), gives the reference path's image
+ * on 1 and 2 threads. */
 static void test_per_vertex_floats(void **state)
 {
     (void)state;
     uint32_t *ref = malloc(W * H * sizeof *ref), *img = malloc(W * H * sizeof *img);
     assert_true(ref && img);
-    render_floats(1, true, ref);
-    size_t lit = 0;
-    for (size_t k = 0; k < W * H; k++) lit += ref[k] != 0xff203040u;
-    assert_true(lit > 1000);
-    for (int threads = 1; threads <= 2; threads++) {
-        render_floats(threads, false, img);
-        assert_memory_equal(ref, img, W * H * sizeof *ref);
+    for (int inst = 0; inst < 2; inst++) {
+        render_floats(1, true, inst, ref);
+        size_t lit = 0;
+        for (size_t k = 0; k < W * H; k++) lit += ref[k] != 0xff203040u;
+        assert_true(lit > 1000);
+        for (int threads = 1; threads <= 2; threads++) {
+            render_floats(threads, false, inst, img);
+            assert_memory_equal(ref, img, W * H * sizeof *ref);
+        }
     }
     free(ref), free(img);
 }
