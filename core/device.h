@@ -243,7 +243,8 @@ typedef void (*is_vs_batch_fn)(const is_vs_constants *c, const is_vs_input *in, 
  * batches over the same points (the device's fused path shades every instance of a draw over one grid).  mem
  * holds room bytes (any alignment; room from grid_room); ready false tells the shader to derive it again from the
  * batch's inputs (it sets ready then).  The caller clears ready whenever the per-vertex registers of in[0..n) may
- * have changed -- the device does at each draw, when it fetches them. */
+ * have changed -- the device does when a draw's per-vertex registers differ in a bit from those its slot holds
+ * (so it keeps the workspace across draws of the same grid points). */
 typedef struct is_vs_grid {
     void *mem;
     size_t room;

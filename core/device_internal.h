@@ -211,9 +211,10 @@ typedef struct dev_scene {
     is_result err;          /* the first error of a recorded draw at a flush, until dev_flush reports it */
 } dev_scene;
 
-/* How a recorded draw fills a slot's input registers (draw_fused.c): its shader's entries, its vertex count, which
- * registers its per-vertex elements fill (vreg[q] for the fetch cache's element q) and which its per-instance
- * elements fill.  Two draws of the same layout whose per-vertex values are equal leave the same registers. */
+/* How a recorded draw fills a slot's input registers (draw_fused.c): its shader's entries, its vertex count (a
+ * slot's: the entries made with this shape), which registers its per-vertex elements fill (vreg[q] for the fetch
+ * cache's element q) and which its per-instance elements fill.  Two draws of the same layout whose per-vertex
+ * values are equal leave the same registers. */
 typedef struct fused_layout {
     bool valid;                 /* false: the slot's registers are not known (fresh scratch) */
     bool per_call;              /* the shader is called per vertex (per-instance registers in every entry) */

@@ -13,7 +13,9 @@
  * the rasterizer (rs_draw_source with the scene on, which the device turns on).  At the rasterizer's next flush
  * the threads take pieces across all recorded draws in ONE parallel region, then ONE tile pass walks each tile's
  * draws in submission order: a frame of many small draws (scene D: ~650) pays two regions per flush, not two per
- * draw.  Each slot's scratch (dev->fz) says which record its inputs and index list were made for.  On a machine
+ * draw.  Each slot's scratch (dev->fz) says which record its inputs and index list were made for, and a record
+ * whose per-vertex registers are those the slot holds, bit for bit (scene D: the two parities of a pattern), keeps
+ * them and the shader's grid plan.  On a machine
  * whose cores are busy with other processes, each region's end can wait for a descheduled thread while libgomp's
  * default busy-waiting keeps the core -- run with OMP_WAIT_POLICY=passive there. */
 #include "device_internal.h"
@@ -67,16 +69,20 @@ struct fused_rec {
     float4 data[];
 };
 
-/* Whether the slot's input registers in[0..count) (made with layout *have) already hold what record f's would be
- * made of: the same layout and, register by register, the same bits as f's fetch cache (a vertex buffer rewritten
- * between two draws gives other values, so the registers are made again). */
-static bool inputs_kept(const fused_ctx *f, const fused_layout *have, const is_vs_input *in)
+/* Whether a slot's registers made with layout *have are laid out as record f's would be: the same shader kind,
+ * the same per-instance registers and the same per-vertex registers in the same order (then only the per-vertex
+ * values of the entries may differ; have->count entries were made). */
+static bool same_shape(const fused_layout *have, const fused_layout *want)
+{
+    return have->valid && have->per_call == want->per_call && have->inst_regs == want->inst_regs &&
+           have->n_vert == want->n_vert && !memcmp(have->vreg, want->vreg, want->n_vert);
+}
+
+/* Whether the per-vertex registers of in[0..count) hold, bit for bit, record f's fetch cache (a vertex buffer
+ * rewritten between two draws gives other values, whatever its pointer and size). */
+static bool same_values(const fused_ctx *f, const is_vs_input *in)
 {
     const fused_layout *want = &f->lay;
-    if (!have->valid || have->per_call != want->per_call || have->grid_fn != want->grid_fn ||
-        have->count != want->count || have->inst_regs != want->inst_regs || have->n_vert != want->n_vert ||
-        memcmp(have->vreg, want->vreg, want->n_vert))
-        return false;
     const float4 *c = f->cache;
     for (uint32_t v = 0; v < want->count; v++) {
         const float4 *r = (const float4 *)&in[v];
@@ -86,16 +92,25 @@ static bool inputs_kept(const fused_ctx *f, const fused_layout *have, const is_v
     return true;
 }
 
-/* Make the slot's input registers in[0..count) ready for record f (once per record and slot: *ready), unless they
- * already are (inputs_kept, from an earlier record): D3D9's defaults, then the per-vertex registers from the
- * draw's fetch_cache (the same for every instance; no element shares a register with another).  The slot's grid
- * workspace ws (NULL: none) follows the registers: made anew with them, kept with them. */
+/* Make the slot's input registers in[0..count) ready for record f (once per record and slot), made with layout
+ * *lay before: kept as they are when they already hold f's (same_shape, enough entries, same_values); else the
+ * per-vertex registers from the draw's fetch_cache (the same for every instance; no element shares a register with
+ * another) over D3D9's defaults, which are written only to the entries not made with f's shape before (the other
+ * registers of those hold the defaults, or per-instance registers fetch_instance rewrites).  The slot's grid
+ * workspace ws (NULL: none) follows the registers: kept with them (and the same grid_batch), else made anew. */
 static void slot_inputs(const fused_ctx *f, is_vs_input *in, fused_layout *lay, is_vs_grid *ws)
 {
-    if (inputs_kept(f, lay, in)) return;
-    for (uint32_t v = 0; v < f->count; v++) input_defaults(&in[v]);
+    const bool shape = same_shape(lay, &f->lay);
+    if (shape && lay->count >= f->count && same_values(f, in)) {
+        if (lay->grid_fn != f->lay.grid_fn && ws) ws->ready = false;
+        lay->grid_fn = f->lay.grid_fn;
+        return;
+    }
+    const uint32_t made = shape ? lay->count : 0;
+    for (uint32_t v = made; v < f->count; v++) input_defaults(&in[v]);
     fetch_cached(f->fp, f->cache, 0, f->count, in);
     *lay = f->lay;
+    lay->count = made > f->count ? made : f->count;
     if (ws) ws->ready = false;
 }
 

@@ -359,9 +359,10 @@ static const is_vertex_shader vs_fl = {.name = "floats", .main = vs_floats, .out
 /* Two instanced draws (25 instances) of a grid whose vertices hold FLOAT2, FLOAT1, FLOAT3 and FLOAT4 elements (40
  * bytes): the whole grid inside its buffer, then stream 0 moved by 8 bytes so that the last vertex's FLOAT4 lies
  * past the buffer's end (it reads zeros); with per_instance the FLOAT1, FLOAT3 and FLOAT4 elements are read per
- * instance instead (stream 2, INSTANCEDATA | 1, the same buffer: the last instance's FLOAT4 past the end); the
- * image into color. */
-static void render_floats(int threads, bool reference, bool per_instance, uint32_t *color)
+ * instance instead (stream 2, INSTANCEDATA | 1, the same buffer: the last instance's FLOAT4 past the end); with
+ * drop the second draw's declaration has no FLOAT4 element (its register must read D3D9's default, not what the
+ * first draw left in the slot's registers); the image into color. */
+static void render_floats(int threads, bool reference, bool per_instance, bool drop, uint32_t *color)
 {
     scene sc = make_scene(threads, reference);
     is_device *dev = sc.dev;
@@ -381,12 +382,15 @@ static void render_floats(int threads, bool reference, bool per_instance, uint32
                                     {st, 24, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 3},
                                     {1, 0, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_TEXCOORD, 0},
                                     {1, 16, IS_DECLTYPE_FLOAT4, 0, IS_DECLUSAGE_COLOR, 0}, IS_DECL_END};
-    is_vertex_declaration *decl;
+    is_vertex_element el3[7];   /* el without its FLOAT4 element */
+    memcpy(el3, el, 3 * sizeof *el), memcpy(el3 + 3, el + 4, 3 * sizeof *el);
+    is_vertex_declaration *decl, *decl3;
     assert_int_equal(dev_create_vertex_declaration(dev, el, &decl), IS_OK);
-    dev_set_vertex_declaration(dev, decl);
+    assert_int_equal(dev_create_vertex_declaration(dev, el3, &decl3), IS_OK);
     dev_set_vertex_shader(dev, &vs_fl);
     assert_int_equal(dev_clear(dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, 0xff203040u, 1.0f), IS_OK);
     for (int d = 0; d < 2; d++) {
+        dev_set_vertex_declaration(dev, drop && d == 1 ? decl3 : decl);
         random_states(dev, &s);
         dev_set_render_state(dev, IS_RS_CULLMODE, IS_CULL_NONE);
         dev_set_render_state(dev, IS_RS_ALPHABLENDENABLE, 0);
@@ -402,27 +406,29 @@ static void render_floats(int threads, bool reference, bool per_instance, uint32
                          IS_OK);
     }
     assert_int_equal(dev_get_render_target_data(dev, color, W * H), IS_OK);
-    decl_release(decl), decl_release(sc.decl);
+    decl_release(decl), decl_release(decl3), decl_release(sc.decl);
     vb_release(vb), vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
     ib_release(sc.ib);
     dev_destroy(dev);
 }
 
 /* The fused path's fetch of FLOAT1..FLOAT4 elements, per vertex (draw.c's fetch_floats, and the element read past
- * its buffer's end, which takes decl_fetch) and per instance (decl_fetch_inline), gives the reference path's image
- * on 1 and 2 threads. */
+ * its buffer's end, which takes decl_fetch) and per instance (decl_fetch_inline), and a draw whose declaration
+ * drops an element after one that had it (the slot's registers made again: draw_fused.c's slot_inputs), give the
+ * reference path's image on 1 and 2 threads. */
 static void test_per_vertex_floats(void **state)
 {
     (void)state;
     uint32_t *ref = malloc(W * H * sizeof *ref), *img = malloc(W * H * sizeof *img);
     assert_true(ref && img);
-    for (int inst = 0; inst < 2; inst++) {
-        render_floats(1, true, inst, ref);
+    for (int mode = 0; mode < 3; mode++) {
+        const bool inst = mode == 1, drop = mode == 2;
+        render_floats(1, true, inst, drop, ref);
         size_t lit = 0;
         for (size_t k = 0; k < W * H; k++) lit += ref[k] != 0xff203040u;
         assert_true(lit > 1000);
         for (int threads = 1; threads <= 2; threads++) {
-            render_floats(threads, false, inst, img);
+            render_floats(threads, false, inst, drop, img);
             assert_memory_equal(ref, img, W * H * sizeof *ref);
         }
     }
