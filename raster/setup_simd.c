@@ -844,6 +844,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
+    c->grid_direct = 0;
     const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
     if (!grid)
         for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
@@ -1019,8 +1020,11 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
     const __m256i vtx0 = _mm256_set1_epi32(tx0), vty0 = _mm256_set1_epi32(ty0);
     const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
-    _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 */
-    _Alignas(64) float sa[RS_MAX_ATTR * RS_ATTR_STRIDE];
+    const size_t stride = ns * RS_ATTR_STRIDE;
+    const __m256i span_max = _mm256_set1_epi32(8192);   /* span.c's coef_small: |ea|, |eb| <= 2^13 */
+    _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
+    _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
+    uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
     for (size_t r = 0; r < L; r++) {
         const int16_t *rb = rows[r];
@@ -1057,18 +1061,30 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
             _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
             _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
-            for (; m; m &= m - 1) {
-                const int l = __builtin_ctz(m);
+            for (unsigned f = m; f; f &= f - 1) {
+                const int l = __builtin_ctz(f);
                 const rs_vec4 *ga = c->gattr;
-                if (ns == 1) rs_fill_slot(sa, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                float *a = sa + (size_t)l * stride;
+                if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
                 else
                     for (size_t s = 0; s < ns; s++)
-                        rs_fill_slot(sa + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
+                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
                                      &ga[id[2][l] * ns + s]);
-                RS_KERNEL(rs_tri_fast)(j, t, &sp[l], sa, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
             }
+            /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
+             * vertices' spans in x and in y are */
+            const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
+                                                 _mm256_min_epi32(_mm256_min_epi32(o.x[0], o.x[1]), o.x[2]));
+            const __m256i spy = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.y[0], o.y[1]), o.y[2]),
+                                                 _mm256_min_epi32(_mm256_min_epi32(o.y[0], o.y[1]), o.y[2]));
+            const unsigned small = ~mask8(_mm256_or_si256(_mm256_cmpgt_epi32(spx, span_max),
+                                                          _mm256_cmpgt_epi32(spy, span_max))) & 0xffu;
+            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small);
         }
     }
+    /* the test's counter (raster_internal.h): once per group and tile; the chunk is the set-up region's, read-only
+     * to the tile pass but for this */
+    if (direct) __atomic_fetch_add(&((rs_chunk *)c)->grid_direct, direct, __ATOMIC_RELAXED);
 }
 #endif
 

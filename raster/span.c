@@ -914,7 +914,56 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
         walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
 }
 
+/* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
+
+/* rs_tri_run in mode m: the lanes of live whose triangle is coef_small (`small`, from the set-up lanes) with a box
+ * at most 8 pixels wide in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to
+ * walk_small; the others through rs_tri_fast.  Returns the count of the first. */
+ALWAYS_INLINE unsigned run_lanes(zmode m, const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa,
+                                 size_t stride, const int32_t (*cb)[8], unsigned live, unsigned small)
+{
+    unsigned direct = 0;
+    if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
+        const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
+        const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
+        direct = live & small & mask_of(x1 - x0 < bi(8));
+    }
+    for (; live; live &= live - 1) {
+        const int l = __builtin_ctz(live);
+        const float *a = sa + (size_t)l * stride;
+        if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+        else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+    }
+    return (unsigned)__builtin_popcount(direct);
+}
+
+/* run_lanes per mode (the job's span_mode), out of line: one dispatch per step instead of one per triangle. */
+typedef unsigned run_fn(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                        const int32_t (*cb)[8], unsigned live, unsigned small);
+#define RUN_INSTANCE(name, mode)                                                                                \
+    static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
+                         const int32_t (*cb)[8], unsigned live, unsigned small)                                 \
+    {                                                                                                           \
+        return run_lanes(mode, j, t, sp, sa, stride, cb, live, small);                                          \
+    }
+RUN_INSTANCE(run_le, MODE_LE)
+RUN_INSTANCE(run_less, MODE_LESS)
+RUN_INSTANCE(run_any, MODE_JOB(j))
+static run_fn *const runs[3] = {run_le, run_less, run_any};
+
+unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                               const int32_t (*cb)[8], unsigned live, unsigned small)
+{
+    return runs[j->span_mode](j, t, sp, sa, stride, cb, live, small);
+}
+
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
+
+unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                               const int32_t (*cb)[8], unsigned live, unsigned small)
+{
+    return 0;
+}
 
 void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                             int y1)
