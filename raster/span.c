@@ -922,16 +922,20 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 ALWAYS_INLINE unsigned run_lanes(zmode m, const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa,
                                  size_t stride, const int32_t (*cb)[8], unsigned live, unsigned small)
 {
-    unsigned direct = 0;
-    if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
+    unsigned direct = 0, stamp = 0;
+    if (t->x1 - t->x0 >= 8) { /* the boxes' sizes in lanes: rs_tri_fast's and walk_small's tests */
         const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
+        const v8i y0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[1]);
         const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
+        const v8i y1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[3]);
         direct = live & small & mask_of(x1 - x0 < bi(8));
+        if (m.plain) stamp = direct & mask_of((x1 - x0 < bi(4)) & (y1 - y0 < bi(8)));
     }
     for (; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *a = sa + (size_t)l * stride;
-        if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+        if (stamp >> l & 1u) walk_band(m, j, t, &sp[l], a, 2, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+        else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
     }
     return (unsigned)__builtin_popcount(direct);
