@@ -320,7 +320,8 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * same counters and work) and keeps each drawn one with a pixel as a 20-byte rs_gtri (oriented vertices, box), and
  * pushes one RS_K_GROUP entry per run of group triangles with the union of their boxes; the tile pass sets up, per
  * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
- * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.
+ * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order (grid groups:
+ * with rs_tri_run, below).
  * rs_setup_groups returns false (the chunk left for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece
  * is not PV_READY (clipping needed).
  * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose

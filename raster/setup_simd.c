@@ -1010,7 +1010,8 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
  * (grid_step8), those that are drawn and meet the tile set up from the rows (grid_finish_half) into the L1 scratch
- * and rasterized at once in the group's order, as rs_tri_tile does. */
+ * and rasterized at once in the group's order by rs_tri_run (span.c: what rs_tri_tile does for them, with the box
+ * clipped to the tile and the walk picked in these lanes). */
 static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *gp)
 {
     const grid_cols g = grid_cols_of(c);
@@ -1047,11 +1048,9 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
                 grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
-                char *const bp[4] = { (char *)&sp[4 * h], (char *)&sp[4 * h + 1], (char *)&sp[4 * h + 2],
-                                      (char *)&sp[4 * h + 3] };
-                store_t32(_mm_castsi128_ps(half4(o.x0, h)), _mm_castsi128_ps(half4(o.y0, h)),
-                          _mm_castsi128_ps(half4(o.x1, h)), _mm_castsi128_ps(half4(o.y1, h)), bp, offsetof(rs_prim, x0));
             }
+            /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
+             * and the rs_tri alone) */
             /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
              * indices (grid_verts8's lanes, swapped as the step's) */
             uint32_t id[3][8];
