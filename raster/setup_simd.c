@@ -1035,6 +1035,16 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
         for (int i = 0; 2 * i < nt; i += 4) {
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
+            {   /* the step's columns first: when no triangle's box meets the tile's, the rest of the step is not
+                 * needed (a third of the steps of scene B; the compiler shares these operations with grid_step8) */
+                __m256i x[3], bx0, bx1;
+                grid_verts8(g.x + q0, g.x + q1, x);
+                grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]),
+                           _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]), k.offx0, k.offx1, k.sx0, k.sx1, &bx0,
+                           &bx1);
+                if (mask8(_mm256_or_si256(_mm256_cmpgt_epi32(bx0, vtx1), _mm256_cmpgt_epi32(vtx0, bx1))) == 0xffu)
+                    continue;
+            }
             grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
