@@ -27,7 +27,11 @@
  *    partial blocks step int32 edge values when the edges that cross the block provably fit (int64 otherwise).
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
- * blending and AOV planes go through span8 (per-pixel write-out, as the reference). */
+ * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
+ * rs_tri_run is the grid rows' entry (setup_simd.c's grid_tile): a step's up to 8 triangles, the mode picked once
+ * and each triangle's walk from the set-up lanes (coef_small) and its clipped box, rs_tri_fast only for the rest.
+ * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
+ * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.) */
 #include "raster_internal.h"
 
 #include <string.h>
