@@ -394,11 +394,15 @@ void rs_tri_fast_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const flo
  * x0, y0, x1, y1) for the lanes l of live, in lane order, with the walk picked once per call from the job's span_mode
  * and the lanes' box sizes: a lane of `small` (the set-up lanes' coef_small: vertex spans of at most 2^13 in x and
  * in y) whose box rs_tri_fast would give the small-triangle walks goes straight to them, any other through
- * rs_tri_fast -- the same bytes and counters.  Returns the triangles that went straight (the test's counter). */
+ * rs_tri_fast -- the same bytes and counters.  The lanes of `stamp` (a part of those: the caller's test of
+ * rs_tri_fast's and walk_small's conditions for the stamp walk, plain modes only) go to the stamp walk at once, and
+ * their attribute blocks hold the colour slot alone, as v0, d1, d2 of four channels each (rs_fill_slot's values,
+ * not interleaved); the others' blocks are rs_fill_slot's.  Returns the triangles that went straight (the test's
+ * counter). */
 unsigned rs_tri_run_avx2(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                         const int32_t (*cb)[8], unsigned live, unsigned small);
+                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
 unsigned rs_tri_run_avx512(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                           const int32_t (*cb)[8], unsigned live, unsigned small);
+                           const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
 
 /* ---- the kernel table: one row per instruction set (draw.c) ---- */
 struct rs_kernels {
@@ -412,7 +416,7 @@ struct rs_kernels {
                          size_t np, size_t group, size_t level);   /* rs_setup_groups_* */
     void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
     unsigned (*tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                        const int32_t (*cb)[8], unsigned live, unsigned small);   /* rs_tri_run_* */
+                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp); /* rs_tri_run_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
 const rs_kernels *rs_kernels_of(int isa);

@@ -969,6 +969,16 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
 }
 
 #ifdef __AVX2__
+/* Attribute slot o of the triangle (a, b, c) as rs_tri_run's stamp lanes take it: v0 = a, d1 = b - a, d2 = c - a,
+ * four channels each (rs_fill_slot's values without its interleaving). */
+static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c)
+{
+    const __m128 v0 = _mm_loadu_ps(&a->x);
+    _mm_storeu_ps(o, v0);
+    _mm_storeu_ps(o + 4, _mm_sub_ps(_mm_loadu_ps(&b->x), v0));
+    _mm_storeu_ps(o + 8, _mm_sub_ps(_mm_loadu_ps(&c->x), v0));
+}
+
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
@@ -1023,6 +1033,8 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
     const size_t stride = ns * RS_ATTR_STRIDE;
     const __m256i span_max = _mm256_set1_epi32(8192);   /* span.c's coef_small: |ea|, |eb| <= 2^13 */
+    const __m256i four = _mm256_set1_epi32(4), eight = _mm256_set1_epi32(8);
+    const bool stamp_ok = ns == 1 && !j->st->blend_enable && j->rt->n_aov == 0 && t->x1 - t->x0 >= 8;
     _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
     uint64_t direct = 0;
@@ -1070,16 +1082,6 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
             _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
             _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
-            for (unsigned f = m; f; f &= f - 1) {
-                const int l = __builtin_ctz(f);
-                const rs_vec4 *ga = c->gattr;
-                float *a = sa + (size_t)l * stride;
-                if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
-                else
-                    for (size_t s = 0; s < ns; s++)
-                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
-                                     &ga[id[2][l] * ns + s]);
-            }
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
              * vertices' spans in x and in y are */
             const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
@@ -1088,7 +1090,24 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                                  _mm256_min_epi32(_mm256_min_epi32(o.y[0], o.y[1]), o.y[2]));
             const unsigned small = ~mask8(_mm256_or_si256(_mm256_cmpgt_epi32(spx, span_max),
                                                           _mm256_cmpgt_epi32(spy, span_max))) & 0xffu;
-            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small);
+            /* the stamp walk's lanes (rs_tri_run): COLOR0 alone, plain, coef_small, box at most 4 x 8 in a tile at
+             * least 8 wide; their slot as v0, d1, d2 (no interleaving) */
+            const unsigned stamp = stamp_ok ? m & small & mask8(_mm256_and_si256(
+                                                  _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
+                                                  _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0))))
+                                            : 0u;
+            for (unsigned f = m; f; f &= f - 1) {
+                const int l = __builtin_ctz(f);
+                const rs_vec4 *ga = c->gattr;
+                float *a = sa + (size_t)l * stride;
+                if (stamp >> l & 1u) grid_fill_v(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);
+                else if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                else
+                    for (size_t s = 0; s < ns; s++)
+                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
+                                     &ga[id[2][l] * ns + s]);
+            }
+            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp);
         }
     }
     /* the test's counter (raster_internal.h): once per group and tile; the chunk is the set-up region's, read-only
