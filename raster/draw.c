@@ -20,13 +20,15 @@
 #ifndef RS_NO_KERNELS
 static const rs_kernels kernels[RS_ISA_COUNT] = {
     [RS_ISA_AVX2] = { "avx2", rs_tri_fast_avx2, rs_project_vertices_avx2, rs_project_vertex_avx2,
-                      rs_setup_shared_avx2, rs_setup_groups_avx2, rs_group_tile_avx2 },
+                      rs_setup_shared_avx2, rs_setup_groups_avx2, rs_group_tile_avx2,
+                      rs_tri_run_avx2 },
     [RS_ISA_AVX512] = { "avx512", rs_tri_fast_avx512, rs_project_vertices_avx512, rs_project_vertex_avx512,
-                        rs_setup_shared_avx512, rs_setup_groups_avx512, rs_group_tile_avx512 },
+                        rs_setup_shared_avx512, rs_setup_groups_avx512, rs_group_tile_avx512,
+                        rs_tri_run_avx512 },
 };
 #else /* the browser build: no kernels, the reference path only (raster_internal.h) */
-static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL, NULL, NULL},
-                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL, NULL, NULL}};
+static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL, NULL, NULL, NULL},
+                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL, NULL, NULL, NULL}};
 /* setup_simd.c's definition (sizeof(rs_pvert), asserted 24 there), for the scratch rs_draw_source reserves */
 size_t rs_pvert_size(void) { return 24; }
 #endif

@@ -197,6 +197,9 @@ typedef struct rs_chunk {
     int16_t (*grow)[4];
     size_t grow_cap;
     uint64_t grid_groups;        /* grid group entries pushed (the row path's; tests look) */
+    uint64_t grid_direct;        /* the tile pass: the row path's triangles that rs_tri_run took straight to the
+                                    small-triangle walks (tests look; added atomically once per group and tile, as tiles of
+                                    one chunk run on several threads; zeroed by the set-up region) */
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
 } rs_chunk;
@@ -317,7 +320,8 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * same counters and work) and keeps each drawn one with a pixel as a 20-byte rs_gtri (oriented vertices, box), and
  * pushes one RS_K_GROUP entry per run of group triangles with the union of their boxes; the tile pass sets up, per
  * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
- * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order.
+ * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order (grid groups:
+ * with rs_tri_run, below).
  * rs_setup_groups returns false (the chunk left for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece
  * is not PV_READY (clipping needed).
  * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose
@@ -385,6 +389,21 @@ void rs_tri_fast_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float
 void rs_tri_fast_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                         int y1);
 
+/* The grid rows' tile pass (setup_simd.c's grid_tile) rasterizes the triangles of a step (up to 8, in the L1
+ * scratch: triangle sp[l], attribute block sa + l * stride, pixel box already clipped to tile t in cb[0..4)[l] as
+ * x0, y0, x1, y1) for the lanes l of live, in lane order, with the walk picked once per call from the job's span_mode
+ * and the lanes' box sizes: a lane of `small` (the set-up lanes' coef_small: vertex spans of at most 2^13 in x and
+ * in y) whose box rs_tri_fast would give the small-triangle walks goes straight to them, any other through
+ * rs_tri_fast -- the same bytes and counters.  The lanes of `stamp` (a part of those: the caller's test of
+ * rs_tri_fast's and walk_small's conditions for the stamp walk, plain modes only) go to the stamp walk at once, and
+ * their attribute blocks hold the colour slot alone, as v0, d1, d2 of four channels each (rs_fill_slot's values,
+ * not interleaved); the others' blocks are rs_fill_slot's.  Returns the triangles that went straight (the test's
+ * counter). */
+unsigned rs_tri_run_avx2(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
+unsigned rs_tri_run_avx512(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                           const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
+
 /* ---- the kernel table: one row per instruction set (draw.c) ---- */
 struct rs_kernels {
     const char *name;                                   /* rs_isa_name */
@@ -396,6 +415,8 @@ struct rs_kernels {
     bool (*setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
                          size_t np, size_t group, size_t level);   /* rs_setup_groups_* */
     void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
+    unsigned (*tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp); /* rs_tri_run_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
 const rs_kernels *rs_kernels_of(int isa);

@@ -844,6 +844,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
+    c->grid_direct = 0;
     const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
     if (!grid)
         for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
@@ -968,6 +969,16 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
 }
 
 #ifdef __AVX2__
+/* Attribute slot o of the triangle (a, b, c) as rs_tri_run's stamp lanes take it: v0 = a, d1 = b - a, d2 = c - a,
+ * four channels each (rs_fill_slot's values without its interleaving). */
+static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c)
+{
+    const __m128 v0 = _mm_loadu_ps(&a->x);
+    _mm_storeu_ps(o, v0);
+    _mm_storeu_ps(o + 4, _mm_sub_ps(_mm_loadu_ps(&b->x), v0));
+    _mm_storeu_ps(o + 8, _mm_sub_ps(_mm_loadu_ps(&c->x), v0));
+}
+
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
@@ -1009,7 +1020,8 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
  * (grid_step8), those that are drawn and meet the tile set up from the rows (grid_finish_half) into the L1 scratch
- * and rasterized at once in the group's order, as rs_tri_tile does. */
+ * and rasterized at once in the group's order by rs_tri_run (span.c: what rs_tri_tile does for them, with the box
+ * clipped to the tile and the walk picked in these lanes). */
 static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *gp)
 {
     const grid_cols g = grid_cols_of(c);
@@ -1019,8 +1031,13 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
     const __m256i vtx0 = _mm256_set1_epi32(tx0), vty0 = _mm256_set1_epi32(ty0);
     const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
-    _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 */
-    _Alignas(64) float sa[RS_MAX_ATTR * RS_ATTR_STRIDE];
+    const size_t stride = ns * RS_ATTR_STRIDE;
+    const __m256i span_max = _mm256_set1_epi32(8192);   /* span.c's coef_small: |ea|, |eb| <= 2^13 */
+    const __m256i four = _mm256_set1_epi32(4), eight = _mm256_set1_epi32(8);
+    const bool stamp_ok = ns == 1 && !j->st->blend_enable && j->rt->n_aov == 0 && t->x1 - t->x0 >= 8;
+    _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
+    _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
+    uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
     for (size_t r = 0; r < L; r++) {
         const int16_t *rb = rows[r];
@@ -1030,6 +1047,16 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
         for (int i = 0; 2 * i < nt; i += 4) {
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
+            {   /* the step's columns first: when no triangle's box meets the tile's, the rest of the step is not
+                 * needed (a third of the steps of scene B; the compiler shares these operations with grid_step8) */
+                __m256i x[3], bx0, bx1;
+                grid_verts8(g.x + q0, g.x + q1, x);
+                grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]),
+                           _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]), k.offx0, k.offx1, k.sx0, k.sx1, &bx0,
+                           &bx1);
+                if (mask8(_mm256_or_si256(_mm256_cmpgt_epi32(bx0, vtx1), _mm256_cmpgt_epi32(vtx0, bx1))) == 0xffu)
+                    continue;
+            }
             grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
@@ -1043,11 +1070,9 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
                 grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
-                char *const bp[4] = { (char *)&sp[4 * h], (char *)&sp[4 * h + 1], (char *)&sp[4 * h + 2],
-                                      (char *)&sp[4 * h + 3] };
-                store_t32(_mm_castsi128_ps(half4(o.x0, h)), _mm_castsi128_ps(half4(o.y0, h)),
-                          _mm_castsi128_ps(half4(o.x1, h)), _mm_castsi128_ps(half4(o.y1, h)), bp, offsetof(rs_prim, x0));
             }
+            /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
+             * and the rs_tri alone) */
             /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
              * indices (grid_verts8's lanes, swapped as the step's) */
             uint32_t id[3][8];
@@ -1057,18 +1082,37 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
             _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
             _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
-            for (; m; m &= m - 1) {
-                const int l = __builtin_ctz(m);
+            /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
+             * vertices' spans in x and in y are */
+            const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
+                                                 _mm256_min_epi32(_mm256_min_epi32(o.x[0], o.x[1]), o.x[2]));
+            const __m256i spy = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.y[0], o.y[1]), o.y[2]),
+                                                 _mm256_min_epi32(_mm256_min_epi32(o.y[0], o.y[1]), o.y[2]));
+            const unsigned small = ~mask8(_mm256_or_si256(_mm256_cmpgt_epi32(spx, span_max),
+                                                          _mm256_cmpgt_epi32(spy, span_max))) & 0xffu;
+            /* the stamp walk's lanes (rs_tri_run): COLOR0 alone, plain, coef_small, box at most 4 x 8 in a tile at
+             * least 8 wide; their slot as v0, d1, d2 (no interleaving) */
+            const unsigned stamp = stamp_ok ? m & small & mask8(_mm256_and_si256(
+                                                  _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
+                                                  _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0))))
+                                            : 0u;
+            for (unsigned f = m; f; f &= f - 1) {
+                const int l = __builtin_ctz(f);
                 const rs_vec4 *ga = c->gattr;
-                if (ns == 1) rs_fill_slot(sa, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                float *a = sa + (size_t)l * stride;
+                if (stamp >> l & 1u) grid_fill_v(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);
+                else if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
                 else
                     for (size_t s = 0; s < ns; s++)
-                        rs_fill_slot(sa + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
+                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
                                      &ga[id[2][l] * ns + s]);
-                RS_KERNEL(rs_tri_fast)(j, t, &sp[l], sa, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
             }
+            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp);
         }
     }
+    /* the test's counter (raster_internal.h): once per group and tile; the chunk is the set-up region's, read-only
+     * to the tile pass but for this */
+    if (direct) __atomic_fetch_add(&((rs_chunk *)c)->grid_direct, direct, __ATOMIC_RELAXED);
 }
 #endif
 

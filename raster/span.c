@@ -27,7 +27,11 @@
  *    partial blocks step int32 edge values when the edges that cross the block provably fit (int64 otherwise).
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
- * blending and AOV planes go through span8 (per-pixel write-out, as the reference). */
+ * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
+ * rs_tri_run is the grid rows' entry (setup_simd.c's grid_tile): a step's up to 8 triangles, the mode picked once
+ * and each triangle's walk from the set-up lanes (coef_small) and its clipped box, rs_tri_fast only for the rest.
+ * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
+ * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.) */
 #include "raster_internal.h"
 
 #include <string.h>
@@ -109,19 +113,22 @@ static inline int alpha_const(const float *p)
 }
 
 /* rs_shade_color per lane at barycentrics (b1, b2) from the colour slot's 12 coefficients p; a8: p's
- * alpha_const (>= 0: the alpha channel from it, see there). */
-ALWAYS_INLINE v8i shade8(const float *p, int a8, v8f b1, v8f b2)
+ * alpha_const (>= 0: the alpha channel from it, see there).  vl: p holds them as v0, d1, d2 (four channels each,
+ * the grid rows' stamp lanes: rs_tri_run) instead of rs_fill_slot's v0, d1, d2 per channel -- the same floats. */
+ALWAYS_INLINE v8i shade8_l(const float *p, int a8, v8f b1, v8f b2, bool vl)
 {
-    __m256i r = (__m256i)to8_8(bf(p[0]) + b1 * bf(p[1]) + b2 * bf(p[2]));
-    __m256i g = (__m256i)to8_8(bf(p[3]) + b1 * bf(p[4]) + b2 * bf(p[5]));
-    __m256i b = (__m256i)to8_8(bf(p[6]) + b1 * bf(p[7]) + b2 * bf(p[8]));
+#define P(c, k) bf(vl ? p[4 * (k) + (c)] : p[3 * (c) + (k)]) /* channel c's v0 (k = 0), d1 (1), d2 (2) */
+    __m256i r = (__m256i)to8_8(P(0, 0) + b1 * P(0, 1) + b2 * P(0, 2));
+    __m256i g = (__m256i)to8_8(P(1, 0) + b1 * P(1, 1) + b2 * P(1, 2));
+    __m256i b = (__m256i)to8_8(P(2, 0) + b1 * P(2, 1) + b2 * P(2, 2));
     __m256i al;
     if (a8 >= 0) {
-        v8f t = b1 * bf(p[10]) + b2 * bf(p[11]);
+        v8f t = b1 * P(3, 1) + b2 * P(3, 2);
         al = _mm256_and_si256((__m256i)_mm256_cmp_ps((__m256)t, (__m256)t, _CMP_ORD_Q), _mm256_set1_epi32(a8));
     } else {
-        al = (__m256i)to8_8(bf(p[9]) + b1 * bf(p[10]) + b2 * bf(p[11]));
+        al = (__m256i)to8_8(P(3, 0) + b1 * P(3, 1) + b2 * P(3, 2));
     }
+#undef P
     /* channels are 0..255, so the saturating packs are plain narrowing: per 128-bit half, bytes
      * r0..r3 g0..g3 b0..b3 a0..a3, then interleaved into r | g << 8 | b << 16 | a << 24 per pixel */
     __m256i x = _mm256_packus_epi16(_mm256_packus_epi32(r, g), _mm256_packus_epi32(b, al));
@@ -129,6 +136,8 @@ ALWAYS_INLINE v8i shade8(const float *p, int a8, v8f b1, v8f b2)
                                            0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
     return (v8i)_mm256_shuffle_epi8(x, order);
 }
+/* shade8_l with rs_fill_slot's layout. */
+ALWAYS_INLINE v8i shade8(const float *p, int a8, v8f b1, v8f b2) { return shade8_l(p, a8, b1, b2, false); }
 
 /* rs_shade_color per lane for job j (white without COLOR0), attribute block a. */
 static inline v8i shade8_job(const rs_job *j, const float *a, v8f b1, v8f b2)
@@ -472,8 +481,8 @@ static inline uint64_t pack16(unsigned m)
  * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
  * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
-ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, int wbits,
-                              uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
+ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
+                              int wbits, uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
 {
     const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
     const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
@@ -502,7 +511,7 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     const v8f rr = bf(1.0f) / (r.sx + y.sy);
     const v8f b1 = (r.q1x + y.q1y) * rr;
     const v8f b2 = (r.q2x + y.q2y) * rr;
-    const v8i src = pc ? shade8(pc, -1, b1, b2) : bi(-1);
+    const v8i src = pc ? shade8_l(pc, -1, b1, b2, vl) : bi(-1);
     int32_t ov[8]; /* unaligned: no realignment of the stack for them */
     float zv[8];
     uint32_t cv[8];
@@ -527,11 +536,12 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
 /* stamp_pass out of line, with the mode as a value: the passes after a band's first (more than 8 covered pixels),
  * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
 static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
-                                                    const float *pc, int wbits, uint64_t ids, int nl, size_t o,
-                                                    int32_t w, int32_t Xs, int32_t Ys)
+                                                    const float *pc, bool vl, int wbits, uint64_t ids, int nl,
+                                                    size_t o, int32_t w, int32_t Xs, int32_t Ys)
 {
-    if (wbits == 2) stamp_pass(m, j, t, tr, pc, 2, ids, nl, o, w, Xs, Ys);
-    else stamp_pass(m, j, t, tr, pc, 3, ids, nl, o, w, Xs, Ys);
+    if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
+    else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
+    else stamp_pass(m, j, t, tr, pc, false, 3, ids, nl, o, w, Xs, Ys);
 }
 
 /* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
@@ -540,8 +550,8 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
  * (modulo 2^32 as edges32: exact by coef_small), into one 64-bit mask; then the covered pixels packed into the
  * lanes (pack16, take8), 8 per pass (stamp_pass): one pass for almost every small triangle, where the 4x2 walk
  * drew a third of its lanes. */
-ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int wbits,
-                             int x0, int y0, int x1, int y1)
+ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, bool vl,
+                             int wbits, int x0, int y0, int x1, int y1)
 {
     const rs_tri *tr = &p->u.t;
     const int vr = wbits == 2 ? 2 : 1; /* rows per vector */
@@ -577,10 +587,10 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     } else {
         ids = take8(&cov, &n);
     }
-    stamp_pass(m, j, t, tr, pc, wbits, ids, n, o, w, Xs, Ys);
+    stamp_pass(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
     while (cov) { /* more than 8 covered pixels: out of line */
         ids = take8(&cov, &n);
-        stamp_pass_rt(m, j, t, tr, pc, wbits, ids, n, o, w, Xs, Ys);
+        stamp_pass_rt(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
     }
 }
 
@@ -829,9 +839,9 @@ ALWAYS_INLINE void walk_small(zmode m, const rs_job *j, rs_tile *t, const rs_pri
 {
     RS_ASSERT(x1 - x0 < 8 && box_fits32(j, &p->u.t, x0, y0, x1, y1)); /* coef_small's claim */
     if (m.plain && x1 - x0 < 4 && y1 - y0 < 8) { /* at most 32 pixels: the stamp walk */
-        walk_band(m, j, t, p, a, 2, x0, y0, x1, y1);
+        walk_band(m, j, t, p, a, false, 2, x0, y0, x1, y1);
     } else if (m.plain && y1 - y0 < 2) {
-        walk_band(m, j, t, p, a, 3, x0, y0, x1, y1);
+        walk_band(m, j, t, p, a, false, 3, x0, y0, x1, y1);
     } else { /* larger boxes, whose lanes the 4x2 and row walks fill better; blending or AOV planes */
         fctx c;
         fctx_make(&c, j, t, p, a);
@@ -914,7 +924,59 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
         walks[walk][j->span_mode](j, t, p, a, x0, y0, x1, y1);
 }
 
+/* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
+
+/* rs_tri_run in mode m: the lanes of `stamp` straight to walk_band (their attribute blocks in shade8_l's vector
+ * layout); the others of live whose triangle is coef_small (`small`, from the set-up lanes) with a box at most 8
+ * pixels wide in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to walk_small; the
+ * rest through rs_tri_fast.  Returns the count of the first two. */
+ALWAYS_INLINE unsigned run_lanes(zmode m, const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa,
+                                 size_t stride, const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp)
+{
+    unsigned direct = 0;
+    if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
+        const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
+        const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
+        direct = live & small & mask_of(x1 - x0 < bi(8));
+    }
+    RS_ASSERT((stamp & ~direct) == 0 && (stamp == 0 || m.plain));
+    for (; live; live &= live - 1) {
+        const int l = __builtin_ctz(live);
+        const float *a = sa + (size_t)l * stride;
+        if (stamp >> l & 1u) walk_band(m, j, t, &sp[l], a, true, 2, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+        else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+        else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
+    }
+    return (unsigned)__builtin_popcount(direct);
+}
+
+/* run_lanes per mode (the job's span_mode), out of line: one dispatch per step instead of one per triangle. */
+typedef unsigned run_fn(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
+#define RUN_INSTANCE(name, mode)                                                                                \
+    static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
+                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp)                 \
+    {                                                                                                           \
+        return run_lanes(mode, j, t, sp, sa, stride, cb, live, small, stamp);                                   \
+    }
+RUN_INSTANCE(run_le, MODE_LE)
+RUN_INSTANCE(run_less, MODE_LESS)
+RUN_INSTANCE(run_any, MODE_JOB(j))
+static run_fn *const runs[3] = {run_le, run_less, run_any};
+
+unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp)
+{
+    return runs[j->span_mode](j, t, sp, sa, stride, cb, live, small, stamp);
+}
+
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
+
+unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
+                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp)
+{
+    return 0;
+}
 
 void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                             int y1)

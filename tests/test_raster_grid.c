@@ -146,6 +146,7 @@ typedef struct result {
     float depth[W * H];
     rs_stats sum;
     uint64_t grid_groups;
+    uint64_t grid_direct;           /* the row path's triangles rs_tri_run took straight to span.c's small walks */
 } result;
 
 /* How a frame is drawn: scene on, reference path, threads, instruction set, grid level told. */
@@ -159,6 +160,15 @@ static uint64_t grid_groups(const rs_context *rs, size_t n_pieces)
     return n;
 }
 
+/* The row path's triangles that the tile pass took straight to the small-triangle walks (rs_tri_run), over the
+ * last draw's chunks on rs. */
+static uint64_t grid_direct(const rs_context *rs, size_t n_pieces)
+{
+    uint64_t n = 0;
+    for (size_t c = 0; c < n_pieces; c++) n += rs->chunks[c].grid_direct;
+    return n;
+}
+
 /* Draw frame f on a fresh context as h says. */
 static void draw_frame(const frame *f, how h, result *out)
 {
@@ -169,7 +179,7 @@ static void draw_frame(const frame *f, how h, result *out)
     assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
     rs_stats sink = {0}, s;
     memset(&out->sum, 0, sizeof out->sum);
-    out->grid_groups = 0;
+    out->grid_groups = out->grid_direct = 0;
     rs_set_reference_path(rs, h.reference);
     rs_set_scene(rs, h.scene ? &sink : NULL);
     rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0xff402010u, 1.0f);
@@ -180,7 +190,7 @@ static void draw_frame(const frame *f, how h, result *out)
                          .grid_level = h.tell ? (size_t)dd->level : 0};
         assert_int_equal(rs_draw_source(rs, &dd->st, &rt, &src, &s), RS_OK);
         test_rs_stats_add(&out->sum, &s);
-        if (!h.scene) out->grid_groups += grid_groups(rs, PIECES);
+        if (!h.scene) out->grid_groups += grid_groups(rs, PIECES), out->grid_direct += grid_direct(rs, PIECES);
     }
     rs_flush(rs);
     test_rs_stats_add(&out->sum, &sink);
@@ -218,11 +228,14 @@ static void test_grid_same_bytes(void **state)
                 same(ref, r);
                 assert_true(r->grid_groups >= 20);   /* many instances: the row path */
                 assert_true(r->grid_groups < DRAWS * PIECES * INST);        /* the large ones: not */
+                /* most of the row path's triangles go straight to the small walks, not all (boxes over 8 wide) */
+                assert_true(r->grid_direct >= 1000 && r->grid_direct < r->sum.prims_drawn);
                 draw_frame(f, (how){ true, false, threads, isa, true }, r);
                 same(ref, r);
                 draw_frame(f, (how){ false, false, threads, isa, false }, r);
                 same(ref, r);
                 assert_int_equal(r->grid_groups, 0);
+                assert_int_equal(r->grid_direct, 0);
             }
         }
         free_frame(f);
