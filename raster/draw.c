@@ -394,7 +394,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
     if (ch->bad_piece) np = 0;   /* set up nothing of it: the draw fails (RS_EINVAL) */
     rs_job jl = *j;
     jl.verts = v, jl.idx = idx, jl.pv = NULL;
-    ch->first = 0, ch->count = np, ch->grid_groups = 0;
+    ch->first = 0, ch->count = np, ch->grid_groups = ch->grid_direct = 0;
     if (np && nv <= src->max_verts && !j->reference) {
         const bool grouped = src->group_prims && rs_group_ok(j) && reserve_gpv(ch, nv);
         if (grouped || nv <= 3 * np) {
