@@ -147,21 +147,13 @@ static void draw_frame(const frame *f, how h, result *out)
         assert_int_equal(rs_draw_source(rs, &f->st[d], &rt, &src, &s), RS_OK);
         test_rs_stats_add(&out->sum, &s);
     }
-    rs_flush(rs);
-    test_rs_stats_add(&out->sum, &sink);
-    rs_target_flush(rs, &rt);
-    memcpy(out->color, rt.color, sizeof out->color);
-    memcpy(out->depth, rt.depth, sizeof out->depth);
-    rs_target_free(&rt);
-    rs_destroy(rs);
+    test_rs_frame_end(rs, &rt, &sink, &out->sum, out->color, out->depth, W * H);
 }
 
 /* Compare two results byte for byte (planes and counters). */
 static void same(const result *a, const result *b)
 {
-    assert_memory_equal(a->color, b->color, sizeof a->color);
-    assert_memory_equal(a->depth, b->depth, sizeof a->depth);
-    assert_memory_equal(&a->sum, &b->sum, sizeof a->sum);
+    test_rs_same_frame(a->color, a->depth, &a->sum, b->color, b->depth, &b->sum, W * H);
 }
 
 /* Grouped (by instance, and by runs of 7 or 1000 triangles) against the reference path and the per-triangle path,

@@ -1,4 +1,10 @@
 /* tests/util/raster_util.c -- rasterizer states shared by the raster tests. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
 #include "raster_util.h"
 
 #include <string.h>
@@ -37,4 +43,24 @@ void test_rs_stats_add(rs_stats *sum, const rs_stats *s)
     sum->prims_in += s->prims_in, sum->prims_culled += s->prims_culled, sum->prims_drawn += s->prims_drawn;
     sum->prims_clipped_away += s->prims_clipped_away, sum->prims_degenerate += s->prims_degenerate;
     sum->samples_tested += s->samples_tested, sum->samples_written += s->samples_written;
+}
+
+void test_rs_frame_end(rs_context *rs, rs_target *rt, const rs_stats *sink, rs_stats *sum, uint32_t *color,
+                       float *depth, size_t n)
+{
+    rs_flush(rs);
+    test_rs_stats_add(sum, sink);
+    rs_target_flush(rs, rt);
+    memcpy(color, rt->color, n * sizeof *color);
+    memcpy(depth, rt->depth, n * sizeof *depth);
+    rs_target_free(rt);
+    rs_destroy(rs);
+}
+
+void test_rs_same_frame(const uint32_t *color_a, const float *depth_a, const rs_stats *sum_a, const uint32_t *color_b,
+                        const float *depth_b, const rs_stats *sum_b, size_t n)
+{
+    assert_memory_equal(color_a, color_b, n * sizeof *color_a);
+    assert_memory_equal(depth_a, depth_b, n * sizeof *depth_a);
+    assert_memory_equal(sum_a, sum_b, sizeof *sum_a);
 }

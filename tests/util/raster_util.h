@@ -13,4 +13,13 @@ rs_state test_rs_additive(int w, int h);
 /* Add the counters of a draw (prims in, culled, drawn, clipped away, degenerate; samples tested, written) to *sum. */
 void test_rs_stats_add(rs_stats *sum, const rs_stats *s);
 
+/* The end of a test frame of n pixels: flush rs's recorded draws, add the flush's counters (*sink, filled by the
+ * flush when the scene was on) to *sum, flush rt's deferred clear, copy its planes into color and depth, free rt and
+ * destroy rs. */
+void test_rs_frame_end(rs_context *rs, rs_target *rt, const rs_stats *sink, rs_stats *sum, uint32_t *color,
+                       float *depth, size_t n);
+/* Fail the test unless two frames of n pixels have the same colour and depth bytes and the same counters. */
+void test_rs_same_frame(const uint32_t *color_a, const float *depth_a, const rs_stats *sum_a, const uint32_t *color_b,
+                        const float *depth_b, const rs_stats *sum_b, size_t n);
+
 #endif
