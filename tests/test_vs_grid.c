@@ -254,6 +254,18 @@ static void draw_image(is_device *dev, const scene_opts *o, const is_mesh *m, co
     assert_int_equal(dev_get_render_target_data(dev, rgba, (size_t)o->width * (size_t)o->height), IS_OK);
 }
 
+/* The options of the device grid tests: 160x120, level 6, the N-Patch (p 0) or the smoothed patch (p 1) with
+ * linear normals (the 8-lane path's: the default, real normals, goes per vertex), on `threads` threads. */
+static scene_opts grid_test_opts(int p, int threads)
+{
+    scene_opts o;
+    scene_opts_default(&o);
+    o.width = 160, o.height = 120, o.threads = threads, o.level = 6;
+    o.patch = p ? VS_PATCH_SMOOTH : VS_PATCH_NPATCH;
+    o.normals = VS_NORMALS_LINEAR;
+    return o;
+}
+
 /* The fused path draws a grid, then the same grid with its points reversed (same vertex count: a plan kept from
  * the first draw would put every vertex's outputs at another index), then the first again, on one device: each
  * image is the reference path's, for the N-Patch and the smoothed patch, on 1 and 2 threads. */
@@ -264,11 +276,7 @@ static void test_device_grid_changes(void **state)
     assert_int_equal(cubes_mesh(2, &m), 0);
     for (int p = 0; p < 2; p++)
         for (int threads = 1; threads <= 2; threads++) {
-            scene_opts o;
-            scene_opts_default(&o);
-            o.width = 160, o.height = 120, o.threads = threads, o.level = 6;
-            o.patch = p ? VS_PATCH_SMOOTH : VS_PATCH_NPATCH;
-            o.normals = VS_NORMALS_LINEAR; /* the 8-lane path's (the default, real normals, goes per vertex) */
+            const scene_opts o = grid_test_opts(p, threads);
             core_grid g[2];
             assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[0]), 0);
             assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[1]), 0);
@@ -333,11 +341,7 @@ static void test_device_grid_rewritten(void **state)
     assert_int_equal(cubes_mesh(2, &m), 0);
     for (int p = 0; p < 2; p++)
         for (int threads = 1; threads <= 2; threads++) {
-            scene_opts o;
-            scene_opts_default(&o);
-            o.width = 160, o.height = 120, o.threads = threads, o.level = 6;
-            o.patch = p ? VS_PATCH_SMOOTH : VS_PATCH_NPATCH;
-            o.normals = VS_NORMALS_LINEAR;
+            const scene_opts o = grid_test_opts(p, threads);
             core_grid g[2];
             assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[0]), 0);
             assert_int_equal(core_grid_make(CORE_GRID_REGULAR, 6.0f, &g[1]), 0);
