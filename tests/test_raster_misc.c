@@ -284,6 +284,35 @@ static void test_msaa_resolve_edge(void **state)
     rs_target_free(&rt);
 }
 
+/* The resolve of 4-sample targets against its definition, per channel (sum of the 4 samples + 2) / 4, on random
+ * samples with every channel's extremes mixed in (all 255: the largest sums; a channel's carry must not reach
+ * the next). */
+static void test_msaa_resolve_random(void **state)
+{
+    (void)state;
+    rs_target rt;
+    assert_int_equal(rs_target_init(&rt, 37, 5, 4), RS_OK);
+    const size_t np = 37 * 5;
+    uint64_t x = 0x9e3779b97f4a7c15ull;
+    for (size_t k = 0; k < np * 4; k++) {
+        x = x * 6364136223846793005ull + 1442695040888963407ull;
+        uint32_t v = (uint32_t)(x >> 32);
+        rt.color[k] = k % 7 == 0 ? 0xffffffffu : k % 11 == 0 ? 0u : k % 13 == 0 ? v | 0xff00ff00u : v;
+    }
+    uint32_t out[37 * 5];
+    rs_target_resolve(&rt, out);
+    for (size_t p = 0; p < np; p++) {
+        uint32_t want = 0;
+        for (int c = 0; c < 32; c += 8) {
+            uint32_t sum = 0;
+            for (int k = 0; k < 4; k++) sum += rt.color[p * 4 + (size_t)k] >> c & 0xffu;
+            want |= (sum + 2) / 4 << c;
+        }
+        assert_int_equal(out[p], want);
+    }
+    rs_target_free(&rt);
+}
+
 /* Independent reference of one blended channel: round(s*fs/255) + round(d*fd/255), saturated. */
 static int ref_channel(int sf, int df, const int *s, const int *d, int c)
 {
@@ -584,6 +613,7 @@ int main(void)
         cmocka_unit_test(test_point_fill_pixels),
         cmocka_unit_test(test_points_and_lines),
         cmocka_unit_test(test_msaa_resolve_edge),
+        cmocka_unit_test(test_msaa_resolve_random),
         cmocka_unit_test(test_blend_factors),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_einval),
