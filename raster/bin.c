@@ -6,18 +6,18 @@
  *  rs_bin_chunk's two passes (count, fill) read 4 bytes per primitive and the box only of primitives over several
  *  tiles.
  */
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "raster_internal.h"
 
-/* Grow *buf (elements of `size` bytes, capacity *cap) to hold n; false when out of memory. */
-static bool reserve(void **buf, size_t *cap, size_t n, size_t size)
+bool rs_reserve(void **buf, size_t *cap, size_t n, size_t size)
 {
     if (n <= *cap) return true;
     size_t nc = *cap ? *cap : 64;
     while (nc < n) nc *= 2;
-    void *p = realloc(*buf, nc * size);
+    void *p = nc <= SIZE_MAX / size ? realloc(*buf, nc * size) : NULL;
     if (!p) return false;
     *buf = p;
     *cap = nc;
@@ -75,14 +75,14 @@ static void fill_bins(const rs_job *j, const rs_chunk *c, uint32_t *off)
 void rs_bin_chunk(const rs_job *j, rs_chunk *c)
 {
     size_t nt = (size_t)j->n_tiles;
-    if (c->oom || !reserve((void **)&c->bin_off, &c->bin_off_cap, nt + 1, sizeof *c->bin_off)) {
+    if (c->oom || !rs_reserve((void **)&c->bin_off, &c->bin_off_cap, nt + 1, sizeof *c->bin_off)) {
         c->oom = true;
         return;
     }
     uint32_t *off = c->bin_off;
     memset(off, 0, (nt + 1) * sizeof *off);
     size_t total = count_bins(j, c, off);
-    if (total > UINT32_MAX || !reserve((void **)&c->bin_idx, &c->idx_cap, total ? total : 1, sizeof *c->bin_idx)) {
+    if (total > UINT32_MAX || !rs_reserve((void **)&c->bin_idx, &c->idx_cap, total ? total : 1, sizeof *c->bin_idx)) {
         c->oom = true;
         return;
     }

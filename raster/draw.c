@@ -20,15 +20,13 @@
 #ifndef RS_NO_KERNELS
 static const rs_kernels kernels[RS_ISA_COUNT] = {
     [RS_ISA_AVX2] = { "avx2", rs_tri_fast_avx2, rs_project_vertices_avx2, rs_project_vertex_avx2,
-                      rs_setup_shared_avx2, rs_setup_groups_avx2, rs_group_tile_avx2,
-                      rs_tri_run_avx2 },
+                      rs_setup_shared_avx2, rs_setup_groups_avx2, rs_group_tile_avx2 },
     [RS_ISA_AVX512] = { "avx512", rs_tri_fast_avx512, rs_project_vertices_avx512, rs_project_vertex_avx512,
-                        rs_setup_shared_avx512, rs_setup_groups_avx512, rs_group_tile_avx512,
-                        rs_tri_run_avx512 },
+                        rs_setup_shared_avx512, rs_setup_groups_avx512, rs_group_tile_avx512 },
 };
 #else /* the browser build: no kernels, the reference path only (raster_internal.h) */
-static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL, NULL, NULL, NULL},
-                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL, NULL, NULL, NULL}};
+static const rs_kernels kernels[RS_ISA_COUNT] = {[RS_ISA_AVX2] = {"none", NULL, NULL, NULL, NULL, NULL, NULL},
+                                                 [RS_ISA_AVX512] = {"avx512", NULL, NULL, NULL, NULL, NULL, NULL}};
 /* setup_simd.c's definition (sizeof(rs_pvert), asserted 24 there), for the scratch rs_draw_source reserves */
 size_t rs_pvert_size(void) { return 24; }
 #endif
@@ -369,15 +367,7 @@ static bool piece_ok(const rs_source *src, const rs_vertex *v, size_t nv, const 
 }
 
 /* Chunk ch's projected vertices of a grouped piece made to hold n records; false when out of memory. */
-static bool reserve_gpv(rs_chunk *ch, size_t n)
-{
-    if (n <= ch->gpv_cap) return true;
-    if (n > SIZE_MAX / rs_pvert_size()) return false;
-    void *p = realloc(ch->gpv, n * rs_pvert_size());
-    if (!p) return false;
-    ch->gpv = p, ch->gpv_cap = n;
-    return true;
-}
+static bool reserve_gpv(rs_chunk *ch, size_t n) { return rs_reserve(&ch->gpv, &ch->gpv_cap, n, rs_pvert_size()); }
 
 /* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each
  * vertex once (as the shared pass, into the slot's pv_slot vertices of rs->pv), set up and bin.  A piece of a

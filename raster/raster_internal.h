@@ -348,6 +348,9 @@ static inline bool rs_group_ok(const rs_job *j)
 }
 
 /* ---- bin.c ---- */
+/* Grow *buf (elements of `size` bytes, capacity *cap, doubling) to hold n; false (*buf kept) when out of memory:
+ * the chunks' growing arrays (bins, grouped pieces' records and rows). */
+bool rs_reserve(void **buf, size_t *cap, size_t n, size_t size);
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
 
@@ -415,8 +418,6 @@ struct rs_kernels {
     bool (*setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
                          size_t np, size_t group, size_t level);   /* rs_setup_groups_* */
     void (*group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *p); /* rs_group_tile_* */
-    unsigned (*tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp); /* rs_tri_run_* */
 };
 /* The kernels of instruction set isa (RS_ISA_*; any value the CPU may lack: check rs_isa_supported first). */
 const rs_kernels *rs_kernels_of(int isa);

@@ -473,18 +473,6 @@ void RS_KERNEL(rs_setup_shared)(const rs_job *j, rs_chunk *c)
 
 /* ---- grouped pieces (raster_internal.h): one bin entry per group, its triangles set up inside the tile pass ---- */
 
-/* Grow *buf (elements of `size` bytes, capacity *cap) to hold n > 0; false when out of memory. */
-static bool group_reserve(void **buf, size_t *cap, size_t n, size_t size)
-{
-    if (n <= *cap) return true;
-    size_t nc = *cap ? *cap : 256;
-    while (nc < n) nc *= 2;
-    void *p = nc <= SIZE_MAX / size ? realloc(*buf, nc * size) : NULL;
-    if (!p) return false;
-    *buf = p, *cap = nc;
-    return true;
-}
-
 /* rs_setup_shared's decision for the ready triangle of indices id[0..3) into records pv: 0 degenerate, -1 culled,
  * else 1 with its records in clockwise order in v, their indices in ov and its doubled area in *area. */
 static inline int group_tri(const rs_pvert *pv, const uint32_t *id, bool cull_neg, bool cull_pos,
@@ -505,8 +493,8 @@ static inline int group_tri(const rs_pvert *pv, const uint32_t *id, bool cull_ne
 static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, size_t np)
 {
     const size_t ns = (size_t)j->n_slots;
-    if (!group_reserve((void **)&c->gattr, &c->gattr_cap, nv * ns + 1, sizeof(rs_vec4)) ||
-        !group_reserve((void **)&c->gtri, &c->gtri_cap, np, sizeof(rs_gtri))) {
+    if (!rs_reserve((void **)&c->gattr, &c->gattr_cap, nv * ns + 1, sizeof(rs_vec4)) ||
+        !rs_reserve((void **)&c->gtri, &c->gtri_cap, np, sizeof(rs_gtri))) {
         c->oom = true;
         return false;
     }
@@ -607,14 +595,7 @@ static inline grid_cols grid_cols_of(const rs_chunk *c)
 static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv, unsigned *all)
 {
     const size_t n = nv + RS_GRID_PAD, each = sizeof(double) + 2 * sizeof(int32_t) + sizeof(float);
-    if (n > c->gsoa_cap) {
-        size_t cap = c->gsoa_cap ? c->gsoa_cap : 256;
-        while (cap < n) cap *= 2;
-        void *p = cap <= SIZE_MAX / each ? malloc(cap * each) : NULL;
-        if (!p) return false;
-        free(c->gsoa);
-        c->gsoa = p, c->gsoa_cap = cap;
-    }
+    if (!rs_reserve(&c->gsoa, &c->gsoa_cap, n, each)) return false;   /* (all rewritten below) */
     const grid_cols g = grid_cols_of(c);
     double *w = (double *)g.w;
     int32_t *x = (int32_t *)g.x, *y = (int32_t *)g.y;
@@ -832,7 +813,7 @@ static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, si
 #ifdef __AVX2__
     if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
     const size_t rows = (np / group + 1) * level;
-    return group_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
+    return rs_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
 #else
     (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
     return false;
@@ -844,7 +825,6 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
-    c->grid_direct = 0;
     const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
     if (!grid)
         for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
@@ -852,7 +832,6 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
-    c->grid_groups = 0;
     if (!group_keep(j, c, v, nv, np)) return true;
     const bool cull_neg = j->st->cull_mode == RS_CULL_CCW, cull_pos = j->st->cull_mode == RS_CULL_CW;
     const box_consts bc = box_consts_of(j);
@@ -918,7 +897,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
         }
         c->work = work, nt = first;   /* per triangle: push_front counts the work again */
         tri_counts tc = { 0, 0, 0 };
-        const bool ok = group_as_triangles(j, c, &bc, idx, g0, n, big ? k : g0 + n, &tc, q, &nq);
+        const bool ok = group_as_triangles(j, c, &bc, idx, g0, n, k, &tc, q, &nq);
         culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
         if (!ok) break;
     }
