@@ -273,23 +273,22 @@ static void fetch_vertices(const fetch_plan *fp, uint32_t first, uint32_t n, is_
 }
 
 /* Element e (per-vertex, divider 1) of vertices first..first+count-1 into out[0], out[step], ... when it is a
- * FLOAT1..FLOAT4 element whose every read lies inside its buffer: decl_fetch's values (the floats' bits, then
- * (0, 0, 1) or 1) without a call and a switch per vertex.  False (nothing written) for other elements. */
+ * FLOAT1..FLOAT4 element whose every read lies inside its buffer: decl_fetch_inline with the type a constant in
+ * each loop (its switch folded away, no call per vertex).  False (nothing written) for other elements. */
 static bool fetch_floats(const fetch_elem *e, uint32_t first, uint32_t count, float4 *out, size_t step)
 {
-    const int comps = e->type == IS_DECLTYPE_FLOAT1 ? 1 : e->type == IS_DECLTYPE_FLOAT2 ? 2
-                    : e->type == IS_DECLTYPE_FLOAT3 ? 3 : e->type == IS_DECLTYPE_FLOAT4 ? 4 : 0;
-    if (!comps || e->divider != 1 || !count || fetch_offset((uint64_t)first + count - 1, 1, e->stride) > e->max_off)
+    const uint8_t t = e->type;
+    if ((t != IS_DECLTYPE_FLOAT1 && t != IS_DECLTYPE_FLOAT2 && t != IS_DECLTYPE_FLOAT3 && t != IS_DECLTYPE_FLOAT4) ||
+        e->divider != 1 || !count || fetch_offset((uint64_t)first + count - 1, 1, e->stride) > e->max_off)
         return false;
     const unsigned char *src = e->base + (uint64_t)first * e->stride;
-    float f[4];
-#define FETCH_FLOATS(n, value) \
-    for (uint32_t v = 0; v < count; v++, src += e->stride, out += step) memcpy(f, src, n * sizeof(float)), *out = value
-    switch (comps) {
-    case 1: FETCH_FLOATS(1, f4(f[0], 0, 0, 1)); break;
-    case 2: FETCH_FLOATS(2, f4(f[0], f[1], 0, 1)); break;
-    case 3: FETCH_FLOATS(3, f4(f[0], f[1], f[2], 1)); break;
-    default: FETCH_FLOATS(4, f4(f[0], f[1], f[2], f[3])); break;
+#define FETCH_FLOATS(type) \
+    for (uint32_t v = 0; v < count; v++, src += e->stride, out += step) *out = decl_fetch_inline(type, src)
+    switch (t) {
+    case IS_DECLTYPE_FLOAT1: FETCH_FLOATS(IS_DECLTYPE_FLOAT1); break;
+    case IS_DECLTYPE_FLOAT2: FETCH_FLOATS(IS_DECLTYPE_FLOAT2); break;
+    case IS_DECLTYPE_FLOAT3: FETCH_FLOATS(IS_DECLTYPE_FLOAT3); break;
+    default: FETCH_FLOATS(IS_DECLTYPE_FLOAT4); break;
     }
 #undef FETCH_FLOATS
     return true;
