@@ -28,10 +28,6 @@
 #define FUSED_PIECE_VERTICES 4096u
 #define FUSED_PIECES 64u
 #define FUSED_PIECE_PRIMS 16384u
-/* Draws of fewer triangles than RS_PARALLEL_SETUP_MIN (raster.h) are set up by one thread: their pieces are made
- * as large as the limits above allow, since more pieces buy no balance there and each costs the rasterizer a pass
- * over the tiles (binning, and the tile pass's walk over the pieces: scene D's adaptive frames draw ~650 such
- * draws, one instance per piece before). */
 /* Triangles per rs_draw_source call at most: bounds the set-up triangles held before the tile pass. */
 #define FUSED_MAX_PRIMS (1u << 19)
 
@@ -210,7 +206,10 @@ static size_t fused_produce(void *ctx, size_t piece, int slot, rs_vertex **verts
 }
 
 /* Instances per piece: about 1/FUSED_PIECES of the draw (all of a small one), at most FUSED_PIECE_VERTICES
- * vertices and FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance. */
+ * vertices and FUSED_PIECE_PRIMS triangles (the piece's index list), at least one instance.  A small draw (fewer
+ * triangles than RS_PARALLEL_SETUP_MIN, raster.h) is set up by one thread, so its pieces are as large as those
+ * limits allow: more pieces buy no balance there and each costs the rasterizer a pass over the tiles (binning,
+ * and the tile pass's walk over the pieces: scene D's adaptive frames draw ~650 such draws). */
 static uint32_t fused_per_piece(uint32_t n_inst, uint32_t count, size_t n_prims)
 {
     uint64_t want = (uint64_t)n_inst * count / FUSED_PIECES;

@@ -205,7 +205,6 @@ void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z)
     clear_rows(rt, flags, rgba, z, 0, rt->height);
 }
 
-/* Average the samples of each pixel, per channel, rounding half up: (sum + n/2) / n. */
 /* The resolve of 4-sample pixels c[4 p .. 4 p + 3] into out[p], p < np: per channel (sum + 2) / 4, the general
  * loop's value, two channels at a time in 16-bit halves (channels 0 and 2, then 1 and 3: sums up to 1020 fit; the
  * high half's bits shifted into the low half land above its 8 bits and are masked off). */
@@ -219,6 +218,7 @@ static void resolve4(const uint32_t *c, uint32_t *out, size_t np)
     }
 }
 
+/* Average the samples of each pixel, per channel, rounding half up: (sum + n/2) / n. */
 void rs_target_resolve(const rs_target *rt, uint32_t *out)
 {
     if (!rs_target_valid(rt) || !out) return;
