@@ -57,7 +57,7 @@ PROG_LDFLAGS = -rdynamic
 LIB_SRC  = $(wildcard core/*.c raster/*.c vs/*.c meshes/*.c image/*.c tess/*.c)
 # The rasterizer's fast-path kernels are compiled a second time for AVX-512 (raster/raster_internal.h,
 # RS_KERNEL): the library picks that copy at run time on CPUs that have it (rs_set_isa), with the same bytes.
-KERNEL_SRC = raster/span.c raster/setup_simd.c
+KERNEL_SRC = raster/span.c raster/span_wide.c raster/setup_simd.c
 KERNEL512  = -march=x86-64-v4 -DRS_KERNEL_AVX512
 LIB_OBJ  = $(LIB_SRC:%.c=$(B)/%.o) $(KERNEL_SRC:%.c=$(B)/%.avx512.o)
 IMG_OBJ  = $(B)/image/image_oiio.o

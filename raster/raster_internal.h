@@ -368,7 +368,7 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
 /* Copy tile buffer t back into the job's target and mark the tile's clear done. */
 void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t);
 
-/* ---- span.c: the 8-lane fast path of triangles on 1-sample targets ---- */
+/* ---- span.c, span_wide.c: the 8-lane fast path of triangles on 1-sample targets ---- */
 /* True when the job may take the fast path: 1-sample targets off the reference path, with AVX2. */
 static inline bool rs_span_ok(const rs_job *j)
 {
@@ -391,6 +391,14 @@ void rs_tri_fast_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float
                       int y1);
 void rs_tri_fast_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                         int y1);
+
+/* span_wide.c: rs_tri_fast's walks of larger triangles -- walk 1 or 2: the span walk (box at most 16 or 32 wide,
+ * coef_small, tile at least 8 wide), 3: the block walk (any) -- in the job's span_mode.  One copy per instruction
+ * set (RS_KERNEL). */
+void rs_tri_wide_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1,
+                      int walk);
+void rs_tri_wide_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
+                        int y1, int walk);
 
 /* The grid rows' tile pass (setup_simd.c's grid_tile) rasterizes the triangles of a step (up to 8, in the L1
  * scratch: triangle sp[l], attribute block sa + l * stride, pixel box already clipped to tile t in cb[0..4)[l] as

@@ -18,7 +18,7 @@
 WEB_TOOLCHAIN ?= wasi
 WEB_OUT  ?= out/web
 WEB_B     = $(B)/web-$(WEB_TOOLCHAIN)
-WEB_LIB_SRC = $(filter-out raster/span.c raster/setup_simd.c,$(wildcard core/*.c raster/*.c vs/*.c tess/*.c)) \
+WEB_LIB_SRC = $(filter-out raster/span.c raster/span_wide.c raster/setup_simd.c,$(wildcard core/*.c raster/*.c vs/*.c tess/*.c)) \
               meshes/mesh.c meshes/builtin.c meshes/normals_check.c image/image.c
 WEB_APP_SRC = cli/run/scene.c cli/run/lighting.c cli/run/options.c cli/run/displace.c cli/run/inspect.c \
               cli/run/shading.c $(wildcard web/*.c)
