@@ -45,22 +45,25 @@
   let tables = null, defaults = null, state = null;
   const objs = new Map();   // dropped OBJ name -> the reader's notes
   // The options the page sets, in the order its command lines list them.
-  const ORDER = ["patch", "normals", "level", "instances", "grid", "path", "lod", "max-level", "lod-target", "silhouette",
-                 "wire-levels", "fill", "light", "yaw", "pitch", "distance", "fov", "fit", "up", "cull",
+  const ORDER = ["patch", "normals", "level", "instances", "grid", "path", "lod", "max-level", "lod-target", "lod-deviation",
+                 "silhouette",                  "wire-levels", "fill", "light", "yaw", "pitch", "distance", "fov", "fit", "up", "cull",
                  "recompute-normals", "msaa", "size"];
   const FLAGS = new Set(["silhouette", "recompute-normals"]);
   const quote = (s) => /^[A-Za-z0-9._,#+=:@%\/-]+$/.test(s) ? s : "'" + s.replace(/'/g, "") + "'";
 
   // The command line of state s (overrides applied): the mesh, then each option whose value is not the program's
-  // default; the level-of-detail options only with --lod distance or screen, as the program requires.
+  // default; the level-of-detail options only with a --lod other than uniform (--lod-target only with screen,
+  // --lod-deviation only with deviation), as the program requires.
   function lineOf(s, overrides) {
     s = Object.assign({}, s, overrides || {});
     const words = [quote(s.mesh)];
     for (const key of ORDER) {
       const v = s[key];
-      const lodOnly = key === "max-level" || key === "silhouette" || key === "wire-levels" || key === "lod-target";
+      const lodOnly = key === "max-level" || key === "silhouette" || key === "wire-levels" || key === "lod-target" ||
+        key === "lod-deviation";
       if (lodOnly && s.lod === "uniform") continue;
       if (key === "lod-target" && s.lod !== "screen") continue;
+      if (key === "lod-deviation" && s.lod !== "deviation") continue;
       if (FLAGS.has(key)) { if (v) words.push("--" + key); continue; }
       if (key === "wire-levels") { if (v) words.push("--wire-levels", "on"); continue; }
       if (key === "max-level") { words.push("--max-level", String(v)); continue; }
@@ -179,6 +182,7 @@
   api.setLod = (lod, o = {}) => set(Object.assign({ lod },
     o.maxLevel !== undefined ? { "max-level": String(o.maxLevel) } : {},
     o.target !== undefined ? { "lod-target": String(o.target) } : {},
+    o.deviation !== undefined ? { "lod-deviation": String(o.deviation) } : {},
     o.silhouette !== undefined ? { silhouette: !!o.silhouette } : {},
     o.wireLevels !== undefined ? { "wire-levels": !!o.wireLevels } : {}));
   api.setSplit = (on, other) => set(Object.assign({ split: !!on }, other ? { other } : {}));
@@ -224,7 +228,7 @@
   // ------------------------------------------------------------------ controls
   const SELECTS = { mesh: "mesh", patch: "patch", normals: "normals", grid: "grid", path: "path", fill: "fill",
                     lod: "lod", cull: "cull", up: "up", fit: "fit", other: "patch" };
-  const PAIRS = ["level", "max-level", "lod-target", "yaw", "pitch", "distance", "fov"];
+  const PAIRS = ["level", "max-level", "lod-target", "lod-deviation", "yaw", "pitch", "distance", "fov"];
   const CHECKS = { silhouette: "silhouette", "wire-levels": "wire-levels", "recompute-normals": "recompute",
                    split: "split" };
   function buildControls() {
@@ -316,6 +320,7 @@
     const lod = state.lod !== "uniform";
     for (const id of ["max-level", "max-level-n", "silhouette", "wire-levels"]) $("c-" + id).disabled = !lod;
     $("c-lod-target").disabled = $("c-lod-target-n").disabled = state.lod !== "screen";
+    $("c-lod-deviation").disabled = $("c-lod-deviation-n").disabled = state.lod !== "deviation";
     $("c-other").disabled = !state.split;
   }
 

@@ -343,12 +343,13 @@ WEB_EXPORT(web_tables) const char *web_tables(web_ctx *w)
         n += (size_t)snprintf(b + n, len - n, ",\"defaults\":{\"mesh\":\"%s\",\"patch\":\"%s\",\"normals\":\"%s\","
                               "\"level\":\"%g\",\"grid\":\"%s\",\"path\":\"%s\",\"fill\":\"%s\",\"light\":\"%s\","
                               "\"msaa\":\"%d\",\"yaw\":\"%g\",\"pitch\":\"%g\",\"distance\":\"%g\",\"fov\":\"%g\","
-                              "\"size\":\"%dx%d\",\"lod\":\"%s\",\"lod-target\":\"%g\",\"cull\":\"%s\",\"up\":\"%s\","
+                              "\"size\":\"%dx%d\",\"lod\":\"%s\",\"lod-target\":\"%g\",\"lod-deviation\":\"%g\",\"cull\":\"%s\",\"up\":\"%s\","
                               "\"fit\":\"%s\",\"instances\":\"%u\"}", d.mesh, vs_patch_name(d.patch), vs_normals_name(d.normals),
                               (double)d.level, scene_grid_name(d.grid), scene_path_names[d.path],
                               scene_fill_names[d.fill], scene_light_name(&d, light, sizeof light), d.msaa, (double)d.yaw,
                               (double)d.pitch, (double)d.distance, (double)d.fov, d.width, d.height,
-                              scene_lod_names[d.lod], (double)d.lod_target, scene_cull_names[d.cull - IS_CULL_NONE],
+                              scene_lod_names[d.lod], (double)d.lod_target, (double)d.lod_deviation,
+                              scene_cull_names[d.cull - IS_CULL_NONE],
                               scene_up_names[d.up], scene_fit_names[d.fit], d.instances);
     json_names(b, len, &n, "up", scene_up_names, -1);
     json_names(b, len, &n, "fit", scene_fit_names, -1);
