@@ -165,9 +165,11 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 }
 
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
- * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations. */
-ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, v8i lanes, float *dp, uint32_t *cp, const float *xz,
-                          const float *xs, const float *xq1, const float *xq2, v8f zy, v8f sy, v8f q1y, v8f q2y)
+ * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  a8c: c has a
+ * colour slot with a constant alpha (the common case, known at compile time: no tests per group). */
+ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, v8i lanes, float *dp, uint32_t *cp,
+                          const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy, v8f sy, v8f q1y,
+                          v8f q2y)
 {
     v8i pass = lanes;
     if (m.ze) {
@@ -182,7 +184,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, v8i lanes, float *d
     const v8f rr = bf(1.0f) / ((v8f)_mm256_loadu_ps(xs) + sy);
     const v8f b1 = ((v8f)_mm256_loadu_ps(xq1) + q1y) * rr;
     const v8f b2 = ((v8f)_mm256_loadu_ps(xq2) + q2y) * rr;
-    const v8i src = c->pc ? shade8w(w, c->a8, b1, b2) : bi(-1);
+    const v8i src = a8c ? shade8w(w, 0, b1, b2) : c->pc ? shade8w(w, c->a8, b1, b2) : bi(-1);
     _mm256_storeu_si256((__m256i *)cp, (__m256i)seli(pass, src, (v8i)_mm256_loadu_si256((const __m256i *)cp)));
 }
 
@@ -226,11 +228,28 @@ static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int 
     }
 }
 
+/* One group of the interval walk: lanes [lo, hi) of the 8 pixels from column gx of row y (index xi in xc, in the
+ * row's planes drow, crow), all 8 when full (known at compile time: no lane mask); through frag_w, or span8 when
+ * not plain or the group passes the target's right end (aligned walks, gx > gmax). */
+ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool a8c, const rs_job *j, rs_tile *t,
+                           const rs_prim *p, const float *a, const xcols *xc, float *drow, uint32_t *crow, int gmax,
+                           int gx, ptrdiff_t xi, int y, int lo, int hi, bool full, const v8f *yv, uint64_t *tested)
+{
+    if (m.plain && (!aligned || gx <= gmax)) {
+        frag_w(c, w, m, a8c, full ? bi(-1) : lanes_between(lo, hi), drow + xi, crow + xi, xc->zx + xi, xc->sx + xi,
+               xc->q1x + xi, xc->q2x + xi, yv[0], yv[1], yv[2], yv[3]);
+    } else { /* (span8 counts its pixels as tested) */
+        if (m.plain) *tested -= (uint64_t)(hi - lo);
+        span8(j, t, p, a, gx, y, lane_range(lo, hi - 1));
+    }
+}
+
 /* The interval walk of the box [x0, x1] x [y0, y1] (at most 64 x 64, inside tile t): per row the covered interval
- * (row_spans), then groups of 8 columns over it, lanes masked to it: aligned, 8-aligned groups (no loads across
- * cache lines; groups past the target's right end through span8); else groups from the interval's first column,
- * moved left to stay in the tile (tile at least 8 wide), so that short rows take one group. */
-ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, const rs_job *j, rs_tile *t, const rs_prim *p,
+ * (row_spans), then groups of 8 columns over it, lanes masked to it (the full ones between without a mask):
+ * aligned, 8-aligned groups (no loads across cache lines; groups past the target's right end through span8); else
+ * groups from the interval's first column, moved left to stay in the tile (tile at least 8 wide), so that a short
+ * row is one group.  a8c: c has a colour slot with a constant alpha (frag_w). */
+ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_job *j, rs_tile *t, const rs_prim *p,
                            const float *a, int x0, int y0, int x1, int y1)
 {
     const rs_tri *tr = c->tr;
@@ -260,30 +279,40 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, const rs_job *j, rs_t
     float *drow = c->depth + o0;
     uint32_t *crow = c->color + o0;
     uint64_t tested = 0;
+#define GROUP(lo, hi, full) group_w(c, &w, m, aligned, a8c, j, t, p, a, &xc, drow, crow, gmax, gx, xi, y0 + i, lo, hi, \
+                                    full, yv, &tested)
     for (int i = 0; i < nr; i++, drow += c->w, crow += c->w) {
         int k = n[i];
         if (k <= 0) continue;
         if (m.plain) tested += (uint64_t)k; /* (span8 counts its own) */
         const int g = x0 + l[i]; /* the first covered column */
         int gx = aligned ? g & ~7 : g < gmax ? g : gmax;
-        int lo = g - gx;
+        const int lo = g - gx;
         ptrdiff_t xi = gx - bx;
-        const v8f zy = bf(yr.zy[i]), sy = bf(yr.sy[i]), q1y = bf(yr.q1y[i]), q2y = bf(yr.q2y[i]);
-        for (;;) {
-            const int hi = lo + k < 8 ? lo + k : 8;
-            if (m.plain && (!aligned || gx <= gmax)) {
-                frag_w(c, &w, m, lanes_between(lo, hi), drow + xi, crow + xi, xc.zx + xi, xc.sx + xi,
-                       xc.q1x + xi, xc.q2x + xi, zy, sy, q1y, q2y);
-            } else { /* (span8 counts its pixels as tested) */
-                if (m.plain) tested -= (uint64_t)(hi - lo);
-                span8(j, t, p, a, gx, y0 + i, lane_range(lo, hi - 1));
+        const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
+        if (lo + k <= 8) { /* one group */
+            GROUP(lo, lo + k, false);
+            continue;
+        }
+        GROUP(lo, 8, false);
+        k -= 8 - lo;
+        for (;;) { /* k > 0 pixels from column gx + 8 */
+            gx += 8, xi += 8;
+            if (!aligned && gx > gmax) { /* at the tile's end: the group moved left, lanes [s, s + k) */
+                const int s = gx - gmax;
+                gx -= s, xi -= s;
+                GROUP(s, s + k, false);
+                break;
             }
-            k -= hi - lo;
-            if (k <= 0) break;
-            gx += 8, xi += 8, lo = 0;
-            if (!aligned && gx > gmax) lo = gx - gmax, xi -= lo, gx = gmax;
+            if (k < 8) {
+                GROUP(0, k, false);
+                break;
+            }
+            GROUP(0, 8, true);
+            if (!(k -= 8)) break;
         }
     }
+#undef GROUP
     c->tested += tested;
 }
 
@@ -296,7 +325,8 @@ ALWAYS_INLINE void walk_span(zmode m, const rs_job *j, rs_tile *t, const rs_prim
 {
     fctx c;
     fctx_make(&c, j, t, p, a);
-    walk_iv(&c, m, false, j, t, p, a, x0, y0, x1, y1);
+    if (c.pc && c.a8 >= 0) walk_iv(&c, m, false, true, j, t, p, a, x0, y0, x1, y1);
+    else walk_iv(&c, m, false, false, j, t, p, a, x0, y0, x1, y1);
     t->tested += c.tested;
     t->written += c.written;
 }
@@ -308,7 +338,8 @@ ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim 
     fctx c;
     fctx_make(&c, j, t, p, a);
     for (int b = y0; b <= y1; b += RS_TILE) /* a tile has at most 64 rows; any box in bands of 64 */
-        walk_iv(&c, m, true, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
+        if (c.pc && c.a8 >= 0) walk_iv(&c, m, true, true, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
+        else walk_iv(&c, m, true, false, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
     t->tested += c.tested;
     t->written += c.written;
 }
