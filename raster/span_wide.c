@@ -50,7 +50,7 @@ static inline v4d exact_pd(__m256i v)
  * in (q, q + 1): u = q, resp. q + 1.  Otherwise q is at least 1 / |A| >= 2^-31 (|A| <= 2^31) away from the
  * integers around it, more than eps (2^-33) + 2^-45 + the rounding of the sum: u = ceil(q), resp. floor(q) + 1.
  * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them. */
-static inline void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
+ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
                              int32_t *n)
 {
     const edges4 E = edges4_of(tr);
