@@ -165,27 +165,33 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 }
 
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
- * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  a8c: c has a
- * colour slot with a constant alpha (the common case, known at compile time: no tests per group). */
-ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, v8i lanes, float *dp, uint32_t *cp,
+ * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  split: lanes
+ * 0..3 are the 4 pixels at dp, cp and lanes 4..7 the 4 below them (the next row), with the x parts of the same 4
+ * columns.  a8c: c has a colour slot with a constant alpha (the common case, known at compile time: no tests per
+ * group). */
+ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool split, v8i lanes, float *dp, uint32_t *cp,
                           const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy, v8f sy, v8f q1y,
                           v8f q2y)
 {
+#define XP(q) (split ? (v8f)_mm256_broadcast_ps((const __m128 *)(q)) : (v8f)_mm256_loadu_ps(q))
+    float *dp1 = split ? dp + c->w : dp;
+    uint32_t *cp1 = split ? cp + c->w : cp;
     v8i pass = lanes;
     if (m.ze) {
-        const v8f d = (v8f)_mm256_loadu_ps(dp);
-        const v8f z = zclamp8((v8f)_mm256_loadu_ps(xz) + zy, c->zlo, c->zhi);
+        const v8f d = (v8f)load_lanes(dp, dp1, split);
+        const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
-        if (m.zw) _mm256_storeu_ps(dp, (__m256)sel(pass, z, d));
+        if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
     }
     const unsigned pm = mask_of(pass);
     if (!pm) return;
     c->written += (uint64_t)__builtin_popcount(pm);
-    const v8f rr = bf(1.0f) / ((v8f)_mm256_loadu_ps(xs) + sy);
-    const v8f b1 = ((v8f)_mm256_loadu_ps(xq1) + q1y) * rr;
-    const v8f b2 = ((v8f)_mm256_loadu_ps(xq2) + q2y) * rr;
+    const v8f rr = bf(1.0f) / (XP(xs) + sy);
+    const v8f b1 = (XP(xq1) + q1y) * rr;
+    const v8f b2 = (XP(xq2) + q2y) * rr;
+#undef XP
     const v8i src = a8c ? shade8w(w, 0, b1, b2) : c->pc ? shade8w(w, c->a8, b1, b2) : bi(-1);
-    _mm256_storeu_si256((__m256i *)cp, (__m256i)seli(pass, src, (v8i)_mm256_loadu_si256((const __m256i *)cp)));
+    store_lanes(cp, cp1, split, (__m256i)seli(pass, src, (v8i)load_lanes(cp, cp1, split)));
 }
 
 /* The x parts of the planes per column: column bx + i at index i, for up to 72 columns (a tile's 64 and the 8
@@ -228,6 +234,13 @@ static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int 
     }
 }
 
+/* p[0] in lanes 0..3 and p[1] in lanes 4..7 (the y parts of two rows, for the 4x2 groups). */
+static inline v8f rows2(const float *p)
+{
+    const __m256 two = _mm256_castpd_ps(_mm256_broadcast_sd((const double *)p)); /* p[0], p[1], p[0], ... */
+    return (v8f)_mm256_permutevar8x32_ps(two, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
+}
+
 /* One group of the interval walk: lanes [lo, hi) of the 8 pixels from column gx of row y (index xi in xc, in the
  * row's planes drow, crow), all 8 when full (known at compile time: no lane mask); through frag_w, or span8 when
  * not plain or the group passes the target's right end (aligned walks, gx > gmax). */
@@ -236,7 +249,7 @@ ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool
                            int gx, ptrdiff_t xi, int y, int lo, int hi, bool full, const v8f *yv, uint64_t *tested)
 {
     if (m.plain && (!aligned || gx <= gmax)) {
-        frag_w(c, w, m, a8c, full ? bi(-1) : lanes_between(lo, hi), drow + xi, crow + xi, xc->zx + xi, xc->sx + xi,
+        frag_w(c, w, m, a8c, false, full ? bi(-1) : lanes_between(lo, hi), drow + xi, crow + xi, xc->zx + xi, xc->sx + xi,
                xc->q1x + xi, xc->q2x + xi, yv[0], yv[1], yv[2], yv[3]);
     } else { /* (span8 counts its pixels as tested) */
         if (m.plain) *tested -= (uint64_t)(hi - lo);
@@ -289,6 +302,18 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         int gx = aligned ? g & ~7 : g < gmax ? g : gmax;
         const int lo = g - gx;
         ptrdiff_t xi = gx - bx;
+        if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0) { /* two short rows in one group? */
+            const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1];
+            const int u0 = a0 < b0 ? a0 : b0, u1 = a0 + k > b0 + k2 ? a0 + k : b0 + k2;
+            if (u1 - u0 <= 4 && x0 + u0 + 4 <= t->x1) {
+                const v8i lanes = lanes_between(a0 - u0, a0 - u0 + k) | lanes_between(b0 - u0 + 4, b0 - u0 + k2 + 4);
+                frag_w(c, &w, m, a8c, true, lanes, drow + u0, crow + u0, xc.zx + u0, xc.sx + u0, xc.q1x + u0,
+                       xc.q2x + u0, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
+                tested += (uint64_t)k2;
+                i++, drow += c->w, crow += c->w;
+                continue;
+            }
+        }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
         if (lo + k <= 8) { /* one group */
             GROUP(lo, lo + k, false);
