@@ -78,11 +78,11 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
 #undef LANE
     const v4d wv = {w, w, w, w};
+#define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
     for (int i = 0; i < nr; i += 4) {
-        const int rnd = _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC;
-        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), rnd);
-        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), rnd);
-        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), rnd);
+        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
+        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
+        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), CEIL);
         e_0 += d_0, e_1 += d_1, e_2 += d_2;
         __m256d st = _mm256_max_pd(_mm256_max_pd(_mm256_min_pd(u0, (__m256d)c_0), _mm256_min_pd(u1, (__m256d)c_1)),
                                    _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
@@ -93,30 +93,35 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
         _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
         _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
     }
+#undef CEIL
 }
 
-/* Are l, n row_spans' exact answer for the box [x0, x1] x [y0, y0 + nr - 1]: every edge >= 0 at the first and
- * last pixel of each interval, some edge < 0 just outside it (or the box ends there)?  For RS_ASSERT. */
-static inline bool spans_exact(const rs_job *j, const rs_tri *tr, int x0, int y0, int x1, int nr, const int32_t *l,
-                               const int32_t *n)
+/* Is pixel x of the row at Y (1/256 px from the centre) inside triangle tr (every edge >= 0, int64)? */
+static inline bool inside_at(const rs_job *j, const rs_tri *tr, int x, int64_t Y)
+{
+    bool in = true;
+    for (int q = 0; q < 3; q++)
+        in &= (int64_t)tr->ea[q] * ((int64_t)x * RS_SUB - j->cx) + (int64_t)tr->eb[q] * Y + tr->ec[q] >= 0;
+    return in;
+}
+
+/* Are l, n row_spans' exact answer for the box [x0, x1] x [y0, y0 + nr - 1]: the first and last pixel of each
+ * interval inside, the pixels just outside it (in the box) not, and no pixel of an empty row inside?  For
+ * RS_ASSERT. */
+static inline __attribute__((unused)) bool spans_exact(const rs_job *j, const rs_tri *tr, int x0, int y0, int x1,
+                                                      int nr, const int32_t *l, const int32_t *n)
 {
     for (int i = 0; i < nr; i++) {
         const int64_t Y = (int64_t)(y0 + i) * RS_SUB - j->cy;
-        bool in[4] = {true, true, true, true}; /* at x0, first, last, past last */
-        const int first = n[i] > 0 ? x0 + l[i] : x0, last = n[i] > 0 ? first + n[i] - 1 : x1;
-        const int at[4] = {first - 1, first, last, last + 1};
-        for (int q = 0; q < 3; q++)
-            for (int k = 0; k < 4; k++)
-                in[k] &= (int64_t)tr->ea[q] * ((int64_t)at[k] * RS_SUB - j->cx) + (int64_t)tr->eb[q] * Y + tr->ec[q] >= 0;
-        if (n[i] > 0 && (!in[1] || !in[2] || (first > x0 && in[0]) || (last < x1 && in[3]) || last > x1))
+        if (n[i] <= 0) { /* none covered: test them all */
+            for (int x = x0; x <= x1; x++)
+                if (inside_at(j, tr, x, Y)) return false;
+            continue;
+        }
+        const int first = x0 + l[i], last = first + n[i] - 1;
+        if (last > x1 || !inside_at(j, tr, first, Y) || !inside_at(j, tr, last, Y) ||
+            (first > x0 && inside_at(j, tr, first - 1, Y)) || (last < x1 && inside_at(j, tr, last + 1, Y)))
             return false;
-        if (n[i] <= 0) /* none covered: no pixel of the row inside (a convex row: test them all) */
-            for (int x = x0; x <= x1; x++) {
-                bool inside = true;
-                for (int q = 0; q < 3; q++)
-                    inside &= (int64_t)tr->ea[q] * ((int64_t)x * RS_SUB - j->cx) + (int64_t)tr->eb[q] * Y + tr->ec[q] >= 0;
-                if (inside) return false;
-            }
     }
     return true;
 }
@@ -249,8 +254,9 @@ ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool
                            int gx, ptrdiff_t xi, int y, int lo, int hi, bool full, const v8f *yv, uint64_t *tested)
 {
     if (m.plain && (!aligned || gx <= gmax)) {
-        frag_w(c, w, m, a8c, false, full ? bi(-1) : lanes_between(lo, hi), drow + xi, crow + xi, xc->zx + xi, xc->sx + xi,
-               xc->q1x + xi, xc->q2x + xi, yv[0], yv[1], yv[2], yv[3]);
+        const v8i lanes = full ? bi(-1) : lanes_between(lo, hi);
+        frag_w(c, w, m, a8c, false, lanes, drow + xi, crow + xi, xc->zx + xi, xc->sx + xi, xc->q1x + xi, xc->q2x + xi,
+               yv[0], yv[1], yv[2], yv[3]);
     } else { /* (span8 counts its pixels as tested) */
         if (m.plain) *tested -= (uint64_t)(hi - lo);
         span8(j, t, p, a, gx, y, lane_range(lo, hi - 1));
@@ -362,9 +368,11 @@ ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim 
 {
     fctx c;
     fctx_make(&c, j, t, p, a);
-    for (int b = y0; b <= y1; b += RS_TILE) /* a tile has at most 64 rows; any box in bands of 64 */
-        if (c.pc && c.a8 >= 0) walk_iv(&c, m, true, true, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
-        else walk_iv(&c, m, true, false, j, t, p, a, x0, b, x1, y1 - b < RS_TILE ? y1 : b + RS_TILE - 1);
+    for (int b = y0; b <= y1; b += RS_TILE) { /* a tile has at most 64 rows; any box in bands of 64 */
+        const int b1 = y1 - b < RS_TILE ? y1 : b + RS_TILE - 1;
+        if (c.pc && c.a8 >= 0) walk_iv(&c, m, true, true, j, t, p, a, x0, b, x1, b1);
+        else walk_iv(&c, m, true, false, j, t, p, a, x0, b, x1, b1);
+    }
     t->tested += c.tested;
     t->written += c.written;
 }

@@ -196,7 +196,8 @@ static void test_wide_exact_edges(void **state)
     for (int i = 0; i < n; i++) {
         const float xs = (float)(20 + (int)(rnd(&s) % 88)), ys = (float)(2 + (int)(rnd(&s) % 60));
         const float d = 1.0f / 256.0f, len = (float)(2 + (int)(rnd(&s) % 60));
-        const float side = (rnd(&s) % 2 ? 1.0f : -1.0f) * (rnd(&s) % 3 ? frnd(&s, 9.0f, 32.0f) : frnd(&s, 33.0f, 90.0f));
+        const float width = rnd(&s) % 3 ? frnd(&s, 9.0f, 32.0f) : frnd(&s, 33.0f, 90.0f);
+        const float side = rnd(&s) % 2 ? width : -width;
         const float px[3] = {xs, xs + (rnd(&s) % 2 ? d : -d), xs + side};
         const float py[3] = {ys + (rnd(&s) % 4 ? -d : d), ys + len, ys + frnd(&s, 0.0f, len)};
         for (int k = 0; k < 3; k++)
