@@ -4,13 +4,14 @@
  *
  * One walk, the interval walk: per row the covered interval, exact, from each edge's crossing column (row_spans:
  * double arithmetic, 4 rows per vector, no per-pixel coverage at all), then groups of 8 columns over it with the
- * lanes outside masked off; the planes' x parts per column and y parts per row come from tables made once per
- * call, the colour coefficients are broadcast once (memory operands of the lane arithmetic).  Medium triangles
- * (box at most 32 wide, edge coefficients at most 2^13: rs_tri_fast's walks 1 and 2) take groups from each row's
- * first covered column, so a short row is one group; the others (walk 3) 8-aligned groups, no loads across cache
- * lines, in bands of 64 rows.  It replaced a span walk (per row the coverage of a window of 2 or 4 groups, 32-bit
- * edge values) and a block walk (8x8 blocks with trivial accept / reject tests): scene A 25.2 -> 21.7 M and
- * scene C 43.3 -> 39.2 M instructions per frame.
+ * lanes outside masked off (none between a row's first and last group); the planes' x parts per column and y
+ * parts per row come from tables made once per call, the colour coefficients are broadcast once (memory operands
+ * of the lane arithmetic) and the shading is specialised for a constant alpha.  Medium triangles (box at most 32
+ * wide, edge coefficients at most 2^13: rs_tri_fast's walks 1 and 2) take groups from each row's first covered
+ * column, so a short row is one group, and two short rows within the same 4 columns one 4x2 group; the others
+ * (walk 3) 8-aligned groups, no loads across cache lines, in bands of 64 rows.  It replaced a span walk (per row
+ * the coverage of a window of 2 or 4 groups, 32-bit edge values) and a block walk (8x8 blocks with trivial
+ * accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
