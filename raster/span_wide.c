@@ -58,6 +58,7 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     RS_ASSERT(rs_within((int64_t)x0 * RS_SUB - j->cx, 22) && rs_within((int64_t)y0 * RS_SUB - j->cy, 22));
     const __m256i ev = _mm256_add_epi64(edge_xy(&E, (int64_t)x0 * RS_SUB - j->cx, (int64_t)y0 * RS_SUB - j->cy),
                                         E.c); /* lanes 0..2: e at (x0, y0), |e| < 2^48 */
+    RS_ASSERT(rs_within(((v4l)ev)[0], 48) && rs_within(((v4l)ev)[1], 48) && rs_within(((v4l)ev)[2], 48));
     const v4d e0 = exact_pd(ev);
     const v4d A = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->ea)) * 256.0; /* lane 3: eb[0]'s */
     const v4d B = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->eb)) * 256.0; /* lane 3: ec's */
