@@ -392,9 +392,9 @@ void rs_tri_fast_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float
 void rs_tri_fast_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,
                         int y1);
 
-/* span_wide.c: rs_tri_fast's walks of larger triangles -- walk 1 or 2: the span walk (box at most 16 or 32 wide,
- * coef_small, tile at least 8 wide), 3: the block walk (any) -- in the job's span_mode.  One copy per instruction
- * set (RS_KERNEL). */
+/* span_wide.c: rs_tri_fast's walks of larger triangles, the interval walk -- walk 1 or 2 (box at most 16 or 32
+ * wide, coef_small, tile at least 8 wide): groups from each row's first covered column, 3 (any): 8-aligned groups
+ * -- in the job's span_mode.  One copy per instruction set (RS_KERNEL). */
 void rs_tri_wide_avx2(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1, int y1,
                       int walk);
 void rs_tri_wide_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0, int x1,

@@ -381,8 +381,8 @@ static inline void edges32(const rs_tri *tr, uint32_t X, uint32_t Y, v8i col, v8
     }
 }
 
-/* Span windows are at most this many groups of 8 columns wide (boxes up to 32 px; wider ones of coef_small
- * triangles, at most 33 px, take the block walk). */
+/* rs_tri_fast's medium triangles: boxes at most this many groups of 8 columns wide (up to 32 px) of coef_small
+ * triangles, walked from each row's first column (span_wide.c); wider ones take its 8-aligned walk. */
 #define SPAN_GROUPS 4
 
 /* The modes: depth test LESSEQUAL (D3D9's default) or LESS with writes, no blending, no AOV planes; any other

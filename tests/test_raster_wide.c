@@ -1,0 +1,237 @@
+/* tests/test_raster_wide.c -- span_wide.c's interval walk: triangles whose box in a tile is wider than 8 pixels
+ * have each row's covered interval computed from the edges' crossing columns (row_spans, in doubles), then groups
+ * of 8 lanes over it: from the row's first column for medium triangles (box at most 32 wide, moved left at a tile's
+ * right end), 8-aligned for larger ones (through span8 past the target's right end), the groups between a row's
+ * first and last without a lane mask.  The triangles here: medium (9 to 32 pixels wide) and large (up to several
+ * tiles, some past the guard band), placed around the 64-pixel tile borders and the target's right and bottom
+ * edges (sizes that are not multiples of 8 or 64), some with their vertices on pixel centres and half pixels and
+ * axis-aligned edges (crossings exactly at a pixel: the top-left rule and row_spans' integer case; horizontal
+ * edges: its A = 0 case); vertex colours with a constant alpha (the walk's specialised shading) or a varying one,
+ * or no COLOR0 (white); every depth function, depth writes off, depth off, blending (span8's per-pixel path);
+ * deferred and immediate clears (tile buffers or the target's planes), 1 and 2 threads, each instruction set the
+ * CPU has, and a viewport that does not start at a tile border.  Every byte of colour and depth and every counter
+ * must equal the reference path's.  Deterministic: a fixed xorshift seed. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../raster/raster.h"
+
+/* xorshift64 random numbers: the test's only state, passed by pointer. */
+static uint32_t rnd(uint64_t *s)
+{
+    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
+    return (uint32_t)(*s >> 11);
+}
+/* Uniform float in [lo, hi). */
+static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
+
+/* A pixel coordinate near a place the walks must get right: a tile border (multiples of 64), the target's last
+ * pixels (size n), or anywhere. */
+static float near_edge(uint64_t *s, int n)
+{
+    int k = (int)(rnd(s) % 3);
+    float c = k == 0   ? (float)(64 * (int)(rnd(s) % (unsigned)(n / 64 + 1)))
+              : k == 1 ? (float)n
+                       : frnd(s, 0.0f, (float)n);
+    return c + frnd(s, -40.0f, 8.0f);
+}
+
+/* v snapped to half pixels when snap (edges through pixel centres: exact crossings). */
+static float snapped(float v, bool snap) { return snap ? (float)(int)(v * 2.0f) * 0.5f : v; }
+
+/* n triangles in the viewport (x, y, w, h) of the target, in clip space: medium ones (box 9 to 32 pixels wide,
+ * 1 to 40 tall) and, one in `big`, large ones (33 to 300 pixels, a few far past the target); a third with snapped
+ * vertices (some right triangles with a horizontal and a vertical edge); random depth, w and colours, the alpha
+ * constant per triangle (1 or one random value) or per vertex. */
+static rs_vertex *wide_triangles(uint64_t *s, int n, int big, const rs_viewport *vp)
+{
+    rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
+    assert_non_null(v);
+    for (int i = 0; i < n; i++) {
+        const bool large = rnd(s) % (unsigned)big == 0, snap = rnd(s) % 3 == 0, right = snap && rnd(s) % 2;
+        const float bw = large ? (rnd(s) % 8 == 0 ? frnd(s, 300.0f, 3000.0f) : frnd(s, 33.0f, 300.0f))
+                               : frnd(s, 9.0f, 32.9f);
+        const float bh = large ? frnd(s, 2.0f, 300.0f) : frnd(s, 1.0f, 40.0f);
+        const float cx = (float)vp->x + near_edge(s, vp->width), cy = (float)vp->y + near_edge(s, vp->height);
+        const bool aconst = rnd(s) % 2;
+        const float alpha = rnd(s) % 2 ? 1.0f : frnd(s, 0.0f, 1.0f);
+        for (int k = 0; k < 3; k++) {
+            rs_vertex *q = &v[3 * i + k];
+            float px = snapped(cx + frnd(s, 0.0f, bw), snap), py = snapped(cy + frnd(s, 0.0f, bh), snap);
+            if (right && k > 0) { /* (cx, cy), (cx + bw, cy), (cx, cy + bh) or the reverse */
+                px = snapped(k == 1 ? cx + bw : cx, true), py = snapped(k == 1 ? cy : cy + bh, true);
+                if (i % 2) px = snapped(2.0f * cx + bw - px, true);
+            } else if (right) {
+                px = snapped(cx, true), py = snapped(cy, true);
+            }
+            const float wv = rnd(s) % 3 == 0 ? frnd(s, 0.5f, 2.0f) : 1.0f;
+            const float nx = (px - (float)vp->x) / (float)vp->width * 2.0f - 1.0f;
+            const float ny = 1.0f - (py - (float)vp->y) / (float)vp->height * 2.0f;
+            q->pos = (rs_vec4){nx * wv, ny * wv, frnd(s, 0.0f, 1.0f) * wv, wv};
+            q->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f),
+                                                aconst ? alpha : frnd(s, 0.0f, 1.0f)};
+        }
+    }
+    return v;
+}
+
+/* Draw v (n triangles, twice) into rt with st after a clear: on the reference path (reference), else the fast path
+ * with instruction set isa; deferred: rs_target_clear_deferred (the tile buffers), else rs_target_clear. */
+static void draw(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa, int threads,
+                 bool deferred, float clear_z, rs_stats *stats)
+{
+    rs_context *rs = rs_create(threads);
+    assert_non_null(rs);
+    rs_set_reference_path(rs, reference);
+    if (!reference) assert_int_equal(rs_set_isa(rs, isa), RS_OK);
+    rs_target_clear(rt, 3, 0x55667788u, 0.35f);
+    if (deferred) rs_target_clear_deferred(rs, rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x11223344u, clear_z);
+    else rs_target_clear(rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x11223344u, clear_z);
+    for (int pass = 0; pass < 2; pass++)
+        assert_int_equal(rs_draw(rs, st, rt, RS_PRIM_TRIANGLES, v, (size_t)n * 3, NULL, (size_t)n, &stats[pass]),
+                         RS_OK);
+    rs_target_flush(rs, rt);
+    rs_destroy(rs);
+}
+
+/* The states of case zc: 0 depth off, 1 LESSEQUAL without writes, 2 .. 9 each function with writes (LESSEQUAL and
+ * LESS: the walk's specialised instances), 10 blending (LESSEQUAL), 11 no COLOR0 (white, LESSEQUAL). */
+static rs_state case_state(int zc, const rs_viewport *vp)
+{
+    rs_state st;
+    memset(&st, 0, sizeof st);
+    st.cull_mode = RS_CULL_NONE, st.fill_mode = RS_FILL_SOLID, st.shade_mode = RS_SHADE_GOURAUD;
+    st.attr_mask = zc == 11 ? 0u : 1u << RS_ATTR_COLOR0;
+    st.z_enable = zc != 0, st.z_write = zc != 1;
+    st.z_func = zc >= 2 && zc < 2 + RS_CMP_ALWAYS ? zc - 1 : RS_CMP_LESSEQUAL;
+    st.blend_enable = zc == 10;
+    st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    st.viewport = *vp;
+    return st;
+}
+
+/* One target size and viewport: every state of case_state, deferred and immediate clear, 1 and 2 threads, each
+ * instruction set, the fast path's bytes and counters against the reference path's. */
+static void one_size(uint64_t *s, int w, int h, rs_viewport vp)
+{
+    const int n = 400;
+    for (int zc = 0; zc < 12; zc++) {
+        const rs_state st = case_state(zc, &vp);
+        const float clear_z = st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 0.6f;
+        rs_vertex *v = wide_triangles(s, n, 6, &vp);
+        rs_target ref;
+        rs_stats rst[2];
+        assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
+        draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, clear_z, rst);
+        if (rst[0].samples_tested <= 5000)
+            fail_msg("only %llu samples tested", (unsigned long long)rst[0].samples_tested);
+        for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
+            if (!rs_isa_supported(isa)) continue;
+            for (int k = 0; k < 4; k++) { /* deferred or not, 1 or 2 threads */
+                rs_target rt;
+                rs_stats fst[2];
+                assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
+                draw(&rt, &st, v, n, false, isa, 1 + k / 2, k % 2 == 0, clear_z, fst);
+                size_t np = (size_t)w * (size_t)h;
+                if (memcmp(ref.color, rt.color, np * 4) || memcmp(ref.depth, rt.depth, np * 4))
+                    fail_msg("%dx%d, case %d, isa %d, %s clear, %d threads: colour or depth differ", w, h, zc, isa,
+                             k % 2 == 0 ? "deferred" : "immediate", 1 + k / 2);
+                for (int pass = 0; pass < 2; pass++)
+                    if (rst[pass].samples_tested != fst[pass].samples_tested ||
+                        rst[pass].samples_written != fst[pass].samples_written)
+                        fail_msg("%dx%d, case %d, isa %d, pass %d: samples tested %llu / %llu, written %llu / %llu", w,
+                                 h, zc, isa, pass, (unsigned long long)rst[pass].samples_tested,
+                                 (unsigned long long)fst[pass].samples_tested,
+                                 (unsigned long long)rst[pass].samples_written,
+                                 (unsigned long long)fst[pass].samples_written);
+                rs_target_free(&rt);
+            }
+        }
+        rs_target_free(&ref);
+        free(v);
+    }
+}
+
+/* Target sizes whose width and height are not multiples of 8 or 64 (and one that is), the whole target as the
+ * viewport. */
+static void test_wide_same_bytes(void **state)
+{
+    (void)state;
+    uint64_t s = 0x3a1d3a1dull;
+    const int sizes[][2] = {{67, 61}, {197, 130}, {128, 128}, {203, 77}};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++)
+        one_size(&s, sizes[i][0], sizes[i][1], (rs_viewport){0, 0, sizes[i][0], sizes[i][1], 0.0f, 1.0f});
+}
+
+/* A viewport that starts inside a tile and ends before the target's right edge (tiles narrowed to it: the walks'
+ * groups must stay inside them). */
+static void test_wide_viewport(void **state)
+{
+    (void)state;
+    uint64_t s = 0x77e1c0deull;
+    one_size(&s, 230, 150, (rs_viewport){21, 13, 170, 121, 0.0f, 1.0f});
+    one_size(&s, 140, 90, (rs_viewport){61, 5, 75, 80, 0.0f, 1.0f});
+}
+
+/* Triangles with a nearly vertical edge from 1/256 pixel above a pixel's sample to 1/256 pixel beside the sample
+ * rows below (edge function exactly 0 or +-1 at that sample: with the top-left bias, the one exact crossing of a
+ * right edge, row_spans' end = q + 1 case, which the random triangles almost never meet), the third vertex left or
+ * right of it (the edge a right or a left one), medium and large; a 128-pixel target so that the clip coordinates
+ * are exact in float.  Bytes and counters against the reference path's, each instruction set. */
+static void test_wide_exact_edges(void **state)
+{
+    (void)state;
+    uint64_t s = 0xed9eed9eull;
+    const int w = 128, h = 128, n = 600;
+    const rs_viewport vp = {0, 0, w, h, 0.0f, 1.0f};
+    rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
+    assert_non_null(v);
+    for (int i = 0; i < n; i++) {
+        const float xs = (float)(20 + (int)(rnd(&s) % 88)), ys = (float)(2 + (int)(rnd(&s) % 60));
+        const float d = 1.0f / 256.0f, len = (float)(2 + (int)(rnd(&s) % 60));
+        const float width = rnd(&s) % 3 ? frnd(&s, 9.0f, 32.0f) : frnd(&s, 33.0f, 90.0f);
+        const float side = rnd(&s) % 2 ? width : -width;
+        const float px[3] = {xs, xs + (rnd(&s) % 2 ? d : -d), xs + side};
+        const float py[3] = {ys + (rnd(&s) % 4 ? -d : d), ys + len, ys + frnd(&s, 0.0f, len)};
+        for (int k = 0; k < 3; k++)
+            v[3 * i + k].pos = (rs_vec4){px[k] / (float)w * 2.0f - 1.0f, 1.0f - py[k] / (float)h * 2.0f,
+                                         frnd(&s, 0.0f, 1.0f), 1.0f},
+            v[3 * i + k].attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(&s, 0.0f, 1.0f), frnd(&s, 0.0f, 1.0f),
+                                                          frnd(&s, 0.0f, 1.0f), 1.0f};
+    }
+    const rs_state st = case_state(1, &vp); /* no depth writes: every triangle's pixels are tested */
+    rs_target ref;
+    rs_stats rst[2];
+    assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
+    draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, 0.6f, rst);
+    for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
+        if (!rs_isa_supported(isa)) continue;
+        rs_target rt;
+        rs_stats fst[2];
+        assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
+        draw(&rt, &st, v, n, false, isa, 1, false, 0.6f, fst);
+        assert_memory_equal(ref.color, rt.color, (size_t)w * (size_t)h * 4);
+        assert_int_equal(rst[0].samples_tested, fst[0].samples_tested);
+        assert_int_equal(rst[0].samples_written, fst[0].samples_written);
+        rs_target_free(&rt);
+    }
+    rs_target_free(&ref);
+    free(v);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_wide_same_bytes),
+        cmocka_unit_test(test_wide_viewport),
+        cmocka_unit_test(test_wide_exact_edges),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
