@@ -301,12 +301,8 @@ static inline void edge4(__m128i xi, __m128i yi, __m128i xk, __m128i yk, __m128i
 /* |x| per lane. */
 static inline v4d abs4(v4d x) { return (v4d)((v4q)x & ~(v4q)(v4d){ -0.0, -0.0, -0.0, -0.0 }); }
 
-/* dmax per lane: a where a > b or b is NaN, else b. */
-static inline v4d max4(v4d a, v4d b)
-{
-    v4q m = (a > b) | (b != b);
-    return (v4d)(((v4q)a & m) | ((v4q)b & ~m));
-}
+/* dmax per lane for a, b not NaN: a where a > b, else b (maxpd; dmax's NaN case cannot arise in finish4_lanes). */
+static inline v4d max4(v4d a, v4d b) { return (v4d)_mm256_max_pd((__m256d)a, (__m256d)b); }
 
 /* Store rows r0..r3 of a 4x4 matrix of int64 transposed: column t (lane t of every row) to base[t] + off. */
 static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *const base[4], size_t off)
@@ -322,7 +318,8 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
 /* finish_one for four triangles, one per lane, from their vertices in lanes (x, y int32, zf float, w0..w2 the
  * 1/w of vertices 0..2, in clockwise order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in
  * int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per lane the same operations in the
- * same order, so the same bytes. */
+ * same order, so the same bytes.  No value is NaN: the vertices are ready (0 <= z <= w, w > 0, 1/w finite), so
+ * the 1/w are finite and positive and za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
 static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
                                                                 const __m128i y[3], const __m128 zf[3], v4d w0,
                                                                 v4d w1, v4d w2, char *const tr[4])
@@ -509,7 +506,7 @@ static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
 }
 
 /* Push group entry of drawn triangles [first, first + n) of c->gtri (level 0), or of grid level `level` over the
- * vertices from vbase with its row boxes at c->grow[first .. first + n), with pixel box u into chunk c; false when
+ * vertices from vbase with its row and step boxes at c->grow[first .. first + n), with pixel box u into chunk c; false when
  * out of memory. */
 static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t first, size_t n, size_t level,
                        size_t vbase)
@@ -698,9 +695,10 @@ static inline void grid_verts8(const int32_t *v, const int32_t *u, __m256i o[3])
     o[2] = _mm256_permutevar8x32_epi32(u8, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
 }
 
-/* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o. */
-static inline __attribute__((always_inline)) void grid_step8(const grid_cols *g, const grid_consts *k, size_t r0,
-                                                             size_t r1, int n, step8 *o)
+/* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o: its vertices,
+ * areas and drawn mask (the pixel boxes: grid_step8_box). */
+static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols *g, const grid_consts *k, size_t r0,
+                                                                 size_t r1, int n, step8 *o)
 {
     __m256i x[3], y[3];
     grid_verts8(g->x + r0, g->x + r1, x);
@@ -714,60 +712,95 @@ static inline __attribute__((always_inline)) void grid_step8(const grid_cols *g,
     o->x[0] = x[0], o->y[0] = y[0];
     o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
     o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
-    grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]), _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]),
-               k->offx0, k->offx1, k->sx0, k->sx1, &o->x0, &o->x1);
-    grid_range(_mm256_min_epi32(_mm256_min_epi32(y[0], y[1]), y[2]), _mm256_max_epi32(_mm256_max_epi32(y[0], y[1]), y[2]),
-               k->offy0, k->offy1, k->sy0, k->sy1, &o->y0, &o->y1);
     /* drawn: in the row, area not 0 and not culled (areas of the sign cull_sign are: cull_sign * area > 0) */
     o->in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
     o->drawn = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpeq_epi32(o->area, zero), cul), o->in);
 }
 
+/* The pixel boxes of step o (tri_box's, from its vertices). */
+static inline __attribute__((always_inline)) void grid_step8_box(const grid_consts *k, step8 *o)
+{
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(o->x[0], o->x[1]), o->x[2]),
+               _mm256_max_epi32(_mm256_max_epi32(o->x[0], o->x[1]), o->x[2]), k->offx0, k->offx1, k->sx0, k->sx1,
+               &o->x0, &o->x1);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(o->y[0], o->y[1]), o->y[2]),
+               _mm256_max_epi32(_mm256_max_epi32(o->y[0], o->y[1]), o->y[2]), k->offy0, k->offy1, k->sy0, k->sy1,
+               &o->y0, &o->y1);
+}
+
 /* 8-lane int32 mask -> 8 bits. */
 static inline unsigned mask8(__m256i m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
-
-/* Horizontal min / max of 8 int32 lanes. */
-static inline int32_t hmin8(__m256i v)
-{
-    __m128i m = _mm_min_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
-    m = _mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtsi128_si32(_mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
-}
-static inline int32_t hmax8(__m256i v)
-{
-    __m128i m = _mm_max_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
-    m = _mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
-}
 
 /* First vertex of row k of the level-L grid whose vertices start at vbase (core_grid_index(L, 0, k)). */
 static inline size_t grid_row_start(size_t vbase, size_t L, size_t k) { return vbase + k * (L + 1) - k * (k - 1) / 2; }
 
+/* Row and step boxes (grow): per row of a grid group its pixel box, then one per step of the row (grid_step8_tri's
+ * eight triangles), each the union of the boxes of its drawn triangles with a pixel, as int16 lanes x0, x1, y0, y1
+ * (x0 > x1 when none: no tile meets it); the tile pass skips a row or step whose box misses the tile. */
+
+/* Steps of the row of nt triangles. */
+static inline size_t grid_row_steps(int nt) { return (size_t)(nt + 7) / 8; }
+
+/* Boxes (rows and steps) of a grid group of level L. */
+static size_t grid_boxes(size_t L)
+{
+    size_t n = L;
+    for (size_t r = 0; r < L; r++) n += grid_row_steps((int)(2 * (L - r) - 1));
+    return n;
+}
+
+/* The union of the pixel boxes of step o's lanes in pix, in int16 lanes: *mn's lane 0 the least x0, lane 4 the
+ * least y0, *mx's lane 0 the greatest x1, lane 4 the greatest y1 (INT16_MAX / INT16_MIN where pix has no lane);
+ * the other lanes are not used. */
+static inline void grid_step_union(const step8 *o, __m256i pix, __m128i *mn, __m128i *mx)
+{
+    const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
+    /* int16 lanes (saturating: the boxes are within RS_MAX_SIZE): x0 of lanes 0..3, y0 of 0..3 | the same of 4..7 */
+    const __m256i a = _mm256_packs_epi32(_mm256_blendv_epi8(big, o->x0, pix), _mm256_blendv_epi8(big, o->y0, pix));
+    const __m256i b = _mm256_packs_epi32(_mm256_blendv_epi8(small, o->x1, pix), _mm256_blendv_epi8(small, o->y1, pix));
+    __m128i m = _mm_min_epi16(_mm256_castsi256_si128(a), _mm256_extracti128_si256(a, 1));
+    __m128i n = _mm_max_epi16(_mm256_castsi256_si128(b), _mm256_extracti128_si256(b, 1));
+    m = _mm_min_epi16(m, _mm_srli_epi64(m, 32)), n = _mm_max_epi16(n, _mm_srli_epi64(n, 32));
+    *mn = _mm_min_epi16(m, _mm_srli_epi32(m, 16)), *mx = _mm_max_epi16(n, _mm_srli_epi32(n, 16));
+}
+
+/* The box (x0, x1, y0, y1 in int16 lanes 0..3) of grid_step_union's mn, mx. */
+static inline __m128i grid_box_of(__m128i mn, __m128i mx)
+{
+    return _mm_unpacklo_epi32(_mm_unpacklo_epi16(mn, mx), _mm_unpackhi_epi16(mn, mx));
+}
+
 /* The set-up region's part of grid group (level L, vertices from vbase) in chunk c: counts its triangles into *tc
- * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its rows' pixel boxes
- * to rows[0..L) and the union of its drawn triangles' boxes to u; returns whether any has a pixel. */
+ * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its row and step boxes
+ * to boxes[0 .. grid_boxes(L)) and the union of its drawn triangles' boxes to u; returns whether any has a pixel. */
 static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk *c, size_t L, size_t vbase,
-                             tri_counts *tc, int16_t (*rows)[4], int32_t u[4])
+                             tri_counts *tc, int16_t (*boxes)[4], int32_t u[4])
 {
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
-    const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
+    const __m128i none_mn = _mm_set1_epi16(INT16_MAX), none_mx = _mm_set1_epi16(INT16_MIN);
+    const __m128i none = grid_box_of(none_mn, none_mx);
     __m256i work = zero;   /* 4 x uint64: below 2^28 triangles of below 2^31 units each */
+    __m128i gmn = none_mn, gmx = none_mx;
     unsigned culled = 0, degenerate = 0, drawn = 0;
-    bool any = false;
+    size_t pos = 0;
     for (size_t r = 0; r < L; r++) {
         const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
         const int nt = (int)(2 * (L - r) - 1);   /* the row's triangles */
-        __m256i bx0 = big, by0 = big, bx1 = small, by1 = small;
-        for (int t = 0; t < nt; t += 8) {
+        const size_t row = pos++;
+        __m128i rmn = none_mn, rmx = none_mx;
+        for (int t = 0; t < nt; t += 8, pos++) {
             step8 o;
-            grid_step8(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
+            grid_step8_tri(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
             const unsigned zm = mask8(_mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
             const unsigned dm = mask8(o.drawn), nz = (unsigned)__builtin_popcount(zm);
             const unsigned nd = (unsigned)__builtin_popcount(dm);
             degenerate += nz;
             culled += (unsigned)(nt - t < 8 ? nt - t : 8) - nz - nd;
             drawn += nd;
+            _mm_storel_epi64((__m128i *)boxes[pos], none);
+            if (!dm) continue;   /* (half the steps of scene B: back faces) */
+            grid_step8_box(k, &o);
             /* a pixel: drawn with a box (x0 <= x1, y0 <= y1) */
             const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o.x0, o.x1),
                                                                     _mm256_cmpgt_epi32(o.y0, o.y1)), o.drawn);
@@ -779,28 +812,23 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
             const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o.area), _mm256_slli_epi32(bp, 17)));
             work = _mm256_add_epi64(work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
                                                            _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
-            bx0 = _mm256_min_epi32(bx0, _mm256_blendv_epi8(big, o.x0, pix));
-            by0 = _mm256_min_epi32(by0, _mm256_blendv_epi8(big, o.y0, pix));
-            bx1 = _mm256_max_epi32(bx1, _mm256_blendv_epi8(small, o.x1, pix));
-            by1 = _mm256_max_epi32(by1, _mm256_blendv_epi8(small, o.y1, pix));
+            __m128i mn, mx;
+            grid_step_union(&o, pix, &mn, &mx);
+            _mm_storel_epi64((__m128i *)boxes[pos], grid_box_of(mn, mx));
+            rmn = _mm_min_epi16(rmn, mn), rmx = _mm_max_epi16(rmx, mx);
         }
-        const int32_t x0 = hmin8(bx0), y0 = hmin8(by0), x1 = hmax8(bx1), y1 = hmax8(by1);
-        if (x0 > x1) {   /* no pixel in the row: a box no tile meets */
-            rows[r][0] = rows[r][1] = INT16_MAX, rows[r][2] = rows[r][3] = INT16_MIN;
-            continue;
-        }
-        RS_ASSERT(x0 >= 0 && x1 < RS_MAX_SIZE && y0 >= 0 && y1 < RS_MAX_SIZE);
-        rows[r][0] = (int16_t)x0, rows[r][1] = (int16_t)y0, rows[r][2] = (int16_t)x1, rows[r][3] = (int16_t)y1;
-        u[0] = x0 < u[0] ? x0 : u[0], u[1] = y0 < u[1] ? y0 : u[1];
-        u[2] = x1 > u[2] ? x1 : u[2], u[3] = y1 > u[3] ? y1 : u[3];
-        any = true;
+        _mm_storel_epi64((__m128i *)boxes[row], grid_box_of(rmn, rmx));
+        gmn = _mm_min_epi16(gmn, rmn), gmx = _mm_max_epi16(gmx, rmx);
     }
     uint64_t wl[4];
     _mm256_storeu_si256((__m256i *)wl, work);
     const uint64_t sum = wl[0] + wl[1] + wl[2] + wl[3], w = c->work + sum;
     c->work = w < c->work ? UINT64_MAX : w;   /* rs_count_work's saturation: the same total in any order */
     tc->culled += culled, tc->degenerate += degenerate, tc->drawn += drawn;
-    return any;
+    u[0] = (int16_t)_mm_extract_epi16(gmn, 0), u[1] = (int16_t)_mm_extract_epi16(gmn, 4);
+    u[2] = (int16_t)_mm_extract_epi16(gmx, 0), u[3] = (int16_t)_mm_extract_epi16(gmx, 4);
+    RS_ASSERT(u[0] > u[2] || (u[0] >= 0 && u[2] < RS_MAX_SIZE && u[1] >= 0 && u[3] < RS_MAX_SIZE));
+    return u[0] <= u[2];
 }
 #endif
 
@@ -812,8 +840,8 @@ static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, si
 {
 #ifdef __AVX2__
     if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
-    const size_t rows = (np / group + 1) * level;
-    return rs_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
+    const size_t boxes = (np / group + 1) * grid_boxes(level);
+    return rs_reserve((void **)&c->grow, &c->grow_cap, boxes, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
 #else
     (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
     return false;
@@ -843,7 +871,8 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     const grid_cols gc = grid ? grid_cols_of(c) : (grid_cols){ 0 };
     const grid_consts gk = grid_consts_of(j);
     const size_t gverts = (level + 1) * (level + 2) / 2;   /* vertices of a grid group */
-    size_t ng = 0;    /* row boxes kept */
+    const size_t gboxes = grid ? grid_boxes(level) : 0;     /* its row and step boxes */
+    size_t ng = 0;    /* row and step boxes kept */
 #endif
     for (size_t g0 = 0; g0 < np; g0 += group) {
         const size_t n = np - g0 < group ? np - g0 : group, first = nt;
@@ -857,8 +886,8 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
             culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
             if (!any) continue;   /* no pixel of the group: no entry */
             if (box_tiles(u) <= GROUP_MAX_TILES) {
-                if (!group_push(j, c, u, ng, level, level, vb)) break;
-                ng += level, c->grid_groups++;
+                if (!group_push(j, c, u, ng, gboxes, level, vb)) break;
+                ng += gboxes, c->grid_groups++;
                 continue;
             }
             c->work = work;   /* per triangle, as below: push_front counts the work again */
@@ -948,6 +977,13 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
 }
 
 #ifdef __AVX2__
+/* Does row or step box b (x0, x1, y0, y1) miss the tile whose x1, x0, y1, y0 are lim's int16 lanes 0..3? */
+static inline bool grid_box_out(const int16_t b[4], __m128i lim)
+{
+    const __m128i v = _mm_loadl_epi64((const __m128i *)b);
+    return (_mm_movemask_epi8(_mm_cmpgt_epi16(v, lim)) & 0x33) | (_mm_movemask_epi8(_mm_cmpgt_epi16(lim, v)) & 0xcc);
+}
+
 /* Attribute slot o of the triangle (a, b, c) as rs_tri_run's stamp lanes take it: v0 = a, d1 = b - a, d2 = c - a,
  * four channels each (rs_fill_slot's values without its interleaving). */
 static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c)
@@ -1006,8 +1042,9 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const grid_cols g = grid_cols_of(c);
     const grid_consts k = grid_consts_of(j);
     const size_t L = gp->u.g.level, vbase = gp->u.g.vbase, ns = (size_t)j->n_slots;
-    const int16_t (*rows)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
+    const int16_t (*boxes)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
+    const __m128i lim = _mm_setr_epi16((int16_t)tx1, (int16_t)tx0, (int16_t)ty1, (int16_t)ty0, 0, 0, 0, 0);
     const __m256i vtx0 = _mm256_set1_epi32(tx0), vty0 = _mm256_set1_epi32(ty0);
     const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
     const size_t stride = ns * RS_ATTR_STRIDE;
@@ -1018,25 +1055,21 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
     uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
+    const int16_t (*b)[4] = boxes;   /* the row's box, then its steps' */
     for (size_t r = 0; r < L; r++) {
-        const int16_t *rb = rows[r];
-        if (rb[0] > tx1 || rb[1] > ty1 || rb[2] < tx0 || rb[3] < ty0) continue;   /* (or no pixel in the row) */
-        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
         const int nt = (int)(2 * (L - r) - 1);
+        if (grid_box_out(*b, lim)) {   /* (or no pixel in the row) */
+            b += 1 + grid_row_steps(nt);
+            continue;
+        }
+        b++;
+        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
         for (int i = 0; 2 * i < nt; i += 4) {
+            if (grid_box_out(*b++, lim)) continue;   /* no triangle of the step meets the tile: trimmed */
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
-            {   /* the step's columns first: when no triangle's box meets the tile's, the rest of the step is not
-                 * needed (a third of the steps of scene B; the compiler shares these operations with grid_step8) */
-                __m256i x[3], bx0, bx1;
-                grid_verts8(g.x + q0, g.x + q1, x);
-                grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]),
-                           _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]), k.offx0, k.offx1, k.sx0, k.sx1, &bx0,
-                           &bx1);
-                if (mask8(_mm256_or_si256(_mm256_cmpgt_epi32(bx0, vtx1), _mm256_cmpgt_epi32(vtx0, bx1))) == 0xffu)
-                    continue;
-            }
-            grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
+            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, &o);
+            grid_step8_box(&k, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
             const __m256i live = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cx0, cx1),
