@@ -315,20 +315,41 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
     _mm256_storeu_si256((__m256i *)(base[3] + off), _mm256_permute2x128_si256(b, d, 0x31));
 }
 
-/* finish_one for four triangles, one per lane, from their vertices in lanes (x, y int32, zf float, w0..w2 the
- * 1/w of vertices 0..2, in clockwise order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in
- * int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per lane the same operations in the
- * same order, so the same bytes.  No value is NaN: the vertices are ready (0 <= z <= w, w > 0, 1/w finite), so
- * the 1/w are finite and positive and za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
-static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
-                                                                const __m128i y[3], const __m128 zf[3], v4d w0,
-                                                                v4d w1, v4d w2, char *const tr[4])
+/* rs_tri_edges and vertex 0 of four triangles, one per lane, from their vertices in lanes (x, y int32, in clockwise
+ * order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in int32 / int64 lanes, the same values. */
+static inline __attribute__((always_inline)) void finish4_edges(const __m128i x[3], const __m128i y[3],
+                                                                char *const tr[4])
 {
     __m128i ea[3], eb[3];
     __m256i ec[3];
     edge4(x[0], y[0], x[1], y[1], &ea[0], &eb[0], &ec[0]);
     edge4(x[1], y[1], x[2], y[2], &ea[1], &eb[1], &ec[1]);
     edge4(x[2], y[2], x[0], y[0], &ea[2], &eb[2], &ec[2]);
+    _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
+                   offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
+                   offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
+                   "rs_tri's layout as finish4 writes it");
+    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes (the planes: finish4_planes) */
+    store_t32(_mm_castsi128_ps(ea[0]), _mm_castsi128_ps(ea[1]), _mm_castsi128_ps(ea[2]), _mm_castsi128_ps(eb[0]), tr,
+              offsetof(rs_tri, ea));                                       /* ea[0..3), eb[0] */
+    __m128i e12lo = _mm_unpacklo_epi32(eb[1], eb[2]), e12hi = _mm_unpackhi_epi32(eb[1], eb[2]); /* eb[1], eb[2] */
+    const size_t b1 = offsetof(rs_tri, eb[1]);
+    _mm_storel_epi64((__m128i *)(tr[0] + b1), e12lo);
+    _mm_storel_epi64((__m128i *)(tr[1] + b1), _mm_unpackhi_epi64(e12lo, e12lo));
+    _mm_storel_epi64((__m128i *)(tr[2] + b1), e12hi);
+    _mm_storel_epi64((__m128i *)(tr[3] + b1), _mm_unpackhi_epi64(e12hi, e12hi));
+    __m256i vxy = _mm256_setr_m128i(_mm_unpacklo_epi32(x[0], y[0]), _mm_unpackhi_epi32(x[0], y[0]));
+    store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
+}
+
+/* rs_tri_planes of the four triangles of finish4_edges (zf float, w0..w2 the 1/w of vertices 0..2) into tr[0..4):
+ * its double operations in double lanes, per lane the same operations in the same order, so the same bytes.  No
+ * value is NaN: the vertices are ready (0 <= z <= w, w > 0, 1/w finite), so the 1/w are finite and positive and
+ * za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
+static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j, const __m128i x[3],
+                                                                 const __m128i y[3], const __m128 zf[3], v4d w0,
+                                                                 v4d w1, v4d w2, char *const tr[4])
+{
     /* rs_tri_planes: the differences are exact in int32 and in double; so is the doubled area, products of
      * integers below 2^23 and their difference below 2^47 being integers below 2^53, the value (double)area2 */
     const double k = 1.0 / RS_SUB;
@@ -345,27 +366,22 @@ static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j,
     v4d m = max4(w0, max4(w1, w2));
     v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
     v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
-    _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
-                   offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
-                   offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
-                   "rs_tri's layout as finish4 writes it");
-    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes */
-    store_t32(_mm_castsi128_ps(ea[0]), _mm_castsi128_ps(ea[1]), _mm_castsi128_ps(ea[2]), _mm_castsi128_ps(eb[0]), tr,
-              offsetof(rs_tri, ea));                                       /* ea[0..3), eb[0] */
-    __m128i e12lo = _mm_unpacklo_epi32(eb[1], eb[2]), e12hi = _mm_unpackhi_epi32(eb[1], eb[2]); /* eb[1], eb[2] */
-    const size_t b1 = offsetof(rs_tri, eb[1]);
-    _mm_storel_epi64((__m128i *)(tr[0] + b1), e12lo);
-    _mm_storel_epi64((__m128i *)(tr[1] + b1), _mm_unpackhi_epi64(e12lo, e12lo));
-    _mm_storel_epi64((__m128i *)(tr[2] + b1), e12hi);
-    _mm_storel_epi64((__m128i *)(tr[3] + b1), _mm_unpackhi_epi64(e12hi, e12hi));
-    __m256i vxy = _mm256_setr_m128i(_mm_unpacklo_epi32(x[0], y[0]), _mm_unpackhi_epi32(x[0], y[0]));
-    store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
 #define F4(v) _mm256_cvtpd_ps((__m256d)(v))
     const __m128 zero = _mm_setzero_ps();
     store_t32(F4(za), F4(zb), F4(z0 + bias), F4(n1 * l1a), tr, offsetof(rs_tri, z));   /* z[0..3), q1[0] */
     store_t32(F4(n1 * l1b), zero, F4(n2 * l2a), F4(n2 * l2b), tr, offsetof(rs_tri, q1[1])); /* q1[1..3), q2[0..2) */
     store_t32(zero, F4(s0), F4(s1), F4(n0), tr, offsetof(rs_tri, q2[2]));              /* q2[2], s[0..3) */
 #undef F4
+}
+
+/* finish_one for four triangles, one per lane (finish4_edges, then finish4_planes: fewer values live in registers
+ * at once), the same bytes. */
+static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
+                                                                const __m128i y[3], const __m128 zf[3], v4d w0,
+                                                                v4d w1, v4d w2, char *const tr[4])
+{
+    finish4_edges(x, y, tr);
+    finish4_planes(j, x, y, zf, w0, w1, w2, tr);
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane (finish4_lanes). */
@@ -997,8 +1013,8 @@ static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, con
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
-/* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8) into sp[0..4):
- * finish4_lanes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
+/* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4):
+ * finish4_lanes' operations with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
  * grid_verts8, swapped as o's). */
 static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
                                     int h, __m128i live, rs_prim *sp)
@@ -1014,6 +1030,8 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     x[0] = _mm_and_si128(half4(o->x[0], h), live), y[0] = _mm_and_si128(half4(o->y[0], h), live);
     x[1] = _mm_blendv_epi8(dx1, half4(o->x[1], h), live), y[1] = _mm_and_si128(half4(o->y[1], h), live);
     x[2] = _mm_and_si128(half4(o->x[2], h), live), y[2] = _mm_blendv_epi8(dx1, half4(o->y[2], h), live);
+    char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
+    finish4_edges(x, y, tr);   /* (first: fewer values live in registers at once) */
     const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
     const __m128 zc = _mm_loadu_ps(g->z + r1 + q), zd = _mm_loadu_ps(g->z + r1 + q + 1);
     zf[0] = _mm_shuffle_ps(za, za, _MM_SHUFFLE(2, 1, 1, 0));               /* r0: 0 1 1 2 */
@@ -1027,10 +1045,9 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
     const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
     const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live)), one = _mm256_set1_pd(1.0);
-    char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
-    finish4_lanes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
-                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
-                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
+    finish4_planes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
+                   (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
+                   (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
 }
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
