@@ -348,7 +348,8 @@ static inline __attribute__((always_inline)) void finish4_edges(const __m128i x[
  * za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
 static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j, const __m128i x[3],
                                                                  const __m128i y[3], const __m128 zf[3], v4d w0,
-                                                                 v4d w1, v4d w2, char *const tr[4])
+                                                                 v4d w1, v4d w2, const __m256d *live,
+                                                                 char *const tr[4])
 {
     /* rs_tri_planes: the differences are exact in int32 and in double; so is the doubled area, products of
      * integers below 2^23 and their difference below 2^47 being integers below 2^53, the value (double)area2 */
@@ -356,6 +357,8 @@ static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j
     v4d dx1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[1], x[0])), dy1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[1], y[0]));
     v4d dx2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[2], x[0])), dy2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[2], y[0]));
     v4d area = dx1 * dy2 - dy1 * dx2;
+    const __m256d one = _mm256_set1_pd(1.0);
+    if (live) area = (v4d)_mm256_blendv_pd(one, (__m256d)area, *live);   /* (see grid_finish_half) */
     v4d x1 = dx1 * k, y1 = dy1 * k, x2 = dx2 * k, y2 = dy2 * k;
     v4d ar = 1.0 / (area * k * k);
     v4d l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar;
@@ -364,6 +367,7 @@ static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j
     v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
     v4d bias = (double)j->st->depth_bias + (double)j->st->slope_scale_depth_bias * max4(abs4(za), abs4(zb));
     v4d m = max4(w0, max4(w1, w2));
+    if (live) m = (v4d)_mm256_blendv_pd(one, (__m256d)m, *live);
     v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
     v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
 #define F4(v) _mm256_cvtpd_ps((__m256d)(v))
@@ -381,7 +385,7 @@ static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j,
                                                                 v4d w1, v4d w2, char *const tr[4])
 {
     finish4_edges(x, y, tr);
-    finish4_planes(j, x, y, zf, w0, w1, w2, tr);
+    finish4_planes(j, x, y, zf, w0, w1, w2, NULL, tr);
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane (finish4_lanes). */
@@ -1021,15 +1025,13 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
 {
     const size_t q = (size_t)(2 * h);   /* the half's first quad, from i */
     const __m128i pos = half4(o->pos, h);
-    __m128i x[3], y[3];
+    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get area 1 and
+     * greatest 1/w 1 in finish4_planes, so that no lane divides by zero or makes an infinity or a NaN (their vertices
+     * are the rows' or the padding's: within 2^22, z and 1/w finite), as finish4's spare lanes repeat a real
+     * triangle; their results are not used */
+    const __m128i x[3] = { half4(o->x[0], h), half4(o->x[1], h), half4(o->x[2], h) };
+    const __m128i y[3] = { half4(o->y[0], h), half4(o->y[1], h), half4(o->y[2], h) };
     __m128 zf[3];
-    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get the
-     * triangle (0, 0), (256, 0), (0, 256) at 1/w = 1 instead, so that no lane divides by zero (as finish4's
-     * spare lanes repeat a real triangle); their results are not used */
-    const __m128i dx1 = _mm_andnot_si128(live, _mm_set1_epi32(RS_SUB));
-    x[0] = _mm_and_si128(half4(o->x[0], h), live), y[0] = _mm_and_si128(half4(o->y[0], h), live);
-    x[1] = _mm_blendv_epi8(dx1, half4(o->x[1], h), live), y[1] = _mm_and_si128(half4(o->y[1], h), live);
-    x[2] = _mm_and_si128(half4(o->x[2], h), live), y[2] = _mm_blendv_epi8(dx1, half4(o->y[2], h), live);
     char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
     finish4_edges(x, y, tr);   /* (first: fewer values live in registers at once) */
     const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
@@ -1044,10 +1046,9 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     const __m256d w1 = _mm256_setr_m128d(_mm_unpacklo_pd(wb, wd), _mm_unpackhi_pd(wb, wd));
     const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
     const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
-    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live)), one = _mm256_set1_pd(1.0);
-    finish4_planes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
-                   (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
-                   (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
+    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live));
+    finish4_planes(j, x, y, zf, (v4d)w0, (v4d)_mm256_blendv_pd(w2, w1, pos64), (v4d)_mm256_blendv_pd(w1, w2, pos64),
+                   &live64, tr);
 }
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time

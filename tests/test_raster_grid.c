@@ -8,6 +8,7 @@
  * path, 1 and 2 threads, scene on and off, every instruction set the CPU has; and the row path must be taken (the
  * chunks' grid_groups count).  core_grid_regular_level, which the device asks once per draw, must tell the regular
  * list from others.  Deterministic: fixed seeds. */
+#include <fenv.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -351,7 +352,11 @@ static void test_grid_step_boxes(void **state)
             rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
             rs_source src = {.n_pieces = 1, .n_prims = L * L, .max_verts = P, .produce = produce, .ctx = &d,
                              .group_prims = L * L, .grid_level = L};
+            feclearexcept(FE_ALL_EXCEPT);
             assert_int_equal(rs_draw_source(rs, &d.st, &rt, &src, &o->sum), RS_OK);
+            /* one thread: the tile pass ran here; its lanes that are not live must not divide by zero or make a
+             * NaN (grid_finish_half), nor any lane overflow */
+            if (pass == 1) assert_int_equal(fetestexcept(FE_DIVBYZERO | FE_INVALID | FE_OVERFLOW), 0);
             o->grid_groups = grid_groups(rs, 1);
             memcpy(o->color, rt.color, sizeof o->color);
             memcpy(o->depth, rt.depth, sizeof o->depth);
