@@ -752,6 +752,14 @@ static inline __attribute__((always_inline)) void grid_step8_box(const grid_cons
 /* 8-lane int32 mask -> 8 bits. */
 static inline unsigned mask8(__m256i m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
 
+/* Sum of 8 int32 lanes. */
+static inline int32_t hsum8(__m256i v)
+{
+    __m128i m = _mm_add_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_add_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_add_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+
 /* First vertex of row k of the level-L grid whose vertices start at vbase (core_grid_index(L, 0, k)). */
 static inline size_t grid_row_start(size_t vbase, size_t L, size_t k) { return vbase + k * (L + 1) - k * (k - 1) / 2; }
 
@@ -802,7 +810,7 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
     const __m128i none = grid_box_of(none_mn, none_mx);
     __m256i work = zero;   /* 4 x uint64: below 2^28 triangles of below 2^31 units each */
     __m128i gmn = none_mn, gmx = none_mx;
-    unsigned culled = 0, degenerate = 0, drawn = 0;
+    __m256i nz = zero, nd = zero;   /* per lane: minus the degenerate and the drawn triangles */
     size_t pos = 0;
     for (size_t r = 0; r < L; r++) {
         const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
@@ -812,14 +820,10 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
         for (int t = 0; t < nt; t += 8, pos++) {
             step8 o;
             grid_step8_tri(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
-            const unsigned zm = mask8(_mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
-            const unsigned dm = mask8(o.drawn), nz = (unsigned)__builtin_popcount(zm);
-            const unsigned nd = (unsigned)__builtin_popcount(dm);
-            degenerate += nz;
-            culled += (unsigned)(nt - t < 8 ? nt - t : 8) - nz - nd;
-            drawn += nd;
+            nz = _mm256_add_epi32(nz, _mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
+            nd = _mm256_add_epi32(nd, o.drawn);
             _mm_storel_epi64((__m128i *)boxes[pos], none);
-            if (!dm) continue;   /* (half the steps of scene B: back faces) */
+            if (!mask8(o.drawn)) continue;   /* (half the steps of scene B: back faces) */
             grid_step8_box(k, &o);
             /* a pixel: drawn with a box (x0 <= x1, y0 <= y1) */
             const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o.x0, o.x1),
@@ -844,7 +848,9 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
     _mm256_storeu_si256((__m256i *)wl, work);
     const uint64_t sum = wl[0] + wl[1] + wl[2] + wl[3], w = c->work + sum;
     c->work = w < c->work ? UINT64_MAX : w;   /* rs_count_work's saturation: the same total in any order */
-    tc->culled += culled, tc->degenerate += degenerate, tc->drawn += drawn;
+    /* each of the L * L triangles is degenerate, culled or drawn */
+    const unsigned degenerate = (unsigned)-hsum8(nz), drawn = (unsigned)-hsum8(nd);
+    tc->culled += L * L - degenerate - drawn, tc->degenerate += degenerate, tc->drawn += drawn;
     u[0] = (int16_t)_mm_extract_epi16(gmn, 0), u[1] = (int16_t)_mm_extract_epi16(gmn, 4);
     u[2] = (int16_t)_mm_extract_epi16(gmx, 0), u[3] = (int16_t)_mm_extract_epi16(gmx, 4);
     RS_ASSERT(u[0] > u[2] || (u[0] >= 0 && u[2] < RS_MAX_SIZE && u[1] >= 0 && u[3] < RS_MAX_SIZE));
