@@ -716,9 +716,10 @@ static inline void grid_verts8(const int32_t *v, const int32_t *u, __m256i o[3])
 }
 
 /* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o: its vertices,
- * areas and drawn mask (the pixel boxes: grid_step8_box). */
+ * areas and drawn mask (the pixel boxes: grid_step8_box); without `swap`, vertices 1 and 2 as they come (enough for
+ * the boxes and the counts). */
 static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols *g, const grid_consts *k, size_t r0,
-                                                                 size_t r1, int n, step8 *o)
+                                                                 size_t r1, int n, bool swap, step8 *o)
 {
     __m256i x[3], y[3];
     grid_verts8(g->x + r0, g->x + r1, x);
@@ -730,8 +731,11 @@ static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols
     const __m256i zero = _mm256_setzero_si256();
     o->pos = _mm256_cmpgt_epi32(o->area, zero);
     o->x[0] = x[0], o->y[0] = y[0];
-    o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
-    o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
+    o->x[1] = x[1], o->x[2] = x[2], o->y[1] = y[1], o->y[2] = y[2];
+    if (swap) {
+        o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
+        o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
+    }
     /* drawn: in the row, area not 0 and not culled (areas of the sign cull_sign are: cull_sign * area > 0) */
     o->in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
@@ -819,7 +823,7 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
         __m128i rmn = none_mn, rmx = none_mx;
         for (int t = 0; t < nt; t += 8, pos++) {
             step8 o;
-            grid_step8_tri(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
+            grid_step8_tri(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, false, &o);
             nz = _mm256_add_epi32(nz, _mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
             nd = _mm256_add_epi32(nd, o.drawn);
             _mm_storel_epi64((__m128i *)boxes[pos], none);
@@ -1092,7 +1096,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             if (grid_box_out(*b++, lim)) continue;   /* no triangle of the step meets the tile: trimmed */
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
-            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, &o);
+            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, true, &o);
             grid_step8_box(&k, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
