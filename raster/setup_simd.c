@@ -315,6 +315,16 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
     _mm256_storeu_si256((__m256i *)(base[3] + off), _mm256_permute2x128_si256(b, d, 0x31));
 }
 
+/* The job's depth bias and slope-scale depth bias as doubles in lanes (rs_tri_planes' (double) conversions). */
+typedef struct bias4 { v4d depth, slope; } bias4;
+
+/* bias4 of job j. */
+static inline bias4 bias4_of(const rs_job *j)
+{
+    const double d = (double)j->st->depth_bias, s = (double)j->st->slope_scale_depth_bias;
+    return (bias4){ { d, d, d, d }, { s, s, s, s } };
+}
+
 /* rs_tri_edges and vertex 0 of four triangles, one per lane, from their vertices in lanes (x, y int32, in clockwise
  * order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in int32 / int64 lanes, the same values. */
 static inline __attribute__((always_inline)) void finish4_edges(const __m128i x[3], const __m128i y[3],
@@ -342,11 +352,12 @@ static inline __attribute__((always_inline)) void finish4_edges(const __m128i x[
     store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
 }
 
-/* rs_tri_planes of the four triangles of finish4_edges (zf float, w0..w2 the 1/w of vertices 0..2) into tr[0..4):
+/* rs_tri_planes of the four triangles of finish4_edges (zf float, w0..w2 the 1/w of vertices 0..2; the job's
+ * bias4) into tr[0..4):
  * its double operations in double lanes, per lane the same operations in the same order, so the same bytes.  No
  * value is NaN: the vertices are ready (0 <= z <= w, w > 0, 1/w finite), so the 1/w are finite and positive and
  * za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
-static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j, const __m128i x[3],
+static inline __attribute__((always_inline)) void finish4_planes(const bias4 *bs, const __m128i x[3],
                                                                  const __m128i y[3], const __m128 zf[3], v4d w0,
                                                                  v4d w1, v4d w2, const __m256d *live,
                                                                  char *const tr[4])
@@ -365,7 +376,7 @@ static inline __attribute__((always_inline)) void finish4_planes(const rs_job *j
     v4d z0 = (v4d)_mm256_cvtps_pd(zf[0]);
     v4d dz1 = (v4d)_mm256_cvtps_pd(zf[1]) - z0, dz2 = (v4d)_mm256_cvtps_pd(zf[2]) - z0;
     v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
-    v4d bias = (double)j->st->depth_bias + (double)j->st->slope_scale_depth_bias * max4(abs4(za), abs4(zb));
+    v4d bias = bs->depth + bs->slope * max4(abs4(za), abs4(zb));
     v4d m = max4(w0, max4(w1, w2));
     if (live) m = (v4d)_mm256_blendv_pd(one, (__m256d)m, *live);
     v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
@@ -385,7 +396,8 @@ static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j,
                                                                 v4d w1, v4d w2, char *const tr[4])
 {
     finish4_edges(x, y, tr);
-    finish4_planes(j, x, y, zf, w0, w1, w2, NULL, tr);
+    const bias4 b = bias4_of(j);
+    finish4_planes(&b, x, y, zf, w0, w1, w2, NULL, tr);
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane (finish4_lanes). */
@@ -1030,7 +1042,7 @@ static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si
 /* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4):
  * finish4_lanes' operations with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
  * grid_verts8, swapped as o's). */
-static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
+static inline void grid_finish_half(const bias4 *bias, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
                                     int h, __m128i live, rs_prim *sp)
 {
     const size_t q = (size_t)(2 * h);   /* the half's first quad, from i */
@@ -1057,7 +1069,7 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
     const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
     const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live));
-    finish4_planes(j, x, y, zf, (v4d)w0, (v4d)_mm256_blendv_pd(w2, w1, pos64), (v4d)_mm256_blendv_pd(w1, w2, pos64),
+    finish4_planes(bias, x, y, zf, (v4d)w0, (v4d)_mm256_blendv_pd(w2, w1, pos64), (v4d)_mm256_blendv_pd(w1, w2, pos64),
                    &live64, tr);
 }
 
@@ -1069,6 +1081,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
 {
     const grid_cols g = grid_cols_of(c);
     const grid_consts k = grid_consts_of(j);
+    const bias4 bias = bias4_of(j);
     const size_t L = gp->u.g.level, vbase = gp->u.g.vbase, ns = (size_t)j->n_slots;
     const int16_t (*boxes)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
@@ -1109,7 +1122,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
-                grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
+                grid_finish_half(&bias, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
             }
             /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
              * and the rs_tri alone) */

@@ -53,7 +53,8 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     return (size_t)d->inst * d->prims - d->cut;
 }
 
-/* Random states on the fast path: cull, depth function and writes, blending, scissor, viewport offsets. */
+/* Random states on the fast path: cull, depth function and writes, depth bias, blending, scissor, viewport
+ * offsets. */
 static rs_state random_state(uint64_t *s)
 {
     rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
@@ -62,6 +63,7 @@ static rs_state random_state(uint64_t *s)
                    .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
                    .viewport = {0, 0, W, H, 0.0f, 1.0f}};
     if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (rnd(s) % 3 == 0) st.depth_bias = frnd(s, -0.01f, 0.01f), st.slope_scale_depth_bias = frnd(s, 0.0f, 2.0f);
     if (rnd(s) % 5 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 90), (int)(rnd(s) % 60), 210, 150, 0.0f, 1.0f};
     if (rnd(s) % 5 == 0) {
         int x0 = (int)(rnd(s) % 200), y0 = (int)(rnd(s) % 120);
