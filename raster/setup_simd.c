@@ -1036,6 +1036,24 @@ static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, con
     _mm_storeu_ps(o + 8, _mm_sub_ps(_mm_loadu_ps(&c->x), v0));
 }
 
+/* grid_fill_v for the up and the down triangle of a quad, lanes l and l + 1 of a step whose lanes pos are the
+ * positive areas (clockwise order as the step's): their slots at o and o + 12 from the quad's A (a[0]), B (a[1]),
+ * C (c[0]) and D (c[1]) -- up (A, B, C), down (B, D, C), vertices 1 and 2 swapped where pos is not set -- with
+ * the same subtractions. */
+static inline void grid_fill_pair(float *o, const rs_vec4 *a, const rs_vec4 *c, __m256i pos, int l)
+{
+    _Static_assert(RS_ATTR_STRIDE == 12, "a stamp lane's block: one slot of 12 floats, the next lane's after it");
+    const __m256 v0 = _mm256_loadu_ps(&a->x);                                    /* A | B */
+    const __m256 v1 = _mm256_loadu2_m128(&c[1].x, &a[1].x);                        /* B | D */
+    const __m256 v2 = _mm256_broadcast_ps((const __m128 *)&c->x);                 /* C | C */
+    const __m256 p = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(
+        pos, _mm256_add_epi32(_mm256_set1_epi32(l), _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1))));
+    const __m256 d1 = _mm256_sub_ps(_mm256_blendv_ps(v2, v1, p), v0), d2 = _mm256_sub_ps(_mm256_blendv_ps(v1, v2, p), v0);
+    _mm_storeu_ps(o, _mm256_castps256_ps128(v0)), _mm_storeu_ps(o + 4, _mm256_castps256_ps128(d1));
+    _mm_storeu_ps(o + 8, _mm256_castps256_ps128(d2)), _mm_storeu_ps(o + 12, _mm256_extractf128_ps(v0, 1));
+    _mm_storeu_ps(o + 16, _mm256_extractf128_ps(d1, 1)), _mm_storeu_ps(o + 20, _mm256_extractf128_ps(d2, 1));
+}
+
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
@@ -1149,9 +1167,18 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                                   _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
                                                   _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0))))
                                             : 0u;
-            for (unsigned f = m; f; f &= f - 1) {
+            const rs_vec4 *ga = c->gattr;
+            unsigned rest = m;   /* the lanes whose slot is filled one at a time */
+            if (stamp) {   /* quads whose two triangles both take the stamp walk: both slots at once */
+                const unsigned pairs = stamp & (stamp >> 1) & 0x55u;
+                for (unsigned f = pairs; f; f &= f - 1) {
+                    const int l = __builtin_ctz(f);
+                    grid_fill_pair(sa + (size_t)l * stride, &ga[q0 + (size_t)(l / 2)], &ga[q1 + (size_t)(l / 2)], o.pos, l);
+                }
+                rest &= ~(pairs | pairs << 1);
+            }
+            for (unsigned f = rest; f; f &= f - 1) {
                 const int l = __builtin_ctz(f);
-                const rs_vec4 *ga = c->gattr;
                 float *a = sa + (size_t)l * stride;
                 if (stamp >> l & 1u) grid_fill_v(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);
                 else if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
