@@ -1144,15 +1144,6 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             }
             /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
              * and the rs_tri alone) */
-            /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
-             * indices (grid_verts8's lanes, swapped as the step's) */
-            uint32_t id[3][8];
-            const __m256i b0 = _mm256_set1_epi32((int32_t)q0), b1 = _mm256_set1_epi32((int32_t)q1);
-            const __m256i i1 = _mm256_add_epi32(_mm256_blend_epi32(b0, b1, 0xaa), _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4));
-            const __m256i i2 = _mm256_add_epi32(b1, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
-            _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
-            _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
-            _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
              * vertices' spans in x and in y are */
             const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
@@ -1177,15 +1168,20 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                 }
                 rest &= ~(pairs | pairs << 1);
             }
+            const unsigned pos = rest ? mask8(o.pos) : 0u;
             for (unsigned f = rest; f; f &= f - 1) {
                 const int l = __builtin_ctz(f);
+                /* lane l: the up (l even: A, B, C) or down (l odd: B, D, C) triangle of quad i + l/2, in the group's
+                 * order; its vertices' indices (grid_verts8's lanes), 1 and 2 swapped as the step's */
+                const size_t qd = (size_t)(l / 2), v0 = q0 + (size_t)((l + 1) / 2);
+                const size_t v1 = (l & 1 ? q1 : q0) + qd + 1, v2 = q1 + qd;
+                const size_t i0 = v0, i1 = pos >> l & 1u ? v1 : v2, i2 = pos >> l & 1u ? v2 : v1;
                 float *a = sa + (size_t)l * stride;
-                if (stamp >> l & 1u) grid_fill_v(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);
-                else if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                if (stamp >> l & 1u) grid_fill_v(a, &ga[i0], &ga[i1], &ga[i2]);
+                else if (ns == 1) rs_fill_slot(a, &ga[i0], &ga[i1], &ga[i2]);   /* (COLOR0 alone) */
                 else
                     for (size_t s = 0; s < ns; s++)
-                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
-                                     &ga[id[2][l] * ns + s]);
+                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[i0 * ns + s], &ga[i1 * ns + s], &ga[i2 * ns + s]);
             }
             direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp);
         }
