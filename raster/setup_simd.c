@@ -1054,6 +1054,32 @@ static inline void grid_fill_pair(float *o, const rs_vec4 *a, const rs_vec4 *c, 
     _mm_storeu_ps(o + 16, _mm256_extractf128_ps(d1, 1)), _mm_storeu_ps(o + 20, _mm256_extractf128_ps(d2, 1));
 }
 
+/* rs_fill_slot for the up and the down triangle of a quad (as grid_fill_pair): the same subtractions and the same
+ * interleaving, two slots per vector (vshufps and vunpck* work on each 128-bit half alike). */
+static inline void grid_fill_slot_pair(float *o, const rs_vec4 *a, const rs_vec4 *c, __m256i pos, int l)
+{
+    typedef float v8f __attribute__((vector_size(32)));
+    const __m256 v0 = _mm256_loadu_ps(&a->x);                                    /* A | B */
+    const __m256 v1 = _mm256_loadu2_m128(&c[1].x, &a[1].x);                        /* B | D */
+    const __m256 v2 = _mm256_broadcast_ps((const __m128 *)&c->x);                 /* C | C */
+    const __m256 p = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(
+        pos, _mm256_add_epi32(_mm256_set1_epi32(l), _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1))));
+    const v8f f0 = (v8f)v0, d1 = (v8f)_mm256_sub_ps(_mm256_blendv_ps(v2, v1, p), v0);
+    const v8f d2 = (v8f)_mm256_sub_ps(_mm256_blendv_ps(v1, v2, p), v0);
+    /* rs_fill_slot's shuffles, per half (indices 0..3 / 8..11 the low halves, 4..7 / 12..15 the high ones) */
+    const v8f t = __builtin_shufflevector(f0, d1, 0, 8, 1, 9, 4, 12, 5, 13);     /* a.x d1.x a.y d1.y */
+    const v8f u = __builtin_shufflevector(f0, d1, 2, 10, 3, 11, 6, 14, 7, 15);   /* a.z d1.z a.w d1.w */
+    const v8f y = __builtin_shufflevector(d1, d2, 1, 9, 2, 10, 5, 13, 6, 14);    /* d1.y d2.y d1.z d2.z */
+    const v8f o0 = __builtin_shufflevector(t, d2, 0, 1, 8, 2, 4, 5, 12, 6);      /* a.x d1.x d2.x a.y */
+    const v8f o1 = __builtin_shufflevector(y, u, 0, 1, 8, 9, 4, 5, 12, 13);      /* d1.y d2.y a.z d1.z */
+    const v8f w = __builtin_shufflevector(y, u, 3, 10, 11, 11, 7, 14, 15, 15);   /* d2.z a.w d1.w - */
+    const v8f o2 = __builtin_shufflevector(w, d2, 0, 1, 2, 11, 4, 5, 6, 15);     /* d2.z a.w d1.w d2.w */
+    _mm_storeu_ps(o, _mm256_castps256_ps128((__m256)o0)), _mm_storeu_ps(o + 4, _mm256_castps256_ps128((__m256)o1));
+    _mm_storeu_ps(o + 8, _mm256_castps256_ps128((__m256)o2));
+    _mm_storeu_ps(o + 12, _mm256_extractf128_ps((__m256)o0, 1)), _mm_storeu_ps(o + 16, _mm256_extractf128_ps((__m256)o1, 1));
+    _mm_storeu_ps(o + 20, _mm256_extractf128_ps((__m256)o2, 1));
+}
+
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
@@ -1160,13 +1186,19 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                             : 0u;
             const rs_vec4 *ga = c->gattr;
             unsigned rest = m;   /* the lanes whose slot is filled one at a time */
-            if (stamp) {   /* quads whose two triangles both take the stamp walk: both slots at once */
-                const unsigned pairs = stamp & (stamp >> 1) & 0x55u;
-                for (unsigned f = pairs; f; f &= f - 1) {
+            const unsigned both = ns == 1 ? m & (m >> 1) & 0x55u : 0u;   /* quads with both triangles live */
+            if (both) {   /* COLOR0 alone: both slots of a quad at once when both take the same layout */
+                const unsigned ps = both & stamp & (stamp >> 1), pf = both & ~(stamp | stamp >> 1);
+                for (unsigned f = ps; f; f &= f - 1) {
                     const int l = __builtin_ctz(f);
                     grid_fill_pair(sa + (size_t)l * stride, &ga[q0 + (size_t)(l / 2)], &ga[q1 + (size_t)(l / 2)], o.pos, l);
                 }
-                rest &= ~(pairs | pairs << 1);
+                for (unsigned f = pf; f; f &= f - 1) {
+                    const int l = __builtin_ctz(f);
+                    grid_fill_slot_pair(sa + (size_t)l * stride, &ga[q0 + (size_t)(l / 2)], &ga[q1 + (size_t)(l / 2)],
+                                        o.pos, l);
+                }
+                rest &= ~((ps | pf) | (ps | pf) << 1);
             }
             const unsigned pos = rest ? mask8(o.pos) : 0u;
             for (unsigned f = rest; f; f &= f - 1) {
