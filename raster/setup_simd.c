@@ -104,8 +104,12 @@ static inline v4d clamp4(v4d x, double lim)
  * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22). */
 static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
 {
-    v4d x = { v[0].pos.x, v[1].pos.x, v[2].pos.x, v[3].pos.x }, y = { v[0].pos.y, v[1].pos.y, v[2].pos.y, v[3].pos.y };
-    v4d z = { v[0].pos.z, v[1].pos.z, v[2].pos.z, v[3].pos.z }, w = { v[0].pos.w, v[1].pos.w, v[2].pos.w, v[3].pos.w };
+    /* the four positions transposed (fewer instructions than gathering the sixteen floats one by one) */
+    __m128 p0 = _mm_loadu_ps(&v[0].pos.x), p1 = _mm_loadu_ps(&v[1].pos.x);
+    __m128 p2 = _mm_loadu_ps(&v[2].pos.x), p3 = _mm_loadu_ps(&v[3].pos.x);
+    _MM_TRANSPOSE4_PS(p0, p1, p2, p3);
+    v4d x = (v4d)_mm256_cvtps_pd(p0), y = (v4d)_mm256_cvtps_pd(p1);
+    v4d z = (v4d)_mm256_cvtps_pd(p2), w = (v4d)_mm256_cvtps_pd(p3);
     v4q fin = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
     v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
              (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
