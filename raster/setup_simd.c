@@ -737,10 +737,9 @@ static inline void grid_verts8(const int32_t *v, const int32_t *u, __m256i o[3])
 }
 
 /* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o: its vertices,
- * areas and drawn mask (the pixel boxes: grid_step8_box); without `swap`, vertices 1 and 2 as they come (enough for
- * the boxes and the counts). */
+ * areas and drawn mask (the pixel boxes: grid_step8_box). */
 static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols *g, const grid_consts *k, size_t r0,
-                                                                 size_t r1, int n, bool swap, step8 *o)
+                                                                 size_t r1, int n, step8 *o)
 {
     __m256i x[3], y[3];
     grid_verts8(g->x + r0, g->x + r1, x);
@@ -752,11 +751,8 @@ static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols
     const __m256i zero = _mm256_setzero_si256();
     o->pos = _mm256_cmpgt_epi32(o->area, zero);
     o->x[0] = x[0], o->y[0] = y[0];
-    o->x[1] = x[1], o->x[2] = x[2], o->y[1] = y[1], o->y[2] = y[2];
-    if (swap) {
-        o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
-        o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
-    }
+    o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
+    o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
     /* drawn: in the row, area not 0 and not culled (areas of the sign cull_sign are: cull_sign * area > 0) */
     o->in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
@@ -803,34 +799,71 @@ static size_t grid_boxes(size_t L)
     return n;
 }
 
-/* The union of the pixel boxes of step o's lanes in pix, in int16 lanes: *mn's lane 0 the least x0, lane 4 the
- * least y0, *mx's lane 0 the greatest x1, lane 4 the greatest y1 (INT16_MAX / INT16_MIN where pix has no lane);
- * the other lanes are not used. */
-static inline void grid_step_union(const step8 *o, __m256i pix, __m128i *mn, __m128i *mx)
-{
-    const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
-    /* int16 lanes (saturating: the boxes are within RS_MAX_SIZE): x0 of lanes 0..3, y0 of 0..3 | the same of 4..7 */
-    const __m256i a = _mm256_packs_epi32(_mm256_blendv_epi8(big, o->x0, pix), _mm256_blendv_epi8(big, o->y0, pix));
-    const __m256i b = _mm256_packs_epi32(_mm256_blendv_epi8(small, o->x1, pix), _mm256_blendv_epi8(small, o->y1, pix));
-    __m128i m = _mm_min_epi16(_mm256_castsi256_si128(a), _mm256_extracti128_si256(a, 1));
-    __m128i n = _mm_max_epi16(_mm256_castsi256_si128(b), _mm256_extracti128_si256(b, 1));
-    m = _mm_min_epi16(m, _mm_srli_epi64(m, 32)), n = _mm_max_epi16(n, _mm_srli_epi64(n, 32));
-    *mn = _mm_min_epi16(m, _mm_srli_epi32(m, 16)), *mx = _mm_max_epi16(n, _mm_srli_epi32(n, 16));
-}
-
-/* The box (x0, x1, y0, y1 in int16 lanes 0..3) of grid_step_union's mn, mx. */
+/* The box (x0, x1, y0, y1 in int16 lanes 0..3) of the least x0 (lane 0) and y0 (lane 4) in mn and the greatest x1
+ * and y1 in mx (int16 lanes). */
 static inline __m128i grid_box_of(__m128i mn, __m128i mx)
 {
     return _mm_unpacklo_epi32(_mm_unpacklo_epi16(mn, mx), _mm_unpackhi_epi16(mn, mx));
 }
 
+/* Eight up or eight down triangles of a row in lanes, for the set-up region (grid_group_setup): their doubled areas
+ * (area3's, vertices in the list's order), the lanes in the row (in), degenerate (zero) and drawn, and pixel boxes
+ * (tri_box's; grid_tri8_box). */
+typedef struct tri8 {
+    __m256i area, zero, drawn, x0, y0, x1, y1;
+} tri8;
+
+/* tri8 of the triangles (a, b, c) in lanes (x, y of each), n of them in the row from lane 0 on. */
+static inline __attribute__((always_inline)) void grid_tri8(const grid_consts *k, __m256i ax, __m256i ay, __m256i bx,
+                                                            __m256i by, __m256i cx, __m256i cy, int n, tri8 *o)
+{
+    const __m256i zero = _mm256_setzero_si256();
+    o->area = _mm256_sub_epi32(_mm256_mullo_epi32(_mm256_sub_epi32(bx, ax), _mm256_sub_epi32(cy, ay)),
+                               _mm256_mullo_epi32(_mm256_sub_epi32(by, ay), _mm256_sub_epi32(cx, ax)));
+    const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i z = _mm256_cmpeq_epi32(o->area, zero);
+    const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
+    o->zero = _mm256_and_si256(in, z);
+    o->drawn = _mm256_andnot_si256(_mm256_or_si256(z, cul), in);
+}
+
+/* The pixel boxes of o (triangles (a, b, c) as given to grid_tri8). */
+static inline __attribute__((always_inline)) void grid_tri8_box(const grid_consts *k, __m256i ax, __m256i ay,
+                                                                __m256i bx, __m256i by, __m256i cx, __m256i cy,
+                                                                tri8 *o)
+{
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(ax, bx), cx), _mm256_max_epi32(_mm256_max_epi32(ax, bx), cx),
+               k->offx0, k->offx1, k->sx0, k->sx1, &o->x0, &o->x1);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(ay, by), cy), _mm256_max_epi32(_mm256_max_epi32(ay, by), cy),
+               k->offy0, k->offy1, k->sy0, k->sy1, &o->y0, &o->y1);
+}
+
+/* The drawn triangles of o with a pixel (x0 <= x1, y0 <= y1), their rs_count_work added to the lanes of *work
+ * (min(|area|, box pixels * RS_WORK_UNIT) as uint32: the bit budget); returns that mask. */
+static inline __m256i grid_tri8_work(const tri8 *o, __m256i *work)
+{
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o->x0, o->x1),
+                                                            _mm256_cmpgt_epi32(o->y0, o->y1)), o->drawn);
+    const __m256i bp = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_sub_epi32(o->x1, o->x0), one),
+                                          _mm256_add_epi32(_mm256_sub_epi32(o->y1, o->y0), one));
+    _Static_assert(RS_WORK_UNIT == 1u << 17, "RS_WORK_UNIT as a shift");
+    const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o->area), _mm256_slli_epi32(bp, 17)));
+    *work = _mm256_add_epi64(*work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
+                                                     _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
+    return pix;
+}
+
 /* The set-up region's part of grid group (level L, vertices from vbase) in chunk c: counts its triangles into *tc
  * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its row and step boxes
- * to boxes[0 .. grid_boxes(L)) and the union of its drawn triangles' boxes to u; returns whether any has a pixel. */
+ * to boxes[0 .. grid_boxes(L)) and the union of its drawn triangles' boxes to u; returns whether any has a pixel.
+ * Per row, eight quads at a time -- their up triangles (A, B, C) in one vector, their down ones (B, D, C) in
+ * another, from plain loads of the rows (A, B = A + 1; C, D = C + 1) -- which are the tile pass's two steps. */
 static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk *c, size_t L, size_t vbase,
                              tri_counts *tc, int16_t (*boxes)[4], int32_t u[4])
 {
-    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
     const __m128i none_mn = _mm_set1_epi16(INT16_MAX), none_mx = _mm_set1_epi16(INT16_MIN);
     const __m128i none = grid_box_of(none_mn, none_mx);
     __m256i work = zero;   /* 4 x uint64: below 2^28 triangles of below 2^31 units each */
@@ -839,32 +872,46 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
     size_t pos = 0;
     for (size_t r = 0; r < L; r++) {
         const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
-        const int nt = (int)(2 * (L - r) - 1);   /* the row's triangles */
+        const int nq = (int)(L - r);   /* the row's quads: nq up triangles, nq - 1 down ones */
         const size_t row = pos++;
         __m128i rmn = none_mn, rmx = none_mx;
-        for (int t = 0; t < nt; t += 8, pos++) {
-            step8 o;
-            grid_step8_tri(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, false, &o);
-            nz = _mm256_add_epi32(nz, _mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
-            nd = _mm256_add_epi32(nd, o.drawn);
-            _mm_storel_epi64((__m128i *)boxes[pos], none);
-            if (!mask8(o.drawn)) continue;   /* (half the steps of scene B: back faces) */
-            grid_step8_box(k, &o);
-            /* a pixel: drawn with a box (x0 <= x1, y0 <= y1) */
-            const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o.x0, o.x1),
-                                                                    _mm256_cmpgt_epi32(o.y0, o.y1)), o.drawn);
-            if (!mask8(pix)) continue;
-            /* rs_count_work: min(|area|, box pixels * RS_WORK_UNIT) as uint32 (the bit budget) */
-            const __m256i bp = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_sub_epi32(o.x1, o.x0), one),
-                                                  _mm256_add_epi32(_mm256_sub_epi32(o.y1, o.y0), one));
-            _Static_assert(RS_WORK_UNIT == 1u << 17, "RS_WORK_UNIT as a shift");
-            const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o.area), _mm256_slli_epi32(bp, 17)));
-            work = _mm256_add_epi64(work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
-                                                           _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
-            __m128i mn, mx;
-            grid_step_union(&o, pix, &mn, &mx);
-            _mm_storel_epi64((__m128i *)boxes[pos], grid_box_of(mn, mx));
-            rmn = _mm_min_epi16(rmn, mn), rmx = _mm_max_epi16(rmx, mx);
+        for (int q = 0; q < nq; q += 8) {
+            const int32_t *xa = g->x + r0 + q, *ya = g->y + r0 + q, *xc = g->x + r1 + q, *yc = g->y + r1 + q;
+            const __m256i ax = _mm256_loadu_si256((const __m256i *)xa), ay = _mm256_loadu_si256((const __m256i *)ya);
+            const __m256i bx = _mm256_loadu_si256((const __m256i *)(xa + 1));
+            const __m256i by = _mm256_loadu_si256((const __m256i *)(ya + 1));
+            const __m256i cx = _mm256_loadu_si256((const __m256i *)xc), cy = _mm256_loadu_si256((const __m256i *)yc);
+            const __m256i dx = _mm256_loadu_si256((const __m256i *)(xc + 1));
+            const __m256i dy = _mm256_loadu_si256((const __m256i *)(yc + 1));
+            tri8 up, dn;
+            grid_tri8(k, ax, ay, bx, by, cx, cy, nq - q, &up);
+            grid_tri8(k, bx, by, dx, dy, cx, cy, nq - 1 - q, &dn);
+            nz = _mm256_add_epi32(nz, _mm256_add_epi32(up.zero, dn.zero));
+            nd = _mm256_add_epi32(nd, _mm256_add_epi32(up.drawn, dn.drawn));
+            const size_t s0 = pos;
+            const bool two = q + 4 < nq;   /* quads q + 4.. in the row: the second step */
+            _mm_storel_epi64((__m128i *)boxes[s0], none);
+            if (two) _mm_storel_epi64((__m128i *)boxes[s0 + 1], none);
+            pos += two ? 2 : 1;
+            if (!mask8(_mm256_or_si256(up.drawn, dn.drawn))) continue;   /* (half of scene B's: back faces) */
+            grid_tri8_box(k, ax, ay, bx, by, cx, cy, &up);
+            grid_tri8_box(k, bx, by, dx, dy, cx, cy, &dn);
+            const __m256i pu = grid_tri8_work(&up, &work), pd = grid_tri8_work(&dn, &work);
+            if (!mask8(_mm256_or_si256(pu, pd))) continue;
+            /* the union of the boxes with a pixel per lane, then per half (a step) in int16 lanes (saturating: the
+             * boxes are within RS_MAX_SIZE): lane 0 of a half the least x0 / greatest x1, lane 4 the same of y */
+            const __m256i x0 = _mm256_min_epi32(_mm256_blendv_epi8(big, up.x0, pu), _mm256_blendv_epi8(big, dn.x0, pd));
+            const __m256i y0 = _mm256_min_epi32(_mm256_blendv_epi8(big, up.y0, pu), _mm256_blendv_epi8(big, dn.y0, pd));
+            const __m256i x1 = _mm256_max_epi32(_mm256_blendv_epi8(small, up.x1, pu), _mm256_blendv_epi8(small, dn.x1, pd));
+            const __m256i y1 = _mm256_max_epi32(_mm256_blendv_epi8(small, up.y1, pu), _mm256_blendv_epi8(small, dn.y1, pd));
+            __m256i mn = _mm256_packs_epi32(x0, y0), mx = _mm256_packs_epi32(x1, y1);
+            mn = _mm256_min_epi16(mn, _mm256_srli_epi64(mn, 32)), mx = _mm256_max_epi16(mx, _mm256_srli_epi64(mx, 32));
+            mn = _mm256_min_epi16(mn, _mm256_srli_epi32(mn, 16)), mx = _mm256_max_epi16(mx, _mm256_srli_epi32(mx, 16));
+            const __m128i mn0 = _mm256_castsi256_si128(mn), mx0 = _mm256_castsi256_si128(mx);
+            const __m128i mn1 = _mm256_extracti128_si256(mn, 1), mx1 = _mm256_extracti128_si256(mx, 1);
+            _mm_storel_epi64((__m128i *)boxes[s0], grid_box_of(mn0, mx0));
+            if (two) _mm_storel_epi64((__m128i *)boxes[s0 + 1], grid_box_of(mn1, mx1));
+            rmn = _mm_min_epi16(rmn, _mm_min_epi16(mn0, mn1)), rmx = _mm_max_epi16(rmx, _mm_max_epi16(mx0, mx1));
         }
         _mm_storel_epi64((__m128i *)boxes[row], grid_box_of(rmn, rmx));
         gmn = _mm_min_epi16(gmn, rmn), gmx = _mm_max_epi16(gmx, rmx);
@@ -1162,7 +1209,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             if (grid_box_out(*b++, lim)) continue;   /* no triangle of the step meets the tile: trimmed */
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
-            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, true, &o);
+            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, &o);
             grid_step8_box(&k, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
