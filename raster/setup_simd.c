@@ -1139,9 +1139,88 @@ static inline void grid_fill_slot_pair(float *o, const rs_vec4 *a, const rs_vec4
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
-/* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4):
- * finish4_lanes' operations with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
- * grid_verts8, swapped as o's). */
+/* rs_tri_edge of edge i -> k of eight triangles, one per int32 lane (edge4's values): ea, eb in int32 lanes, ec of
+ * the even lanes in *ece and of the odd lanes in *eco (int64 lanes; mul_epi32 multiplies each 64-bit lane's low
+ * half: xo, yo are xi, yi shifted down by 32, the odd lanes). */
+static inline void edge8(__m256i xi, __m256i yi, __m256i xo, __m256i yo, __m256i xk, __m256i yk, __m256i *ea,
+                         __m256i *eb, __m256i *ece, __m256i *eco)
+{
+    const __m256i zero = _mm256_setzero_si256(), ones = _mm256_set1_epi32(-1);
+    const __m256i dx = _mm256_sub_epi32(xk, xi), dy = _mm256_sub_epi32(yk, yi);
+    const __m256i tl = _mm256_or_si256(_mm256_cmpgt_epi32(zero, dy),              /* top_left: -1, else 0 */
+                                       _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(dx, zero)));
+    const __m256i a = _mm256_sub_epi32(zero, dy);
+    *ea = a, *eb = dx;
+    /* s = -dy * x + dx * y; ec = -s - 1 - tl = ~s - tl (tl's lane widened to 64 bits by repeating it) */
+    const __m256i se = _mm256_add_epi64(_mm256_mul_epi32(a, xi), _mm256_mul_epi32(dx, yi));
+    const __m256i so = _mm256_add_epi64(_mm256_mul_epi32(_mm256_srli_epi64(a, 32), xo),
+                                        _mm256_mul_epi32(_mm256_srli_epi64(dx, 32), yo));
+    *ece = _mm256_sub_epi64(_mm256_xor_si256(se, ones), _mm256_shuffle_epi32(tl, _MM_SHUFFLE(2, 2, 0, 0)));
+    *eco = _mm256_sub_epi64(_mm256_xor_si256(so, ones), _mm256_shuffle_epi32(tl, _MM_SHUFFLE(3, 3, 1, 1)));
+}
+
+/* Store rows r0..r3 of eight lanes of 32-bit values transposed: lane t (four values) to base + t * step. */
+static inline void store8_t32(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *base, size_t step)
+{
+    const __m256d a = _mm256_castsi256_pd(_mm256_unpacklo_epi32(r0, r1)), b = _mm256_castsi256_pd(_mm256_unpackhi_epi32(r0, r1));
+    const __m256d c = _mm256_castsi256_pd(_mm256_unpacklo_epi32(r2, r3)), d = _mm256_castsi256_pd(_mm256_unpackhi_epi32(r2, r3));
+    const __m256d t0 = _mm256_unpacklo_pd(a, c), t1 = _mm256_unpackhi_pd(a, c);   /* lanes 0 | 4, 1 | 5 */
+    const __m256d t2 = _mm256_unpacklo_pd(b, d), t3 = _mm256_unpackhi_pd(b, d);   /* lanes 2 | 6, 3 | 7 */
+    _mm_storeu_pd((double *)(base), _mm256_castpd256_pd128(t0));   /* (unrolled: gcc keeps loops over arrays */
+    _mm_storeu_pd((double *)(base + step), _mm256_castpd256_pd128(t1));   /* of vectors in memory) */
+    _mm_storeu_pd((double *)(base + 2 * step), _mm256_castpd256_pd128(t2));
+    _mm_storeu_pd((double *)(base + 3 * step), _mm256_castpd256_pd128(t3));
+    _mm_storeu_pd((double *)(base + 4 * step), _mm256_extractf128_pd(t0, 1));
+    _mm_storeu_pd((double *)(base + 5 * step), _mm256_extractf128_pd(t1, 1));
+    _mm_storeu_pd((double *)(base + 6 * step), _mm256_extractf128_pd(t2, 1));
+    _mm_storeu_pd((double *)(base + 7 * step), _mm256_extractf128_pd(t3, 1));
+}
+
+/* store_t64 to base + t * step for lane t. */
+static inline void store4_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *base, size_t step)
+{
+    __m256i a = _mm256_unpacklo_epi64(r0, r1), b = _mm256_unpackhi_epi64(r0, r1);   /* 00 10 02 12, 01 11 03 13 */
+    __m256i c = _mm256_unpacklo_epi64(r2, r3), d = _mm256_unpackhi_epi64(r2, r3);   /* 20 30 22 32, 21 31 23 33 */
+    _mm256_storeu_si256((__m256i *)(base), _mm256_permute2x128_si256(a, c, 0x20));
+    _mm256_storeu_si256((__m256i *)(base + step), _mm256_permute2x128_si256(b, d, 0x20));
+    _mm256_storeu_si256((__m256i *)(base + 2 * step), _mm256_permute2x128_si256(a, c, 0x31));
+    _mm256_storeu_si256((__m256i *)(base + 3 * step), _mm256_permute2x128_si256(b, d, 0x31));
+}
+
+/* finish4_edges for the eight lanes of step o into the rs_tri of sp[0..8) (every lane: the stores of lanes not
+ * drawn or not in the tile are not read). */
+static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs_prim *sp)
+{
+    /* (unrolled by hand, no arrays: gcc keeps loops over arrays of vectors in memory) */
+    const __m256i xo0 = _mm256_srli_epi64(o->x[0], 32), yo0 = _mm256_srli_epi64(o->y[0], 32);
+    const __m256i xo1 = _mm256_srli_epi64(o->x[1], 32), yo1 = _mm256_srli_epi64(o->y[1], 32);
+    const __m256i xo2 = _mm256_srli_epi64(o->x[2], 32), yo2 = _mm256_srli_epi64(o->y[2], 32);
+    __m256i ea0, eb0, ece0, eco0, ea1, eb1, ece1, eco1, ea2, eb2, ece2, eco2;
+    edge8(o->x[0], o->y[0], xo0, yo0, o->x[1], o->y[1], &ea0, &eb0, &ece0, &eco0);
+    edge8(o->x[1], o->y[1], xo1, yo1, o->x[2], o->y[2], &ea1, &eb1, &ece1, &eco1);
+    edge8(o->x[2], o->y[2], xo2, yo2, o->x[0], o->y[0], &ea2, &eb2, &ece2, &eco2);
+    char *const t0 = (char *)&sp[0].u.t;
+    const size_t st = sizeof *sp;
+    store8_t32(ea0, ea1, ea2, eb0, t0 + offsetof(rs_tri, ea), st);   /* ea[0..3), eb[0] */
+    const __m256i lo = _mm256_unpacklo_epi32(eb1, eb2), hi = _mm256_unpackhi_epi32(eb1, eb2);   /* eb[1..3) */
+    char *const b1 = t0 + offsetof(rs_tri, eb[1]);
+    const __m128d q01 = _mm_castsi128_pd(_mm256_castsi256_si128(lo)), q23 = _mm_castsi128_pd(_mm256_castsi256_si128(hi));
+    const __m128d q45 = _mm_castsi128_pd(_mm256_extracti128_si256(lo, 1));
+    const __m128d q67 = _mm_castsi128_pd(_mm256_extracti128_si256(hi, 1));
+    _mm_storel_pd((double *)(b1), q01), _mm_storeh_pd((double *)(b1 + st), q01);
+    _mm_storel_pd((double *)(b1 + 2 * st), q23), _mm_storeh_pd((double *)(b1 + 3 * st), q23);
+    _mm_storel_pd((double *)(b1 + 4 * st), q45), _mm_storeh_pd((double *)(b1 + 5 * st), q45);
+    _mm_storel_pd((double *)(b1 + 6 * st), q67), _mm_storeh_pd((double *)(b1 + 7 * st), q67);
+    /* ec[0..3), vx and vy: the even lanes' and the odd lanes' rows (vx, vy of a lane as one int64) */
+    const __m256i vxe = _mm256_blend_epi32(o->x[0], _mm256_slli_epi64(o->y[0], 32), 0xaa);
+    const __m256i vxo = _mm256_blend_epi32(xo0, o->y[0], 0xaa);
+    store4_t64(ece0, ece1, ece2, vxe, t0 + offsetof(rs_tri, ec), 2 * st);
+    store4_t64(eco0, eco1, eco2, vxo, t0 + st + offsetof(rs_tri, ec), 2 * st);
+}
+
+/* Planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4) (the edges:
+ * grid_edges8): finish4_planes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same
+ * lanes as grid_verts8, swapped as o's). */
 static inline void grid_finish_half(const bias4 *bias, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
                                     int h, __m128i live, rs_prim *sp)
 {
@@ -1155,7 +1234,6 @@ static inline void grid_finish_half(const bias4 *bias, const grid_cols *g, size_
     const __m128i y[3] = { half4(o->y[0], h), half4(o->y[1], h), half4(o->y[2], h) };
     __m128 zf[3];
     char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
-    finish4_edges(x, y, tr);   /* (first: fewer values live in registers at once) */
     const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
     const __m128 zc = _mm_loadu_ps(g->z + r1 + q), zd = _mm_loadu_ps(g->z + r1 + q + 1);
     zf[0] = _mm_shuffle_ps(za, za, _MM_SHUFFLE(2, 1, 1, 0));               /* r0: 0 1 1 2 */
@@ -1220,6 +1298,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
             _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
+            grid_edges8(&o, sp);
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
                 grid_finish_half(&bias, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
