@@ -387,8 +387,15 @@ static inline __attribute__((always_inline)) void finish4_planes(const bias4 *bs
     v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
 #define F4(v) _mm256_cvtpd_ps((__m256d)(v))
     const __m128 zero = _mm_setzero_ps();
-    store_t32(F4(za), F4(zb), F4(z0 + bias), F4(n1 * l1a), tr, offsetof(rs_tri, z));   /* z[0..3), q1[0] */
-    store_t32(F4(n1 * l1b), zero, F4(n2 * l2a), F4(n2 * l2b), tr, offsetof(rs_tri, q1[1])); /* q1[1..3), q2[0..2) */
+    /* z[0..3), q1[0] | q1[1..3), q2[0..2): 32 bytes per triangle, two 4x4 transposes side by side */
+    const __m256 r0 = _mm256_setr_m128(F4(za), F4(n1 * l1b)), r1 = _mm256_setr_m128(F4(zb), zero);
+    const __m256 r2 = _mm256_setr_m128(F4(z0 + bias), F4(n2 * l2a)), r3 = _mm256_setr_m128(F4(n1 * l1a), F4(n2 * l2b));
+    const __m256d a = _mm256_castps_pd(_mm256_unpacklo_ps(r0, r1)), b = _mm256_castps_pd(_mm256_unpackhi_ps(r0, r1));
+    const __m256d c = _mm256_castps_pd(_mm256_unpacklo_ps(r2, r3)), d = _mm256_castps_pd(_mm256_unpackhi_ps(r2, r3));
+    _mm256_storeu_pd((double *)(tr[0] + offsetof(rs_tri, z)), _mm256_unpacklo_pd(a, c));
+    _mm256_storeu_pd((double *)(tr[1] + offsetof(rs_tri, z)), _mm256_unpackhi_pd(a, c));
+    _mm256_storeu_pd((double *)(tr[2] + offsetof(rs_tri, z)), _mm256_unpacklo_pd(b, d));
+    _mm256_storeu_pd((double *)(tr[3] + offsetof(rs_tri, z)), _mm256_unpackhi_pd(b, d));
     store_t32(zero, F4(s0), F4(s1), F4(n0), tr, offsetof(rs_tri, q2[2]));              /* q2[2], s[0..3) */
 #undef F4
 }
