@@ -136,7 +136,7 @@ typedef struct rs_point {
 /* A group of a grouped piece (RS_K_GROUP), binned as one entry with the union of its drawn triangles' pixel boxes
  * and set up inside the tile pass (rs_group_tile): level 0, drawn triangles [first, first + count) of its chunk's
  * gtri; or a grid group (rs_source.grid_level): the regular grid of level `level` over the chunk's vertices from
- * vbase on, its rows' pixel boxes at grow[first .. first + count) (count = level rows). */
+ * vbase on, its row and step boxes at grow[first .. first + count) (setup_simd.c's grid_boxes). */
 typedef struct rs_group {
     uint32_t first, count;
     uint32_t level, vbase;
@@ -190,8 +190,8 @@ typedef struct rs_chunk {
     size_t gtri_cap;
     /* a grid piece (rs_source.grid_level): its projected vertices again as rows of x, y (int32), z (float) and
      * 1/w (double), each array gsoa_cap entries long (RS_GRID_PAD zeros past the piece's vertices: the row loads
-     * read past a row's end), and per grid group per row the pixel box of its drawn triangles (x0, y0, x1, y1;
-     * x0 > x1 when none) */
+     * read past a row's end), and per grid group per row the pixel box of its drawn triangles, then one per step
+     * of eight triangles of the row (x0, x1, y0, y1; x0 > x1 when none) */
     void *gsoa;
     size_t gsoa_cap;
     int16_t (*grow)[4];
@@ -327,9 +327,9 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose
  * vertices span less than 2^15 (1/256 px, 128 px) in x and in y keeps no rs_gtri: the set-up region counts and
  * boxes its triangles from contiguous loads of vertex rows r and r+1 (eight consecutive triangles of a row -- up,
- * down, up, ... -- per step; no index list) and keeps its rows' pixel boxes; the tile pass does the same per row
- * meeting the tile and sets up the triangles that meet it from those loads with finish4's operations, into the L1
- * scratch.  Other groups (larger, over more than 4 tiles, partial, a piece without the promise) take the paths
+ * down, up, ... -- per step; no index list) and keeps its rows' and steps' pixel boxes; the tile pass does the same
+ * per step meeting the tile and sets up the triangles that meet it from those loads with finish4's operations, into
+ * the L1 scratch.  Other groups (larger, over more than 4 tiles, partial, a piece without the promise) take the paths
  * above: the same bytes and counters either way. */
 #define RS_GRID_PAD 16
 bool rs_setup_groups_avx2(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,

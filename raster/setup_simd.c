@@ -104,8 +104,12 @@ static inline v4d clamp4(v4d x, double lim)
  * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22). */
 static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
 {
-    v4d x = { v[0].pos.x, v[1].pos.x, v[2].pos.x, v[3].pos.x }, y = { v[0].pos.y, v[1].pos.y, v[2].pos.y, v[3].pos.y };
-    v4d z = { v[0].pos.z, v[1].pos.z, v[2].pos.z, v[3].pos.z }, w = { v[0].pos.w, v[1].pos.w, v[2].pos.w, v[3].pos.w };
+    /* the four positions transposed (fewer instructions than gathering the sixteen floats one by one) */
+    __m128 p0 = _mm_loadu_ps(&v[0].pos.x), p1 = _mm_loadu_ps(&v[1].pos.x);
+    __m128 p2 = _mm_loadu_ps(&v[2].pos.x), p3 = _mm_loadu_ps(&v[3].pos.x);
+    _MM_TRANSPOSE4_PS(p0, p1, p2, p3);
+    v4d x = (v4d)_mm256_cvtps_pd(p0), y = (v4d)_mm256_cvtps_pd(p1);
+    v4d z = (v4d)_mm256_cvtps_pd(p2), w = (v4d)_mm256_cvtps_pd(p3);
     v4q fin = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
     v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
              (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
@@ -301,12 +305,8 @@ static inline void edge4(__m128i xi, __m128i yi, __m128i xk, __m128i yk, __m128i
 /* |x| per lane. */
 static inline v4d abs4(v4d x) { return (v4d)((v4q)x & ~(v4q)(v4d){ -0.0, -0.0, -0.0, -0.0 }); }
 
-/* dmax per lane: a where a > b or b is NaN, else b. */
-static inline v4d max4(v4d a, v4d b)
-{
-    v4q m = (a > b) | (b != b);
-    return (v4d)(((v4q)a & m) | ((v4q)b & ~m));
-}
+/* dmax per lane for a, b not NaN: a where a > b, else b (maxpd; dmax's NaN case cannot arise in finish4_lanes). */
+static inline v4d max4(v4d a, v4d b) { return (v4d)_mm256_max_pd((__m256d)a, (__m256d)b); }
 
 /* Store rows r0..r3 of a 4x4 matrix of int64 transposed: column t (lane t of every row) to base[t] + off. */
 static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *const base[4], size_t off)
@@ -319,40 +319,31 @@ static inline void store_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, cha
     _mm256_storeu_si256((__m256i *)(base[3] + off), _mm256_permute2x128_si256(b, d, 0x31));
 }
 
-/* finish_one for four triangles, one per lane, from their vertices in lanes (x, y int32, zf float, w0..w2 the
- * 1/w of vertices 0..2, in clockwise order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in
- * int32 / int64 lanes and rs_tri_planes' double operations in double lanes, per lane the same operations in the
- * same order, so the same bytes. */
-static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
-                                                                const __m128i y[3], const __m128 zf[3], v4d w0,
-                                                                v4d w1, v4d w2, char *const tr[4])
+/* The job's depth bias and slope-scale depth bias as doubles in lanes (rs_tri_planes' (double) conversions). */
+typedef struct bias4 { v4d depth, slope; } bias4;
+
+/* bias4 of job j. */
+static inline bias4 bias4_of(const rs_job *j)
+{
+    const double d = (double)j->st->depth_bias, s = (double)j->st->slope_scale_depth_bias;
+    return (bias4){ { d, d, d, d }, { s, s, s, s } };
+}
+
+/* rs_tri_edges and vertex 0 of four triangles, one per lane, from their vertices in lanes (x, y int32, in clockwise
+ * order) into the rs_tri at tr[0..4): rs_tri_edge's integer operations in int32 / int64 lanes, the same values. */
+static inline __attribute__((always_inline)) void finish4_edges(const __m128i x[3], const __m128i y[3],
+                                                                char *const tr[4])
 {
     __m128i ea[3], eb[3];
     __m256i ec[3];
     edge4(x[0], y[0], x[1], y[1], &ea[0], &eb[0], &ec[0]);
     edge4(x[1], y[1], x[2], y[2], &ea[1], &eb[1], &ec[1]);
     edge4(x[2], y[2], x[0], y[0], &ea[2], &eb[2], &ec[2]);
-    /* rs_tri_planes: the differences are exact in int32 and in double; so is the doubled area, products of
-     * integers below 2^23 and their difference below 2^47 being integers below 2^53, the value (double)area2 */
-    const double k = 1.0 / RS_SUB;
-    v4d dx1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[1], x[0])), dy1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[1], y[0]));
-    v4d dx2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[2], x[0])), dy2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[2], y[0]));
-    v4d area = dx1 * dy2 - dy1 * dx2;
-    v4d x1 = dx1 * k, y1 = dy1 * k, x2 = dx2 * k, y2 = dy2 * k;
-    v4d ar = 1.0 / (area * k * k);
-    v4d l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar;
-    v4d z0 = (v4d)_mm256_cvtps_pd(zf[0]);
-    v4d dz1 = (v4d)_mm256_cvtps_pd(zf[1]) - z0, dz2 = (v4d)_mm256_cvtps_pd(zf[2]) - z0;
-    v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
-    v4d bias = (double)j->st->depth_bias + (double)j->st->slope_scale_depth_bias * max4(abs4(za), abs4(zb));
-    v4d m = max4(w0, max4(w1, w2));
-    v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
-    v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
     _Static_assert(offsetof(rs_tri, eb) == 12 && offsetof(rs_tri, ec) == 24 && offsetof(rs_tri, vx) == 48 &&
                    offsetof(rs_tri, vy) == 52 && offsetof(rs_tri, z) == 56 && offsetof(rs_tri, q1) == 68 &&
                    offsetof(rs_tri, q2) == 80 && offsetof(rs_tri, s) == 92 && sizeof(rs_tri) == 104,
                    "rs_tri's layout as finish4 writes it");
-    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes */
+    /* rs_tri in groups of 16, 8, 32, 16, 16 and 16 bytes (the planes: finish4_planes) */
     store_t32(_mm_castsi128_ps(ea[0]), _mm_castsi128_ps(ea[1]), _mm_castsi128_ps(ea[2]), _mm_castsi128_ps(eb[0]), tr,
               offsetof(rs_tri, ea));                                       /* ea[0..3), eb[0] */
     __m128i e12lo = _mm_unpacklo_epi32(eb[1], eb[2]), e12hi = _mm_unpackhi_epi32(eb[1], eb[2]); /* eb[1], eb[2] */
@@ -363,12 +354,61 @@ static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j,
     _mm_storel_epi64((__m128i *)(tr[3] + b1), _mm_unpackhi_epi64(e12hi, e12hi));
     __m256i vxy = _mm256_setr_m128i(_mm_unpacklo_epi32(x[0], y[0]), _mm_unpackhi_epi32(x[0], y[0]));
     store_t64(ec[0], ec[1], ec[2], vxy, tr, offsetof(rs_tri, ec));         /* ec[0..3), vx and vy */
+}
+
+/* rs_tri_planes of the four triangles of finish4_edges (zf float, w0..w2 the 1/w of vertices 0..2; the job's
+ * bias4) into tr[0..4):
+ * its double operations in double lanes, per lane the same operations in the same order, so the same bytes.  No
+ * value is NaN: the vertices are ready (0 <= z <= w, w > 0, 1/w finite), so the 1/w are finite and positive and
+ * za, zb finite (|area| >= 1: |l1a| etc. below 2^31), and max4 is dmax. */
+static inline __attribute__((always_inline)) void finish4_planes(const bias4 *bs, const __m128i x[3],
+                                                                 const __m128i y[3], const __m128 zf[3], v4d w0,
+                                                                 v4d w1, v4d w2, const __m256d *live,
+                                                                 char *const tr[4])
+{
+    /* rs_tri_planes: the differences are exact in int32 and in double; so is the doubled area, products of
+     * integers below 2^23 and their difference below 2^47 being integers below 2^53, the value (double)area2 */
+    const double k = 1.0 / RS_SUB;
+    v4d dx1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[1], x[0])), dy1 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[1], y[0]));
+    v4d dx2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(x[2], x[0])), dy2 = (v4d)_mm256_cvtepi32_pd(_mm_sub_epi32(y[2], y[0]));
+    v4d area = dx1 * dy2 - dy1 * dx2;
+    const __m256d one = _mm256_set1_pd(1.0);
+    if (live) area = (v4d)_mm256_blendv_pd(one, (__m256d)area, *live);   /* (see grid_finish_half) */
+    v4d x1 = dx1 * k, y1 = dy1 * k, x2 = dx2 * k, y2 = dy2 * k;
+    v4d ar = 1.0 / (area * k * k);
+    v4d l1a = y2 * ar, l1b = -x2 * ar, l2a = -y1 * ar, l2b = x1 * ar;
+    v4d z0 = (v4d)_mm256_cvtps_pd(zf[0]);
+    v4d dz1 = (v4d)_mm256_cvtps_pd(zf[1]) - z0, dz2 = (v4d)_mm256_cvtps_pd(zf[2]) - z0;
+    v4d za = dz1 * l1a + dz2 * l2a, zb = dz1 * l1b + dz2 * l2b;
+    v4d bias = bs->depth + bs->slope * max4(abs4(za), abs4(zb));
+    v4d m = max4(w0, max4(w1, w2));
+    if (live) m = (v4d)_mm256_blendv_pd(one, (__m256d)m, *live);
+    v4d n0 = w0 / m, n1 = w1 / m, n2 = w2 / m;
+    v4d s0 = (n1 - n0) * l1a + (n2 - n0) * l2a, s1 = (n1 - n0) * l1b + (n2 - n0) * l2b;
 #define F4(v) _mm256_cvtpd_ps((__m256d)(v))
     const __m128 zero = _mm_setzero_ps();
-    store_t32(F4(za), F4(zb), F4(z0 + bias), F4(n1 * l1a), tr, offsetof(rs_tri, z));   /* z[0..3), q1[0] */
-    store_t32(F4(n1 * l1b), zero, F4(n2 * l2a), F4(n2 * l2b), tr, offsetof(rs_tri, q1[1])); /* q1[1..3), q2[0..2) */
+    /* z[0..3), q1[0] | q1[1..3), q2[0..2): 32 bytes per triangle, two 4x4 transposes side by side */
+    const __m256 r0 = _mm256_setr_m128(F4(za), F4(n1 * l1b)), r1 = _mm256_setr_m128(F4(zb), zero);
+    const __m256 r2 = _mm256_setr_m128(F4(z0 + bias), F4(n2 * l2a)), r3 = _mm256_setr_m128(F4(n1 * l1a), F4(n2 * l2b));
+    const __m256d a = _mm256_castps_pd(_mm256_unpacklo_ps(r0, r1)), b = _mm256_castps_pd(_mm256_unpackhi_ps(r0, r1));
+    const __m256d c = _mm256_castps_pd(_mm256_unpacklo_ps(r2, r3)), d = _mm256_castps_pd(_mm256_unpackhi_ps(r2, r3));
+    _mm256_storeu_pd((double *)(tr[0] + offsetof(rs_tri, z)), _mm256_unpacklo_pd(a, c));
+    _mm256_storeu_pd((double *)(tr[1] + offsetof(rs_tri, z)), _mm256_unpackhi_pd(a, c));
+    _mm256_storeu_pd((double *)(tr[2] + offsetof(rs_tri, z)), _mm256_unpacklo_pd(b, d));
+    _mm256_storeu_pd((double *)(tr[3] + offsetof(rs_tri, z)), _mm256_unpackhi_pd(b, d));
     store_t32(zero, F4(s0), F4(s1), F4(n0), tr, offsetof(rs_tri, q2[2]));              /* q2[2], s[0..3) */
 #undef F4
+}
+
+/* finish_one for four triangles, one per lane (finish4_edges, then finish4_planes: fewer values live in registers
+ * at once), the same bytes. */
+static inline __attribute__((always_inline)) void finish4_lanes(const rs_job *j, const __m128i x[3],
+                                                                const __m128i y[3], const __m128 zf[3], v4d w0,
+                                                                v4d w1, v4d w2, char *const tr[4])
+{
+    finish4_edges(x, y, tr);
+    const bias4 b = bias4_of(j);
+    finish4_planes(&b, x, y, zf, w0, w1, w2, NULL, tr);
 }
 
 /* finish_one for queued triangles q[0..n) (room for 4; lanes n..3 repeat q[0]), one per lane (finish4_lanes). */
@@ -500,7 +540,12 @@ static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
     }
     if (ns == 1) {   /* (the usual case, COLOR0 alone: one copy per vertex) */
         const int s0 = j->slot[0];
-        for (size_t i = 0; i < nv; i++) c->gattr[i] = v[i].attr[s0];
+        rs_vec4 *const ga = c->gattr;
+        size_t i = 0;
+        for (; i + 4 <= nv; i += 4)   /* (four per pass: half the loop's instructions) */
+            ga[i] = v[i].attr[s0], ga[i + 1] = v[i + 1].attr[s0], ga[i + 2] = v[i + 2].attr[s0],
+            ga[i + 3] = v[i + 3].attr[s0];
+        for (; i < nv; i++) ga[i] = v[i].attr[s0];
         return true;
     }
     for (size_t i = 0; i < nv; i++)
@@ -509,7 +554,7 @@ static bool group_keep(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
 }
 
 /* Push group entry of drawn triangles [first, first + n) of c->gtri (level 0), or of grid level `level` over the
- * vertices from vbase with its row boxes at c->grow[first .. first + n), with pixel box u into chunk c; false when
+ * vertices from vbase with its row and step boxes at c->grow[first .. first + n), with pixel box u into chunk c; false when
  * out of memory. */
 static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t first, size_t n, size_t level,
                        size_t vbase)
@@ -698,9 +743,10 @@ static inline void grid_verts8(const int32_t *v, const int32_t *u, __m256i o[3])
     o[2] = _mm256_permutevar8x32_epi32(u8, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
 }
 
-/* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o. */
-static inline __attribute__((always_inline)) void grid_step8(const grid_cols *g, const grid_consts *k, size_t r0,
-                                                             size_t r1, int n, step8 *o)
+/* The step at rows r0 (A, B) and r1 (C, D) of g from quad i on, n triangles left in the row, into o: its vertices,
+ * areas and drawn mask (the pixel boxes: grid_step8_box). */
+static inline __attribute__((always_inline)) void grid_step8_tri(const grid_cols *g, const grid_consts *k, size_t r0,
+                                                                 size_t r1, int n, step8 *o)
 {
     __m256i x[3], y[3];
     grid_verts8(g->x + r0, g->x + r1, x);
@@ -714,93 +760,180 @@ static inline __attribute__((always_inline)) void grid_step8(const grid_cols *g,
     o->x[0] = x[0], o->y[0] = y[0];
     o->x[1] = _mm256_blendv_epi8(x[2], x[1], o->pos), o->x[2] = _mm256_blendv_epi8(x[1], x[2], o->pos);
     o->y[1] = _mm256_blendv_epi8(y[2], y[1], o->pos), o->y[2] = _mm256_blendv_epi8(y[1], y[2], o->pos);
-    grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]), _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]),
-               k->offx0, k->offx1, k->sx0, k->sx1, &o->x0, &o->x1);
-    grid_range(_mm256_min_epi32(_mm256_min_epi32(y[0], y[1]), y[2]), _mm256_max_epi32(_mm256_max_epi32(y[0], y[1]), y[2]),
-               k->offy0, k->offy1, k->sy0, k->sy1, &o->y0, &o->y1);
     /* drawn: in the row, area not 0 and not culled (areas of the sign cull_sign are: cull_sign * area > 0) */
     o->in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
     o->drawn = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpeq_epi32(o->area, zero), cul), o->in);
 }
 
+/* The pixel boxes of step o (tri_box's, from its vertices). */
+static inline __attribute__((always_inline)) void grid_step8_box(const grid_consts *k, step8 *o)
+{
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(o->x[0], o->x[1]), o->x[2]),
+               _mm256_max_epi32(_mm256_max_epi32(o->x[0], o->x[1]), o->x[2]), k->offx0, k->offx1, k->sx0, k->sx1,
+               &o->x0, &o->x1);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(o->y[0], o->y[1]), o->y[2]),
+               _mm256_max_epi32(_mm256_max_epi32(o->y[0], o->y[1]), o->y[2]), k->offy0, k->offy1, k->sy0, k->sy1,
+               &o->y0, &o->y1);
+}
+
 /* 8-lane int32 mask -> 8 bits. */
 static inline unsigned mask8(__m256i m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
 
-/* Horizontal min / max of 8 int32 lanes. */
-static inline int32_t hmin8(__m256i v)
+/* Sum of 8 int32 lanes. */
+static inline int32_t hsum8(__m256i v)
 {
-    __m128i m = _mm_min_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
-    m = _mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtsi128_si32(_mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
-}
-static inline int32_t hmax8(__m256i v)
-{
-    __m128i m = _mm_max_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
-    m = _mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+    __m128i m = _mm_add_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_add_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_add_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
 }
 
 /* First vertex of row k of the level-L grid whose vertices start at vbase (core_grid_index(L, 0, k)). */
 static inline size_t grid_row_start(size_t vbase, size_t L, size_t k) { return vbase + k * (L + 1) - k * (k - 1) / 2; }
 
-/* The set-up region's part of grid group (level L, vertices from vbase) in chunk c: counts its triangles into *tc
- * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its rows' pixel boxes
- * to rows[0..L) and the union of its drawn triangles' boxes to u; returns whether any has a pixel. */
-static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk *c, size_t L, size_t vbase,
-                             tri_counts *tc, int16_t (*rows)[4], int32_t u[4])
+/* Row and step boxes (grow): per row of a grid group its pixel box, then one per step of the row (grid_step8_tri's
+ * eight triangles), each the union of the boxes of its drawn triangles with a pixel, as int16 lanes x0, x1, y0, y1
+ * (x0 > x1 when none: no tile meets it); the tile pass skips a row or step whose box misses the tile. */
+
+/* Steps of the row of nt triangles. */
+static inline size_t grid_row_steps(int nt) { return (size_t)(nt + 7) / 8; }
+
+/* Boxes (rows and steps) of a grid group of level L. */
+static size_t grid_boxes(size_t L)
 {
-    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    size_t n = L;
+    for (size_t r = 0; r < L; r++) n += grid_row_steps((int)(2 * (L - r) - 1));
+    return n;
+}
+
+/* The box (x0, x1, y0, y1 in int16 lanes 0..3) of the least x0 (lane 0) and y0 (lane 4) in mn and the greatest x1
+ * and y1 in mx (int16 lanes). */
+static inline __m128i grid_box_of(__m128i mn, __m128i mx)
+{
+    return _mm_unpacklo_epi32(_mm_unpacklo_epi16(mn, mx), _mm_unpackhi_epi16(mn, mx));
+}
+
+/* Eight up or eight down triangles of a row in lanes, for the set-up region (grid_group_setup): their doubled areas
+ * (area3's, vertices in the list's order), the lanes in the row (in), degenerate (zero) and drawn, and pixel boxes
+ * (tri_box's; grid_tri8_box). */
+typedef struct tri8 {
+    __m256i area, zero, drawn, x0, y0, x1, y1;
+} tri8;
+
+/* tri8 of the triangles (a, b, c) in lanes (x, y of each), n of them in the row from lane 0 on. */
+static inline __attribute__((always_inline)) void grid_tri8(const grid_consts *k, __m256i ax, __m256i ay, __m256i bx,
+                                                            __m256i by, __m256i cx, __m256i cy, int n, tri8 *o)
+{
+    const __m256i zero = _mm256_setzero_si256();
+    o->area = _mm256_sub_epi32(_mm256_mullo_epi32(_mm256_sub_epi32(bx, ax), _mm256_sub_epi32(cy, ay)),
+                               _mm256_mullo_epi32(_mm256_sub_epi32(by, ay), _mm256_sub_epi32(cx, ax)));
+    const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i z = _mm256_cmpeq_epi32(o->area, zero);
+    const __m256i cul = _mm256_cmpgt_epi32(_mm256_sign_epi32(o->area, k->cull_sign), zero);
+    o->zero = _mm256_and_si256(in, z);
+    o->drawn = _mm256_andnot_si256(_mm256_or_si256(z, cul), in);
+}
+
+/* The pixel boxes of o (triangles (a, b, c) as given to grid_tri8). */
+static inline __attribute__((always_inline)) void grid_tri8_box(const grid_consts *k, __m256i ax, __m256i ay,
+                                                                __m256i bx, __m256i by, __m256i cx, __m256i cy,
+                                                                tri8 *o)
+{
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(ax, bx), cx), _mm256_max_epi32(_mm256_max_epi32(ax, bx), cx),
+               k->offx0, k->offx1, k->sx0, k->sx1, &o->x0, &o->x1);
+    grid_range(_mm256_min_epi32(_mm256_min_epi32(ay, by), cy), _mm256_max_epi32(_mm256_max_epi32(ay, by), cy),
+               k->offy0, k->offy1, k->sy0, k->sy1, &o->y0, &o->y1);
+}
+
+/* The drawn triangles of o with a pixel (x0 <= x1, y0 <= y1), their rs_count_work added to the lanes of *work
+ * (min(|area|, box pixels * RS_WORK_UNIT) as uint32: the bit budget); returns that mask. */
+static inline __m256i grid_tri8_work(const tri8 *o, __m256i *work)
+{
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o->x0, o->x1),
+                                                            _mm256_cmpgt_epi32(o->y0, o->y1)), o->drawn);
+    const __m256i bp = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_sub_epi32(o->x1, o->x0), one),
+                                          _mm256_add_epi32(_mm256_sub_epi32(o->y1, o->y0), one));
+    _Static_assert(RS_WORK_UNIT == 1u << 17, "RS_WORK_UNIT as a shift");
+    const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o->area), _mm256_slli_epi32(bp, 17)));
+    *work = _mm256_add_epi64(*work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
+                                                     _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
+    return pix;
+}
+
+/* The set-up region's part of grid group (level L, vertices from vbase) in chunk c: counts its triangles into *tc
+ * and its work into c->work as group_tri / tri_box / rs_count_work do per triangle, writes its row and step boxes
+ * to boxes[0 .. grid_boxes(L)) and the union of its drawn triangles' boxes to u; returns whether any has a pixel.
+ * Per row, eight quads at a time -- their up triangles (A, B, C) in one vector, their down ones (B, D, C) in
+ * another, from plain loads of the rows (A, B = A + 1; C, D = C + 1) -- which are the tile pass's two steps. */
+static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk *c, size_t L, size_t vbase,
+                             tri_counts *tc, int16_t (*boxes)[4], int32_t u[4])
+{
+    const __m256i zero = _mm256_setzero_si256();
     const __m256i big = _mm256_set1_epi32(INT32_MAX), small = _mm256_set1_epi32(INT32_MIN);
+    const __m128i none_mn = _mm_set1_epi16(INT16_MAX), none_mx = _mm_set1_epi16(INT16_MIN);
+    const __m128i none = grid_box_of(none_mn, none_mx);
     __m256i work = zero;   /* 4 x uint64: below 2^28 triangles of below 2^31 units each */
-    unsigned culled = 0, degenerate = 0, drawn = 0;
-    bool any = false;
+    __m128i gmn = none_mn, gmx = none_mx;
+    __m256i nz = zero, nd = zero;   /* per lane: minus the degenerate and the drawn triangles */
+    size_t pos = 0;
     for (size_t r = 0; r < L; r++) {
         const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
-        const int nt = (int)(2 * (L - r) - 1);   /* the row's triangles */
-        __m256i bx0 = big, by0 = big, bx1 = small, by1 = small;
-        for (int t = 0; t < nt; t += 8) {
-            step8 o;
-            grid_step8(g, k, r0 + (size_t)(t / 2), r1 + (size_t)(t / 2), nt - t, &o);
-            const unsigned zm = mask8(_mm256_and_si256(o.in, _mm256_cmpeq_epi32(o.area, zero)));
-            const unsigned dm = mask8(o.drawn), nz = (unsigned)__builtin_popcount(zm);
-            const unsigned nd = (unsigned)__builtin_popcount(dm);
-            degenerate += nz;
-            culled += (unsigned)(nt - t < 8 ? nt - t : 8) - nz - nd;
-            drawn += nd;
-            /* a pixel: drawn with a box (x0 <= x1, y0 <= y1) */
-            const __m256i pix = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(o.x0, o.x1),
-                                                                    _mm256_cmpgt_epi32(o.y0, o.y1)), o.drawn);
-            if (!mask8(pix)) continue;
-            /* rs_count_work: min(|area|, box pixels * RS_WORK_UNIT) as uint32 (the bit budget) */
-            const __m256i bp = _mm256_mullo_epi32(_mm256_add_epi32(_mm256_sub_epi32(o.x1, o.x0), one),
-                                                  _mm256_add_epi32(_mm256_sub_epi32(o.y1, o.y0), one));
-            _Static_assert(RS_WORK_UNIT == 1u << 17, "RS_WORK_UNIT as a shift");
-            const __m256i wk = _mm256_and_si256(pix, _mm256_min_epu32(_mm256_abs_epi32(o.area), _mm256_slli_epi32(bp, 17)));
-            work = _mm256_add_epi64(work, _mm256_add_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(wk)),
-                                                           _mm256_cvtepu32_epi64(_mm256_extracti128_si256(wk, 1))));
-            bx0 = _mm256_min_epi32(bx0, _mm256_blendv_epi8(big, o.x0, pix));
-            by0 = _mm256_min_epi32(by0, _mm256_blendv_epi8(big, o.y0, pix));
-            bx1 = _mm256_max_epi32(bx1, _mm256_blendv_epi8(small, o.x1, pix));
-            by1 = _mm256_max_epi32(by1, _mm256_blendv_epi8(small, o.y1, pix));
+        const int nq = (int)(L - r);   /* the row's quads: nq up triangles, nq - 1 down ones */
+        const size_t row = pos++;
+        __m128i rmn = none_mn, rmx = none_mx;
+        for (int q = 0; q < nq; q += 8) {
+            const int32_t *xa = g->x + r0 + q, *ya = g->y + r0 + q, *xc = g->x + r1 + q, *yc = g->y + r1 + q;
+            const __m256i ax = _mm256_loadu_si256((const __m256i *)xa), ay = _mm256_loadu_si256((const __m256i *)ya);
+            const __m256i bx = _mm256_loadu_si256((const __m256i *)(xa + 1));
+            const __m256i by = _mm256_loadu_si256((const __m256i *)(ya + 1));
+            const __m256i cx = _mm256_loadu_si256((const __m256i *)xc), cy = _mm256_loadu_si256((const __m256i *)yc);
+            const __m256i dx = _mm256_loadu_si256((const __m256i *)(xc + 1));
+            const __m256i dy = _mm256_loadu_si256((const __m256i *)(yc + 1));
+            tri8 up, dn;
+            grid_tri8(k, ax, ay, bx, by, cx, cy, nq - q, &up);
+            grid_tri8(k, bx, by, dx, dy, cx, cy, nq - 1 - q, &dn);
+            nz = _mm256_add_epi32(nz, _mm256_add_epi32(up.zero, dn.zero));
+            nd = _mm256_add_epi32(nd, _mm256_add_epi32(up.drawn, dn.drawn));
+            const size_t s0 = pos;
+            const bool two = q + 4 < nq;   /* quads q + 4.. in the row: the second step */
+            _mm_storel_epi64((__m128i *)boxes[s0], none);
+            if (two) _mm_storel_epi64((__m128i *)boxes[s0 + 1], none);
+            pos += two ? 2 : 1;
+            if (!mask8(_mm256_or_si256(up.drawn, dn.drawn))) continue;   /* (half of scene B's: back faces) */
+            grid_tri8_box(k, ax, ay, bx, by, cx, cy, &up);
+            grid_tri8_box(k, bx, by, dx, dy, cx, cy, &dn);
+            const __m256i pu = grid_tri8_work(&up, &work), pd = grid_tri8_work(&dn, &work);
+            if (!mask8(_mm256_or_si256(pu, pd))) continue;
+            /* the union of the boxes with a pixel per lane, then per half (a step) in int16 lanes (saturating: the
+             * boxes are within RS_MAX_SIZE): lane 0 of a half the least x0 / greatest x1, lane 4 the same of y */
+            const __m256i x0 = _mm256_min_epi32(_mm256_blendv_epi8(big, up.x0, pu), _mm256_blendv_epi8(big, dn.x0, pd));
+            const __m256i y0 = _mm256_min_epi32(_mm256_blendv_epi8(big, up.y0, pu), _mm256_blendv_epi8(big, dn.y0, pd));
+            const __m256i x1 = _mm256_max_epi32(_mm256_blendv_epi8(small, up.x1, pu), _mm256_blendv_epi8(small, dn.x1, pd));
+            const __m256i y1 = _mm256_max_epi32(_mm256_blendv_epi8(small, up.y1, pu), _mm256_blendv_epi8(small, dn.y1, pd));
+            __m256i mn = _mm256_packs_epi32(x0, y0), mx = _mm256_packs_epi32(x1, y1);
+            mn = _mm256_min_epi16(mn, _mm256_srli_epi64(mn, 32)), mx = _mm256_max_epi16(mx, _mm256_srli_epi64(mx, 32));
+            mn = _mm256_min_epi16(mn, _mm256_srli_epi32(mn, 16)), mx = _mm256_max_epi16(mx, _mm256_srli_epi32(mx, 16));
+            const __m128i mn0 = _mm256_castsi256_si128(mn), mx0 = _mm256_castsi256_si128(mx);
+            const __m128i mn1 = _mm256_extracti128_si256(mn, 1), mx1 = _mm256_extracti128_si256(mx, 1);
+            _mm_storel_epi64((__m128i *)boxes[s0], grid_box_of(mn0, mx0));
+            if (two) _mm_storel_epi64((__m128i *)boxes[s0 + 1], grid_box_of(mn1, mx1));
+            rmn = _mm_min_epi16(rmn, _mm_min_epi16(mn0, mn1)), rmx = _mm_max_epi16(rmx, _mm_max_epi16(mx0, mx1));
         }
-        const int32_t x0 = hmin8(bx0), y0 = hmin8(by0), x1 = hmax8(bx1), y1 = hmax8(by1);
-        if (x0 > x1) {   /* no pixel in the row: a box no tile meets */
-            rows[r][0] = rows[r][1] = INT16_MAX, rows[r][2] = rows[r][3] = INT16_MIN;
-            continue;
-        }
-        RS_ASSERT(x0 >= 0 && x1 < RS_MAX_SIZE && y0 >= 0 && y1 < RS_MAX_SIZE);
-        rows[r][0] = (int16_t)x0, rows[r][1] = (int16_t)y0, rows[r][2] = (int16_t)x1, rows[r][3] = (int16_t)y1;
-        u[0] = x0 < u[0] ? x0 : u[0], u[1] = y0 < u[1] ? y0 : u[1];
-        u[2] = x1 > u[2] ? x1 : u[2], u[3] = y1 > u[3] ? y1 : u[3];
-        any = true;
+        _mm_storel_epi64((__m128i *)boxes[row], grid_box_of(rmn, rmx));
+        gmn = _mm_min_epi16(gmn, rmn), gmx = _mm_max_epi16(gmx, rmx);
     }
     uint64_t wl[4];
     _mm256_storeu_si256((__m256i *)wl, work);
     const uint64_t sum = wl[0] + wl[1] + wl[2] + wl[3], w = c->work + sum;
     c->work = w < c->work ? UINT64_MAX : w;   /* rs_count_work's saturation: the same total in any order */
-    tc->culled += culled, tc->degenerate += degenerate, tc->drawn += drawn;
-    return any;
+    /* each of the L * L triangles is degenerate, culled or drawn */
+    const unsigned degenerate = (unsigned)-hsum8(nz), drawn = (unsigned)-hsum8(nd);
+    tc->culled += L * L - degenerate - drawn, tc->degenerate += degenerate, tc->drawn += drawn;
+    u[0] = (int16_t)_mm_extract_epi16(gmn, 0), u[1] = (int16_t)_mm_extract_epi16(gmn, 4);
+    u[2] = (int16_t)_mm_extract_epi16(gmx, 0), u[3] = (int16_t)_mm_extract_epi16(gmx, 4);
+    RS_ASSERT(u[0] > u[2] || (u[0] >= 0 && u[2] < RS_MAX_SIZE && u[1] >= 0 && u[3] < RS_MAX_SIZE));
+    return u[0] <= u[2];
 }
 #endif
 
@@ -812,8 +945,8 @@ static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, si
 {
 #ifdef __AVX2__
     if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
-    const size_t rows = (np / group + 1) * level;
-    return rs_reserve((void **)&c->grow, &c->grow_cap, rows, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
+    const size_t boxes = (np / group + 1) * grid_boxes(level);
+    return rs_reserve((void **)&c->grow, &c->grow_cap, boxes, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
 #else
     (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
     return false;
@@ -843,7 +976,8 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     const grid_cols gc = grid ? grid_cols_of(c) : (grid_cols){ 0 };
     const grid_consts gk = grid_consts_of(j);
     const size_t gverts = (level + 1) * (level + 2) / 2;   /* vertices of a grid group */
-    size_t ng = 0;    /* row boxes kept */
+    const size_t gboxes = grid ? grid_boxes(level) : 0;     /* its row and step boxes */
+    size_t ng = 0;    /* row and step boxes kept */
 #endif
     for (size_t g0 = 0; g0 < np; g0 += group) {
         const size_t n = np - g0 < group ? np - g0 : group, first = nt;
@@ -857,8 +991,8 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
             culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
             if (!any) continue;   /* no pixel of the group: no entry */
             if (box_tiles(u) <= GROUP_MAX_TILES) {
-                if (!group_push(j, c, u, ng, level, level, vb)) break;
-                ng += level, c->grid_groups++;
+                if (!group_push(j, c, u, ng, gboxes, level, vb)) break;
+                ng += gboxes, c->grid_groups++;
                 continue;
             }
             c->work = work;   /* per triangle, as below: push_front counts the work again */
@@ -948,6 +1082,13 @@ static void group_flush(const rs_job *j, rs_tile *t, rs_prim *sp, float (*sa)[RS
 }
 
 #ifdef __AVX2__
+/* Does row or step box b (x0, x1, y0, y1) miss the tile whose x1, x0, y1, y0 are lim's int16 lanes 0..3? */
+static inline bool grid_box_out(const int16_t b[4], __m128i lim)
+{
+    const __m128i v = _mm_loadl_epi64((const __m128i *)b);
+    return (_mm_movemask_epi8(_mm_cmpgt_epi16(v, lim)) & 0x33) | (_mm_movemask_epi8(_mm_cmpgt_epi16(lim, v)) & 0xcc);
+}
+
 /* Attribute slot o of the triangle (a, b, c) as rs_tri_run's stamp lanes take it: v0 = a, d1 = b - a, d2 = c - a,
  * four channels each (rs_fill_slot's values without its interleaving). */
 static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, const rs_vec4 *c)
@@ -958,26 +1099,148 @@ static inline void grid_fill_v(float *o, const rs_vec4 *a, const rs_vec4 *b, con
     _mm_storeu_ps(o + 8, _mm_sub_ps(_mm_loadu_ps(&c->x), v0));
 }
 
+/* grid_fill_v for the up and the down triangle of a quad, lanes l and l + 1 of a step whose lanes pos are the
+ * positive areas (clockwise order as the step's): their slots at o and o + 12 from the quad's A (a[0]), B (a[1]),
+ * C (c[0]) and D (c[1]) -- up (A, B, C), down (B, D, C), vertices 1 and 2 swapped where pos is not set -- with
+ * the same subtractions. */
+static inline void grid_fill_pair(float *o, const rs_vec4 *a, const rs_vec4 *c, __m256i pos, int l)
+{
+    _Static_assert(RS_ATTR_STRIDE == 12, "a stamp lane's block: one slot of 12 floats, the next lane's after it");
+    const __m256 v0 = _mm256_loadu_ps(&a->x);                                    /* A | B */
+    const __m256 v1 = _mm256_loadu2_m128(&c[1].x, &a[1].x);                        /* B | D */
+    const __m256 v2 = _mm256_broadcast_ps((const __m128 *)&c->x);                 /* C | C */
+    const __m256 p = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(
+        pos, _mm256_add_epi32(_mm256_set1_epi32(l), _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1))));
+    const __m256 d1 = _mm256_sub_ps(_mm256_blendv_ps(v2, v1, p), v0), d2 = _mm256_sub_ps(_mm256_blendv_ps(v1, v2, p), v0);
+    _mm_storeu_ps(o, _mm256_castps256_ps128(v0)), _mm_storeu_ps(o + 4, _mm256_castps256_ps128(d1));
+    _mm_storeu_ps(o + 8, _mm256_castps256_ps128(d2)), _mm_storeu_ps(o + 12, _mm256_extractf128_ps(v0, 1));
+    _mm_storeu_ps(o + 16, _mm256_extractf128_ps(d1, 1)), _mm_storeu_ps(o + 20, _mm256_extractf128_ps(d2, 1));
+}
+
+/* rs_fill_slot for the up and the down triangle of a quad (as grid_fill_pair): the same subtractions and the same
+ * interleaving, two slots per vector (vshufps and vunpck* work on each 128-bit half alike). */
+static inline void grid_fill_slot_pair(float *o, const rs_vec4 *a, const rs_vec4 *c, __m256i pos, int l)
+{
+    typedef float v8f __attribute__((vector_size(32)));
+    const __m256 v0 = _mm256_loadu_ps(&a->x);                                    /* A | B */
+    const __m256 v1 = _mm256_loadu2_m128(&c[1].x, &a[1].x);                        /* B | D */
+    const __m256 v2 = _mm256_broadcast_ps((const __m128 *)&c->x);                 /* C | C */
+    const __m256 p = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(
+        pos, _mm256_add_epi32(_mm256_set1_epi32(l), _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1))));
+    const v8f f0 = (v8f)v0, d1 = (v8f)_mm256_sub_ps(_mm256_blendv_ps(v2, v1, p), v0);
+    const v8f d2 = (v8f)_mm256_sub_ps(_mm256_blendv_ps(v1, v2, p), v0);
+    /* rs_fill_slot's shuffles, per half (indices 0..3 / 8..11 the low halves, 4..7 / 12..15 the high ones) */
+    const v8f t = __builtin_shufflevector(f0, d1, 0, 8, 1, 9, 4, 12, 5, 13);     /* a.x d1.x a.y d1.y */
+    const v8f u = __builtin_shufflevector(f0, d1, 2, 10, 3, 11, 6, 14, 7, 15);   /* a.z d1.z a.w d1.w */
+    const v8f y = __builtin_shufflevector(d1, d2, 1, 9, 2, 10, 5, 13, 6, 14);    /* d1.y d2.y d1.z d2.z */
+    const v8f o0 = __builtin_shufflevector(t, d2, 0, 1, 8, 2, 4, 5, 12, 6);      /* a.x d1.x d2.x a.y */
+    const v8f o1 = __builtin_shufflevector(y, u, 0, 1, 8, 9, 4, 5, 12, 13);      /* d1.y d2.y a.z d1.z */
+    const v8f w = __builtin_shufflevector(y, u, 3, 10, 11, 11, 7, 14, 15, 15);   /* d2.z a.w d1.w - */
+    const v8f o2 = __builtin_shufflevector(w, d2, 0, 1, 2, 11, 4, 5, 6, 15);     /* d2.z a.w d1.w d2.w */
+    _mm_storeu_ps(o, _mm256_castps256_ps128((__m256)o0)), _mm_storeu_ps(o + 4, _mm256_castps256_ps128((__m256)o1));
+    _mm_storeu_ps(o + 8, _mm256_castps256_ps128((__m256)o2));
+    _mm_storeu_ps(o + 12, _mm256_extractf128_ps((__m256)o0, 1)), _mm_storeu_ps(o + 16, _mm256_extractf128_ps((__m256)o1, 1));
+    _mm_storeu_ps(o + 20, _mm256_extractf128_ps((__m256)o2, 1));
+}
+
 /* Lanes 4h..4h+3 of an 8-lane int32 vector. */
 static inline __m128i half4(__m256i v, int h) { return h ? _mm256_extracti128_si256(v, 1) : _mm256_castsi256_si128(v); }
 
-/* Edges and planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8) into sp[0..4):
- * finish4_lanes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same lanes as
- * grid_verts8, swapped as o's). */
-static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
+/* rs_tri_edge of edge i -> k of eight triangles, one per int32 lane (edge4's values): ea, eb in int32 lanes, ec of
+ * the even lanes in *ece and of the odd lanes in *eco (int64 lanes; mul_epi32 multiplies each 64-bit lane's low
+ * half: xo, yo are xi, yi shifted down by 32, the odd lanes). */
+static inline void edge8(__m256i xi, __m256i yi, __m256i xo, __m256i yo, __m256i xk, __m256i yk, __m256i *ea,
+                         __m256i *eb, __m256i *ece, __m256i *eco)
+{
+    const __m256i zero = _mm256_setzero_si256(), ones = _mm256_set1_epi32(-1);
+    const __m256i dx = _mm256_sub_epi32(xk, xi), dy = _mm256_sub_epi32(yk, yi);
+    const __m256i tl = _mm256_or_si256(_mm256_cmpgt_epi32(zero, dy),              /* top_left: -1, else 0 */
+                                       _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(dx, zero)));
+    const __m256i a = _mm256_sub_epi32(zero, dy);
+    *ea = a, *eb = dx;
+    /* s = -dy * x + dx * y; ec = -s - 1 - tl = ~s - tl (tl's lane widened to 64 bits by repeating it) */
+    const __m256i se = _mm256_add_epi64(_mm256_mul_epi32(a, xi), _mm256_mul_epi32(dx, yi));
+    const __m256i so = _mm256_add_epi64(_mm256_mul_epi32(_mm256_srli_epi64(a, 32), xo),
+                                        _mm256_mul_epi32(_mm256_srli_epi64(dx, 32), yo));
+    *ece = _mm256_sub_epi64(_mm256_xor_si256(se, ones), _mm256_shuffle_epi32(tl, _MM_SHUFFLE(2, 2, 0, 0)));
+    *eco = _mm256_sub_epi64(_mm256_xor_si256(so, ones), _mm256_shuffle_epi32(tl, _MM_SHUFFLE(3, 3, 1, 1)));
+}
+
+/* Store rows r0..r3 of eight lanes of 32-bit values transposed: lane t (four values) to base + t * step. */
+static inline void store8_t32(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *base, size_t step)
+{
+    const __m256d a = _mm256_castsi256_pd(_mm256_unpacklo_epi32(r0, r1)), b = _mm256_castsi256_pd(_mm256_unpackhi_epi32(r0, r1));
+    const __m256d c = _mm256_castsi256_pd(_mm256_unpacklo_epi32(r2, r3)), d = _mm256_castsi256_pd(_mm256_unpackhi_epi32(r2, r3));
+    const __m256d t0 = _mm256_unpacklo_pd(a, c), t1 = _mm256_unpackhi_pd(a, c);   /* lanes 0 | 4, 1 | 5 */
+    const __m256d t2 = _mm256_unpacklo_pd(b, d), t3 = _mm256_unpackhi_pd(b, d);   /* lanes 2 | 6, 3 | 7 */
+    _mm_storeu_pd((double *)(base), _mm256_castpd256_pd128(t0));   /* (unrolled: gcc keeps loops over arrays */
+    _mm_storeu_pd((double *)(base + step), _mm256_castpd256_pd128(t1));   /* of vectors in memory) */
+    _mm_storeu_pd((double *)(base + 2 * step), _mm256_castpd256_pd128(t2));
+    _mm_storeu_pd((double *)(base + 3 * step), _mm256_castpd256_pd128(t3));
+    _mm_storeu_pd((double *)(base + 4 * step), _mm256_extractf128_pd(t0, 1));
+    _mm_storeu_pd((double *)(base + 5 * step), _mm256_extractf128_pd(t1, 1));
+    _mm_storeu_pd((double *)(base + 6 * step), _mm256_extractf128_pd(t2, 1));
+    _mm_storeu_pd((double *)(base + 7 * step), _mm256_extractf128_pd(t3, 1));
+}
+
+/* store_t64 to base + t * step for lane t. */
+static inline void store4_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, char *base, size_t step)
+{
+    __m256i a = _mm256_unpacklo_epi64(r0, r1), b = _mm256_unpackhi_epi64(r0, r1);   /* 00 10 02 12, 01 11 03 13 */
+    __m256i c = _mm256_unpacklo_epi64(r2, r3), d = _mm256_unpackhi_epi64(r2, r3);   /* 20 30 22 32, 21 31 23 33 */
+    _mm256_storeu_si256((__m256i *)(base), _mm256_permute2x128_si256(a, c, 0x20));
+    _mm256_storeu_si256((__m256i *)(base + step), _mm256_permute2x128_si256(b, d, 0x20));
+    _mm256_storeu_si256((__m256i *)(base + 2 * step), _mm256_permute2x128_si256(a, c, 0x31));
+    _mm256_storeu_si256((__m256i *)(base + 3 * step), _mm256_permute2x128_si256(b, d, 0x31));
+}
+
+/* finish4_edges for the eight lanes of step o into the rs_tri of sp[0..8) (every lane: the stores of lanes not
+ * drawn or not in the tile are not read). */
+static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs_prim *sp)
+{
+    /* (unrolled by hand, no arrays: gcc keeps loops over arrays of vectors in memory) */
+    const __m256i xo0 = _mm256_srli_epi64(o->x[0], 32), yo0 = _mm256_srli_epi64(o->y[0], 32);
+    const __m256i xo1 = _mm256_srli_epi64(o->x[1], 32), yo1 = _mm256_srli_epi64(o->y[1], 32);
+    const __m256i xo2 = _mm256_srli_epi64(o->x[2], 32), yo2 = _mm256_srli_epi64(o->y[2], 32);
+    __m256i ea0, eb0, ece0, eco0, ea1, eb1, ece1, eco1, ea2, eb2, ece2, eco2;
+    edge8(o->x[0], o->y[0], xo0, yo0, o->x[1], o->y[1], &ea0, &eb0, &ece0, &eco0);
+    edge8(o->x[1], o->y[1], xo1, yo1, o->x[2], o->y[2], &ea1, &eb1, &ece1, &eco1);
+    edge8(o->x[2], o->y[2], xo2, yo2, o->x[0], o->y[0], &ea2, &eb2, &ece2, &eco2);
+    char *const t0 = (char *)&sp[0].u.t;
+    const size_t st = sizeof *sp;
+    store8_t32(ea0, ea1, ea2, eb0, t0 + offsetof(rs_tri, ea), st);   /* ea[0..3), eb[0] */
+    const __m256i lo = _mm256_unpacklo_epi32(eb1, eb2), hi = _mm256_unpackhi_epi32(eb1, eb2);   /* eb[1..3) */
+    char *const b1 = t0 + offsetof(rs_tri, eb[1]);
+    const __m128d q01 = _mm_castsi128_pd(_mm256_castsi256_si128(lo)), q23 = _mm_castsi128_pd(_mm256_castsi256_si128(hi));
+    const __m128d q45 = _mm_castsi128_pd(_mm256_extracti128_si256(lo, 1));
+    const __m128d q67 = _mm_castsi128_pd(_mm256_extracti128_si256(hi, 1));
+    _mm_storel_pd((double *)(b1), q01), _mm_storeh_pd((double *)(b1 + st), q01);
+    _mm_storel_pd((double *)(b1 + 2 * st), q23), _mm_storeh_pd((double *)(b1 + 3 * st), q23);
+    _mm_storel_pd((double *)(b1 + 4 * st), q45), _mm_storeh_pd((double *)(b1 + 5 * st), q45);
+    _mm_storel_pd((double *)(b1 + 6 * st), q67), _mm_storeh_pd((double *)(b1 + 7 * st), q67);
+    /* ec[0..3), vx and vy: the even lanes' and the odd lanes' rows (vx, vy of a lane as one int64) */
+    const __m256i vxe = _mm256_blend_epi32(o->x[0], _mm256_slli_epi64(o->y[0], 32), 0xaa);
+    const __m256i vxo = _mm256_blend_epi32(xo0, o->y[0], 0xaa);
+    store4_t64(ece0, ece1, ece2, vxe, t0 + offsetof(rs_tri, ec), 2 * st);
+    store4_t64(eco0, eco1, eco2, vxo, t0 + st + offsetof(rs_tri, ec), 2 * st);
+}
+
+/* Planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4) (the edges:
+ * grid_edges8): finish4_planes with the step's clockwise vertices, their z and 1/w from the rows' loads (the same
+ * lanes as grid_verts8, swapped as o's). */
+static inline void grid_finish_half(const bias4 *bias, const grid_cols *g, size_t r0, size_t r1, const step8 *o,
                                     int h, __m128i live, rs_prim *sp)
 {
     const size_t q = (size_t)(2 * h);   /* the half's first quad, from i */
     const __m128i pos = half4(o->pos, h);
-    __m128i x[3], y[3];
+    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get area 1 and
+     * greatest 1/w 1 in finish4_planes, so that no lane divides by zero or makes an infinity or a NaN (their vertices
+     * are the rows' or the padding's: within 2^22, z and 1/w finite), as finish4's spare lanes repeat a real
+     * triangle; their results are not used */
+    const __m128i x[3] = { half4(o->x[0], h), half4(o->x[1], h), half4(o->x[2], h) };
+    const __m128i y[3] = { half4(o->y[0], h), half4(o->y[1], h), half4(o->y[2], h) };
     __m128 zf[3];
-    /* lanes not live (not drawn, not in the tile, past the row: maybe no area, or padding's 1/w = 0) get the
-     * triangle (0, 0), (256, 0), (0, 256) at 1/w = 1 instead, so that no lane divides by zero (as finish4's
-     * spare lanes repeat a real triangle); their results are not used */
-    const __m128i dx1 = _mm_andnot_si128(live, _mm_set1_epi32(RS_SUB));
-    x[0] = _mm_and_si128(half4(o->x[0], h), live), y[0] = _mm_and_si128(half4(o->y[0], h), live);
-    x[1] = _mm_blendv_epi8(dx1, half4(o->x[1], h), live), y[1] = _mm_and_si128(half4(o->y[1], h), live);
-    x[2] = _mm_and_si128(half4(o->x[2], h), live), y[2] = _mm_blendv_epi8(dx1, half4(o->y[2], h), live);
+    char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
     const __m128 za = _mm_loadu_ps(g->z + r0 + q), zb = _mm_loadu_ps(g->z + r0 + q + 1);
     const __m128 zc = _mm_loadu_ps(g->z + r1 + q), zd = _mm_loadu_ps(g->z + r1 + q + 1);
     zf[0] = _mm_shuffle_ps(za, za, _MM_SHUFFLE(2, 1, 1, 0));               /* r0: 0 1 1 2 */
@@ -990,11 +1253,9 @@ static inline void grid_finish_half(const rs_job *j, const grid_cols *g, size_t 
     const __m256d w1 = _mm256_setr_m128d(_mm_unpacklo_pd(wb, wd), _mm_unpackhi_pd(wb, wd));
     const __m256d w2 = _mm256_permute4x64_pd(wc, _MM_SHUFFLE(1, 1, 0, 0));
     const __m256d pos64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(pos));
-    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live)), one = _mm256_set1_pd(1.0);
-    char *const tr[4] = { (char *)&sp[0].u.t, (char *)&sp[1].u.t, (char *)&sp[2].u.t, (char *)&sp[3].u.t };
-    finish4_lanes(j, x, y, zf, (v4d)_mm256_blendv_pd(one, w0, live64),
-                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w2, w1, pos64), live64),
-                  (v4d)_mm256_blendv_pd(one, _mm256_blendv_pd(w1, w2, pos64), live64), tr);
+    const __m256d live64 = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(live));
+    finish4_planes(bias, x, y, zf, (v4d)w0, (v4d)_mm256_blendv_pd(w2, w1, pos64), (v4d)_mm256_blendv_pd(w1, w2, pos64),
+                   &live64, tr);
 }
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
@@ -1005,9 +1266,11 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
 {
     const grid_cols g = grid_cols_of(c);
     const grid_consts k = grid_consts_of(j);
+    const bias4 bias = bias4_of(j);
     const size_t L = gp->u.g.level, vbase = gp->u.g.vbase, ns = (size_t)j->n_slots;
-    const int16_t (*rows)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
+    const int16_t (*boxes)[4] = (const int16_t (*)[4])c->grow + gp->u.g.first;
     const int32_t tx0 = t->x0, ty0 = t->y0, tx1 = t->x1 - 1, ty1 = t->y1 - 1;
+    const __m128i lim = _mm_setr_epi16((int16_t)tx1, (int16_t)tx0, (int16_t)ty1, (int16_t)ty0, 0, 0, 0, 0);
     const __m256i vtx0 = _mm256_set1_epi32(tx0), vty0 = _mm256_set1_epi32(ty0);
     const __m256i vtx1 = _mm256_set1_epi32(tx1), vty1 = _mm256_set1_epi32(ty1);
     const size_t stride = ns * RS_ATTR_STRIDE;
@@ -1018,25 +1281,21 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
     uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
+    const int16_t (*b)[4] = boxes;   /* the row's box, then its steps' */
     for (size_t r = 0; r < L; r++) {
-        const int16_t *rb = rows[r];
-        if (rb[0] > tx1 || rb[1] > ty1 || rb[2] < tx0 || rb[3] < ty0) continue;   /* (or no pixel in the row) */
-        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
         const int nt = (int)(2 * (L - r) - 1);
+        if (grid_box_out(*b, lim)) {   /* (or no pixel in the row) */
+            b += 1 + grid_row_steps(nt);
+            continue;
+        }
+        b++;
+        const size_t r0 = grid_row_start(vbase, L, r), r1 = r0 + (L + 1 - r);
         for (int i = 0; 2 * i < nt; i += 4) {
+            if (grid_box_out(*b++, lim)) continue;   /* no triangle of the step meets the tile: trimmed */
             step8 o;
             const size_t q0 = r0 + (size_t)i, q1 = r1 + (size_t)i;
-            {   /* the step's columns first: when no triangle's box meets the tile's, the rest of the step is not
-                 * needed (a third of the steps of scene B; the compiler shares these operations with grid_step8) */
-                __m256i x[3], bx0, bx1;
-                grid_verts8(g.x + q0, g.x + q1, x);
-                grid_range(_mm256_min_epi32(_mm256_min_epi32(x[0], x[1]), x[2]),
-                           _mm256_max_epi32(_mm256_max_epi32(x[0], x[1]), x[2]), k.offx0, k.offx1, k.sx0, k.sx1, &bx0,
-                           &bx1);
-                if (mask8(_mm256_or_si256(_mm256_cmpgt_epi32(bx0, vtx1), _mm256_cmpgt_epi32(vtx0, bx1))) == 0xffu)
-                    continue;
-            }
-            grid_step8(&g, &k, q0, q1, nt - 2 * i, &o);
+            grid_step8_tri(&g, &k, q0, q1, nt - 2 * i, &o);
+            grid_step8_box(&k, &o);
             const __m256i cx0 = _mm256_max_epi32(o.x0, vtx0), cy0 = _mm256_max_epi32(o.y0, vty0);
             const __m256i cx1 = _mm256_min_epi32(o.x1, vtx1), cy1 = _mm256_min_epi32(o.y1, vty1);
             const __m256i live = _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cx0, cx1),
@@ -1046,21 +1305,13 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
             _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
+            grid_edges8(&o, sp);
             for (int h = 0; h < 2; h++) {
                 if (!((m >> (4 * h)) & 15)) continue;
-                grid_finish_half(j, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
+                grid_finish_half(&bias, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
             }
             /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
              * and the rs_tri alone) */
-            /* lane l: the up (l even) or down (l odd) triangle of quad i + l/2, in the group's order; its vertices'
-             * indices (grid_verts8's lanes, swapped as the step's) */
-            uint32_t id[3][8];
-            const __m256i b0 = _mm256_set1_epi32((int32_t)q0), b1 = _mm256_set1_epi32((int32_t)q1);
-            const __m256i i1 = _mm256_add_epi32(_mm256_blend_epi32(b0, b1, 0xaa), _mm256_setr_epi32(1, 1, 2, 2, 3, 3, 4, 4));
-            const __m256i i2 = _mm256_add_epi32(b1, _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3));
-            _mm256_storeu_si256((__m256i *)id[0], _mm256_add_epi32(b0, _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4)));
-            _mm256_storeu_si256((__m256i *)id[1], _mm256_blendv_epi8(i2, i1, o.pos));
-            _mm256_storeu_si256((__m256i *)id[2], _mm256_blendv_epi8(i1, i2, o.pos));
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
              * vertices' spans in x and in y are */
             const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
@@ -1075,16 +1326,36 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                                   _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
                                                   _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0))))
                                             : 0u;
-            for (unsigned f = m; f; f &= f - 1) {
+            const rs_vec4 *ga = c->gattr;
+            unsigned rest = m;   /* the lanes whose slot is filled one at a time */
+            const unsigned both = ns == 1 ? m & (m >> 1) & 0x55u : 0u;   /* quads with both triangles live */
+            if (both) {   /* COLOR0 alone: both slots of a quad at once when both take the same layout */
+                const unsigned ps = both & stamp & (stamp >> 1), pf = both & ~(stamp | stamp >> 1);
+                for (unsigned f = ps; f; f &= f - 1) {
+                    const int l = __builtin_ctz(f);
+                    grid_fill_pair(sa + (size_t)l * stride, &ga[q0 + (size_t)(l / 2)], &ga[q1 + (size_t)(l / 2)], o.pos, l);
+                }
+                for (unsigned f = pf; f; f &= f - 1) {
+                    const int l = __builtin_ctz(f);
+                    grid_fill_slot_pair(sa + (size_t)l * stride, &ga[q0 + (size_t)(l / 2)], &ga[q1 + (size_t)(l / 2)],
+                                        o.pos, l);
+                }
+                rest &= ~((ps | pf) | (ps | pf) << 1);
+            }
+            const unsigned pos = rest ? mask8(o.pos) : 0u;
+            for (unsigned f = rest; f; f &= f - 1) {
                 const int l = __builtin_ctz(f);
-                const rs_vec4 *ga = c->gattr;
+                /* lane l: the up (l even: A, B, C) or down (l odd: B, D, C) triangle of quad i + l/2, in the group's
+                 * order; its vertices' indices (grid_verts8's lanes), 1 and 2 swapped as the step's */
+                const size_t qd = (size_t)(l / 2), v0 = q0 + (size_t)((l + 1) / 2);
+                const size_t v1 = (l & 1 ? q1 : q0) + qd + 1, v2 = q1 + qd;
+                const size_t i0 = v0, i1 = pos >> l & 1u ? v1 : v2, i2 = pos >> l & 1u ? v2 : v1;
                 float *a = sa + (size_t)l * stride;
-                if (stamp >> l & 1u) grid_fill_v(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);
-                else if (ns == 1) rs_fill_slot(a, &ga[id[0][l]], &ga[id[1][l]], &ga[id[2][l]]);   /* (COLOR0 alone) */
+                if (stamp >> l & 1u) grid_fill_v(a, &ga[i0], &ga[i1], &ga[i2]);
+                else if (ns == 1) rs_fill_slot(a, &ga[i0], &ga[i1], &ga[i2]);   /* (COLOR0 alone) */
                 else
                     for (size_t s = 0; s < ns; s++)
-                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[id[0][l] * ns + s], &ga[id[1][l] * ns + s],
-                                     &ga[id[2][l] * ns + s]);
+                        rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[i0 * ns + s], &ga[i1 * ns + s], &ga[i2 * ns + s]);
             }
             direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp);
         }

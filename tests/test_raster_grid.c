@@ -8,6 +8,7 @@
  * path, 1 and 2 threads, scene on and off, every instruction set the CPU has; and the row path must be taken (the
  * chunks' grid_groups count).  core_grid_regular_level, which the device asks once per draw, must tell the regular
  * list from others.  Deterministic: fixed seeds. */
+#include <fenv.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -52,7 +53,8 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     return (size_t)d->inst * d->prims - d->cut;
 }
 
-/* Random states on the fast path: cull, depth function and writes, blending, scissor, viewport offsets. */
+/* Random states on the fast path: cull, depth function and writes, depth bias, blending, scissor, viewport
+ * offsets. */
 static rs_state random_state(uint64_t *s)
 {
     rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
@@ -61,6 +63,7 @@ static rs_state random_state(uint64_t *s)
                    .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
                    .viewport = {0, 0, W, H, 0.0f, 1.0f}};
     if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (rnd(s) % 3 == 0) st.depth_bias = frnd(s, -0.01f, 0.01f), st.slope_scale_depth_bias = frnd(s, 0.0f, 2.0f);
     if (rnd(s) % 5 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 90), (int)(rnd(s) % 60), 210, 150, 0.0f, 1.0f};
     if (rnd(s) % 5 == 0) {
         int x0 = (int)(rnd(s) % 200), y0 = (int)(rnd(s) % 120);
@@ -297,6 +300,82 @@ static void test_grid_over_tiles(void **state)
     free(v), free(idx), free(bary), free(ref), free(r);
 }
 
+/* A level-16 instance placed in pixels by case c: 0 inside the tile (64..127)^2; 1 over the four tiles around
+ * (64, 64); 2 and 3 with rows that wave across x = 64 three times (leave the tile and come back; the waves' back
+ * slopes turn their triangles round) and cross y = 128. */
+static void place_instance(int c, int L, uint64_t *s, rs_vertex *v)
+{
+    for (int k = 0; k <= L; k++)
+        for (int i = 0; i + k <= L; i++) {
+            rs_vertex *o = &v[core_grid_index(L, i, k)];
+            memset(o, 0, sizeof *o);
+            const float a = (float)i / L, b = (float)k / L;
+            float px, py;
+            if (c == 0) px = 70.0f + 40.0f * (a + 0.5f * b), py = 70.0f + 40.0f * b;
+            else if (c == 1) px = 40.0f + 50.0f * (a + 0.5f * b), py = 44.0f + 50.0f * b;
+            else px = 64.0f + 12.0f * sinf(6.0f * 3.14159265f * a) + 20.0f * b, py = 100.0f + 50.0f * b + 8.0f * a;
+            o->pos = (rs_vec4){ px / (W / 2.0f) - 1.0f + frnd(s, -0.002f, 0.002f),
+                                1.0f - py / (H / 2.0f) + frnd(s, -0.002f, 0.002f), frnd(s, 0.1f, 0.9f), 1.0f };
+            o->attr[RS_ATTR_COLOR0] = (rs_vec4){ frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), 1.0f };
+        }
+}
+
+/* The row and step boxes (the tile pass skips a row or a step of eight triangles whose box misses the tile): a
+ * level-16 instance inside one tile, one over four tiles, and two whose rows leave a tile and come back (cull none,
+ * then CCW: steps of only culled triangles); the reference path's bytes and counters with the row path taken, on
+ * 1 and 2 threads and AVX-512. */
+static void test_grid_step_boxes(void **state)
+{
+    (void)state;
+    enum { L = 16, P = (L + 1) * (L + 2) / 2 };
+    rs_vertex *v = malloc(P * sizeof *v);
+    uint32_t *idx = malloc(3 * L * L * sizeof *idx);
+    float3 *bary = malloc(P * sizeof *bary);
+    result *ref = malloc(sizeof *ref), *r = malloc(sizeof *r);
+    assert_true(v && idx && bary && ref && r);
+    assert_int_equal(core_grid_regular(L, bary, idx), P);
+    for (int c = 0; c < 4; c++) {
+        uint64_t s = 4242 + (uint64_t)c;
+        place_instance(c, L, &s, v);
+        draw_def d = { .level = L, .inst = 1, .points = P, .prims = L * L, .v = { v }, .idx = idx };
+        d.st = (rs_state){.cull_mode = c == 3 ? RS_CULL_CCW : RS_CULL_NONE, .fill_mode = RS_FILL_SOLID,
+                          .shade_mode = RS_SHADE_GOURAUD, .z_enable = true, .z_write = true,
+                          .z_func = RS_CMP_LESSEQUAL, .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO,
+                          .attr_mask = 1u << RS_ATTR_COLOR0, .viewport = {0, 0, W, H, 0.0f, 1.0f}};
+        for (int pass = 0; pass < 4; pass++) {   /* reference; the row path on 1 thread, 2 threads, AVX-512 */
+            if (pass == 3 && !rs_isa_supported(RS_ISA_AVX512)) continue;
+            result *o = pass == 0 ? ref : r;
+            rs_context *rs = rs_create(pass == 2 ? 2 : 1);
+            assert_non_null(rs);
+            assert_int_equal(rs_set_isa(rs, pass == 3 ? RS_ISA_AVX512 : RS_ISA_AVX2), RS_OK);
+            rs_set_reference_path(rs, pass == 0);
+            rs_target rt;
+            assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+            rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+            rs_source src = {.n_pieces = 1, .n_prims = L * L, .max_verts = P, .produce = produce, .ctx = &d,
+                             .group_prims = L * L, .grid_level = L};
+            feclearexcept(FE_ALL_EXCEPT);
+            assert_int_equal(rs_draw_source(rs, &d.st, &rt, &src, &o->sum), RS_OK);
+            /* one thread: the tile pass ran here; its lanes that are not live must not divide by zero or make a
+             * NaN (grid_finish_half), nor any lane overflow */
+            if (pass == 1) assert_int_equal(fetestexcept(FE_DIVBYZERO | FE_INVALID | FE_OVERFLOW), 0);
+            o->grid_groups = grid_groups(rs, 1);
+            memcpy(o->color, rt.color, sizeof o->color);
+            memcpy(o->depth, rt.depth, sizeof o->depth);
+            rs_target_free(&rt);
+            rs_destroy(rs);
+            if (pass == 0) {
+                assert_true(ref->sum.samples_written > 500);
+                if (c == 3) assert_true(ref->sum.prims_culled > 0);
+                continue;
+            }
+            same(ref, r);
+            assert_int_equal(r->grid_groups, 1);
+        }
+    }
+    free(v), free(idx), free(bary), free(ref), free(r);
+}
+
 /* A grid level the source cannot hold is RS_EINVAL (group_prims not its square, past RS_GRID_MAX_LEVEL), and
  * core_grid_regular_level tells the regular list from lists that are not it: one triangle's vertices rotated (the
  * same triangle), two triangles swapped, an adaptive pattern of unequal levels, a primitive-generator grid --
@@ -354,6 +433,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_grid_same_bytes),
         cmocka_unit_test(test_grid_over_tiles),
+        cmocka_unit_test(test_grid_step_boxes),
         cmocka_unit_test(test_grid_level_checks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
