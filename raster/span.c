@@ -16,7 +16,10 @@
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
  * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
- * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.) */
+ * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.
+ * Also dropped: passes shared by the stamp lanes of several triangles of a step, issue 29 step 6 -- with ~4 stamp
+ * triangles per rs_tri_run call a pass holds 1.9 of them, and the per-triangle overlap test and lane packing cost
+ * more than the passes saved: B npatch 120.76 -> 128.9 M instructions per frame.) */
 #include "span_lanes.h"
 
 #ifdef __AVX2__
@@ -95,7 +98,8 @@ static inline uint64_t take8(uint64_t *cov, int *n)
  * take8 gives them: _pdep_u64 spreads each bit of m over its nibble (times 0xf), _pext_u64 keeps those nibbles of
  * 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64 widens the 8 low nibbles to bytes.
  * (BMI2's pdep / pext take one instruction each: fast on Intel since Haswell and on AMD since Zen 3, microcoded
- * and slow on Zen 1 and 2.) */
+ * and slow on Zen 1 and 2.  Measured and not kept: a 256-entry table of byte positions, low byte's then high
+ * byte's (+ 8) shifted past them -- B npatch 120.76 -> 121.03 M instructions per frame, +0.2%.) */
 static inline uint64_t pack16(unsigned m)
 {
     const uint64_t nib = _pext_u64(0xfedcba9876543210ull, _pdep_u64(m, 0x1111111111111111ull) * 0xfu);
