@@ -1,7 +1,7 @@
 /* raster/span.c -- the fast path of triangle rasterization on 1-sample targets, small triangles: 8 pixels at a
  * time (8 lanes of AVX2), coverage from the edge functions, then depth test, depth write, perspective-correct
  * colour and colour write for the 8 pixels at once -- the same bytes as tri.c's reference walk (span_lanes.h states
- * how).  rs_tri_fast picks the walk per triangle; the span and block walks of larger triangles are span_wide.c's.
+ * how).  rs_tri_fast picks the walk per triangle; larger triangles take span_wide.c's interval walk.
  *
  * The walks here:
  *  - small triangles (box at most 8 wide, edge coefficients at most 2^13): no block tests, 32-bit edge values;
@@ -19,7 +19,9 @@
  * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.
  * Also dropped: passes shared by the stamp lanes of several triangles of a step, issue 29 step 6 -- with ~4 stamp
  * triangles per rs_tri_run call a pass holds 1.9 of them, and the per-triangle overlap test and lane packing cost
- * more than the passes saved: B npatch 120.76 -> 128.9 M instructions per frame.) */
+ * more than the passes saved: B npatch 120.76 -> 128.9 M instructions per frame; a second version, the coefficients
+ * gathered from per-step tables and passes only in steps of 4 or more stamp lanes, gave 120.76 -> 119.82 M and no
+ * wall-time gain in three alternated runs, so it was not kept either.) */
 #include "span_lanes.h"
 
 #ifdef __AVX2__
