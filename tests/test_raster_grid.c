@@ -25,14 +25,6 @@
 enum { W = 320, H = 240, DRAWS = 10, PIECES = 3, INST = 5, MAXL = 40 };
 enum { MAXP = (MAXL + 1) * (MAXL + 2) / 2 };
 
-/* xorshift64 random numbers. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
 /* One draw: its state, grid level and pieces of INST instances (vertices, and the piece's index list). */
 typedef struct draw_def {
     rs_state st;
@@ -57,16 +49,19 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
  * offsets. */
 static rs_state random_state(uint64_t *s)
 {
-    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
-                   .shade_mode = RS_SHADE_GOURAUD, .z_enable = true, .z_write = rnd(s) % 4 != 0,
-                   .z_func = rnd(s) % 3 == 0 ? RS_CMP_LESS : (rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER),
+    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(test_rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
+                   .shade_mode = RS_SHADE_GOURAUD, .z_enable = true, .z_write = test_rnd(s) % 4 != 0,
+                   .z_func = test_rnd(s) % 3 == 0 ? RS_CMP_LESS : (test_rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER),
                    .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
                    .viewport = {0, 0, W, H, 0.0f, 1.0f}};
-    if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
-    if (rnd(s) % 3 == 0) st.depth_bias = frnd(s, -0.01f, 0.01f), st.slope_scale_depth_bias = frnd(s, 0.0f, 2.0f);
-    if (rnd(s) % 5 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 90), (int)(rnd(s) % 60), 210, 150, 0.0f, 1.0f};
-    if (rnd(s) % 5 == 0) {
-        int x0 = (int)(rnd(s) % 200), y0 = (int)(rnd(s) % 120);
+    if (test_rnd(s) % 4 == 0)
+        st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (test_rnd(s) % 3 == 0)
+        st.depth_bias = test_frnd(s, -0.01f, 0.01f), st.slope_scale_depth_bias = test_frnd(s, 0.0f, 2.0f);
+    if (test_rnd(s) % 5 == 0)
+        st.viewport = (rs_viewport){(int)(test_rnd(s) % 90), (int)(test_rnd(s) % 60), 210, 150, 0.0f, 1.0f};
+    if (test_rnd(s) % 5 == 0) {
+        int x0 = (int)(test_rnd(s) % 200), y0 = (int)(test_rnd(s) % 120);
         st.scissor_enable = true, st.scissor = (rs_rect){x0, y0, x0 + 100, y0 + 80};
     }
     return st;
@@ -78,12 +73,12 @@ static rs_state random_state(uint64_t *s)
  * behind the near plane or past the guard band. */
 static void make_instance(uint64_t *s, int L, float r, rs_vertex *v, bool far)
 {
-    const float w = frnd(s, 0.7f, 1.6f), cx = frnd(s, -1.1f, 1.1f), cy = frnd(s, -1.1f, 1.1f);
-    const float z = frnd(s, 0.05f, 0.95f), ang = frnd(s, 0.0f, 6.28f);
+    const float w = test_frnd(s, 0.7f, 1.6f), cx = test_frnd(s, -1.1f, 1.1f), cy = test_frnd(s, -1.1f, 1.1f);
+    const float z = test_frnd(s, 0.05f, 0.95f), ang = test_frnd(s, 0.0f, 6.28f);
     const float e1x = r * cosf(ang), e1y = r * sinf(ang);
-    const float e2x = r * cosf(ang + frnd(s, 0.8f, 2.2f)), e2y = r * sinf(ang + frnd(s, 0.8f, 2.2f));
-    const int fold = L > 1 && rnd(s) % 3 == 0 ? 1 + (int)(rnd(s) % (unsigned)(L - 1)) : -1;
-    const int flat = L > 1 && rnd(s) % 4 == 0 ? 1 + (int)(rnd(s) % (unsigned)(L - 1)) : -1;
+    const float e2x = r * cosf(ang + test_frnd(s, 0.8f, 2.2f)), e2y = r * sinf(ang + test_frnd(s, 0.8f, 2.2f));
+    const int fold = L > 1 && test_rnd(s) % 3 == 0 ? 1 + (int)(test_rnd(s) % (unsigned)(L - 1)) : -1;
+    const int flat = L > 1 && test_rnd(s) % 4 == 0 ? 1 + (int)(test_rnd(s) % (unsigned)(L - 1)) : -1;
     for (int k = 0; k <= L; k++)
         for (int i = 0; i + k <= L; i++) {
             rs_vertex *o = &v[core_grid_index(L, i, k)];
@@ -91,14 +86,16 @@ static void make_instance(uint64_t *s, int L, float r, rs_vertex *v, bool far)
             float a = (float)i / (float)L, b = (float)k / (float)L;
             if (i == fold) a -= 1.7f / (float)L;   /* past column i - 1: the row's triangles there turn round */
             const float j = 0.15f * r / (float)L;
-            const float x = cx + a * e1x + b * e2x + frnd(s, -j, j), y = cy + a * e1y + b * e2y + frnd(s, -j, j);
-            o->pos = (rs_vec4){x * w, y * w, (z + frnd(s, -0.04f, 0.04f)) * w, w};
-            o->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0.3f, 1)};
+            const float x = cx + a * e1x + b * e2x + test_frnd(s, -j, j),
+                        y = cy + a * e1y + b * e2y + test_frnd(s, -j, j);
+            o->pos = (rs_vec4){x * w, y * w, (z + test_frnd(s, -0.04f, 0.04f)) * w, w};
+            o->attr[RS_ATTR_COLOR0] =
+                (rs_vec4){test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0.3f, 1)};
             if (k == flat && i + k < L) o->pos = v[core_grid_index(L, i, k - 1)].pos;   /* onto row k - 1 */
         }
     if (far) {
-        rs_vertex *o = &v[rnd(s) % core_grid_points(L)];
-        if (rnd(s) % 2) o->pos.z = -0.5f * o->pos.w;        /* behind the near plane */
+        rs_vertex *o = &v[test_rnd(s) % core_grid_points(L)];
+        if (test_rnd(s) % 2) o->pos.z = -0.5f * o->pos.w;        /* behind the near plane */
         else o->pos.x = 400.0f * o->pos.w;                   /* past the guard band */
     }
 }
@@ -118,8 +115,8 @@ static void make_draw(uint64_t *s, draw_def *d, int L, float rlo, float rhi)
     for (int p = 0; p < PIECES; p++) {
         d->v[p] = malloc(INST * d->points * sizeof *d->v[p]);
         assert_non_null(d->v[p]);
-        const int far = rnd(s) % 6 == 0 ? (int)(rnd(s) % INST) : -1;
-        for (int k = 0; k < INST; k++) make_instance(s, L, frnd(s, rlo, rhi), d->v[p] + k * d->points, k == far);
+        const int far = test_rnd(s) % 6 == 0 ? (int)(test_rnd(s) % INST) : -1;
+        for (int k = 0; k < INST; k++) make_instance(s, L, test_frnd(s, rlo, rhi), d->v[p] + k * d->points, k == far);
     }
 }
 
@@ -262,9 +259,11 @@ static void test_grid_over_tiles(void **state)
                 memset(o, 0, sizeof *o);
                 float a = (float)i / L - (i % 10 == 5 ? 1.5f / L : 0.0f), b = (float)k / L;
                 float px = cases[c].x0 + cases[c].size * (a + 0.5f * b), py = cases[c].y0 + cases[c].size * b;
-                o->pos = (rs_vec4){ px / (W / 2.0f) - 1.0f + frnd(&s, -0.002f, 0.002f),
-                                    1.0f - py / (H / 2.0f) + frnd(&s, -0.002f, 0.002f), frnd(&s, 0.1f, 0.9f), 1.0f };
-                o->attr[RS_ATTR_COLOR0] = (rs_vec4){ frnd(&s, 0, 1), frnd(&s, 0, 1), frnd(&s, 0, 1), 1.0f };
+                o->pos =
+                    (rs_vec4){px / (W / 2.0f) - 1.0f + test_frnd(&s, -0.002f, 0.002f),
+                              1.0f - py / (H / 2.0f) + test_frnd(&s, -0.002f, 0.002f), test_frnd(&s, 0.1f, 0.9f), 1.0f};
+                o->attr[RS_ATTR_COLOR0] =
+                    (rs_vec4){test_frnd(&s, 0, 1), test_frnd(&s, 0, 1), test_frnd(&s, 0, 1), 1.0f};
             }
         draw_def d = { .level = L, .inst = 1, .points = P, .prims = L * L, .v = { v }, .idx = idx };
         d.st = (rs_state){.cull_mode = RS_CULL_CCW, .fill_mode = RS_FILL_SOLID, .shade_mode = RS_SHADE_GOURAUD,
@@ -314,9 +313,9 @@ static void place_instance(int c, int L, uint64_t *s, rs_vertex *v)
             if (c == 0) px = 70.0f + 40.0f * (a + 0.5f * b), py = 70.0f + 40.0f * b;
             else if (c == 1) px = 40.0f + 50.0f * (a + 0.5f * b), py = 44.0f + 50.0f * b;
             else px = 64.0f + 12.0f * sinf(6.0f * 3.14159265f * a) + 20.0f * b, py = 100.0f + 50.0f * b + 8.0f * a;
-            o->pos = (rs_vec4){ px / (W / 2.0f) - 1.0f + frnd(s, -0.002f, 0.002f),
-                                1.0f - py / (H / 2.0f) + frnd(s, -0.002f, 0.002f), frnd(s, 0.1f, 0.9f), 1.0f };
-            o->attr[RS_ATTR_COLOR0] = (rs_vec4){ frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), 1.0f };
+            o->pos = (rs_vec4){px / (W / 2.0f) - 1.0f + test_frnd(s, -0.002f, 0.002f),
+                               1.0f - py / (H / 2.0f) + test_frnd(s, -0.002f, 0.002f), test_frnd(s, 0.1f, 0.9f), 1.0f};
+            o->attr[RS_ATTR_COLOR0] = (rs_vec4){ test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1), 1.0f };
         }
 }
 

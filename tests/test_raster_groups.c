@@ -21,14 +21,6 @@
 enum { W = 300, H = 200, DRAWS = 12, PIECES = 4, INST = 6, N = 5 };
 enum { VERTS = (N + 1) * (N + 1), PRIMS = 2 * N * N };   /* per instance: an (N+1) x (N+1) grid, 2 N^2 triangles */
 
-/* xorshift64 random numbers. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
 /* The frame's data: per draw its states and PIECES pieces of INST grid instances. */
 typedef struct frame {
     rs_state st[DRAWS];
@@ -63,15 +55,17 @@ static void make_indices(void)
 /* Random states on the fast path: cull, depth function and writes, blending, scissor, viewport offsets. */
 static rs_state random_state(uint64_t *s)
 {
-    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
-                   .shade_mode = RS_SHADE_GOURAUD, .z_enable = true, .z_write = rnd(s) % 4 != 0,
-                   .z_func = rnd(s) % 3 == 0 ? RS_CMP_LESS : (rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER),
+    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(test_rnd(s) % 3), .fill_mode = RS_FILL_SOLID,
+                   .shade_mode = RS_SHADE_GOURAUD, .z_enable = true, .z_write = test_rnd(s) % 4 != 0,
+                   .z_func = test_rnd(s) % 3 == 0 ? RS_CMP_LESS : (test_rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER),
                    .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
                    .viewport = {0, 0, W, H, 0.0f, 1.0f}};
-    if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
-    if (rnd(s) % 4 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 90), (int)(rnd(s) % 60), 190, 130, 0.0f, 1.0f};
-    if (rnd(s) % 4 == 0) {
-        int x0 = (int)(rnd(s) % 200), y0 = (int)(rnd(s) % 120);
+    if (test_rnd(s) % 4 == 0)
+        st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (test_rnd(s) % 4 == 0)
+        st.viewport = (rs_viewport){(int)(test_rnd(s) % 90), (int)(test_rnd(s) % 60), 190, 130, 0.0f, 1.0f};
+    if (test_rnd(s) % 4 == 0) {
+        int x0 = (int)(test_rnd(s) % 200), y0 = (int)(test_rnd(s) % 120);
         st.scissor_enable = true, st.scissor = (rs_rect){x0, y0, x0 + 90, y0 + 70};
     }
     return st;
@@ -82,24 +76,25 @@ static rs_state random_state(uint64_t *s)
  * behind the near plane or past the guard band (the piece then needs clipping). */
 static void make_instance(uint64_t *s, rs_vertex *v, bool far)
 {
-    const float w = frnd(s, 0.6f, 1.8f), cx = frnd(s, -1.2f, 1.2f), cy = frnd(s, -1.2f, 1.2f);
-    const float r = frnd(s, 0.03f, 0.5f), z = frnd(s, 0.05f, 0.95f);
-    const int fold = rnd(s) % 4 == 0 ? (int)(rnd(s) % (N + 1)) : -1;
-    const int flat = rnd(s) % 4 == 0 ? (int)(rnd(s) % (N + 1)) : -1;
+    const float w = test_frnd(s, 0.6f, 1.8f), cx = test_frnd(s, -1.2f, 1.2f), cy = test_frnd(s, -1.2f, 1.2f);
+    const float r = test_frnd(s, 0.03f, 0.5f), z = test_frnd(s, 0.05f, 0.95f);
+    const int fold = test_rnd(s) % 4 == 0 ? (int)(test_rnd(s) % (N + 1)) : -1;
+    const int flat = test_rnd(s) % 4 == 0 ? (int)(test_rnd(s) % (N + 1)) : -1;
     for (int i = 0; i <= N; i++)
         for (int k = 0; k <= N; k++) {
             rs_vertex *o = &v[i * (N + 1) + k];
             memset(o, 0, sizeof *o);
-            float x = cx + r * (2.0f * (float)k / N - 1.0f) + frnd(s, -0.2f, 0.2f) * r / N;
-            float y = cy + r * (2.0f * (float)i / N - 1.0f) + frnd(s, -0.2f, 0.2f) * r / N;
+            float x = cx + r * (2.0f * (float)k / N - 1.0f) + test_frnd(s, -0.2f, 0.2f) * r / N;
+            float y = cy + r * (2.0f * (float)i / N - 1.0f) + test_frnd(s, -0.2f, 0.2f) * r / N;
             if (k == fold) x -= 2.5f * r / N;   /* this column crosses the previous one: triangles turn round */
-            o->pos = (rs_vec4){x * w, y * w, (z + frnd(s, -0.04f, 0.04f)) * w, w};
-            o->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0.3f, 1)};
+            o->pos = (rs_vec4){x * w, y * w, (z + test_frnd(s, -0.04f, 0.04f)) * w, w};
+            o->attr[RS_ATTR_COLOR0] =
+                (rs_vec4){test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0.3f, 1)};
             if (i == flat && i > 0) o->pos = o[-(N + 1)].pos;   /* the row above again: zero-area triangles */
         }
     if (far) {
-        rs_vertex *o = &v[rnd(s) % VERTS];
-        if (rnd(s) % 2) o->pos.z = -0.5f * o->pos.w;        /* behind the near plane */
+        rs_vertex *o = &v[test_rnd(s) % VERTS];
+        if (test_rnd(s) % 2) o->pos.z = -0.5f * o->pos.w;        /* behind the near plane */
         else o->pos.x = 400.0f * o->pos.w;                   /* past the guard band */
     }
 }
@@ -111,7 +106,7 @@ static void make_frame(frame *f, uint64_t seed)
     for (int d = 0; d < DRAWS; d++) {
         f->st[d] = random_state(&s);
         for (int p = 0; p < PIECES; p++) {
-            const int far = rnd(&s) % 5 == 0 ? (int)(rnd(&s) % INST) : -1;
+            const int far = test_rnd(&s) % 5 == 0 ? (int)(test_rnd(&s) % INST) : -1;
             for (int k = 0; k < INST; k++) make_instance(&s, &f->v[d][p][k * VERTS], k == far);
         }
     }
@@ -211,9 +206,10 @@ static void test_group_over_tiles(void **state)
         for (int k = 0; k <= BN; k++) {
             rs_vertex *o = &b->v[i * (BN + 1) + k];
             memset(o, 0, sizeof *o);
-            o->pos = (rs_vec4){ -0.85f + 0.63f * (float)k / BN + frnd(&s, -0.003f, 0.003f),
-                                -0.18f + 0.96f * (float)i / BN + frnd(&s, -0.003f, 0.003f), frnd(&s, 0.1f, 0.9f), 1.0f };
-            o->attr[RS_ATTR_COLOR0] = (rs_vec4){ frnd(&s, 0, 1), frnd(&s, 0, 1), frnd(&s, 0, 1), 1.0f };
+            o->pos = (rs_vec4){-0.85f + 0.63f * (float)k / BN + test_frnd(&s, -0.003f, 0.003f),
+                               -0.18f + 0.96f * (float)i / BN + test_frnd(&s, -0.003f, 0.003f),
+                               test_frnd(&s, 0.1f, 0.9f), 1.0f};
+            o->attr[RS_ATTR_COLOR0] = (rs_vec4){ test_frnd(&s, 0, 1), test_frnd(&s, 0, 1), test_frnd(&s, 0, 1), 1.0f };
         }
     uint32_t *o = b->idx;
     for (uint32_t r = 0; r < BN; r++)

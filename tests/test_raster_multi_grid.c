@@ -23,14 +23,6 @@
 
 enum { W = 200, H = 136, INST = 24, PIECES = 2 };
 
-/* xorshift64 random numbers. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
 /* One draw: its state, grid level, and PIECES pieces of INST instances (vertices; the pieces' index list). */
 typedef struct draw_def {
     rs_state st;
@@ -52,8 +44,8 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
 /* A pixel coordinate near a tile border (a multiple of 64 inside the target of size n) or anywhere. */
 static float near_border(uint64_t *s, int n)
 {
-    return rnd(s) % 2 ? (float)(64 * (1 + (int)(rnd(s) % (unsigned)(n / 64)))) + frnd(s, -6.0f, 6.0f)
-                      : frnd(s, 4.0f, (float)n - 4.0f);
+    return test_rnd(s) % 2 ? (float)(64 * (1 + (int)(test_rnd(s) % (unsigned)(n / 64)))) + test_frnd(s, -6.0f, 6.0f)
+                      : test_frnd(s, 4.0f, (float)n - 4.0f);
 }
 
 /* One level-L instance into v: edges e1, e2 of ~size pixels (tall: e1 short, e2 long and near vertical: boxes of
@@ -62,24 +54,25 @@ static float near_border(uint64_t *s, int n)
  * depth for the whole instance (ties). */
 static void make_instance(uint64_t *s, int L, rs_vertex *v, bool tall, bool flat)
 {
-    const float size = tall ? frnd(s, 1.5f, 3.5f) * (float)L : frnd(s, 1.2f, 3.2f) * (float)L;
-    const float px = near_border(s, W), py = near_border(s, H), ang = frnd(s, 0.0f, 6.28f);
+    const float size = tall ? test_frnd(s, 1.5f, 3.5f) * (float)L : test_frnd(s, 1.2f, 3.2f) * (float)L;
+    const float px = near_border(s, W), py = near_border(s, H), ang = test_frnd(s, 0.0f, 6.28f);
     float e1x = size * cosf(ang), e1y = size * sinf(ang);
-    float e2x = size * cosf(ang + frnd(s, 0.9f, 2.2f)), e2y = size * sinf(ang + frnd(s, 0.9f, 2.2f));
-    if (tall) e1x = frnd(s, 0.8f, 1.6f) * (float)L, e1y = 0.0f, e2x = frnd(s, -0.5f, 0.5f) * (float)L,
-              e2y = frnd(s, 5.0f, 7.0f) * (float)L;
-    const int fold = 1 + (int)(rnd(s) % (unsigned)(L - 1));
-    const float by = frnd(s, 1.2f, 2.8f), dz = rnd(s) % 2 ? 0.05f : -0.05f;
-    const float z0 = frnd(s, 0.2f, 0.8f);
+    float e2x = size * cosf(ang + test_frnd(s, 0.9f, 2.2f)), e2y = size * sinf(ang + test_frnd(s, 0.9f, 2.2f));
+    if (tall) e1x = test_frnd(s, 0.8f, 1.6f) * (float)L, e1y = 0.0f, e2x = test_frnd(s, -0.5f, 0.5f) * (float)L,
+              e2y = test_frnd(s, 5.0f, 7.0f) * (float)L;
+    const int fold = 1 + (int)(test_rnd(s) % (unsigned)(L - 1));
+    const float by = test_frnd(s, 1.2f, 2.8f), dz = test_rnd(s) % 2 ? 0.05f : -0.05f;
+    const float z0 = test_frnd(s, 0.2f, 0.8f);
     for (int k = 0; k <= L; k++)
         for (int i = 0; i + k <= L; i++) {
             rs_vertex *o = &v[core_grid_index(L, i, k)];
             memset(o, 0, sizeof *o);
-            float a = (float)i / (float)L, b = (float)k / (float)L, z = flat ? z0 : z0 + frnd(s, -0.03f, 0.03f);
+            float a = (float)i / (float)L, b = (float)k / (float)L, z = flat ? z0 : z0 + test_frnd(s, -0.03f, 0.03f);
             if (i == fold) a -= by / (float)L, z += flat ? 0.0f : dz;
             const float x = px + a * e1x + b * e2x - 0.3f * e1x, y = py + a * e1y + b * e2y - 0.3f * e2y;
             o->pos = (rs_vec4){x / (W / 2.0f) - 1.0f, 1.0f - y / (H / 2.0f), z, 1.0f};
-            o->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0.3f, 1)};
+            o->attr[RS_ATTR_COLOR0] =
+                (rs_vec4){test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0.3f, 1)};
         }
 }
 

@@ -15,15 +15,7 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
-
-/* xorshift64 random numbers: the test's only state, passed by pointer. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-/* Uniform float in [lo, hi). */
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
+#include "util/raster_util.h"
 
 /* Random render states and viewport for a w x h target (no culling, solid fill). */
 static rs_state random_state(uint64_t *s, int w, int h)
@@ -32,21 +24,21 @@ static rs_state random_state(uint64_t *s, int w, int h)
     memset(&st, 0, sizeof st);
     st.cull_mode = RS_CULL_NONE;
     st.fill_mode = RS_FILL_SOLID;
-    st.shade_mode = rnd(s) % 8 == 0 ? RS_SHADE_FLAT : RS_SHADE_GOURAUD;
-    int zc = (int)(rnd(s) % 4); /* 0: no depth, 1: LESSEQUAL, 2: LESS, 3: any function (the specialised ones) */
+    st.shade_mode = test_rnd(s) % 8 == 0 ? RS_SHADE_FLAT : RS_SHADE_GOURAUD;
+    int zc = (int)(test_rnd(s) % 4); /* 0: no depth, 1: LESSEQUAL, 2: LESS, 3: any function (the specialised ones) */
     st.z_enable = zc != 0;
-    st.z_write = rnd(s) % 5 != 0;
-    st.z_func = zc == 1 ? RS_CMP_LESSEQUAL : zc == 2 ? RS_CMP_LESS : 1 + (int)(rnd(s) % 8);
-    st.blend_enable = rnd(s) % 6 == 0;
+    st.z_write = test_rnd(s) % 5 != 0;
+    st.z_func = zc == 1 ? RS_CMP_LESSEQUAL : zc == 2 ? RS_CMP_LESS : 1 + (int)(test_rnd(s) % 8);
+    st.blend_enable = test_rnd(s) % 6 == 0;
     st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
-    st.attr_mask = rnd(s) % 10 == 0 ? 0 : 0x3ffu;
-    int vx = rnd(s) % 3 == 0 ? (int)(rnd(s) % (unsigned)(w > 1 ? w / 2 : 1)) : 0;
-    int vy = rnd(s) % 3 == 0 ? (int)(rnd(s) % (unsigned)(h > 1 ? h / 2 : 1)) : 0;
+    st.attr_mask = test_rnd(s) % 10 == 0 ? 0 : 0x3ffu;
+    int vx = test_rnd(s) % 3 == 0 ? (int)(test_rnd(s) % (unsigned)(w > 1 ? w / 2 : 1)) : 0;
+    int vy = test_rnd(s) % 3 == 0 ? (int)(test_rnd(s) % (unsigned)(h > 1 ? h / 2 : 1)) : 0;
     st.viewport.x = vx, st.viewport.y = vy;
-    st.viewport.width = w - vx - (rnd(s) % 3 == 0 ? (int)(rnd(s) % (unsigned)(w - vx)) : 0);
-    st.viewport.height = h - vy - (rnd(s) % 3 == 0 ? (int)(rnd(s) % (unsigned)(h - vy)) : 0);
-    st.viewport.min_z = rnd(s) % 5 == 0 ? 0.7f : 0.0f;
-    st.viewport.max_z = rnd(s) % 5 == 0 ? 0.3f : 1.0f;
+    st.viewport.width = w - vx - (test_rnd(s) % 3 == 0 ? (int)(test_rnd(s) % (unsigned)(w - vx)) : 0);
+    st.viewport.height = h - vy - (test_rnd(s) % 3 == 0 ? (int)(test_rnd(s) % (unsigned)(h - vy)) : 0);
+    st.viewport.min_z = test_rnd(s) % 5 == 0 ? 0.7f : 0.0f;
+    st.viewport.max_z = test_rnd(s) % 5 == 0 ? 0.3f : 1.0f;
     return st;
 }
 
@@ -55,17 +47,17 @@ static rs_vertex *random_triangles(uint64_t *s, int n)
 {
     rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
     assert_non_null(v);
-    float scale = rnd(s) % 3 == 0 ? 0.02f : rnd(s) % 2 ? 0.3f : rnd(s) % 2 ? 3.0f : 80.0f;
+    float scale = test_rnd(s) % 3 == 0 ? 0.02f : test_rnd(s) % 2 ? 0.3f : test_rnd(s) % 2 ? 3.0f : 80.0f;
     for (int i = 0; i < n; i++) {
-        float cx = frnd(s, -1.2f, 1.2f), cy = frnd(s, -1.2f, 1.2f);
+        float cx = test_frnd(s, -1.2f, 1.2f), cy = test_frnd(s, -1.2f, 1.2f);
         for (int k = 0; k < 3; k++) {
             rs_vertex *q = &v[3 * i + k];
-            float w = rnd(s) % 4 == 0 ? frnd(s, 0.2f, 3.0f) : 1.0f;
-            q->pos = (rs_vec4){(cx + frnd(s, -scale, scale)) * w, (cy + frnd(s, -scale, scale)) * w,
-                               frnd(s, -0.1f, 1.1f) * w, w};
+            float w = test_rnd(s) % 4 == 0 ? test_frnd(s, 0.2f, 3.0f) : 1.0f;
+            q->pos = (rs_vec4){(cx + test_frnd(s, -scale, scale)) * w, (cy + test_frnd(s, -scale, scale)) * w,
+                               test_frnd(s, -0.1f, 1.1f) * w, w};
             for (int a = 0; a < RS_MAX_ATTR; a++)
-                q->attr[a] = (rs_vec4){frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f),
-                                       rnd(s) % 2 ? 1.0f : frnd(s, 0.0f, 1.0f)};
+                q->attr[a] = (rs_vec4){test_frnd(s, -0.2f, 1.2f), test_frnd(s, -0.2f, 1.2f), test_frnd(s, -0.2f, 1.2f),
+                                       test_rnd(s) % 2 ? 1.0f : test_frnd(s, 0.0f, 1.0f)};
         }
     }
     return v;
@@ -74,16 +66,17 @@ static rs_vertex *random_triangles(uint64_t *s, int n)
 /* One random case: the same draw (twice) on the reference and the fast path; fails on any differing byte. */
 static void one_case(uint64_t *s, int it)
 {
-    int w = 1 + (int)(rnd(s) % 300), h = 1 + (int)(rnd(s) % 300);
-    if (rnd(s) % 4 == 0) w = 8 * (1 + (int)(rnd(s) % 40));
-    int n_aov = rnd(s) % 6 == 0 ? 1 + (int)(rnd(s) % 2) : 0;
+    int w = 1 + (int)(test_rnd(s) % 300), h = 1 + (int)(test_rnd(s) % 300);
+    if (test_rnd(s) % 4 == 0) w = 8 * (1 + (int)(test_rnd(s) % 40));
+    int n_aov = test_rnd(s) % 6 == 0 ? 1 + (int)(test_rnd(s) % 2) : 0;
     rs_target rt[2];
     for (int k = 0; k < 2; k++) {
         assert_int_equal(rs_target_init(&rt[k], w, h, 1), RS_OK);
-        for (int q = 0; q < n_aov; q++) assert_int_equal(rs_target_add_aov(&rt[k], RS_ATTR_TEXCOORD0 + q, 1 + q), RS_OK);
+        for (int q = 0; q < n_aov; q++)
+            assert_int_equal(rs_target_add_aov(&rt[k], RS_ATTR_TEXCOORD0 + q, 1 + q), RS_OK);
     }
     rs_state st = random_state(s, w, h);
-    int n = 1 + (int)(rnd(s) % 400), threads = 1 + (int)(rnd(s) % 2);
+    int n = 1 + (int)(test_rnd(s) % 400), threads = 1 + (int)(test_rnd(s) % 2);
     rs_vertex *v = random_triangles(s, n);
     float clear_z = st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 1.0f;
     rs_stats stats[2];
@@ -124,16 +117,16 @@ static void test_shared_vertices(void **state)
     (void)state;
     uint64_t s = 12345u;
     for (int it = 0; it < 40; it++) {
-        int w = 64 + (int)(rnd(&s) % 200), h = 64 + (int)(rnd(&s) % 200), cols = 2 + (int)(rnd(&s) % 60);
+        int w = 64 + (int)(test_rnd(&s) % 200), h = 64 + (int)(test_rnd(&s) % 200), cols = 2 + (int)(test_rnd(&s) % 60);
         rs_state st = random_state(&s, w, h);
-        st.cull_mode = rnd(&s) % 2 ? RS_CULL_CCW : RS_CULL_NONE;
+        st.cull_mode = test_rnd(&s) % 2 ? RS_CULL_CCW : RS_CULL_NONE;
         size_t nv = 2 * (size_t)cols, nt = 2 * (size_t)(cols - 1);
         rs_vertex *v = random_triangles(&s, cols); /* 3 * cols vertices: the first 2 * cols are used */
-        float x0 = frnd(&s, -1.0f, 0.5f), y0 = frnd(&s, -1.0f, 0.8f), dx = frnd(&s, 0.001f, 0.05f);
+        float x0 = test_frnd(&s, -1.0f, 0.5f), y0 = test_frnd(&s, -1.0f, 0.8f), dx = test_frnd(&s, 0.001f, 0.05f);
         for (size_t i = 0; i < nv; i++) {
             float wv = v[i].pos.w;
-            v[i].pos.x = (x0 + dx * (float)(i / 2) + frnd(&s, -0.3f, 0.3f) * dx) * wv;
-            v[i].pos.y = (y0 + (i % 2 ? dx : 0.0f) + frnd(&s, -0.3f, 0.3f) * dx) * wv;
+            v[i].pos.x = (x0 + dx * (float)(i / 2) + test_frnd(&s, -0.3f, 0.3f) * dx) * wv;
+            v[i].pos.y = (y0 + (i % 2 ? dx : 0.0f) + test_frnd(&s, -0.3f, 0.3f) * dx) * wv;
         }
         uint32_t *idx = malloc(3 * nt * sizeof *idx);
         assert_non_null(idx);
@@ -148,7 +141,8 @@ static void test_shared_vertices(void **state)
             assert_int_equal(rs_target_init(&rt[k], w, h, 1), RS_OK);
             rs_context *rs = rs_create(1 + (int)(it % 2));
             rs_set_reference_path(rs, k == 0);
-            rs_target_clear(&rt[k], 3, 0u, st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 1.0f);
+            rs_target_clear(&rt[k], 3, 0u,
+                            st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 1.0f);
             assert_int_equal(rs_draw(rs, &st, &rt[k], RS_PRIM_TRIANGLES, v, nv, idx, nt, &stats[k]), RS_OK);
             rs_destroy(rs);
         }

@@ -19,14 +19,6 @@
 
 enum { W = 200, H = 150, DRAWS = 40, PIECES = 3, PER_PIECE = 6 };
 
-/* xorshift64 random numbers. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
 /* The frame's data: per draw its states and PIECES pieces of PER_PIECE triangles (3 vertices each). */
 typedef struct frame {
     rs_state st[DRAWS];
@@ -50,14 +42,22 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
 /* Random states: cull, depth function and writes, blending, scissor, viewport offsets (all on the fast path). */
 static rs_state random_state(uint64_t *s)
 {
-    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(rnd(s) % 3), .fill_mode = RS_FILL_SOLID, .shade_mode = RS_SHADE_GOURAUD,
-                   .z_enable = true, .z_write = rnd(s) % 4 != 0, .z_func = rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER,
-                   .src_blend = RS_BLEND_ONE, .dst_blend = RS_BLEND_ZERO, .attr_mask = 1u << RS_ATTR_COLOR0,
+    rs_state st = {.cull_mode = RS_CULL_NONE + (int)(test_rnd(s) % 3),
+                   .fill_mode = RS_FILL_SOLID,
+                   .shade_mode = RS_SHADE_GOURAUD,
+                   .z_enable = true,
+                   .z_write = test_rnd(s) % 4 != 0,
+                   .z_func = test_rnd(s) % 2 ? RS_CMP_LESSEQUAL : RS_CMP_GREATER,
+                   .src_blend = RS_BLEND_ONE,
+                   .dst_blend = RS_BLEND_ZERO,
+                   .attr_mask = 1u << RS_ATTR_COLOR0,
                    .viewport = {0, 0, W, H, 0.0f, 1.0f}};
-    if (rnd(s) % 4 == 0) st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
-    if (rnd(s) % 4 == 0) st.viewport = (rs_viewport){(int)(rnd(s) % 60), (int)(rnd(s) % 40), 120, 100, 0.0f, 1.0f};
-    if (rnd(s) % 4 == 0) {
-        int x0 = (int)(rnd(s) % 150), y0 = (int)(rnd(s) % 100);
+    if (test_rnd(s) % 4 == 0)
+        st.blend_enable = true, st.src_blend = RS_BLEND_SRCALPHA, st.dst_blend = RS_BLEND_INVSRCALPHA;
+    if (test_rnd(s) % 4 == 0)
+        st.viewport = (rs_viewport){(int)(test_rnd(s) % 60), (int)(test_rnd(s) % 40), 120, 100, 0.0f, 1.0f};
+    if (test_rnd(s) % 4 == 0) {
+        int x0 = (int)(test_rnd(s) % 150), y0 = (int)(test_rnd(s) % 100);
         st.scissor_enable = true, st.scissor = (rs_rect){x0, y0, x0 + 50, y0 + 50};
     }
     return st;
@@ -68,9 +68,9 @@ static rs_vertex random_vertex(uint64_t *s)
 {
     rs_vertex v;
     memset(&v, 0, sizeof v);
-    float w = frnd(s, 0.5f, 2.0f);
-    v.pos = (rs_vec4){frnd(s, -1.1f, 1.1f) * w, frnd(s, -1.1f, 1.1f) * w, frnd(s, 0.0f, 1.0f) * w, w};
-    v.attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1), frnd(s, 0, 1)};
+    float w = test_frnd(s, 0.5f, 2.0f);
+    v.pos = (rs_vec4){test_frnd(s, -1.1f, 1.1f) * w, test_frnd(s, -1.1f, 1.1f) * w, test_frnd(s, 0.0f, 1.0f) * w, w};
+    v.attr[RS_ATTR_COLOR0] = (rs_vec4){test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1), test_frnd(s, 0, 1)};
     return v;
 }
 
@@ -84,11 +84,11 @@ static void make_frame(frame *f, uint64_t seed)
         for (int p = 0; p < PIECES; p++)
             for (int t = 0; t < PER_PIECE; t++) {
                 rs_vertex c = random_vertex(&s);
-                float r = frnd(&s, 0.02f, 0.4f) * c.pos.w;
+                float r = test_frnd(&s, 0.02f, 0.4f) * c.pos.w;
                 for (int k = 0; k < 3; k++) {
                     rs_vertex v = c;
-                    v.pos.x += frnd(&s, -r, r), v.pos.y += frnd(&s, -r, r);
-                    v.attr[RS_ATTR_COLOR0].x = frnd(&s, 0, 1);
+                    v.pos.x += test_frnd(&s, -r, r), v.pos.y += test_frnd(&s, -r, r);
+                    v.attr[RS_ATTR_COLOR0].x = test_frnd(&s, 0, 1);
                     f->v[d][p][3 * t + k] = v;
                 }
             }
@@ -197,7 +197,8 @@ static void test_scene_defers(void **state)
     src_ctx c = {f, 0};
     rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &c, 0, 0};
     rs_state st = f->st[0];
-    st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_LESSEQUAL, st.blend_enable = false, st.scissor_enable = false, st.viewport = (rs_viewport){0, 0, W, H, 0.0f, 1.0f};
+    st.cull_mode = RS_CULL_NONE, st.z_func = RS_CMP_LESSEQUAL, st.blend_enable = false, st.scissor_enable = false,
+    st.viewport = (rs_viewport){0, 0, W, H, 0.0f, 1.0f};
     rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
     assert_int_equal(rs_draw_source(rs, &st, &rt, &src, &s), RS_OK);   /* no frame: drawn now */
     assert_true(s.samples_written > 0);

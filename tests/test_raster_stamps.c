@@ -19,26 +19,7 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
-
-/* xorshift64 random numbers: the test's only state, passed by pointer. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-/* Uniform float in [lo, hi). */
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
-/* A pixel coordinate near a place the walk must get right: a tile border (multiples of 64), the target's last
- * pixels (size n), or anywhere. */
-static float near_edge(uint64_t *s, int n)
-{
-    int k = (int)(rnd(s) % 3);
-    float c = k == 0   ? (float)(64 * (int)(rnd(s) % (unsigned)(n / 64 + 1)))
-              : k == 1 ? (float)n
-                       : frnd(s, 0.0f, (float)n);
-    return c + frnd(s, -6.0f, 6.0f);
-}
+#include "util/raster_util.h"
 
 /* n triangles in a w x h target, each inside a box at most 7.5 pixels wide (tall ones up to 30 rows), in clip
  * space (viewport = the whole target), with random depth, w and colours. */
@@ -47,17 +28,18 @@ static rs_vertex *small_triangles(uint64_t *s, int n, int w, int h)
     rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
     assert_non_null(v);
     for (int i = 0; i < n; i++) {
-        float cx = near_edge(s, w), cy = near_edge(s, h);
-        float bw = rnd(s) % 2 ? frnd(s, 0.3f, 3.5f) : frnd(s, 3.5f, 7.5f);
-        float bh = rnd(s) % 5 == 0 ? frnd(s, 8.0f, 30.0f) : frnd(s, 0.3f, 7.5f);
+        float cx = test_near_edge(s, w, -6.0f, 6.0f), cy = test_near_edge(s, h, -6.0f, 6.0f);
+        float bw = test_rnd(s) % 2 ? test_frnd(s, 0.3f, 3.5f) : test_frnd(s, 3.5f, 7.5f);
+        float bh = test_rnd(s) % 5 == 0 ? test_frnd(s, 8.0f, 30.0f) : test_frnd(s, 0.3f, 7.5f);
         for (int k = 0; k < 3; k++) {
             rs_vertex *q = &v[3 * i + k];
-            float px = cx + frnd(s, 0.0f, bw), py = cy + frnd(s, 0.0f, bh);
-            float wv = rnd(s) % 3 == 0 ? frnd(s, 0.5f, 2.0f) : 1.0f;
+            float px = cx + test_frnd(s, 0.0f, bw), py = cy + test_frnd(s, 0.0f, bh);
+            float wv = test_rnd(s) % 3 == 0 ? test_frnd(s, 0.5f, 2.0f) : 1.0f;
             q->pos = (rs_vec4){(px / (float)w * 2.0f - 1.0f) * wv, (1.0f - py / (float)h * 2.0f) * wv,
-                               frnd(s, 0.0f, 1.0f) * wv, wv};
-            q->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f),
-                                                rnd(s) % 2 ? 1.0f : frnd(s, 0.0f, 1.0f)};
+                               test_frnd(s, 0.0f, 1.0f) * wv, wv};
+            q->attr[RS_ATTR_COLOR0] =
+                (rs_vec4){test_frnd(s, -0.2f, 1.2f), test_frnd(s, -0.2f, 1.2f), test_frnd(s, -0.2f, 1.2f),
+                          test_rnd(s) % 2 ? 1.0f : test_frnd(s, 0.0f, 1.0f)};
         }
     }
     return v;

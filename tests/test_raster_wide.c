@@ -22,26 +22,7 @@
 #include <cmocka.h>
 
 #include "../raster/raster.h"
-
-/* xorshift64 random numbers: the test's only state, passed by pointer. */
-static uint32_t rnd(uint64_t *s)
-{
-    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
-    return (uint32_t)(*s >> 11);
-}
-/* Uniform float in [lo, hi). */
-static float frnd(uint64_t *s, float lo, float hi) { return lo + (hi - lo) * (float)(rnd(s) & 0xffffff) / 16777216.0f; }
-
-/* A pixel coordinate near a place the walks must get right: a tile border (multiples of 64), the target's last
- * pixels (size n), or anywhere. */
-static float near_edge(uint64_t *s, int n)
-{
-    int k = (int)(rnd(s) % 3);
-    float c = k == 0   ? (float)(64 * (int)(rnd(s) % (unsigned)(n / 64 + 1)))
-              : k == 1 ? (float)n
-                       : frnd(s, 0.0f, (float)n);
-    return c + frnd(s, -40.0f, 8.0f);
-}
+#include "util/raster_util.h"
 
 /* v snapped to half pixels when snap (edges through pixel centres: exact crossings). */
 static float snapped(float v, bool snap) { return snap ? (float)(int)(v * 2.0f) * 0.5f : v; }
@@ -55,28 +36,30 @@ static rs_vertex *wide_triangles(uint64_t *s, int n, int big, const rs_viewport 
     rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
     assert_non_null(v);
     for (int i = 0; i < n; i++) {
-        const bool large = rnd(s) % (unsigned)big == 0, snap = rnd(s) % 3 == 0, right = snap && rnd(s) % 2;
-        const float bw = large ? (rnd(s) % 8 == 0 ? frnd(s, 300.0f, 3000.0f) : frnd(s, 33.0f, 300.0f))
-                               : frnd(s, 9.0f, 32.9f);
-        const float bh = large ? frnd(s, 2.0f, 300.0f) : frnd(s, 1.0f, 40.0f);
-        const float cx = (float)vp->x + near_edge(s, vp->width), cy = (float)vp->y + near_edge(s, vp->height);
-        const bool aconst = rnd(s) % 2;
-        const float alpha = rnd(s) % 2 ? 1.0f : frnd(s, 0.0f, 1.0f);
+        const bool large = test_rnd(s) % (unsigned)big == 0, snap = test_rnd(s) % 3 == 0,
+                   right = snap && test_rnd(s) % 2;
+        const float bw = large ? (test_rnd(s) % 8 == 0 ? test_frnd(s, 300.0f, 3000.0f) : test_frnd(s, 33.0f, 300.0f))
+                               : test_frnd(s, 9.0f, 32.9f);
+        const float bh = large ? test_frnd(s, 2.0f, 300.0f) : test_frnd(s, 1.0f, 40.0f);
+        const float cx = (float)vp->x + test_near_edge(s, vp->width, -40.0f, 8.0f),
+                    cy = (float)vp->y + test_near_edge(s, vp->height, -40.0f, 8.0f);
+        const bool aconst = test_rnd(s) % 2;
+        const float alpha = test_rnd(s) % 2 ? 1.0f : test_frnd(s, 0.0f, 1.0f);
         for (int k = 0; k < 3; k++) {
             rs_vertex *q = &v[3 * i + k];
-            float px = snapped(cx + frnd(s, 0.0f, bw), snap), py = snapped(cy + frnd(s, 0.0f, bh), snap);
+            float px = snapped(cx + test_frnd(s, 0.0f, bw), snap), py = snapped(cy + test_frnd(s, 0.0f, bh), snap);
             if (right && k > 0) { /* (cx, cy), (cx + bw, cy), (cx, cy + bh) or the reverse */
                 px = snapped(k == 1 ? cx + bw : cx, true), py = snapped(k == 1 ? cy : cy + bh, true);
                 if (i % 2) px = snapped(2.0f * cx + bw - px, true);
             } else if (right) {
                 px = snapped(cx, true), py = snapped(cy, true);
             }
-            const float wv = rnd(s) % 3 == 0 ? frnd(s, 0.5f, 2.0f) : 1.0f;
+            const float wv = test_rnd(s) % 3 == 0 ? test_frnd(s, 0.5f, 2.0f) : 1.0f;
             const float nx = (px - (float)vp->x) / (float)vp->width * 2.0f - 1.0f;
             const float ny = 1.0f - (py - (float)vp->y) / (float)vp->height * 2.0f;
-            q->pos = (rs_vec4){nx * wv, ny * wv, frnd(s, 0.0f, 1.0f) * wv, wv};
-            q->attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f), frnd(s, -0.2f, 1.2f),
-                                                aconst ? alpha : frnd(s, 0.0f, 1.0f)};
+            q->pos = (rs_vec4){nx * wv, ny * wv, test_frnd(s, 0.0f, 1.0f) * wv, wv};
+            q->attr[RS_ATTR_COLOR0] = (rs_vec4){test_frnd(s, -0.2f, 1.2f), test_frnd(s, -0.2f, 1.2f),
+                                                test_frnd(s, -0.2f, 1.2f), aconst ? alpha : test_frnd(s, 0.0f, 1.0f)};
         }
     }
     return v;
@@ -194,17 +177,17 @@ static void test_wide_exact_edges(void **state)
     rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
     assert_non_null(v);
     for (int i = 0; i < n; i++) {
-        const float xs = (float)(20 + (int)(rnd(&s) % 88)), ys = (float)(2 + (int)(rnd(&s) % 60));
-        const float d = 1.0f / 256.0f, len = (float)(2 + (int)(rnd(&s) % 60));
-        const float width = rnd(&s) % 3 ? frnd(&s, 9.0f, 32.0f) : frnd(&s, 33.0f, 90.0f);
-        const float side = rnd(&s) % 2 ? width : -width;
-        const float px[3] = {xs, xs + (rnd(&s) % 2 ? d : -d), xs + side};
-        const float py[3] = {ys + (rnd(&s) % 4 ? -d : d), ys + len, ys + frnd(&s, 0.0f, len)};
+        const float xs = (float)(20 + (int)(test_rnd(&s) % 88)), ys = (float)(2 + (int)(test_rnd(&s) % 60));
+        const float d = 1.0f / 256.0f, len = (float)(2 + (int)(test_rnd(&s) % 60));
+        const float width = test_rnd(&s) % 3 ? test_frnd(&s, 9.0f, 32.0f) : test_frnd(&s, 33.0f, 90.0f);
+        const float side = test_rnd(&s) % 2 ? width : -width;
+        const float px[3] = {xs, xs + (test_rnd(&s) % 2 ? d : -d), xs + side};
+        const float py[3] = {ys + (test_rnd(&s) % 4 ? -d : d), ys + len, ys + test_frnd(&s, 0.0f, len)};
         for (int k = 0; k < 3; k++)
             v[3 * i + k].pos = (rs_vec4){px[k] / (float)w * 2.0f - 1.0f, 1.0f - py[k] / (float)h * 2.0f,
-                                         frnd(&s, 0.0f, 1.0f), 1.0f},
-            v[3 * i + k].attr[RS_ATTR_COLOR0] = (rs_vec4){frnd(&s, 0.0f, 1.0f), frnd(&s, 0.0f, 1.0f),
-                                                          frnd(&s, 0.0f, 1.0f), 1.0f};
+                                         test_frnd(&s, 0.0f, 1.0f), 1.0f},
+            v[3 * i + k].attr[RS_ATTR_COLOR0] = (rs_vec4){test_frnd(&s, 0.0f, 1.0f), test_frnd(&s, 0.0f, 1.0f),
+                                                          test_frnd(&s, 0.0f, 1.0f), 1.0f};
     }
     const rs_state st = case_state(1, &vp); /* no depth writes: every triangle's pixels are tested */
     rs_target ref;

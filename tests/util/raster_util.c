@@ -64,3 +64,23 @@ void test_rs_same_frame(const uint32_t *color_a, const float *depth_a, const rs_
     assert_memory_equal(depth_a, depth_b, n * sizeof *depth_a);
     assert_memory_equal(sum_a, sum_b, sizeof *sum_a);
 }
+
+uint32_t test_rnd(uint64_t *s)
+{
+    *s ^= *s << 13, *s ^= *s >> 7, *s ^= *s << 17;
+    return (uint32_t)(*s >> 11);
+}
+
+float test_frnd(uint64_t *s, float lo, float hi)
+{
+    return lo + (hi - lo) * (float)(test_rnd(s) & 0xffffff) / 16777216.0f;
+}
+
+float test_near_edge(uint64_t *s, int n, float lo, float hi)
+{
+    int k = (int)(test_rnd(s) % 3);
+    float c = k == 0   ? (float)(64 * (int)(test_rnd(s) % (unsigned)(n / 64 + 1)))
+              : k == 1 ? (float)n
+                       : test_frnd(s, 0.0f, (float)n);
+    return c + test_frnd(s, lo, hi);
+}

@@ -4,6 +4,16 @@
 
 #include "../../raster/raster.h"
 
+#include <stdint.h>
+
+/* xorshift64 random numbers, the raster tests' only state (*s, never 0), passed by pointer: 21 bits. */
+uint32_t test_rnd(uint64_t *s);
+/* A uniform float in [lo, hi) from test_rnd. */
+float test_frnd(uint64_t *s, float lo, float hi);
+/* A pixel coordinate near a place the walks must get right -- a tile border (multiples of 64), the last pixels of a
+ * target of size n, or anywhere in it -- moved by a uniform offset in [lo, hi). */
+float test_near_edge(uint64_t *s, int n, float lo, float hi);
+
 /* D3D9's defaults for a full w x h viewport: cull CCW, solid, Gouraud, z LESSEQUAL with write, no blending,
  * multisampling on, COLOR0 interpolated. */
 rs_state test_rs_defaults(int w, int h);
