@@ -45,33 +45,6 @@ static rs_vertex *small_triangles(uint64_t *s, int n, int w, int h)
     return v;
 }
 
-/* Draw v (n triangles, twice) into rt with st after a clear of the planes in flags (RS_CLEAR_*; the others keep
- * a first clear to other values): on the reference path (reference), else the fast path with instruction set isa;
- * deferred: clear with rs_target_clear_deferred (the tile buffers), else rs_target_clear. */
-static void draw_flags(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa,
-                       int threads, bool deferred, unsigned flags, float clear_z, rs_stats *stats)
-{
-    rs_context *rs = rs_create(threads);
-    assert_non_null(rs);
-    rs_set_reference_path(rs, reference);
-    if (!reference) assert_int_equal(rs_set_isa(rs, isa), RS_OK);
-    rs_target_clear(rt, 3, 0x55667788u, 0.35f);
-    if (deferred) rs_target_clear_deferred(rs, rt, flags, 0x11223344u, clear_z);
-    else rs_target_clear(rt, flags, 0x11223344u, clear_z);
-    for (int pass = 0; pass < 2; pass++)
-        assert_int_equal(rs_draw(rs, st, rt, RS_PRIM_TRIANGLES, v, (size_t)n * 3, NULL, (size_t)n, &stats[pass]),
-                         RS_OK);
-    rs_target_flush(rs, rt);
-    rs_destroy(rs);
-}
-
-/* draw_flags with both planes cleared. */
-static void draw(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa, int threads,
-                 bool deferred, float clear_z, rs_stats *stats)
-{
-    draw_flags(rt, st, v, n, reference, isa, threads, deferred, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, clear_z, stats);
-}
-
 /* One target size: every depth state, deferred and immediate clear, 1 and 2 threads, each instruction set, the
  * fast path's bytes and counters against the reference path's. */
 static void one_size(uint64_t *s, int w, int h)
@@ -87,31 +60,9 @@ static void one_size(uint64_t *s, int w, int h)
         st.viewport = (rs_viewport){0, 0, w, h, 0.0f, 1.0f};
         const float clear_z = st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 0.6f;
         rs_vertex *v = small_triangles(s, n, w, h);
-        rs_target ref;
-        rs_stats rst[2];
-        assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
-        draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, clear_z, rst);
-        if (rst[0].samples_tested <= 500)
-            fail_msg("only %llu samples tested", (unsigned long long)rst[0].samples_tested);
-        for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
-            if (!rs_isa_supported(isa)) continue;
-            for (int k = 0; k < 4; k++) { /* deferred or not, 1 or 2 threads */
-                rs_target rt;
-                rs_stats fst[2];
-                assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
-                draw(&rt, &st, v, n, false, isa, 1 + k / 2, k % 2 == 0, clear_z, fst);
-                size_t np = (size_t)w * (size_t)h;
-                if (memcmp(ref.color, rt.color, np * 4) || memcmp(ref.depth, rt.depth, np * 4))
-                    fail_msg("%dx%d, depth %d/%d/%d, isa %d, %s clear, %d threads: colour or depth differ", w, h,
-                             st.z_enable, st.z_func, st.z_write, isa, k % 2 == 0 ? "deferred" : "immediate", 1 + k / 2);
-                assert_memory_equal(&rst[0].samples_tested, &fst[0].samples_tested, sizeof(uint64_t));
-                assert_memory_equal(&rst[0].samples_written, &fst[0].samples_written, sizeof(uint64_t));
-                assert_memory_equal(&rst[1].samples_tested, &fst[1].samples_tested, sizeof(uint64_t));
-                assert_memory_equal(&rst[1].samples_written, &fst[1].samples_written, sizeof(uint64_t));
-                rs_target_free(&rt);
-            }
-        }
-        rs_target_free(&ref);
+        char what[96];
+        snprintf(what, sizeof what, "%dx%d, depth %d/%d/%d", w, h, st.z_enable, st.z_func, st.z_write);
+        test_rs_paths_agree(w, h, &st, v, n, clear_z, 500, what);
         free(v);
     }
 }
@@ -146,7 +97,7 @@ static void test_partial_deferred_clear(void **state)
         rs_stats stats[2][2];
         for (int k = 0; k < 2; k++) { /* k = 0: reference, immediate; 1: fast, deferred */
             assert_int_equal(rs_target_init(&rt[k], w, h, 1), RS_OK);
-            draw_flags(&rt[k], &st, v, n, k == 0, RS_ISA_AVX2, 2, k == 1, flags, 0.6f, stats[k]);
+            test_rs_draw_twice(&rt[k], &st, v, n, k == 0, RS_ISA_AVX2, 2, k == 1, flags, 0.6f, stats[k]);
         }
         assert_memory_equal(rt[0].color, rt[1].color, (size_t)w * (size_t)h * 4);
         assert_memory_equal(rt[0].depth, rt[1].depth, (size_t)w * (size_t)h * 4);

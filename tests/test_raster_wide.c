@@ -65,25 +65,6 @@ static rs_vertex *wide_triangles(uint64_t *s, int n, int big, const rs_viewport 
     return v;
 }
 
-/* Draw v (n triangles, twice) into rt with st after a clear: on the reference path (reference), else the fast path
- * with instruction set isa; deferred: rs_target_clear_deferred (the tile buffers), else rs_target_clear. */
-static void draw(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa, int threads,
-                 bool deferred, float clear_z, rs_stats *stats)
-{
-    rs_context *rs = rs_create(threads);
-    assert_non_null(rs);
-    rs_set_reference_path(rs, reference);
-    if (!reference) assert_int_equal(rs_set_isa(rs, isa), RS_OK);
-    rs_target_clear(rt, 3, 0x55667788u, 0.35f);
-    if (deferred) rs_target_clear_deferred(rs, rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x11223344u, clear_z);
-    else rs_target_clear(rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0x11223344u, clear_z);
-    for (int pass = 0; pass < 2; pass++)
-        assert_int_equal(rs_draw(rs, st, rt, RS_PRIM_TRIANGLES, v, (size_t)n * 3, NULL, (size_t)n, &stats[pass]),
-                         RS_OK);
-    rs_target_flush(rs, rt);
-    rs_destroy(rs);
-}
-
 /* The states of case zc: 0 depth off, 1 LESSEQUAL without writes, 2 .. 9 each function with writes (LESSEQUAL and
  * LESS: the walk's specialised instances), 10 blending (LESSEQUAL), 11 no COLOR0 (white, LESSEQUAL). */
 static rs_state case_state(int zc, const rs_viewport *vp)
@@ -109,35 +90,9 @@ static void one_size(uint64_t *s, int w, int h, rs_viewport vp)
         const rs_state st = case_state(zc, &vp);
         const float clear_z = st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 0.6f;
         rs_vertex *v = wide_triangles(s, n, 6, &vp);
-        rs_target ref;
-        rs_stats rst[2];
-        assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
-        draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, clear_z, rst);
-        if (rst[0].samples_tested <= 5000)
-            fail_msg("only %llu samples tested", (unsigned long long)rst[0].samples_tested);
-        for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
-            if (!rs_isa_supported(isa)) continue;
-            for (int k = 0; k < 4; k++) { /* deferred or not, 1 or 2 threads */
-                rs_target rt;
-                rs_stats fst[2];
-                assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
-                draw(&rt, &st, v, n, false, isa, 1 + k / 2, k % 2 == 0, clear_z, fst);
-                size_t np = (size_t)w * (size_t)h;
-                if (memcmp(ref.color, rt.color, np * 4) || memcmp(ref.depth, rt.depth, np * 4))
-                    fail_msg("%dx%d, case %d, isa %d, %s clear, %d threads: colour or depth differ", w, h, zc, isa,
-                             k % 2 == 0 ? "deferred" : "immediate", 1 + k / 2);
-                for (int pass = 0; pass < 2; pass++)
-                    if (rst[pass].samples_tested != fst[pass].samples_tested ||
-                        rst[pass].samples_written != fst[pass].samples_written)
-                        fail_msg("%dx%d, case %d, isa %d, pass %d: samples tested %llu / %llu, written %llu / %llu", w,
-                                 h, zc, isa, pass, (unsigned long long)rst[pass].samples_tested,
-                                 (unsigned long long)fst[pass].samples_tested,
-                                 (unsigned long long)rst[pass].samples_written,
-                                 (unsigned long long)fst[pass].samples_written);
-                rs_target_free(&rt);
-            }
-        }
-        rs_target_free(&ref);
+        char what[64];
+        snprintf(what, sizeof what, "%dx%d, case %d", w, h, zc);
+        test_rs_paths_agree(w, h, &st, v, n, clear_z, 5000, what);
         free(v);
     }
 }
@@ -193,13 +148,13 @@ static void test_wide_exact_edges(void **state)
     rs_target ref;
     rs_stats rst[2];
     assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
-    draw(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, 0.6f, rst);
+    test_rs_draw_twice(&ref, &st, v, n, true, RS_ISA_AVX2, 1, false, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0.6f, rst);
     for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
         if (!rs_isa_supported(isa)) continue;
         rs_target rt;
         rs_stats fst[2];
         assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
-        draw(&rt, &st, v, n, false, isa, 1, false, 0.6f, fst);
+        test_rs_draw_twice(&rt, &st, v, n, false, isa, 1, false, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0.6f, fst);
         assert_memory_equal(ref.color, rt.color, (size_t)w * (size_t)h * 4);
         assert_int_equal(rst[0].samples_tested, fst[0].samples_tested);
         assert_int_equal(rst[0].samples_written, fst[0].samples_written);

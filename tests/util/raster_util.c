@@ -84,3 +84,54 @@ float test_near_edge(uint64_t *s, int n, float lo, float hi)
                        : test_frnd(s, 0.0f, (float)n);
     return c + test_frnd(s, lo, hi);
 }
+
+void test_rs_draw_twice(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa,
+                        int threads, bool deferred, unsigned flags, float clear_z, rs_stats stats[2])
+{
+    rs_context *rs = rs_create(threads);
+    assert_non_null(rs);
+    rs_set_reference_path(rs, reference);
+    if (!reference) assert_int_equal(rs_set_isa(rs, isa), RS_OK);
+    rs_target_clear(rt, 3, 0x55667788u, 0.35f);
+    if (deferred) rs_target_clear_deferred(rs, rt, flags, 0x11223344u, clear_z);
+    else rs_target_clear(rt, flags, 0x11223344u, clear_z);
+    for (int pass = 0; pass < 2; pass++)
+        assert_int_equal(rs_draw(rs, st, rt, RS_PRIM_TRIANGLES, v, (size_t)n * 3, NULL, (size_t)n, &stats[pass]),
+                         RS_OK);
+    rs_target_flush(rs, rt);
+    rs_destroy(rs);
+}
+
+void test_rs_paths_agree(int w, int h, const rs_state *st, const rs_vertex *v, int n, float clear_z,
+                         uint64_t min_tested, const char *what)
+{
+    const unsigned both = RS_CLEAR_COLOR | RS_CLEAR_DEPTH;
+    const size_t np = (size_t)w * (size_t)h;
+    rs_target ref;
+    rs_stats rst[2];
+    assert_int_equal(rs_target_init(&ref, w, h, 1), RS_OK);
+    test_rs_draw_twice(&ref, st, v, n, true, RS_ISA_AVX2, 1, false, both, clear_z, rst);
+    if (rst[0].samples_tested <= min_tested)
+        fail_msg("%s: only %llu samples tested", what, (unsigned long long)rst[0].samples_tested);
+    for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
+        if (!rs_isa_supported(isa)) continue;
+        for (int k = 0; k < 4; k++) { /* deferred or not, 1 or 2 threads */
+            rs_target rt;
+            rs_stats fst[2];
+            assert_int_equal(rs_target_init(&rt, w, h, 1), RS_OK);
+            test_rs_draw_twice(&rt, st, v, n, false, isa, 1 + k / 2, k % 2 == 0, both, clear_z, fst);
+            if (memcmp(ref.color, rt.color, np * 4) || memcmp(ref.depth, rt.depth, np * 4))
+                fail_msg("%s, isa %d, %s clear, %d threads: colour or depth differ", what, isa,
+                         k % 2 == 0 ? "deferred" : "immediate", 1 + k / 2);
+            for (int pass = 0; pass < 2; pass++)
+                if (rst[pass].samples_tested != fst[pass].samples_tested ||
+                    rst[pass].samples_written != fst[pass].samples_written)
+                    fail_msg("%s, isa %d, pass %d: samples tested %llu / %llu, written %llu / %llu", what, isa, pass,
+                             (unsigned long long)rst[pass].samples_tested, (unsigned long long)fst[pass].samples_tested,
+                             (unsigned long long)rst[pass].samples_written,
+                             (unsigned long long)fst[pass].samples_written);
+            rs_target_free(&rt);
+        }
+    }
+    rs_target_free(&ref);
+}

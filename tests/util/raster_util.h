@@ -32,4 +32,17 @@ void test_rs_frame_end(rs_context *rs, rs_target *rt, const rs_stats *sink, rs_s
 void test_rs_same_frame(const uint32_t *color_a, const float *depth_a, const rs_stats *sum_a, const uint32_t *color_b,
                         const float *depth_b, const rs_stats *sum_b, size_t n);
 
+/* Draw v (n triangles, twice: stats[0], stats[1]) into rt with st on a new context of `threads` threads, after a
+ * first clear of both planes to other values and then a clear of the planes in flags (RS_CLEAR_*): on the
+ * reference path (reference), else the fast path with instruction set isa; deferred: the second clear through
+ * rs_target_clear_deferred (the tile buffers), else rs_target_clear.  Ends with rs_target_flush. */
+void test_rs_draw_twice(rs_target *rt, const rs_state *st, const rs_vertex *v, int n, bool reference, int isa,
+                        int threads, bool deferred, unsigned flags, float clear_z, rs_stats stats[2]);
+/* Fail the test unless the fast path (each instruction set the CPU has, deferred and immediate clear, 1 and 2
+ * threads) draws v (n triangles, twice, test_rs_draw_twice with both planes cleared) into a w x h target with st
+ * to the reference path's colour and depth bytes and samples tested and written, and the reference tested more
+ * than min_tested samples; `what` names the case in the failure message. */
+void test_rs_paths_agree(int w, int h, const rs_state *st, const rs_vertex *v, int n, float clear_z,
+                         uint64_t min_tested, const char *what);
+
 #endif
