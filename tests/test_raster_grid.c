@@ -235,6 +235,33 @@ static void test_grid_same_bytes(void **state)
     free(f), free(ref), free(r);
 }
 
+/* Draw d (one group of level d->level, its points in d->v[0]) into a fresh W x H target on pass `pass` of the
+ * one-group tests -- 0 the reference path, 1 the row path on 1 thread, 2 on 2 threads, 3 with AVX-512 -- into *o
+ * (planes, counters, grid groups).  fe: fail when pass 1 raises a divide-by-zero, invalid or overflow flag (the
+ * tile pass runs on this thread then: its lanes that are not live must not divide by zero or make a NaN --
+ * grid_finish_half -- nor any lane overflow). */
+static void one_group_pass(draw_def *d, int pass, bool fe, result *o)
+{
+    const size_t L = d->level;
+    rs_context *rs = rs_create(pass == 2 ? 2 : 1);
+    assert_non_null(rs);
+    assert_int_equal(rs_set_isa(rs, pass == 3 ? RS_ISA_AVX512 : RS_ISA_AVX2), RS_OK);
+    rs_set_reference_path(rs, pass == 0);
+    rs_target rt;
+    assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+    rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+    rs_source src = {.n_pieces = 1, .n_prims = L * L, .max_verts = d->points, .produce = produce, .ctx = d,
+                     .group_prims = L * L, .grid_level = L};
+    feclearexcept(FE_ALL_EXCEPT);
+    assert_int_equal(rs_draw_source(rs, &d->st, &rt, &src, &o->sum), RS_OK);
+    if (fe && pass == 1) assert_int_equal(fetestexcept(FE_DIVBYZERO | FE_INVALID | FE_OVERFLOW), 0);
+    o->grid_groups = grid_groups(rs, 1);
+    memcpy(o->color, rt.color, sizeof o->color);
+    memcpy(o->depth, rt.depth, sizeof o->depth);
+    rs_target_free(&rt);
+    rs_destroy(rs);
+}
+
 /* One level-40 instance of ~70 x 70 pixels over the four tiles around (64, 64) -- 1,600 triangles, many on the
  * tile borders -- then the same at 120 pixels over nine tiles (the per-triangle path) and at 150 pixels (past the
  * row path's budget, and nine tiles): the reference path's bytes and counters on each, the row path taken only on
@@ -273,21 +300,7 @@ static void test_grid_over_tiles(void **state)
         for (int pass = 0; pass < 4; pass++) {   /* reference; the row path on 1 thread, 2 threads, AVX-512 */
             if (pass == 3 && !rs_isa_supported(RS_ISA_AVX512)) continue;
             result *o = pass == 0 ? ref : r;
-            rs_context *rs = rs_create(pass == 2 ? 2 : 1);
-            assert_non_null(rs);
-            assert_int_equal(rs_set_isa(rs, pass == 3 ? RS_ISA_AVX512 : RS_ISA_AVX2), RS_OK);
-            rs_set_reference_path(rs, pass == 0);
-            rs_target rt;
-            assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
-            rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
-            rs_source src = {.n_pieces = 1, .n_prims = L * L, .max_verts = P, .produce = produce, .ctx = &d,
-                             .group_prims = L * L, .grid_level = L};
-            assert_int_equal(rs_draw_source(rs, &d.st, &rt, &src, &o->sum), RS_OK);
-            o->grid_groups = grid_groups(rs, 1);
-            memcpy(o->color, rt.color, sizeof o->color);
-            memcpy(o->depth, rt.depth, sizeof o->depth);
-            rs_target_free(&rt);
-            rs_destroy(rs);
+            one_group_pass(&d, pass, false, o);
             if (pass == 0) {
                 assert_true(ref->sum.samples_written > 1000 && ref->sum.prims_culled > 0);
                 continue;
@@ -344,25 +357,7 @@ static void test_grid_step_boxes(void **state)
         for (int pass = 0; pass < 4; pass++) {   /* reference; the row path on 1 thread, 2 threads, AVX-512 */
             if (pass == 3 && !rs_isa_supported(RS_ISA_AVX512)) continue;
             result *o = pass == 0 ? ref : r;
-            rs_context *rs = rs_create(pass == 2 ? 2 : 1);
-            assert_non_null(rs);
-            assert_int_equal(rs_set_isa(rs, pass == 3 ? RS_ISA_AVX512 : RS_ISA_AVX2), RS_OK);
-            rs_set_reference_path(rs, pass == 0);
-            rs_target rt;
-            assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
-            rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
-            rs_source src = {.n_pieces = 1, .n_prims = L * L, .max_verts = P, .produce = produce, .ctx = &d,
-                             .group_prims = L * L, .grid_level = L};
-            feclearexcept(FE_ALL_EXCEPT);
-            assert_int_equal(rs_draw_source(rs, &d.st, &rt, &src, &o->sum), RS_OK);
-            /* one thread: the tile pass ran here; its lanes that are not live must not divide by zero or make a
-             * NaN (grid_finish_half), nor any lane overflow */
-            if (pass == 1) assert_int_equal(fetestexcept(FE_DIVBYZERO | FE_INVALID | FE_OVERFLOW), 0);
-            o->grid_groups = grid_groups(rs, 1);
-            memcpy(o->color, rt.color, sizeof o->color);
-            memcpy(o->depth, rt.depth, sizeof o->depth);
-            rs_target_free(&rt);
-            rs_destroy(rs);
+            one_group_pass(&d, pass, true, o);
             if (pass == 0) {
                 assert_true(ref->sum.samples_written > 500);
                 if (c == 3) assert_true(ref->sum.prims_culled > 0);
