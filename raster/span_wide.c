@@ -244,7 +244,9 @@ static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int 
 /* p[0] in lanes 0..3 and p[1] in lanes 4..7 (the y parts of two rows, for the 4x2 groups). */
 static inline v8f rows2(const float *p)
 {
-    const __m256 two = _mm256_castpd_ps(_mm256_broadcast_sd((const double *)p)); /* p[0], p[1], p[0], ... */
+    double d; /* p[0], p[1] as one 8-byte value (p is only 4-byte aligned: memcpy, not a double load) */
+    memcpy(&d, p, sizeof d);
+    const __m256 two = _mm256_castpd_ps(_mm256_set1_pd(d)); /* p[0], p[1], p[0], ... */
     return (v8f)_mm256_permutevar8x32_ps(two, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
 }
 
