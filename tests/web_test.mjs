@@ -277,6 +277,8 @@ async function main() {
              slide("c-max-level", 24) + ";" + tick("c-wire-levels", true) + ";" + choose("c-patch", "smooth"),
              "sphere --level 4 --fill solid+wire --lod screen --max-level 24 --wire-levels on");
   await step("LOD: target 14 px", slide("c-lod-target", 14), "sphere --level 4 --fill solid+wire --lod screen --max-level 24 --wire-levels on --lod-target 14");
+  await step("LOD: deviation, 1.5 px", choose("c-lod", "deviation") + ";" + slide("c-lod-deviation", 1.5),
+             "sphere --level 4 --fill solid+wire --lod deviation --max-level 24 --wire-levels on --lod-deviation 1.5");
   await step("LOD: distance, silhouette, turned", choose("c-lod", "distance") + ";" + tick("c-silhouette", true) + ";" + slide("c-yaw", 100),
              "sphere --level 4 --fill solid+wire --lod distance --max-level 24 --wire-levels on --silhouette --yaw 100");
   await step("framing: box", choose("c-fit", "box"), "sphere --level 4 --fill solid+wire --lod distance --max-level 24 --wire-levels on --silhouette --yaw 100 --fit box");
