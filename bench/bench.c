@@ -530,8 +530,9 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     return 0;
 }
 
-/* One frame: Clear + the instanced DrawIndexedPrimitive + the present (dev_render_target: every pixel of the
- * frame written, as a Present or a read of the target needs -- the tiles no draw touched get the clear). */
+/* One frame: Clear + the instanced DrawIndexedPrimitive + the present (dev_present: every pixel of the frame's
+ * colour written, as a Present needs -- the tiles no draw touched get the clear colour; their depth's clear stays
+ * deferred, as nothing reads it before the next frame's Clear). */
 static is_result inst_frame(inst_gpu *g, const bench_data *bd)
 {
     uint32_t bg = IS_COLOR_ARGB(255, bench_background[0], bench_background[1], bench_background[2]);
@@ -539,7 +540,7 @@ static is_result inst_frame(inst_gpu *g, const bench_data *bd)
     if (e != IS_OK) return e;
     e = dev_draw_indexed_primitive(g->dev, IS_PT_TRIANGLELIST, 0, 0, (unsigned)bd->grid.n_points, 0,
                                    (unsigned)bd->grid.n_triangles);
-    if (e == IS_OK && !dev_render_target(g->dev)) e = IS_ERR_INVALIDCALL;
+    if (e == IS_OK && !dev_present(g->dev)) e = IS_ERR_INVALIDCALL;
     return e;
 }
 

@@ -5,7 +5,7 @@
  * drawn, the median ms per frame, and the largest screen-space deviation from the uniform level-M surface, so
  * that the saving at equal quality is a number.
  *
- * A frame (each ending with the present, dev_render_target): uniform -- Clear + one instanced DrawIndexedPrimitive
+ * A frame (each ending with the present, dev_present): uniform -- Clear + one instanced DrawIndexedPrimitive
  * (buffers bound once); adaptive -- the per-edge
  * levels for the camera, the buckets and their buffers (tess_bind_adaptive, patterns from a cache kept across
  * frames), Clear + one instanced draw per bucket: everything a view-dependent LOD pays per frame.
@@ -233,7 +233,7 @@ static is_result d_adaptive_frame(void *ctx)
     is_result r = tess_bind_adaptive(s->dev, s->m, s->e, s->cache, &s->a);
     if (r == IS_OK) r = dev_clear(s->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, IS_COLOR_ARGB(255, 46, 52, 64), 1.0f);
     for (size_t k = 0; k < s->a.n_buckets && r == IS_OK; k++) r = tess_draw_bucket(s->dev, &s->a, k);
-    if (r == IS_OK && !dev_render_target(s->dev)) r = IS_ERR_INVALIDCALL;   /* the present: every pixel written */
+    if (r == IS_OK && !dev_present(s->dev)) r = IS_ERR_INVALIDCALL;   /* the present: every pixel's colour written */
     return r;
 }
 
@@ -261,7 +261,7 @@ static is_result d_uniform_frame(void *ctx)
     d_uniform *s = ctx;
     is_result r = dev_clear(s->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, IS_COLOR_ARGB(255, 46, 52, 64), 1.0f);
     if (r == IS_OK) r = dev_draw_indexed_primitive(s->dev, IS_PT_TRIANGLELIST, 0, 0, s->r->n_vertices, 0, s->r->n_prims);
-    if (r == IS_OK && !dev_render_target(s->dev)) r = IS_ERR_INVALIDCALL;   /* the present: every pixel written */
+    if (r == IS_OK && !dev_present(s->dev)) r = IS_ERR_INVALIDCALL;   /* the present: every pixel's colour written */
     return r;
 }
 

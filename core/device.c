@@ -591,6 +591,15 @@ rs_target *dev_render_target(is_device *dev)
     return &dev->rt;
 }
 
+/* The target with its colour and AOV planes written (its depth's deferred clear may stay deferred). */
+const rs_target *dev_present(is_device *dev)
+{
+    if (!dev_live(dev)) return NULL;
+    dev_scene_flush(dev);
+    rs_target_flush_planes(dev->rs, &dev->rt, RS_CLEAR_COLOR);
+    return &dev->rt;
+}
+
 /* The recorded draws run now; the first error of one since the last call (device.h). */
 is_result dev_flush(is_device *dev)
 {
@@ -603,7 +612,7 @@ is_result dev_flush(is_device *dev)
 is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count)
 {
     if (!dev_live(dev) || !rgba) return IS_ERR_INVALIDCALL;
-    rs_target *rt = dev_render_target(dev);
+    const rs_target *rt = dev_present(dev);   /* the colour alone is read */
     if (count < (size_t)rt->width * (size_t)rt->height) {
         snprintf(dev->err, sizeof dev->err, "GetRenderTargetData: a buffer of %zu pixels for a %dx%d target", count,
                  rt->width, rt->height);

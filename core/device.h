@@ -508,6 +508,12 @@ INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype 
  * pointer kept across draws may see a target they have not been drawn into yet.  dev_stats runs the recorded
  * draws too (their counters). */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
+/* The frame as a Present shows it: the recorded draws run and the colour (and AOV) planes written, as
+ * dev_render_target, but a deferred dev_clear of the depth buffer stays deferred in the tiles no draw touched
+ * (written when something reads the depth -- dev_render_target, binding other targets -- or dropped when the next
+ * frame's clear replaces it).  So read only the colour and AOV planes of the target it returns; NULL for a NULL or
+ * destroyed device. */
+INSTESS_API const rs_target *dev_present(is_device *dev);
 /* Run the draws recorded so far now and report how they went.  Instanced triangle draws on the fast path are
  * recorded, not run (a snapshot of the shader, constants, samplers, fetch plan and indices; the vertex buffers
  * they read stay the application's): the device runs them together -- one parallel set-up region and one tile

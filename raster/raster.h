@@ -300,6 +300,11 @@ INSTESS_API void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigne
 /* Write every tile of rt whose clear is still deferred on rs (call before anything else reads or writes rt's
  * planes). */
 INSTESS_API void rs_target_flush(rs_context *rs, rs_target *rt);
+/* rs_target_flush for the planes in `planes` alone (RS_CLEAR_COLOR: colour and AOV planes; RS_CLEAR_DEPTH): those
+ * may then be read; the others' deferred clear stays deferred (a present reads only the colour: the depth of the
+ * tiles no draw touched is then written only if something reads it -- rs_target_flush -- before the next
+ * rs_target_clear_deferred replaces it).  The queued draws run first, as for rs_target_flush. */
+INSTESS_API void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes);
 /* Set the stencil of every sample of pixels x0 <= x < x1, y0 <= y < y1 (clipped to the target) to the low 8 bits
  * of value (D3DCLEAR_STENCIL; never deferred: the stencil plane is only written by stencil draws and this). */
 INSTESS_API void rs_target_clear_stencil(rs_target *rt, int x0, int y0, int x1, int y1, uint32_t value);

@@ -232,7 +232,8 @@ struct rs_context {
     size_t tile_stats_cap;
     void *pv;                    /* rs_pvert scratch of the shared pass */
     size_t pv_cap;
-    uint8_t *pend;               /* per tile of pend_rt: 1 while its deferred clear is not yet written */
+    uint8_t *pend;               /* per tile of pend_rt: the planes (RS_CLEAR_COLOR, _DEPTH) whose deferred clear is
+                                    not yet written there; 0: none */
     size_t pend_cap;
     int pend_tiles;              /* tiles of pend_rt with a deferred clear; 0: none */
     rs_target *pend_rt;          /* the target of the deferred clear (rs_target_clear_deferred) */

@@ -4,7 +4,9 @@
  * Deferred clear: dev_clear records the clear; the tile pass writes each tile's clear when a draw first touches the
  * tile -- into the thread's tile buffer (32 KB for 1 sample: it stays in the L1/L2 cache), which the tile's
  * primitives are drawn into and which is then copied to the target; rs_target_flush writes the tiles no draw
- * touched.  (Measured on 2 cores: the copy-out costs 1 thread ~2%, and saves 2 threads 6-12% on scenes A and C,
+ * touched (rs_target_flush_planes only some planes: the present writes the colour, and the depth plane's clear stays
+ * deferred per tile until something reads the depth or the next frame's clear replaces it -- on scene C most
+ * tiles are never drawn and their 16 MB of depth are then never written).  (Measured on 2 cores: the copy-out costs 1 thread ~2%, and saves 2 threads 6-12% on scenes A and C,
  * which no longer share the L2/L3 traffic of drawing in the target.)  The copy-out uses streaming stores on planes
  * of COPY_STREAM_BYTES or more whose rows are whole cache lines (planes are 64-byte aligned): they skip reading
  * the target's lines before writing them (scene C: 1 thread 4.3 -> 3.3 ms, 2 threads 2.6 -> 1.9 ms).  Streaming
@@ -244,10 +246,11 @@ void rs_target_resolve(const rs_target *rt, uint32_t *out)
     }
 }
 
-/* Write rt's deferred clear (as rs_target_clear with rs's pending values) into 64x64 tile (tx, ty); streaming
- * stores on the planes the tile copy-out streams into (the present's tiles no draw touched: on a 2048x2048 target
- * most of its 32 MB, which plain stores would first read). */
-static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty)
+/* Write the planes `planes` (RS_CLEAR_COLOR: colour and AOV planes, RS_CLEAR_DEPTH) of rt's deferred clear (as
+ * rs_target_clear with rs's pending values) into 64x64 tile (tx, ty); streaming stores on the planes the tile
+ * copy-out streams into (the present's tiles no draw touched: on a 2048x2048 target most of its 32 MB, which
+ * plain stores would first read). */
+static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsigned planes)
 {
     int x0 = tx * RS_TILE, y0 = ty * RS_TILE;
     int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
@@ -259,9 +262,9 @@ static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty)
     memcpy(&zb, &rs->pend_z, 4);
     for (int y = y0; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns;
-        if (rs->pend_flags & RS_CLEAR_COLOR) fill32(rt->color + at, rs->pend_rgba, n, stream);
-        if (rs->pend_flags & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, stream);
-        for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
+        if (planes & RS_CLEAR_COLOR) fill32(rt->color + at, rs->pend_rgba, n, stream);
+        if (planes & RS_CLEAR_DEPTH) fill32((word32 *)rt->depth + at, zb, n, stream);
+        for (int k = 0; (planes & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
                    (size_t)(x1 - x0) * c * sizeof(float));
@@ -282,21 +285,27 @@ static bool pending_on(const rs_context *rs, const rs_target *rt)
     return rs->pend_tiles > 0 && rs->pend_rt == rt && rt->color == rs->pend_color && tile_count(rt) == rs->pend_tiles;
 }
 
-void rs_target_flush(rs_context *rs, rs_target *rt)
+void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
 {
     rs_flush(rs);   /* the queued draws (rs_set_scene) first */
     if (!rs || !rt || !pending_on(rs, rt)) {
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
     }
+    planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH;
     int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE;
     int nt = rs->threads > 0 ? rs->threads : omp_get_num_procs();
     nt = nt < 1 ? 1 : nt;
 #pragma omp parallel for schedule(dynamic, 8) num_threads(nt)
     for (int t = 0; t < n; t++)
-        if (rs->pend[t]) fill_tile(rs, rt, t % tx, t / tx);
-    rs->pend_tiles = 0;
+        if (rs->pend[t] & planes) {
+            fill_tile(rs, rt, t % tx, t / tx, rs->pend[t] & planes);
+            rs->pend[t] &= (uint8_t)~planes;
+        }
+    if ((rs->pend_flags & ~planes) == 0) rs->pend_tiles = 0;   /* nothing left deferred */
 }
+
+void rs_target_flush(rs_context *rs, rs_target *rt) { rs_target_flush_planes(rs, rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH); }
 
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
@@ -315,7 +324,7 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
         }
         rs->pend = p, rs->pend_cap = n;
     }
-    memset(rs->pend, 1, n);
+    memset(rs->pend, (int)(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)), n);   /* per tile: the planes deferred */
     rs->pend_tiles = (int)n, rs->pend_rt = rt, rs->pend_color = rt->color;
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
 }
@@ -323,7 +332,7 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile)
 {
     if (!pending_on(rs, j->rt) || !rs->pend[tile]) return;
-    fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x);
+    fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x, rs->pend[tile]);
     rs->pend[tile] = 0;
 }
 
@@ -341,19 +350,20 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
     const int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)RS_TILE * ns;
     uint32_t *col = buf, *dep = col + row * RS_TILE, zb;
+    const unsigned pf = rs->pend[tile];   /* the planes still deferred in this tile; the others from the target */
     memcpy(&zb, &rs->pend_z, 4);
     /* a cleared plane is filled whole, its rows at once (the columns past the target's right edge too, which
      * nothing copies out): one call per plane where one per row cost the fill's set-up 64 times */
     const size_t rows = (size_t)(y1 - y0) * row;
-    if (rs->pend_flags & RS_CLEAR_COLOR) fill32(col, rs->pend_rgba, rows, false);
-    if (rs->pend_flags & RS_CLEAR_DEPTH) fill32(dep, zb, rows, false);
-    const bool keeps = (~rs->pend_flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)) != 0; /* a plane from the target */
-    const bool aov = (rs->pend_flags & RS_CLEAR_COLOR) && rt->n_aov > 0;
+    if (pf & RS_CLEAR_COLOR) fill32(col, rs->pend_rgba, rows, false);
+    if (pf & RS_CLEAR_DEPTH) fill32(dep, zb, rows, false);
+    const bool keeps = (~pf & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)) != 0; /* a plane from the target */
+    const bool aov = (pf & RS_CLEAR_COLOR) && rt->n_aov > 0;
     for (int y = y0; y < y1 && (keeps || aov); y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)x0) * ns, bt = (size_t)(y - y0) * row;
-        if (!(rs->pend_flags & RS_CLEAR_COLOR)) memcpy(col + bt, rt->color + at, n * sizeof *col);
-        if (!(rs->pend_flags & RS_CLEAR_DEPTH)) memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
-        for (int k = 0; (rs->pend_flags & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
+        if (!(pf & RS_CLEAR_COLOR)) memcpy(col + bt, rt->color + at, n * sizeof *col);
+        if (!(pf & RS_CLEAR_DEPTH)) memcpy(dep + bt, rt->depth + at, n * sizeof *dep);
+        for (int k = 0; (pf & RS_CLEAR_COLOR) && k < rt->n_aov; k++) {
             size_t c = (size_t)rt->aov[k].comps;
             memset(rt->aov[k].data + ((size_t)y * (size_t)rt->width + (size_t)x0) * c, 0,
                    (size_t)(x1 - x0) * c * sizeof(float));

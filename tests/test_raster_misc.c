@@ -1,6 +1,7 @@
 /* tests/test_raster_misc.c -- culling and winding, depth functions, z write, depth bias, wireframe and point
  * fill pixel positions, POINTS and LINES, MSAA coverage and resolve on an edge, blend factors, determinism
- * across thread counts, RS_EINVAL on bad input, the target API and the stats counters. */
+ * across thread counts, RS_EINVAL on bad input, the target API (the deferred clear flushed plane by plane too) and
+ * the stats counters. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -603,6 +604,66 @@ static void test_work_bound(void **state)
     free(v);
 }
 
+/* Depth of pixel (x, y), sample 0. */
+static float depth_at(const rs_target *rt, int x, int y) { return rt->depth[((size_t)y * rt->width + x) * rt->samples]; }
+
+/* rs_target_flush_planes: a present's flush of the colour alone writes every tile's colour and leaves the depth of
+ * the tiles no draw touched as it was (the deferred clear still deferred); a draw into such a tile afterwards sees
+ * the deferred clear's depth; rs_target_flush writes it; the next frame's clear of both planes replaces it without
+ * writing it; a clear of the colour alone writes the deferred depth first.  192x128: six tiles; the triangle
+ * drawn first lies in tile 0, the second in tile 5 (pixels 128..191 x 64..127). */
+static void test_flush_planes(void **state)
+{
+    (void)state;
+    enum { W = 192, H = 128 };
+    const uint32_t bg = 0xff102030u, old = 0x11111111u;
+    rs_state st = def_state(W, H);
+    const rs_vertex a[3] = { sv(4, 4, 0.5f, WHITE, W, H), sv(40, 4, 0.5f, WHITE, W, H), sv(4, 40, 0.5f, WHITE, W, H) };
+    const rs_vertex b[3] = { sv(140, 70, 0.75f, WHITE, W, H), sv(180, 70, 0.75f, WHITE, W, H),
+                             sv(140, 110, 0.75f, WHITE, W, H) };
+    for (int threads = 1; threads <= 2; threads++) {
+        rs_target rt;
+        assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+        rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, old, 0.25f);   /* what a flush must not keep */
+        rs_context *rs = rs_create(threads);
+        rs_stats s;
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, a, 3, NULL, 1, &s), RS_OK);
+        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        assert_int_equal(red(&rt, 8, 8, 0), 255);                      /* drawn */
+        assert_int_equal(rt.color[(size_t)50 * W + 50], bg);            /* tile 0, not covered: cleared */
+        assert_true(depth_at(&rt, 50, 50) == 1.0f);                     /* tile 0 was drawn: both planes written */
+        for (int y = 0; y < H; y += 9)
+            for (int x = 64; x < W; x += 7) {
+                assert_int_equal(rt.color[(size_t)y * W + x], bg);      /* untouched tiles: the colour cleared ... */
+                assert_true(depth_at(&rt, x, y) == 0.25f);              /* ... their depth not yet written */
+            }
+        /* a draw into tile 5 now: its depth test meets the deferred clear's 1.0, not the 0.25 left in the plane */
+        assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, b, 3, NULL, 1, &s), RS_OK);
+        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        assert_int_equal(s.samples_written, s.samples_tested);
+        assert_int_equal(red(&rt, 145, 75, 0), 255);
+        assert_true(depth_at(&rt, 145, 75) == 0.75f && depth_at(&rt, 190, 126) == 1.0f);
+        assert_true(depth_at(&rt, 100, 100) == 0.25f);                  /* tile 4: still deferred */
+        /* the next frame's clear of both planes: the deferred depth is replaced, never written */
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 0.5f);
+        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        assert_true(depth_at(&rt, 100, 100) == 0.25f);
+        assert_true(depth_at(&rt, 145, 75) == 0.75f);                   /* written last frame, deferred again */
+        rs_target_flush(rs, &rt);                                       /* and now written: the new frame's */
+        assert_true(depth_at(&rt, 100, 100) == 0.5f && depth_at(&rt, 145, 75) == 0.5f && depth_at(&rt, 8, 8) == 0.5f);
+        /* a clear of the colour alone keeps the depth: a deferred depth clear is written first */
+        rs_target_clear(&rt, RS_CLEAR_DEPTH, 0, 0.25f);
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
+        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR, old, 0.0f);
+        rs_target_flush(rs, &rt);
+        assert_true(depth_at(&rt, 100, 100) == 1.0f && rt.color[(size_t)100 * W + 100] == old);
+        rs_destroy(rs);
+        rs_target_free(&rt);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -619,6 +680,7 @@ int main(void)
         cmocka_unit_test(test_einval),
         cmocka_unit_test(test_stats),
         cmocka_unit_test(test_work_bound),
+        cmocka_unit_test(test_flush_planes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

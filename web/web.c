@@ -240,7 +240,7 @@ static int draw_part(web_ctx *w, int k, const scene_opts *o)
     int rc = dev ? scene_render_on(dev, o, m, &g, &st, w->message, sizeof w->message) : -1;
     double t1 = now_ms();
     if (rc == 0) {
-        rs_target_resolve(dev_render_target(dev), p->frame);
+        rs_target_resolve(dev_present(dev), p->frame);
         p->width = o->width, p->height = o->height;
         write_stats(p, o, m, &st, t1 - t0, now_ms() - t1);
     }

@@ -460,7 +460,7 @@ static int render_part(view_state *v, int part, const scene_opts *o, int x0, cha
                                            : scene_render_on(dev, o, v->draw, &g, NULL, err, errlen);
     core_grid_free(&g);
     if (rc != 0) return -1;
-    const rs_target *rt = dev_render_target(dev);
+    const rs_target *rt = dev_present(dev);   /* colour and AOV planes: what the views show */
     if (v->show == VIEW_SHOW_COLOR && !v->split) {
         resolve_parallel(rt, v->frame, o->threads);
     } else if (v->show == VIEW_SHOW_COLOR) {
