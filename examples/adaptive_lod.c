@@ -86,7 +86,7 @@ int main(int argc, char **argv)
     uint32_t *rgba = rc == 0 ? malloc((size_t)WIDTH * HEIGHT * sizeof *rgba) : NULL;
     if (rc == 0 && !rgba) rc = -1, snprintf(err, sizeof err, "out of memory");
     if (rc == 0) {   /* the multisampled target, resolved to one RGBA8 value per pixel */
-        rs_target_resolve(dev_render_target(dev), rgba);
+        rs_target_resolve(dev_present(dev), rgba);   /* the present: the colour written */
         image_from_rgba8(&img, rgba);
         is_image_meta meta = {"instess " INSTESS_VERSION, "examples/adaptive_lod: sphere, smoothed patch, screen 8 px"};
         rc = image_write(&img, argv[1], &meta, err, sizeof err);

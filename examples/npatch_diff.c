@@ -93,7 +93,7 @@ static int render(is_image *img, char *err, size_t errlen)
     if (rc == 0 && !rgba) rc = -1, snprintf(err, errlen, "out of memory");
     if (rc == 0) rc = image_alloc(img, WIDTH, HEIGHT, "R,G,B,A", err, errlen);
     if (rc == 0) {   /* the multisampled target, resolved to one RGBA8 value per pixel */
-        rs_target_resolve(dev_render_target(dev), rgba);
+        rs_target_resolve(dev_present(dev), rgba);   /* the present: the colour written */
         image_from_rgba8(img, rgba);
     }
     free(rgba);
