@@ -586,8 +586,8 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
 rs_target *dev_render_target(is_device *dev)
 {
     if (!dev_live(dev)) return NULL;
-    dev_scene_flush(dev);
-    rs_target_flush(dev->rs, &dev->rt);
+    rs_target_flush(dev->rs, &dev->rt);   /* the recorded draws, the untouched tiles filled in their tile pass */
+    dev_scene_flush(dev);                 /* (their counters and errors) */
     return &dev->rt;
 }
 
@@ -595,8 +595,8 @@ rs_target *dev_render_target(is_device *dev)
 const rs_target *dev_present(is_device *dev)
 {
     if (!dev_live(dev)) return NULL;
+    rs_target_flush_planes(dev->rs, &dev->rt, RS_CLEAR_COLOR);   /* as dev_render_target, the colour alone */
     dev_scene_flush(dev);
-    rs_target_flush_planes(dev->rs, &dev->rt, RS_CLEAR_COLOR);
     return &dev->rt;
 }
 

@@ -450,8 +450,10 @@ static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int t
 
 /* Rasterize tile `tile`: draws d[0..nd) (one target) one after the other, each chunk's bin of it in submission
  * order; counters into ts[0..2).  buf: the thread's tile buffer (used when the tile's clear is deferred: every
- * draw of the tile then draws in it) or NULL (the tile is drawn in the target). */
-static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd, int tile, uint64_t *ts, void *buf)
+ * draw of the tile then draws in it) or NULL (the tile is drawn in the target).  A tile no draw touches gets the
+ * deferred clear of the planes `fill` (RS_CLEAR_*; 0: none). */
+static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd, int tile, uint64_t *ts, void *buf,
+                        unsigned fill)
 {
     const rs_job *j = &d[0].j;
     rs_tile t;
@@ -460,7 +462,8 @@ static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd,
     t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
     bool has = tile_has_prims(rs, d, nd, tile);
     bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
-    if (has && !buffered) rs_tile_flush(rs, j, tile);
+    if (has && !buffered) rs_tile_flush(rs, j, tile, RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
+    if (!has && fill) rs_tile_flush(rs, j, tile, fill);
     for (size_t k = 0; has && k < nd; k++) raster_tile_draw(rs, &d[k], tile, &t);
     if (buffered) rs_tile_buffer_end(rs, j, tile, &t);
     ts[0] = t.tested;
@@ -519,9 +522,10 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t c0, size_t n_chunks
     return true;
 }
 
-/* Rasterize every tile in parallel for draws d[0..nd) (one target, the same tiles); the tiles' counters in
- * rs->tile_stats; returns the region's ms (rs_set_timing). */
-static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, int nt)
+/* Rasterize every tile in parallel for draws d[0..nd) (one target, the same tiles), the tiles they do not touch
+ * filled with the deferred clear of planes `fill`; the tiles' counters in rs->tile_stats; returns the region's ms
+ * (rs_set_timing). */
+static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, int nt, unsigned fill)
 {
     const rs_job *j = &d[0].j;
     int ntl = j->n_tiles;
@@ -532,7 +536,8 @@ static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, in
     const double t0 = phase_clock(rs);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (int t = 0; t < ntl; t++)
-        raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL);
+        raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL,
+                    fill);
     return phase_clock(rs) - t0;
 }
 
@@ -543,7 +548,7 @@ static void raster_tiles(const rs_job *j, rs_context *rs, size_t n_chunks, size_
 {
     rs_scene_draw d;
     d.j = *j, d.c0 = 0, d.nc = n_chunks;
-    const double tile_ms = raster_scene(rs, &d, 1, nt);
+    const double tile_ms = raster_scene(rs, &d, 1, nt, 0);
     if (!stats) return;
     gather_stats(j, rs, 0, n_chunks, n_prims, stats);
     stats->setup_ms = setup_ms, stats->tile_ms = tile_ms;
@@ -597,7 +602,9 @@ static void scene_check(rs_context *rs, rs_scene_draw *d)
     k->prims_degenerate += s.prims_degenerate, k->prims_drawn += s.prims_drawn;
 }
 
-void rs_flush(rs_context *rs)
+void rs_flush(rs_context *rs) { rs_flush_fill(rs, NULL, 0); }
+
+void rs_flush_fill(rs_context *rs, const rs_target *rt, unsigned planes)
 {
     if (!rs || rs->q_n == 0) return;
     for (size_t k = 0; k < rs->q_n; k++) rs->q[k].j.st = &rs->q[k].st;   /* the queue may have moved */
@@ -605,7 +612,7 @@ void rs_flush(rs_context *rs)
     rs_stats *s = rs->sink;   /* set while draws are recorded (rs_set_scene flushes before it changes) */
     s->setup_ms += scene_setup(rs, nt);
     for (size_t k = 0; k < rs->q_n; k++) scene_check(rs, &rs->q[k]);
-    const double tile_ms = raster_scene(rs, rs->q, rs->q_n, nt);
+    const double tile_ms = raster_scene(rs, rs->q, rs->q_n, nt, rt == rs->q_rt && rt->color == rs->q_color ? planes : 0);
     const int ntl = rs->q[0].j.n_tiles;
     for (int t = 0; t < ntl; t++) {
         s->samples_tested += rs->tile_stats[2 * (size_t)t];

@@ -354,12 +354,16 @@ static inline bool rs_group_ok(const rs_job *j)
 bool rs_reserve(void **buf, size_t *cap, size_t n, size_t size);
 /* Bin chunk c's primitives to tiles (bin_off / bin_idx); sets c->oom on allocation failure. */
 void rs_bin_chunk(const rs_job *j, rs_chunk *c);
+/* rs_flush, and when the queued draws go into rt, the tiles none of them touches get the deferred clear of the
+ * planes `planes` in the same tile pass (rs_target_flush_planes: one parallel region instead of two). */
+void rs_flush_fill(rs_context *rs, const rs_target *rt, unsigned planes);
 
 /* ---- target.c ---- */
 /* rs_target_clear on `threads` threads (0: all cores), split by rows (rs_target_clear_deferred's fallback). */
 void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float z, int threads);
-/* The tile pass: write tile `tile` of the job's target if its clear is deferred on rs. */
-void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile);
+/* The tile pass: write the planes `planes` (RS_CLEAR_*) of tile `tile` of the job's target whose clear is deferred
+ * on rs (and mark them written). */
+void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned planes);
 /* Bytes of one tile buffer for the job's target (64x64 pixels of colour and depth samples). */
 size_t rs_tile_buffer_size(const rs_job *j);
 /* The tile pass, when tile `tile`'s clear is deferred: fill buffer `buf` (rs_tile_buffer_size bytes, 32-byte

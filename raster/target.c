@@ -287,16 +287,17 @@ static bool pending_on(const rs_context *rs, const rs_target *rt)
 
 void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
 {
-    rs_flush(rs);   /* the queued draws (rs_set_scene) first */
+    planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH;
+    rs_flush_fill(rs, rt, planes);   /* the queued draws (rs_set_scene) first, the tiles they leave filled too */
     if (!rs || !rt || !pending_on(rs, rt)) {
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
     }
-    planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH;
-    int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE;
+    int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE, left = 0;
+    for (int t = 0; t < n && !left; t++) left = rs->pend[t] & planes;
     int nt = rs->threads > 0 ? rs->threads : omp_get_num_procs();
     nt = nt < 1 ? 1 : nt;
-#pragma omp parallel for schedule(dynamic, 8) num_threads(nt)
+#pragma omp parallel for schedule(dynamic, 8) num_threads(nt) if (left)
     for (int t = 0; t < n; t++)
         if (rs->pend[t] & planes) {
             fill_tile(rs, rt, t % tx, t / tx, rs->pend[t] & planes);
@@ -329,11 +330,11 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
 }
 
-void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile)
+void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned planes)
 {
-    if (!pending_on(rs, j->rt) || !rs->pend[tile]) return;
-    fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x, rs->pend[tile]);
-    rs->pend[tile] = 0;
+    if (!pending_on(rs, j->rt) || !(rs->pend[tile] & planes)) return;
+    fill_tile(rs, j->rt, tile % j->tiles_x, tile / j->tiles_x, rs->pend[tile] & planes);
+    rs->pend[tile] &= (uint8_t)~planes;
 }
 
 size_t rs_tile_buffer_size(const rs_job *j)

@@ -4,7 +4,9 @@
  * of many small draws, each with its own states (cull mode, depth function and writes, blending, scissor,
  * viewport), with lines drawn by rs_draw in between and a draw on a second target, must give the same bytes and
  * counters as the same frame drawn draw by draw (scene off) and on the reference path, for 1 and 2 threads; the
- * queued draws' samples arrive in the sink only when the queue is flushed.  Deterministic: a fixed seed. */
+ * queued draws' samples arrive in the sink only when the queue is flushed; a present (the colour flushed alone)
+ * fills the untouched tiles' colour in the draws' tile pass and leaves their depth deferred.  Deterministic: a
+ * fixed seed. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -256,12 +258,76 @@ static void test_flush_fills_untouched_tiles(void **state)
     }
 }
 
+/* Frame f's draws (no lines, no second target) into a fresh 448x320 target whose planes held colour `old` and
+ * depth 0.25 before the frame's clear, on `threads` threads, scene on or off; present: the colour flushed alone
+ * first (rs_target_flush_planes: with the scene on, the tiles no draw touched are filled in the draws' tile pass),
+ * and then the tiles outside the draws' viewports (x >= 256 or y >= 192) must hold the clear colour and the old
+ * depth.  The planes after rs_target_flush into color / depth (448 x 320 each). */
+static void draw_present(const frame *f, bool scene, bool present, int threads, uint32_t *color, float *depth)
+{
+    enum { PW = 448, PH = 320 };
+    const uint32_t old = 0x01020304u, bg = 0xff402010u;
+    rs_context *rs = rs_create(threads);
+    rs_target rt;
+    assert_non_null(rs);
+    assert_int_equal(rs_target_init(&rt, PW, PH, 1), RS_OK);
+    rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, old, 0.25f);
+    rs_stats sink = {0}, s;
+    rs_set_scene(rs, scene ? &sink : NULL);
+    rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
+    src_ctx ctx[DRAWS];
+    for (int d = 0; d < DRAWS; d++) {
+        ctx[d] = (src_ctx){f, d};
+        rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &ctx[d], 0, 0};
+        assert_int_equal(rs_draw_source(rs, &f->st[d], &rt, &src, &s), RS_OK);
+    }
+    if (present) {
+        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        if (scene) assert_true(sink.samples_written > 0);   /* the queue ran */
+        for (int y = 0; y < PH; y += 3)
+            for (int x = 0; x < PW; x += 5) {
+                const size_t p = (size_t)y * PW + (size_t)x;
+                if (x < 256 && y < 192) continue;
+                if (rt.color[p] != bg || rt.depth[p] != 0.25f)
+                    fail_msg("pixel (%d, %d) after the present: %08x, depth %g", x, y, rt.color[p], rt.depth[p]);
+            }
+    }
+    rs_target_flush(rs, &rt);
+    memcpy(color, rt.color, PW * PH * sizeof *color);
+    memcpy(depth, rt.depth, PW * PH * sizeof *depth);
+    rs_target_free(&rt);
+    rs_destroy(rs);
+}
+
+/* The present (the colour alone) after a scene: the tiles no draw touched get the clear colour in the draws' tile
+ * pass and keep their depth's clear deferred; the bytes after the full flush are those of the frame drawn draw by
+ * draw and flushed whole, 1 and 2 threads. */
+static void test_present_fused(void **state)
+{
+    (void)state;
+    enum { N = 448 * 320 };
+    frame *f = malloc(sizeof *f);
+    uint32_t *c0 = malloc(N * sizeof *c0), *c1 = malloc(N * sizeof *c1);
+    float *d0 = malloc(N * sizeof *d0), *d1 = malloc(N * sizeof *d1);
+    assert_true(f && c0 && c1 && d0 && d1);
+    make_frame(f, 0x51ed270b27u);
+    draw_present(f, false, false, 1, c0, d0);
+    for (int threads = 1; threads <= 2; threads++)
+        for (int scene = 0; scene < 2; scene++) {
+            draw_present(f, scene, true, threads, c1, d1);
+            assert_memory_equal(c0, c1, N * sizeof *c0);
+            assert_memory_equal(d0, d1, N * sizeof *d0);
+        }
+    free(f), free(c0), free(c1), free(d0), free(d1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scene_same_bytes),
         cmocka_unit_test(test_scene_defers),
         cmocka_unit_test(test_flush_fills_untouched_tiles),
+        cmocka_unit_test(test_present_fused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
