@@ -89,6 +89,18 @@ static inline v8i to8_8(v8f c)
     return __builtin_convertvector(s * bf(255.0f) + bf(0.5f), v8i);
 }
 
+/* to8_8 for a channel that then goes through shade8's saturating packs (packusdw, then packuswb), which do the
+ * lower saturation: min(1, c) is 1 < c ? 1 : c (c when NaN), then * 255 + 0.5 and truncation as rs_to8.  Per
+ * lane the same 8 bits after the packs: c in (0, 1] gives rs_to8's operations; c > 1 gives 1, as rs_sat; c <= 0
+ * (-0, -inf included) gives at most 0.5, truncated to 0 or to a negative int32 (0x80000000 when out of range),
+ * which packusdw makes 0, as rs_sat's 0 -> 0.5 -> 0; NaN stays NaN, truncated to 0x80000000: 0, as rs_sat's NaN
+ * -> 0.  packusdw leaves 0..255, which packuswb keeps.  One instruction less per channel than to8_8 (the max). */
+static inline __m256i to8_8p(v8f c)
+{
+    const v8f s = (v8f)_mm256_min_ps((__m256)bf(1.0f), (__m256)c);
+    return _mm256_cvttps_epi32((__m256)(s * bf(255.0f) + bf(0.5f)));
+}
+
 /* The 8-bit alpha of colour slot p when its alpha does not vary (p[10], p[11] are zeros), else -1.  Then
  * (p9 + b1 * p10) + b2 * p11 is p9 (or a zero when p9 is one) when b1 * p10 + b2 * p11 is not NaN, and NaN
  * when it is (b1 or b2 not finite): rs_to8 gives rs_to8(p9), resp. 0, exactly what shade8 computes from it. */

@@ -151,19 +151,20 @@ typedef struct wconst {
     v8i a8;
 } wconst;
 
-/* shade8 with w's vectors: the same operations in the same order. */
+/* shade8 with w's vectors: the same operations in the same order, but for the lower saturation, which the packs
+ * do (to8_8p): the same bytes. */
 ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 {
     const v8f *k = w->k;
-    __m256i r = (__m256i)to8_8(k[0] + b1 * k[1] + b2 * k[2]);
-    __m256i g = (__m256i)to8_8(k[3] + b1 * k[4] + b2 * k[5]);
-    __m256i b = (__m256i)to8_8(k[6] + b1 * k[7] + b2 * k[8]);
+    __m256i r = to8_8p(k[0] + b1 * k[1] + b2 * k[2]); /* (to8_8p: the packs below saturate) */
+    __m256i g = to8_8p(k[3] + b1 * k[4] + b2 * k[5]);
+    __m256i b = to8_8p(k[6] + b1 * k[7] + b2 * k[8]);
     __m256i al;
     if (a8 >= 0) {
         v8f t = b1 * k[10] + b2 * k[11];
         al = _mm256_and_si256((__m256i)_mm256_cmp_ps((__m256)t, (__m256)t, _CMP_ORD_Q), (__m256i)w->a8);
     } else {
-        al = (__m256i)to8_8(k[9] + b1 * k[10] + b2 * k[11]);
+        al = to8_8p(k[9] + b1 * k[10] + b2 * k[11]);
     }
     __m256i x = _mm256_packus_epi16(_mm256_packus_epi32(r, g), _mm256_packus_epi32(b, al));
     const __m256i order = _mm256_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15,
