@@ -66,6 +66,13 @@ static inline bool lanes_exact(v8i X) { return mask_of((X >= bi(1 << 24)) | (X <
 /* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
 static inline v8f zclamp8(v8f z, v8f lo, v8f hi) { return sel(z >= lo, sel(z <= hi, z, hi), lo); }
 
+/* zclamp8 in three instructions: min(hi, z) is hi < z ? hi : z, which is z <= hi ? z : hi but for a NaN z (then
+ * z), and the outer test's blend gives lo for that: the same bits per lane, -0 and NaN included. */
+static inline v8f zclamp8m(v8f z, v8f lo, v8f hi)
+{
+    return sel(z >= lo, (v8f)_mm256_min_ps((__m256)hi, (__m256)z), lo);
+}
+
 /* rs_zpass per lane for compare function f. */
 ALWAYS_INLINE v8i zpass8(int f, v8f z, v8f d)
 {

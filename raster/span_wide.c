@@ -160,9 +160,9 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
     __m256i g = to8_8p(k[3] + b1 * k[4] + b2 * k[5]);
     __m256i b = to8_8p(k[6] + b1 * k[7] + b2 * k[8]);
     __m256i al;
-    if (a8 >= 0) {
-        v8f t = b1 * k[10] + b2 * k[11];
-        al = _mm256_and_si256((__m256i)_mm256_cmp_ps((__m256)t, (__m256)t, _CMP_ORD_Q), (__m256i)w->a8);
+    if (a8 >= 0) { /* k[10], k[11] are zeros: b1 * k[10] + b2 * k[11] is NaN iff one of the products is */
+        const __m256 t1 = (__m256)(b1 * k[10]), t2 = (__m256)(b2 * k[11]);
+        al = _mm256_and_si256((__m256i)_mm256_cmp_ps(t1, t2, _CMP_ORD_Q), (__m256i)w->a8);
     } else {
         al = to8_8p(k[9] + b1 * k[10] + b2 * k[11]);
     }
@@ -187,7 +187,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
     v8i pass = lanes;
     if (m.ze) {
         const v8f d = (v8f)load_lanes(dp, dp1, split);
-        const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
+        const v8f z = zclamp8m(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
         if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
     }
@@ -210,17 +210,23 @@ typedef struct xcols {
 } xcols;
 
 /* Fill the first 8n columns of xc from column bx: per column the values rows8_at gives it (its X is the same
- * integer whichever group holds it, so the same floats). */
+ * integer whichever group holds it, so the same floats), without its sample offset: on a 1-sample target sox[0]
+ * is 0 (draw.c) and fx + 0.0f is fx (fx is an integer times 1/256, never -0). */
 static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int bx, int n)
 {
-    RS_ASSERT(8 * n <= XCOLS);
-    for (int v = 0; v < n; v++) {
-        const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)(bx + 8 * v) * RS_SUB - j->cx - tr->vx)) +
-                                            lane_idx * RS_SUB);
-        memcpy(xc->zx + 8 * v, &r.zx, 32);
-        memcpy(xc->sx + 8 * v, &r.sx, 32);
-        memcpy(xc->q1x + 8 * v, &r.q1x, 32);
-        memcpy(xc->q2x + 8 * v, &r.q2x, 32);
+    RS_ASSERT(8 * n <= XCOLS && j->sox[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f z0 = bf(tr->z[0]), z2 = bf(tr->z[2]), s0 = bf(tr->s[0]), s2 = bf(tr->s[2]);
+    const v8f a0 = bf(tr->q1[0]), a2 = bf(tr->q1[2]), c0 = bf(tr->q2[0]), c2 = bf(tr->q2[2]);
+    v8i X = bi((int32_t)((int64_t)bx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
+    for (int v = 0; v < n; v++, X += bi(8 * RS_SUB)) {
+        RS_ASSERT(lanes_exact(X));
+        const v8f fx = __builtin_convertvector(X, v8f) * bf(k); /* |X| < 2^24: exact in float, as tri_pixel's */
+        const v8f zx = z2 + z0 * fx, sx = s2 + s0 * fx, q1x = a2 + a0 * fx, q2x = c2 + c0 * fx;
+        memcpy(xc->zx + 8 * v, &zx, 32);
+        memcpy(xc->sx + 8 * v, &sx, 32);
+        memcpy(xc->q1x + 8 * v, &q1x, 32);
+        memcpy(xc->q2x + 8 * v, &q2x, 32);
     }
 }
 
@@ -229,16 +235,22 @@ typedef struct yrows {
     float zy[RS_TILE], sy[RS_TILE], q1y[RS_TILE], q2y[RS_TILE];
 } yrows;
 
-/* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector. */
+/* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector, without its
+ * sample offset (0 on a 1-sample target: fy + 0.0f is fy, as in xcols_fill). */
 static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int y0, int nr)
 {
-    const int32_t Y0 = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    for (int i = 0; i < nr; i += 8) {
-        const ypart v = ypart_at(j, tr, bi(Y0 + i * RS_SUB) + lane_idx * RS_SUB);
-        memcpy(yr->zy + i, &v.zy, 32);
-        memcpy(yr->sy + i, &v.sy, 32);
-        memcpy(yr->q1y + i, &v.q1y, 32);
-        memcpy(yr->q2y + i, &v.q2y, 32);
+    RS_ASSERT(j->soy[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f z1 = bf(tr->z[1]), s1 = bf(tr->s[1]), a1 = bf(tr->q1[1]), c1 = bf(tr->q2[1]);
+    v8i Y = bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)) + lane_idx * RS_SUB;
+    for (int i = 0; i < nr; i += 8, Y += bi(8 * RS_SUB)) {
+        RS_ASSERT(lanes_exact(Y));
+        const v8f fy = __builtin_convertvector(Y, v8f) * bf(k);
+        const v8f zy = z1 * fy, sy = s1 * fy, q1y = a1 * fy, q2y = c1 * fy;
+        memcpy(yr->zy + i, &zy, 32);
+        memcpy(yr->sy + i, &sy, 32);
+        memcpy(yr->q1y + i, &q1y, 32);
+        memcpy(yr->q2y + i, &q2y, 32);
     }
 }
 
@@ -283,11 +295,12 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
     row_spans(j, tr, x0, y0, x1 - x0 + 1, nr, l, n);
     RS_ASSERT(spans_exact(j, tr, x0, y0, x1, nr, l, n));
     const int bx = aligned ? x0 & ~7 : x0; /* xcols' column 0 */
-    const int gmax = aligned ? j->rt->width - 8 : t->x1 - 8; /* aligned: the last group of 8 existing pixels;
-                                                                 else: the last group start inside the tile */
+    /* aligned: the last group of 8 existing pixels; else: the last group start inside the box and the tile, so
+     * that no group reads columns past x1 (then xcols holds the box's columns only) */
+    const int gmax = aligned ? j->rt->width - 8 : t->x1 - 8 < x1 - 7 ? t->x1 - 8 : x1 - 7;
     RS_ASSERT(aligned || gmax >= x0);
     xcols xc;
-    xcols_fill(&xc, j, tr, bx, aligned ? (x1 - bx) / 8 + 1 : (x1 - x0 + 7) / 8 + 1);
+    xcols_fill(&xc, j, tr, bx, aligned ? (x1 - bx) / 8 + 1 : (x1 - x0 + 8) / 8);
     yrows yr;
     yrows_fill(&yr, j, tr, y0, nr);
     wconst w;
@@ -314,8 +327,10 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         const int lo = g - gx;
         ptrdiff_t xi = gx - bx;
         if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0) { /* two short rows in one group? */
-            const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1];
-            const int u0 = a0 < b0 ? a0 : b0, u1 = a0 + k > b0 + k2 ? a0 + k : b0 + k2;
+            const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1], wb = x1 - x0 + 1;
+            const int u1 = a0 + k > b0 + k2 ? a0 + k : b0 + k2;
+            int u0 = a0 < b0 ? a0 : b0;
+            u0 = u0 < wb - 4 ? u0 : wb - 4; /* no columns past x1 (still u1 - u0 <= 4 when it was) */
             if (u1 - u0 <= 4 && x0 + u0 + 4 <= t->x1) {
                 const v8i lanes = lanes_between(a0 - u0, a0 - u0 + k) | lanes_between(b0 - u0 + 4, b0 - u0 + k2 + 4);
                 frag_w(c, &w, m, a8c, true, lanes, drow + u0, crow + u0, xc.zx + u0, xc.sx + u0, xc.q1x + u0,
@@ -326,6 +341,17 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
             }
         }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
+        if (!aligned) { /* groups of 8 from gx (<= gmax), the one past gmax moved left: one masked group site */
+            const int end = g + k;
+            for (int lw = lo;;) {
+                GROUP(lw, end - gx < 8 ? end - gx : 8, false);
+                gx += 8, xi += 8;
+                if (gx >= end) break;
+                lw = gx > gmax ? gx - gmax : 0;
+                gx -= lw, xi -= lw;
+            }
+            continue;
+        }
         if (lo + k <= 8) { /* one group */
             GROUP(lo, lo + k, false);
             continue;

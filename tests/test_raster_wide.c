@@ -201,6 +201,30 @@ static void test_wide_colour_range(void **state)
     }
 }
 
+/* A viewport depth range of [0.25, 0.75] and a depth bias of +-0.3 (with a slope-scaled one): depths below and
+ * above the range, clamped to it per pixel (the walk's zclamp8m), against the reference path, LESSEQUAL and LESS
+ * with writes, GREATER without. */
+static void test_wide_depth_clamp(void **state)
+{
+    (void)state;
+    uint64_t s = 0xde9c1a39ull;
+    const int w = 203, h = 77, n = 300;
+    const rs_viewport vp = {0, 0, w, h, 0.25f, 0.75f};
+    const int cases[] = {2, 3, 6};
+    for (int c = 0; c < 3; c++)
+        for (int b = 0; b < 2; b++) {
+            rs_state st = case_state(cases[c], &vp);
+            st.depth_bias = b ? 0.3f : -0.3f;
+            st.slope_scale_depth_bias = 0.01f;
+            st.z_write = cases[c] != 6;
+            rs_vertex *v = wide_triangles(&s, n, 4, &vp);
+            char what[64];
+            snprintf(what, sizeof what, "depth clamp, case %d, bias %d", cases[c], b);
+            test_rs_paths_agree(w, h, &st, v, n, cases[c] == 6 ? 0.0f : 1.0f, 3000, what); /* (all pass at first) */
+            free(v);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -208,6 +232,7 @@ int main(void)
         cmocka_unit_test(test_wide_viewport),
         cmocka_unit_test(test_wide_exact_edges),
         cmocka_unit_test(test_wide_colour_range),
+        cmocka_unit_test(test_wide_depth_clamp),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
