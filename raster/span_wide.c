@@ -38,6 +38,87 @@ static inline v4d exact_pd(__m256i v)
     return (v4d)_mm256_add_epi64(v, magic) - (v4d){0x1.8p52, 0x1.8p52, 0x1.8p52, 0x1.8p52};
 }
 
+#define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
+#define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
+
+/* Store rows i .. i + 3 of row_spans' answer from their starts st and ends en (columns, exact integers): st in
+ * [0, 2^41]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range conversion
+ * gives INT32_MIN, as does n's below -2^31). */
+static inline void spans_store(__m256d st, __m256d en, int32_t *l, int32_t *n, int i)
+{
+    _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
+    _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+}
+
+/* row_spans for edges in role order (e0, A, B permuted: lanes 0 and 1 starts and 2 an end, or with two_ends lane
+ * 0 a start and 1, 2 ends): each row's start the largest of its starts' u (and 0), its end the smallest of its
+ * ends' u (and w) -- what the caps of row_spans_any select, without them. */
+ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int nr, int32_t *l, int32_t *n)
+{
+    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0}, rows = {0.0, 1.0, 2.0, 3.0};
+    const v4l isz = (v4l)(A == zero);
+    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
+                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
+    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33};
+    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
+        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
+    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
+    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
+    const v4d b_1 = two_ends ? eps : -eps; /* edge 0: a start (-eps), edge 2: an end (+eps) */
+    const v4d wv = {w, w, w, w};
+    for (int i = 0; i < nr; i += 4) {
+        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 - eps), CEIL);
+        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
+        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + eps), CEIL);
+        e_0 += d_0, e_1 += d_1, e_2 += d_2;
+        if (two_ends)
+            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), l, n, i);
+        else
+            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), l, n, i);
+    }
+}
+
+/* row_spans for any roles (every edge through caps: its u for a start, -huge for an end in the starts' maximum,
+ * and the reverse in the ends' minimum); right: the ends' lanes (A < 0). */
+static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, int32_t *l, int32_t *n)
+{
+    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
+    const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
+    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
+                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
+    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33}, huge = {0x1p60, 0x1p60, 0x1p60, 0x1p60};
+    const v4d bias = (v4d)_mm256_blendv_pd((__m256d)-eps, (__m256d)eps, (__m256d)right);
+    /* min(u, caps) is u for a start and -huge for an end, max(u, caps) huge for a start and u for an end */
+    const v4d caps = (v4d)_mm256_blendv_pd((__m256d)huge, (__m256d)-huge, (__m256d)right);
+    const v4d rows = {0.0, 1.0, 2.0, 3.0};
+    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
+        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
+    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
+    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
+    const v4d b_0 = LANE(bias, 0), b_1 = LANE(bias, 1), b_2 = LANE(bias, 2);
+    const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
+    const v4d wv = {w, w, w, w};
+    for (int i = 0; i < nr; i += 4) {
+        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
+        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
+        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), CEIL);
+        e_0 += d_0, e_1 += d_1, e_2 += d_2;
+        __m256d st = _mm256_max_pd(_mm256_max_pd(_mm256_min_pd(u0, (__m256d)c_0), _mm256_min_pd(u1, (__m256d)c_1)),
+                                   _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
+        __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
+                                   _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
+        spans_store(st, en, l, n, i);
+    }
+}
+
+/* The permutation of row_spans' double lanes per pattern of ends (bit i: edge i has A < 0), as 32-bit indices:
+ * the starts first, then the ends (lane 3 stays); patterns 0 and 7 (no start or no end: a degenerate triangle)
+ * go to row_spans_any. */
+static const int32_t role_perm[8][8] __attribute__((aligned(32))) = {
+    {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {4, 5, 0, 1, 2, 3, 6, 7},
+    {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+};
+
 /* The covered interval of each row of triangle tr in columns x0 .. x0 + w - 1 (w <= 64), rows y0 .. y0 + nr - 1
  * (nr <= 64), from each edge's exact crossing column, 4 rows per vector: l[i] the first covered column of row
  * y0 + i relative to x0, n[i] how many follow it (<= 0: none).
@@ -50,7 +131,9 @@ static inline v4d exact_pd(__m256i v)
  * |q| * 2^-52 of q, so within 2^-45 when |q| <= 128.  When q is an integer, p - eps lies in (q - 1, q) and p + eps
  * in (q, q + 1): u = q, resp. q + 1.  Otherwise q is at least 1 / |A| >= 2^-31 (|A| <= 2^31) away from the
  * integers around it, more than eps (2^-33) + 2^-45 + the rounding of the sum: u = ceil(q), resp. floor(q) + 1.
- * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them. */
+ * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them.
+ * A triangle's edges have both roles (their A sum to 0): the usual case permutes them into starts, then ends
+ * (spans_by_role, no caps per edge and row); a degenerate one (no start or no end) takes row_spans_any. */
 ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
                              int32_t *n)
 {
@@ -62,41 +145,19 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     const v4d e0 = exact_pd(ev);
     const v4d A = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->ea)) * 256.0; /* lane 3: eb[0]'s */
     const v4d B = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->eb)) * 256.0; /* lane 3: ec's */
-    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
-    const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
-    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
-                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
-    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33}, huge = {0x1p60, 0x1p60, 0x1p60, 0x1p60};
-    const v4d bias = (v4d)_mm256_blendv_pd((__m256d)-eps, (__m256d)eps, (__m256d)right);
-    /* min(u, caps) is u for a start and -huge for an end, max(u, caps) huge for a start and u for an end */
-    const v4d caps = (v4d)_mm256_blendv_pd((__m256d)huge, (__m256d)-huge, (__m256d)right);
-    const v4d rows = {0.0, 1.0, 2.0, 3.0};
-#define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
-    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
-        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
-    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
-    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
-    const v4d b_0 = LANE(bias, 0), b_1 = LANE(bias, 1), b_2 = LANE(bias, 2);
-    const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
-#undef LANE
-    const v4d wv = {w, w, w, w};
-#define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
-    for (int i = 0; i < nr; i += 4) {
-        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
-        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
-        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), CEIL);
-        e_0 += d_0, e_1 += d_1, e_2 += d_2;
-        __m256d st = _mm256_max_pd(_mm256_max_pd(_mm256_min_pd(u0, (__m256d)c_0), _mm256_min_pd(u1, (__m256d)c_1)),
-                                   _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
-        __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
-                                   _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
-        /* st in [0, 2^60]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range
-         * conversion gives INT32_MIN, as does n's below -2^31) */
-        _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
-        _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+    const unsigned ends = (unsigned)_mm256_movemask_pd((__m256d)(A < (v4d){0.0, 0.0, 0.0, 0.0})) & 7u;
+    if (ends == 0 || ends == 7) {
+        row_spans_any(e0, A, B, w, nr, l, n);
+        return;
     }
-#undef CEIL
+    const __m256i pi = _mm256_load_si256((const __m256i *)role_perm[ends]);
+#define PERM(v) ((v4d)_mm256_permutevar8x32_ps((__m256)(v), pi))
+    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, w, nr, l, n);
+    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, w, nr, l, n);
+#undef PERM
 }
+#undef LANE
+#undef CEIL
 
 /* Is pixel x of the row at Y (1/256 px from the centre) inside triangle tr (every edge >= 0, int64)? */
 static inline bool inside_at(const rs_job *j, const rs_tri *tr, int x, int64_t Y)
@@ -174,16 +235,17 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
  * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  split: lanes
- * 0..3 are the 4 pixels at dp, cp and lanes 4..7 the 4 below them (the next row), with the x parts of the same 4
- * columns.  a8c: c has a colour slot with a constant alpha (the common case, known at compile time: no tests per
+ * 0..3 are the 4 pixels at dp, cp and lanes 4..7 4 pixels of the next row, dx columns right of those (x parts
+ * likewise).  a8c: c has a colour slot with a constant alpha (the common case, known at compile time: no tests per
  * group). */
-ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool split, v8i lanes, float *dp, uint32_t *cp,
-                          const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy, v8f sy, v8f q1y,
-                          v8f q2y)
+ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool split, ptrdiff_t dx, v8i lanes, float *dp,
+                          uint32_t *cp, const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy,
+                          v8f sy, v8f q1y, v8f q2y)
 {
-#define XP(q) (split ? (v8f)_mm256_broadcast_ps((const __m128 *)(q)) : (v8f)_mm256_loadu_ps(q))
-    float *dp1 = split ? dp + c->w : dp;
-    uint32_t *cp1 = split ? cp + c->w : cp;
+#define XP(q) (split ? (v8f)_mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(q)), _mm_loadu_ps((q) + dx), 1) \
+                     : (v8f)_mm256_loadu_ps(q))
+    float *dp1 = split ? dp + c->w + dx : dp;
+    uint32_t *cp1 = split ? cp + c->w + dx : cp;
     v8i pass = lanes;
     if (m.ze) {
         const v8f d = (v8f)load_lanes(dp, dp1, split);
@@ -272,7 +334,7 @@ ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool
 {
     if (m.plain && (!aligned || gx <= gmax)) {
         const v8i lanes = full ? bi(-1) : lanes_between(lo, hi);
-        frag_w(c, w, m, a8c, false, lanes, drow + xi, crow + xi, xc->zx + xi, xc->sx + xi, xc->q1x + xi, xc->q2x + xi,
+        frag_w(c, w, m, a8c, false, 0, lanes, drow + xi, crow + xi, xc->zx + xi, xc->sx + xi, xc->q1x + xi, xc->q2x + xi,
                yv[0], yv[1], yv[2], yv[3]);
     } else { /* (span8 counts its pixels as tested) */
         if (m.plain) *tested -= (uint64_t)(hi - lo);
@@ -326,19 +388,18 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         int gx = aligned ? g & ~7 : g < gmax ? g : gmax;
         const int lo = g - gx;
         ptrdiff_t xi = gx - bx;
-        if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0) { /* two short rows in one group? */
+        if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0 && n[i + 1] <= 4) { /* two short rows */
+            /* one group: 4 columns of each from its first covered one, moved left to end at x1 at most (so inside
+             * the box, the tile and xcols) */
             const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1], wb = x1 - x0 + 1;
-            const int u1 = a0 + k > b0 + k2 ? a0 + k : b0 + k2;
-            int u0 = a0 < b0 ? a0 : b0;
-            u0 = u0 < wb - 4 ? u0 : wb - 4; /* no columns past x1 (still u1 - u0 <= 4 when it was) */
-            if (u1 - u0 <= 4 && x0 + u0 + 4 <= t->x1) {
-                const v8i lanes = lanes_between(a0 - u0, a0 - u0 + k) | lanes_between(b0 - u0 + 4, b0 - u0 + k2 + 4);
-                frag_w(c, &w, m, a8c, true, lanes, drow + u0, crow + u0, xc.zx + u0, xc.sx + u0, xc.q1x + u0,
-                       xc.q2x + u0, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
-                tested += (uint64_t)k2;
-                i++, drow += c->w, crow += c->w;
-                continue;
-            }
+            const int ua = a0 < wb - 4 ? a0 : wb - 4, ub = b0 < wb - 4 ? b0 : wb - 4;
+            RS_ASSERT(ua >= 0 && x0 + ua + 4 <= t->x1 && x0 + ub + 4 <= t->x1);
+            const v8i lanes = lanes_between(a0 - ua, a0 - ua + k) | lanes_between(b0 - ub + 4, b0 - ub + k2 + 4);
+            frag_w(c, &w, m, a8c, true, ub - ua, lanes, drow + ua, crow + ua, xc.zx + ua, xc.sx + ua, xc.q1x + ua,
+                   xc.q2x + ua, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
+            tested += (uint64_t)k2;
+            i++, drow += c->w, crow += c->w;
+            continue;
         }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
         if (!aligned) { /* groups of 8 from gx (<= gmax), the one past gmax moved left: one masked group site */
