@@ -66,6 +66,13 @@ static inline bool lanes_exact(v8i X) { return mask_of((X >= bi(1 << 24)) | (X <
 /* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
 static inline v8f zclamp8(v8f z, v8f lo, v8f hi) { return sel(z >= lo, sel(z <= hi, z, hi), lo); }
 
+/* zclamp8 in three instructions: min(hi, z) is hi < z ? hi : z, which is z <= hi ? z : hi but for a NaN z (then
+ * z), and the outer test's blend gives lo for that: the same bits per lane, -0 and NaN included. */
+static inline v8f zclamp8m(v8f z, v8f lo, v8f hi)
+{
+    return sel(z >= lo, (v8f)_mm256_min_ps((__m256)hi, (__m256)z), lo);
+}
+
 /* rs_zpass per lane for compare function f. */
 ALWAYS_INLINE v8i zpass8(int f, v8f z, v8f d)
 {
@@ -87,6 +94,18 @@ static inline v8i to8_8(v8f c)
 {
     v8f s = (v8f)_mm256_min_ps(_mm256_max_ps((__m256)c, _mm256_setzero_ps()), (__m256)bf(1.0f));
     return __builtin_convertvector(s * bf(255.0f) + bf(0.5f), v8i);
+}
+
+/* to8_8 for a channel that then goes through shade8's saturating packs (packusdw, then packuswb), which do the
+ * lower saturation: min(1, c) is 1 < c ? 1 : c (c when NaN), then * 255 + 0.5 and truncation as rs_to8.  Per
+ * lane the same 8 bits after the packs: c in (0, 1] gives rs_to8's operations; c > 1 gives 1, as rs_sat; c <= 0
+ * (-0, -inf included) gives at most 0.5, truncated to 0 or to a negative int32 (0x80000000 when out of range),
+ * which packusdw makes 0, as rs_sat's 0 -> 0.5 -> 0; NaN stays NaN, truncated to 0x80000000: 0, as rs_sat's NaN
+ * -> 0.  packusdw leaves 0..255, which packuswb keeps.  One instruction less per channel than to8_8 (the max). */
+static inline __m256i to8_8p(v8f c)
+{
+    const v8f s = (v8f)_mm256_min_ps((__m256)bf(1.0f), (__m256)c);
+    return _mm256_cvttps_epi32((__m256)(s * bf(255.0f) + bf(0.5f)));
 }
 
 /* The 8-bit alpha of colour slot p when its alpha does not vary (p[10], p[11] are zeros), else -1.  Then

@@ -8,10 +8,14 @@
  * parts per row come from tables made once per call, the colour coefficients are broadcast once (memory operands
  * of the lane arithmetic) and the shading is specialised for a constant alpha.  Medium triangles (box at most 32
  * wide, edge coefficients at most 2^13: rs_tri_fast's walks 1 and 2) take groups from each row's first covered
- * column, so a short row is one group, and two short rows within the same 4 columns one 4x2 group; the others
+ * column, so a short row is one group, and two rows of at most 4 pixels one 4x2 group; the others
  * (walk 3) 8-aligned groups, no loads across cache lines, in bands of 64 rows.  It replaced a span walk (per row
  * the coverage of a window of 2 or 4 groups, 32-bit edge values) and a block walk (8x8 blocks with trivial
- * accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.
+ * accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.  Then (issue
+ * 29, wave 3) A 20.42 -> 19.56 M, C 34.30 -> 32.84 M: the packs do the channels' lower saturation (to8_8p), the
+ * depth clamp in three instructions (zclamp8m), the edges permuted into starts and ends for row_spans (no caps),
+ * the medium walk's groups kept inside the box (x parts of its columns only), any two rows of at most 4 pixels
+ * in one 4x2 group (each with its own 4 columns).
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
@@ -38,6 +42,87 @@ static inline v4d exact_pd(__m256i v)
     return (v4d)_mm256_add_epi64(v, magic) - (v4d){0x1.8p52, 0x1.8p52, 0x1.8p52, 0x1.8p52};
 }
 
+#define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
+#define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
+
+/* Store rows i .. i + 3 of row_spans' answer from their starts st and ends en (columns, exact integers): st in
+ * [0, 2^41]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range conversion
+ * gives INT32_MIN, as does n's below -2^31). */
+static inline void spans_store(__m256d st, __m256d en, int32_t *l, int32_t *n, int i)
+{
+    _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
+    _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+}
+
+/* row_spans for edges in role order (e0, A, B permuted: lanes 0 and 1 starts and 2 an end, or with two_ends lane
+ * 0 a start and 1, 2 ends): each row's start the largest of its starts' u (and 0), its end the smallest of its
+ * ends' u (and w) -- what the caps of row_spans_any select, without them. */
+ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int nr, int32_t *l, int32_t *n)
+{
+    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0}, rows = {0.0, 1.0, 2.0, 3.0};
+    const v4l isz = (v4l)(A == zero);
+    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
+                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
+    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33};
+    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
+        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
+    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
+    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
+    const v4d b_1 = two_ends ? eps : -eps; /* edge 0: a start (-eps), edge 2: an end (+eps) */
+    const v4d wv = {w, w, w, w};
+    for (int i = 0; i < nr; i += 4) {
+        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 - eps), CEIL);
+        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
+        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + eps), CEIL);
+        e_0 += d_0, e_1 += d_1, e_2 += d_2;
+        if (two_ends)
+            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), l, n, i);
+        else
+            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), l, n, i);
+    }
+}
+
+/* row_spans for any roles (every edge through caps: its u for a start, -huge for an end in the starts' maximum,
+ * and the reverse in the ends' minimum); right: the ends' lanes (A < 0). */
+static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, int32_t *l, int32_t *n)
+{
+    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
+    const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
+    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
+                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
+    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33}, huge = {0x1p60, 0x1p60, 0x1p60, 0x1p60};
+    const v4d bias = (v4d)_mm256_blendv_pd((__m256d)-eps, (__m256d)eps, (__m256d)right);
+    /* min(u, caps) is u for a start and -huge for an end, max(u, caps) huge for a start and u for an end */
+    const v4d caps = (v4d)_mm256_blendv_pd((__m256d)huge, (__m256d)-huge, (__m256d)right);
+    const v4d rows = {0.0, 1.0, 2.0, 3.0};
+    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
+        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
+    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
+    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
+    const v4d b_0 = LANE(bias, 0), b_1 = LANE(bias, 1), b_2 = LANE(bias, 2);
+    const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
+    const v4d wv = {w, w, w, w};
+    for (int i = 0; i < nr; i += 4) {
+        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
+        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
+        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), CEIL);
+        e_0 += d_0, e_1 += d_1, e_2 += d_2;
+        __m256d st = _mm256_max_pd(_mm256_max_pd(_mm256_min_pd(u0, (__m256d)c_0), _mm256_min_pd(u1, (__m256d)c_1)),
+                                   _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
+        __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
+                                   _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
+        spans_store(st, en, l, n, i);
+    }
+}
+
+/* The permutation of row_spans' double lanes per pattern of ends (bit i: edge i has A < 0), as 32-bit indices:
+ * the starts first, then the ends (lane 3 stays); patterns 0 and 7 (no start or no end: a degenerate triangle)
+ * go to row_spans_any. */
+static const int32_t role_perm[8][8] __attribute__((aligned(32))) = {
+    {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {4, 5, 0, 1, 2, 3, 6, 7},
+    {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+};
+
 /* The covered interval of each row of triangle tr in columns x0 .. x0 + w - 1 (w <= 64), rows y0 .. y0 + nr - 1
  * (nr <= 64), from each edge's exact crossing column, 4 rows per vector: l[i] the first covered column of row
  * y0 + i relative to x0, n[i] how many follow it (<= 0: none).
@@ -50,7 +135,9 @@ static inline v4d exact_pd(__m256i v)
  * |q| * 2^-52 of q, so within 2^-45 when |q| <= 128.  When q is an integer, p - eps lies in (q - 1, q) and p + eps
  * in (q, q + 1): u = q, resp. q + 1.  Otherwise q is at least 1 / |A| >= 2^-31 (|A| <= 2^31) away from the
  * integers around it, more than eps (2^-33) + 2^-45 + the rounding of the sum: u = ceil(q), resp. floor(q) + 1.
- * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them. */
+ * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them.
+ * A triangle's edges have both roles (their A sum to 0): the usual case permutes them into starts, then ends
+ * (spans_by_role, no caps per edge and row); a degenerate one (no start or no end) takes row_spans_any. */
 ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
                              int32_t *n)
 {
@@ -62,41 +149,19 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     const v4d e0 = exact_pd(ev);
     const v4d A = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->ea)) * 256.0; /* lane 3: eb[0]'s */
     const v4d B = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->eb)) * 256.0; /* lane 3: ec's */
-    const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
-    const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
-    const v4d m = (v4d)_mm256_blendv_pd((__m256d)(-one / (v4d)_mm256_blendv_pd((__m256d)A, (__m256d)one, (__m256d)isz)),
-                                        _mm256_set1_pd(-1024.0), (__m256d)isz);
-    const v4d eps = {0x1p-33, 0x1p-33, 0x1p-33, 0x1p-33}, huge = {0x1p60, 0x1p60, 0x1p60, 0x1p60};
-    const v4d bias = (v4d)_mm256_blendv_pd((__m256d)-eps, (__m256d)eps, (__m256d)right);
-    /* min(u, caps) is u for a start and -huge for an end, max(u, caps) huge for a start and u for an end */
-    const v4d caps = (v4d)_mm256_blendv_pd((__m256d)huge, (__m256d)-huge, (__m256d)right);
-    const v4d rows = {0.0, 1.0, 2.0, 3.0};
-#define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
-    v4d e_0 = LANE(e0, 0) + rows * LANE(B, 0), e_1 = LANE(e0, 1) + rows * LANE(B, 1),
-        e_2 = LANE(e0, 2) + rows * LANE(B, 2);
-    const v4d d_0 = LANE(B, 0) * 4.0, d_1 = LANE(B, 1) * 4.0, d_2 = LANE(B, 2) * 4.0;
-    const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
-    const v4d b_0 = LANE(bias, 0), b_1 = LANE(bias, 1), b_2 = LANE(bias, 2);
-    const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
-#undef LANE
-    const v4d wv = {w, w, w, w};
-#define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
-    for (int i = 0; i < nr; i += 4) {
-        const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
-        const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
-        const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + b_2), CEIL);
-        e_0 += d_0, e_1 += d_1, e_2 += d_2;
-        __m256d st = _mm256_max_pd(_mm256_max_pd(_mm256_min_pd(u0, (__m256d)c_0), _mm256_min_pd(u1, (__m256d)c_1)),
-                                   _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
-        __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
-                                   _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
-        /* st in [0, 2^60]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range
-         * conversion gives INT32_MIN, as does n's below -2^31) */
-        _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
-        _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+    const unsigned ends = (unsigned)_mm256_movemask_pd((__m256d)(A < (v4d){0.0, 0.0, 0.0, 0.0})) & 7u;
+    if (ends == 0 || ends == 7) {
+        row_spans_any(e0, A, B, w, nr, l, n);
+        return;
     }
-#undef CEIL
+    const __m256i pi = _mm256_load_si256((const __m256i *)role_perm[ends]);
+#define PERM(v) ((v4d)_mm256_permutevar8x32_ps((__m256)(v), pi))
+    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, w, nr, l, n);
+    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, w, nr, l, n);
+#undef PERM
 }
+#undef LANE
+#undef CEIL
 
 /* Is pixel x of the row at Y (1/256 px from the centre) inside triangle tr (every edge >= 0, int64)? */
 static inline bool inside_at(const rs_job *j, const rs_tri *tr, int x, int64_t Y)
@@ -151,19 +216,20 @@ typedef struct wconst {
     v8i a8;
 } wconst;
 
-/* shade8 with w's vectors: the same operations in the same order. */
+/* shade8 with w's vectors: the same operations in the same order, but for the lower saturation, which the packs
+ * do (to8_8p): the same bytes. */
 ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 {
     const v8f *k = w->k;
-    __m256i r = (__m256i)to8_8(k[0] + b1 * k[1] + b2 * k[2]);
-    __m256i g = (__m256i)to8_8(k[3] + b1 * k[4] + b2 * k[5]);
-    __m256i b = (__m256i)to8_8(k[6] + b1 * k[7] + b2 * k[8]);
+    __m256i r = to8_8p(k[0] + b1 * k[1] + b2 * k[2]); /* (to8_8p: the packs below saturate) */
+    __m256i g = to8_8p(k[3] + b1 * k[4] + b2 * k[5]);
+    __m256i b = to8_8p(k[6] + b1 * k[7] + b2 * k[8]);
     __m256i al;
-    if (a8 >= 0) {
-        v8f t = b1 * k[10] + b2 * k[11];
-        al = _mm256_and_si256((__m256i)_mm256_cmp_ps((__m256)t, (__m256)t, _CMP_ORD_Q), (__m256i)w->a8);
+    if (a8 >= 0) { /* k[10], k[11] are zeros: b1 * k[10] + b2 * k[11] is NaN iff one of the products is */
+        const __m256 t1 = (__m256)(b1 * k[10]), t2 = (__m256)(b2 * k[11]);
+        al = _mm256_and_si256((__m256i)_mm256_cmp_ps(t1, t2, _CMP_ORD_Q), (__m256i)w->a8);
     } else {
-        al = (__m256i)to8_8(k[9] + b1 * k[10] + b2 * k[11]);
+        al = to8_8p(k[9] + b1 * k[10] + b2 * k[11]);
     }
     __m256i x = _mm256_packus_epi16(_mm256_packus_epi32(r, g), _mm256_packus_epi32(b, al));
     const __m256i order = _mm256_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15,
@@ -173,20 +239,21 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
 
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
  * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  split: lanes
- * 0..3 are the 4 pixels at dp, cp and lanes 4..7 the 4 below them (the next row), with the x parts of the same 4
- * columns.  a8c: c has a colour slot with a constant alpha (the common case, known at compile time: no tests per
+ * 0..3 are the 4 pixels at dp, cp and lanes 4..7 4 pixels of the next row, dx columns right of those (x parts
+ * likewise).  a8c: c has a colour slot with a constant alpha (the common case, known at compile time: no tests per
  * group). */
-ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool split, v8i lanes, float *dp, uint32_t *cp,
-                          const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy, v8f sy, v8f q1y,
-                          v8f q2y)
+ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool split, ptrdiff_t dx, v8i lanes, float *dp,
+                          uint32_t *cp, const float *xz, const float *xs, const float *xq1, const float *xq2, v8f zy,
+                          v8f sy, v8f q1y, v8f q2y)
 {
-#define XP(q) (split ? (v8f)_mm256_broadcast_ps((const __m128 *)(q)) : (v8f)_mm256_loadu_ps(q))
-    float *dp1 = split ? dp + c->w : dp;
-    uint32_t *cp1 = split ? cp + c->w : cp;
+#define XP(q) (split ? (v8f)_mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(q)), _mm_loadu_ps((q) + dx), 1) \
+                     : (v8f)_mm256_loadu_ps(q))
+    float *dp1 = split ? dp + c->w + dx : dp;
+    uint32_t *cp1 = split ? cp + c->w + dx : cp;
     v8i pass = lanes;
     if (m.ze) {
         const v8f d = (v8f)load_lanes(dp, dp1, split);
-        const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
+        const v8f z = zclamp8m(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
         if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
     }
@@ -209,17 +276,23 @@ typedef struct xcols {
 } xcols;
 
 /* Fill the first 8n columns of xc from column bx: per column the values rows8_at gives it (its X is the same
- * integer whichever group holds it, so the same floats). */
+ * integer whichever group holds it, so the same floats), without its sample offset: on a 1-sample target sox[0]
+ * is 0 (draw.c) and fx + 0.0f is fx (fx is an integer times 1/256, never -0). */
 static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int bx, int n)
 {
-    RS_ASSERT(8 * n <= XCOLS);
-    for (int v = 0; v < n; v++) {
-        const rows8 r = rows8_at(j, tr, bi((int32_t)((int64_t)(bx + 8 * v) * RS_SUB - j->cx - tr->vx)) +
-                                            lane_idx * RS_SUB);
-        memcpy(xc->zx + 8 * v, &r.zx, 32);
-        memcpy(xc->sx + 8 * v, &r.sx, 32);
-        memcpy(xc->q1x + 8 * v, &r.q1x, 32);
-        memcpy(xc->q2x + 8 * v, &r.q2x, 32);
+    RS_ASSERT(8 * n <= XCOLS && j->sox[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f z0 = bf(tr->z[0]), z2 = bf(tr->z[2]), s0 = bf(tr->s[0]), s2 = bf(tr->s[2]);
+    const v8f a0 = bf(tr->q1[0]), a2 = bf(tr->q1[2]), c0 = bf(tr->q2[0]), c2 = bf(tr->q2[2]);
+    v8i X = bi((int32_t)((int64_t)bx * RS_SUB - j->cx - tr->vx)) + lane_idx * RS_SUB;
+    for (int v = 0; v < n; v++, X += bi(8 * RS_SUB)) {
+        RS_ASSERT(lanes_exact(X));
+        const v8f fx = __builtin_convertvector(X, v8f) * bf(k); /* |X| < 2^24: exact in float, as tri_pixel's */
+        const v8f zx = z2 + z0 * fx, sx = s2 + s0 * fx, q1x = a2 + a0 * fx, q2x = c2 + c0 * fx;
+        memcpy(xc->zx + 8 * v, &zx, 32);
+        memcpy(xc->sx + 8 * v, &sx, 32);
+        memcpy(xc->q1x + 8 * v, &q1x, 32);
+        memcpy(xc->q2x + 8 * v, &q2x, 32);
     }
 }
 
@@ -228,16 +301,22 @@ typedef struct yrows {
     float zy[RS_TILE], sy[RS_TILE], q1y[RS_TILE], q2y[RS_TILE];
 } yrows;
 
-/* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector. */
+/* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector, without its
+ * sample offset (0 on a 1-sample target: fy + 0.0f is fy, as in xcols_fill). */
 static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int y0, int nr)
 {
-    const int32_t Y0 = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    for (int i = 0; i < nr; i += 8) {
-        const ypart v = ypart_at(j, tr, bi(Y0 + i * RS_SUB) + lane_idx * RS_SUB);
-        memcpy(yr->zy + i, &v.zy, 32);
-        memcpy(yr->sy + i, &v.sy, 32);
-        memcpy(yr->q1y + i, &v.q1y, 32);
-        memcpy(yr->q2y + i, &v.q2y, 32);
+    RS_ASSERT(j->soy[0] == 0);
+    const float k = 1.0f / RS_SUB;
+    const v8f z1 = bf(tr->z[1]), s1 = bf(tr->s[1]), a1 = bf(tr->q1[1]), c1 = bf(tr->q2[1]);
+    v8i Y = bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)) + lane_idx * RS_SUB;
+    for (int i = 0; i < nr; i += 8, Y += bi(8 * RS_SUB)) {
+        RS_ASSERT(lanes_exact(Y));
+        const v8f fy = __builtin_convertvector(Y, v8f) * bf(k);
+        const v8f zy = z1 * fy, sy = s1 * fy, q1y = a1 * fy, q2y = c1 * fy;
+        memcpy(yr->zy + i, &zy, 32);
+        memcpy(yr->sy + i, &sy, 32);
+        memcpy(yr->q1y + i, &q1y, 32);
+        memcpy(yr->q2y + i, &q2y, 32);
     }
 }
 
@@ -259,7 +338,7 @@ ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool
 {
     if (m.plain && (!aligned || gx <= gmax)) {
         const v8i lanes = full ? bi(-1) : lanes_between(lo, hi);
-        frag_w(c, w, m, a8c, false, lanes, drow + xi, crow + xi, xc->zx + xi, xc->sx + xi, xc->q1x + xi, xc->q2x + xi,
+        frag_w(c, w, m, a8c, false, 0, lanes, drow + xi, crow + xi, xc->zx + xi, xc->sx + xi, xc->q1x + xi, xc->q2x + xi,
                yv[0], yv[1], yv[2], yv[3]);
     } else { /* (span8 counts its pixels as tested) */
         if (m.plain) *tested -= (uint64_t)(hi - lo);
@@ -282,11 +361,12 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
     row_spans(j, tr, x0, y0, x1 - x0 + 1, nr, l, n);
     RS_ASSERT(spans_exact(j, tr, x0, y0, x1, nr, l, n));
     const int bx = aligned ? x0 & ~7 : x0; /* xcols' column 0 */
-    const int gmax = aligned ? j->rt->width - 8 : t->x1 - 8; /* aligned: the last group of 8 existing pixels;
-                                                                 else: the last group start inside the tile */
+    /* aligned: the last group of 8 existing pixels; else: the last group start inside the box and the tile, so
+     * that no group reads columns past x1 (then xcols holds the box's columns only) */
+    const int gmax = aligned ? j->rt->width - 8 : t->x1 - 8 < x1 - 7 ? t->x1 - 8 : x1 - 7;
     RS_ASSERT(aligned || gmax >= x0);
     xcols xc;
-    xcols_fill(&xc, j, tr, bx, aligned ? (x1 - bx) / 8 + 1 : (x1 - x0 + 7) / 8 + 1);
+    xcols_fill(&xc, j, tr, bx, aligned ? (x1 - bx) / 8 + 1 : (x1 - x0 + 8) / 8);
     yrows yr;
     yrows_fill(&yr, j, tr, y0, nr);
     wconst w;
@@ -312,19 +392,31 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         int gx = aligned ? g & ~7 : g < gmax ? g : gmax;
         const int lo = g - gx;
         ptrdiff_t xi = gx - bx;
-        if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0) { /* two short rows in one group? */
-            const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1];
-            const int u0 = a0 < b0 ? a0 : b0, u1 = a0 + k > b0 + k2 ? a0 + k : b0 + k2;
-            if (u1 - u0 <= 4 && x0 + u0 + 4 <= t->x1) {
-                const v8i lanes = lanes_between(a0 - u0, a0 - u0 + k) | lanes_between(b0 - u0 + 4, b0 - u0 + k2 + 4);
-                frag_w(c, &w, m, a8c, true, lanes, drow + u0, crow + u0, xc.zx + u0, xc.sx + u0, xc.q1x + u0,
-                       xc.q2x + u0, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
-                tested += (uint64_t)k2;
-                i++, drow += c->w, crow += c->w;
-                continue;
-            }
+        if (!aligned && m.plain && k <= 4 && i + 1 < nr && n[i + 1] > 0 && n[i + 1] <= 4) { /* two short rows */
+            /* one group: 4 columns of each from its first covered one, moved left to end at x1 at most (so inside
+             * the box, the tile and xcols) */
+            const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1], wb = x1 - x0 + 1;
+            const int ua = a0 < wb - 4 ? a0 : wb - 4, ub = b0 < wb - 4 ? b0 : wb - 4;
+            RS_ASSERT(ua >= 0 && x0 + ua + 4 <= t->x1 && x0 + ub + 4 <= t->x1);
+            const v8i lanes = lanes_between(a0 - ua, a0 - ua + k) | lanes_between(b0 - ub + 4, b0 - ub + k2 + 4);
+            frag_w(c, &w, m, a8c, true, ub - ua, lanes, drow + ua, crow + ua, xc.zx + ua, xc.sx + ua, xc.q1x + ua,
+                   xc.q2x + ua, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
+            tested += (uint64_t)k2;
+            i++, drow += c->w, crow += c->w;
+            continue;
         }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
+        if (!aligned) { /* groups of 8 from gx (<= gmax), the one past gmax moved left: one masked group site */
+            const int end = g + k;
+            for (int lw = lo;;) {
+                GROUP(lw, end - gx < 8 ? end - gx : 8, false);
+                gx += 8, xi += 8;
+                if (gx >= end) break;
+                lw = gx > gmax ? gx - gmax : 0;
+                gx -= lw, xi -= lw;
+            }
+            continue;
+        }
         if (lo + k <= 8) { /* one group */
             GROUP(lo, lo + k, false);
             continue;

@@ -11,6 +11,7 @@
  * deferred and immediate clears (tile buffers or the target's planes), 1 and 2 threads, each instruction set the
  * CPU has, and a viewport that does not start at a tile border.  Every byte of colour and depth and every counter
  * must equal the reference path's.  Deterministic: a fixed xorshift seed. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -164,12 +165,74 @@ static void test_wide_exact_edges(void **state)
     free(v);
 }
 
+/* A colour channel for test_wide_colour_range: one of the values around and far past the ends of [0, 1] --
+ * huge ones (their * 255 + 0.5 past int32: a conversion's 0x80000000 if not saturated first), -0, infinities --
+ * or an ordinary one. */
+static float odd_channel(uint64_t *s)
+{
+    static const float v[] = {-3.0e10f, -70000.0f, -1.5f, -0.0f, 0.0f, 1.0f, 1.0001f, 129.0f, 300.0f, 3.0e10f,
+                              INFINITY, -INFINITY};
+    return test_rnd(s) % 3 ? v[test_rnd(s) % (sizeof v / sizeof v[0])] : test_frnd(s, 0.0f, 1.0f);
+}
+
+/* Colours far outside [0, 1], infinities (interpolated to infinities and NaN) in every channel, a constant alpha
+ * or a varying one, on medium and large triangles: the walk's shading (to8_8p: the packs do the lower saturation)
+ * must give the reference's bytes. */
+static void test_wide_colour_range(void **state)
+{
+    (void)state;
+    uint64_t s = 0xc01011full;
+    const int w = 197, h = 130, n = 300;
+    const rs_viewport vp = {0, 0, w, h, 0.0f, 1.0f};
+    for (int zc = 0; zc < 3; zc++) { /* depth off, LESSEQUAL without writes, LESS with writes */
+        const rs_state st = case_state(zc == 2 ? 3 : zc, &vp);
+        rs_vertex *v = wide_triangles(&s, n, 4, &vp);
+        for (int i = 0; i < n; i++) {
+            const bool aconst = test_rnd(&s) % 2;
+            const float alpha = odd_channel(&s);
+            for (int k = 0; k < 3; k++)
+                v[3 * i + k].attr[RS_ATTR_COLOR0] =
+                    (rs_vec4){odd_channel(&s), odd_channel(&s), odd_channel(&s), aconst ? alpha : odd_channel(&s)};
+        }
+        char what[64];
+        snprintf(what, sizeof what, "colour range, case %d", zc);
+        test_rs_paths_agree(w, h, &st, v, n, 0.6f, 3000, what);
+        free(v);
+    }
+}
+
+/* A viewport depth range of [0.25, 0.75] and a depth bias of +-0.3 (with a slope-scaled one): depths below and
+ * above the range, clamped to it per pixel (the walk's zclamp8m), against the reference path, LESSEQUAL and LESS
+ * with writes, GREATER without. */
+static void test_wide_depth_clamp(void **state)
+{
+    (void)state;
+    uint64_t s = 0xde9c1a39ull;
+    const int w = 203, h = 77, n = 300;
+    const rs_viewport vp = {0, 0, w, h, 0.25f, 0.75f};
+    const int cases[] = {2, 3, 6};
+    for (int c = 0; c < 3; c++)
+        for (int b = 0; b < 2; b++) {
+            rs_state st = case_state(cases[c], &vp);
+            st.depth_bias = b ? 0.3f : -0.3f;
+            st.slope_scale_depth_bias = 0.01f;
+            st.z_write = cases[c] != 6;
+            rs_vertex *v = wide_triangles(&s, n, 4, &vp);
+            char what[64];
+            snprintf(what, sizeof what, "depth clamp, case %d, bias %d", cases[c], b);
+            test_rs_paths_agree(w, h, &st, v, n, cases[c] == 6 ? 0.0f : 1.0f, 3000, what); /* (all pass at first) */
+            free(v);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_wide_same_bytes),
         cmocka_unit_test(test_wide_viewport),
         cmocka_unit_test(test_wide_exact_edges),
+        cmocka_unit_test(test_wide_colour_range),
+        cmocka_unit_test(test_wide_depth_clamp),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
