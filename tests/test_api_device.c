@@ -112,6 +112,7 @@ static void test_null_device(void **state)
     assert_int_equal(sb_apply(NULL), IS_ERR_INVALIDCALL);
     sb_release(NULL);
     assert_null(dev_render_target(NULL));
+    assert_null(dev_present(NULL));
     assert_int_equal(dev_flush(NULL), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_render_target_data(NULL, px, 4), IS_ERR_INVALIDCALL);
     const rs_stats *st = dev_stats(NULL);
@@ -325,6 +326,7 @@ static void test_state_edges(void **state)
     assert_int_equal(dev_get_render_target_data(dev, px, 0), IS_ERR_INVALIDCALL);
     assert_int_equal(dev_get_render_target_data(dev, px, W * H), IS_OK);
     assert_non_null(dev_render_target(dev));
+    assert_true(dev_present(dev) == dev_render_target(dev));   /* the same target, its colour written */
     assert_int_equal(dev_flush(dev), IS_OK);   /* nothing recorded: nothing to report */
     assert_non_null(dev_stats(dev));
     (void)dev_vertices_shaded(dev);

@@ -60,6 +60,7 @@ static void test_null(void **state)
     rs_target_clear_rect(NULL, 0, 0, 1, 1, RS_CLEAR_COLOR, 0, 1.0f);
     rs_target_clear_deferred(NULL, NULL, RS_CLEAR_COLOR, 0, 1.0f);
     rs_target_flush(NULL, NULL);
+    rs_target_flush_planes(NULL, NULL, RS_CLEAR_COLOR);
     rs_target_resolve(NULL, NULL);
     assert_int_equal(rs_isa_parse(NULL), -1);
     assert_int_equal(rs_isa_parse("no-such-isa"), -1);
@@ -156,6 +157,7 @@ static void test_targets(void **state)
         rs_target_clear_rect(t, 0, 0, 4, 4, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
         rs_target_resolve(t, out);
         rs_target_clear_deferred(rs, t, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1.0f);
+        rs_target_flush_planes(rs, t, RS_CLEAR_COLOR);
         rs_target_flush(rs, t);
         assert_int_equal(rs_target_add_aov(t, RS_ATTR_TEXCOORD0, 1), RS_EINVAL);   /* none of them is a target */
         assert_int_equal(rs_draw(rs, &st, t, RS_PRIM_TRIANGLES, v, 3, NULL, 1, NULL), RS_EINVAL);
