@@ -13,6 +13,19 @@
 #include "../core/hlsl.h"
 #include <stddef.h>
 
+/* The colour outputs COLOR0 and COLOR1 of out[0..n) saturated as the device does after any shader (core's
+ * saturate_colors: x >= 0 ? x : 0, then x <= 1 ? x : 1): grid_batch hands them over saturated (core/device.h). */
+static void sat_colors(is_vs_output *out, size_t n)
+{
+    for (size_t v = 0; v < n; v++) {
+        float *c = &out[v].attr[RS_ATTR_COLOR0].x;
+        for (int k = 0; k < 8; k++) {
+            float x = c[k] >= 0.0f ? c[k] : 0.0f;
+            c[k] = x <= 1.0f ? x : 1.0f;
+        }
+    }
+}
+
 #ifdef __AVX2__
 #include <immintrin.h>
 
@@ -55,6 +68,13 @@ static inline v8i finite(v8f a)
     return m != bf(__builtin_inff());
 }
 static inline v8i finite3(f3x8 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
+/* The device's colour saturation per lane (saturate_colors: x >= 0 ? x : 0, then <= 1 ? : 1; NaN gives 0, -0
+ * stays -0): the and keeps x's bits where x >= 0, min(x, 1) is x <= 1 ? x : 1 for the non-NaN x left. */
+static inline v8f sat8(v8f x)
+{
+    v8f p = (v8f)((v8i)x & (v8i)(x >= bf(0.0f)));
+    return (v8f)_mm256_min_ps((__m256)p, (__m256)bf(1.0f));
+}
 /* -1 / 0 lanes -> 8-bit mask. */
 static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m256)m); }
 
@@ -245,8 +265,9 @@ static inline __attribute__((always_inline)) void store4(const lanes8 *L, int r,
     for (int i = 0; i < L->n_real; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
 }
 
-/* The matrices and the diffuse colour broadcast once per batch (w[3][c] is the 1 * W[3][c] of oPos's product). */
-typedef struct consts8 { v8f w[4][4], m[3][3], diffuse[3]; } consts8;
+/* The matrices and the diffuse colour broadcast once per batch (w[3][c] is the 1 * W[3][c] of oPos's product);
+ * sat: COLOR0 goes out saturated (grid_batch's outputs, core/device.h; the plain batch gives main's bytes). */
+typedef struct consts8 { v8f w[4][4], m[3][3], diffuse[3]; bool sat; } consts8;
 static void consts8_make(const vs_batch_consts *k, consts8 *K)
 {
     for (int r = 0; r < 4; r++)
@@ -254,6 +275,7 @@ static void consts8_make(const vs_batch_consts *k, consts8 *K)
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) K->m[r][c] = bf(k->world.m[r][c]);
     K->diffuse[0] = bf(k->diffuse.x), K->diffuse[1] = bf(k->diffuse.y), K->diffuse[2] = bf(k->diffuse.z);
+    K->sat = false;
 }
 
 /* vs_write_outputs_k per lane (K: consts8 of k); TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only
@@ -277,7 +299,9 @@ static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts
         v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
         d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
         d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
-        store4(L, RS_ATTR_COLOR0, K->diffuse[0] * d, K->diffuse[1] * d, K->diffuse[2] * d, one);
+        v8f r = K->diffuse[0] * d, gr = K->diffuse[1] * d, bl = K->diffuse[2] * d;
+        if (K->sat) r = sat8(r), gr = sat8(gr), bl = sat8(bl);
+        store4(L, RS_ATTR_COLOR0, r, gr, bl, one);
     }
     if (live & IS_OUT_TEXCOORD(VS_OUT_TEX)) {
         v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
@@ -340,6 +364,7 @@ static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input 
     if (I->p != VS_PATCH_SMOOTH) g = f3(0, 0, 0);
     float2 oTex = add2(add2(scale2(I->T.t[0], b.x), scale2(I->T.t[1], b.y)), scale2(I->T.t[2], b.z));
     vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
+    if (I->K.sat) sat_colors(out, 1); /* as outputs8's lanes */
 }
 
 /* The lanes of L (below n_real) not in the 8-bit mask ok through the per-vertex path. */
@@ -855,10 +880,12 @@ static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input 
     const grid_plan *P = g && fused && k.o.normals == VS_NORMALS_LINEAR ? plan_get(g, in, n) : NULL;
     if (!P) {
         batch8(p, c, in, n, live, shared, out);
+        sat_colors(out, n);
         return;
     }
     inst8 I;
     consts8_make(&k, &I.K);
+    I.K.sat = true;
     inst_read(p, &k, in, &I);
     plan_run(&k, &I, P, in, out);
 }
@@ -880,6 +907,7 @@ static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input 
                         uint32_t shared, is_vs_grid *g, is_vs_output *out)
 {
     batch8(p, c, in, n, live, shared, out);
+    sat_colors(out, n);
 }
 
 static size_t plan_room(size_t n) { return 0; }
