@@ -977,8 +977,8 @@ static bool grid_piece(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t 
 }
 
 /* Make the records c->gpv of the piece's vertices v[0..nv) when they are not made yet (*made): a grid piece's
- * vertices go to the rows only, and a path that reads records (rs_setup_chunk after a false return, a group set up
- * per triangle or as rs_gtri, which the tile pass reads) asks for them here -- the same values. */
+ * vertices go to the rows only, and rs_setup_chunk after a false return reads records (the groups that read them
+ * take group_records) -- the same values. */
 static inline void records_made(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, bool *made)
 {
     if (*made) return;
@@ -986,19 +986,35 @@ static inline void records_made(const rs_job *j, rs_chunk *c, const rs_vertex *v
     *made = true;
 }
 
-/* The records triangles [g0, g0 + n) (indices idx) read: those of vertices [vb, vb + m) when every index of the
- * triangles lies there (a grid piece's group: its own vertices; one pass over its indices costs less than projecting
- * the piece again), else all (records_made). */
-static void group_records(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
-                          size_t g0, size_t n, size_t vb, size_t m, bool *made)
+/* The records of a grid piece's vertices [a, a + m) from its rows: rs_setup_groups' group loop runs only when every
+ * vertex is PV_READY, whose record is its rows' values (not zeroed), flags PV_FINITE | PV_PROJECTED | PV_READY and
+ * outcode 0 -- what projecting it again would give, for a fifth of the instructions. */
+static void records_of_rows(rs_chunk *c, size_t a, size_t m)
+{
+#ifdef __AVX2__
+    const grid_cols g = grid_cols_of(c);
+    rs_pvert *pv = c->gpv;
+    for (size_t i = a; i < a + m; i++)
+        pv[i] = (rs_pvert){ .x = g.x[i], .y = g.y[i], .z = g.z[i], .flags = PV_FINITE | PV_PROJECTED | PV_READY,
+                            .oc = 0, .pad = 0, .iw = g.w[i] };
+#else
+    (void)c, (void)a, (void)m;   /* (no rows: every piece's records are made) */
+#endif
+}
+
+/* The records a group of a grid piece of nv vertices reads, inside the group loop: those of its own vertices
+ * [vb, vb + m) when it is full (the grid piece's promise, which the row path relies on too: instance k's triangles
+ * index its vertices k * m ..), else all of them (*made then) -- from the rows (records_of_rows) when not made yet
+ * (*made). */
+static void group_records(rs_chunk *c, size_t nv, bool full, size_t vb, size_t m, bool *made)
 {
     if (*made) return;
-    uint32_t lo = UINT32_MAX, hi = 0;
-    for (size_t k = 3 * g0; k < 3 * (g0 + n); k++) lo = idx[k] < lo ? idx[k] : lo, hi = idx[k] > hi ? idx[k] : hi;
-    if (vb + m <= nv && lo >= vb && hi < vb + m)
-        RS_KERNEL(rs_project_vertices)(j, v + vb, m, (rs_pvert *)c->gpv + vb);
-    else
-        records_made(j, c, v, nv, made);
+    if (full && vb + m <= nv) {
+        records_of_rows(c, vb, m);
+        return;
+    }
+    records_of_rows(c, 0, nv);
+    *made = true;
 }
 
 bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
@@ -1050,13 +1066,13 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
                 continue;
             }
             c->work = work;   /* per triangle, as below: push_front counts the work again */
-            group_records(j, c, v, nv, idx, g0, n, vb, gverts, &made);
+            group_records(c, nv, true, vb, gverts, &made);
             if (!group_as_triangles(j, c, &bc, idx, g0, n, g0 + n, &tc, q, &nq)) break;
             continue;
         }
 #endif
         /* (this group reads them, and the tile pass its rs_gtri) */
-        group_records(j, c, v, nv, idx, g0, n, g0 / group * gverts, gverts, &made);
+        group_records(c, nv, n == group, g0 / group * gverts, gverts, &made);
         int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
         size_t k = g0;   /* the triangles before k are counted */
         bool big = false;
