@@ -251,7 +251,8 @@ typedef struct is_vs_grid {
     bool ready;
 } is_vs_grid;
 /* is_vs_batch_fn with a grid workspace (NULL: none): the same bytes as `batch`, cheaper per batch while the
- * workspace stays ready. */
+ * workspace stays ready -- but for the colour outputs, which it hands over saturated as the device does after
+ * any shader (x >= 0 ? x : 0, then x <= 1 ? x : 1 per component): the device does not saturate them again. */
 typedef void (*is_vs_grid_batch_fn)(const is_vs_constants *c, const is_vs_input *in, size_t n, uint32_t live,
                                     uint32_t shared, is_vs_grid *grid, is_vs_output *out);
 /* The workspace bytes grid_batch wants for batches of n vertices (0: it uses none). */

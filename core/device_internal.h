@@ -380,18 +380,25 @@ static inline void saturate_colors(rs_vertex *out, size_t n)
     }
 }
 
-/* What every draw path does to shaded vertices out[0..n) before the rasterizer sees them: the colours saturated
- * (saturate_colors) and, when the viewport reaches beyond the target, oPos mapped for the clipped viewport
- * (vp_remap; checked once per batch, so a viewport inside the target costs nothing per vertex). */
-static inline void post_shade(const vp_remap *m, rs_vertex *out, size_t n)
+/* post_shade's viewport part alone: oPos of out[0..n) mapped for the clipped viewport when m is on (the fused
+ * path's grid_batch hands its colours over saturated already). */
+static inline void post_remap(const vp_remap *m, rs_vertex *out, size_t n)
 {
-    saturate_colors(out, n);
     if (!m->on) return;
     for (size_t v = 0; v < n; v++) {
         float4 *p = &out[v].pos;
         p->x = m->ax * p->x + m->bx * p->w;
         p->y = m->ay * p->y + m->by * p->w;
     }
+}
+
+/* What every draw path does to shaded vertices out[0..n) before the rasterizer sees them: the colours saturated
+ * (saturate_colors) and, when the viewport reaches beyond the target, oPos mapped for the clipped viewport
+ * (vp_remap; checked once per batch, so a viewport inside the target costs nothing per vertex). */
+static inline void post_shade(const vp_remap *m, rs_vertex *out, size_t n)
+{
+    saturate_colors(out, n);
+    post_remap(m, out, n);
 }
 
 /* How one declaration element is read during a draw.  Reads are robust (D3D10's robust buffer access, which a

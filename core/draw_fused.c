@@ -138,14 +138,19 @@ static void fetch_instance(const fused_ctx *f, uint32_t instance, is_vs_input *i
 }
 
 /* Shade the instance whose inputs fetch_instance made ready: its `count` vertices into out[0..count) (with the
- * slot's grid workspace when the shader takes one). */
+ * slot's grid workspace when the shader takes one), then post_shade's work (the colours' part only when the shader
+ * did not saturate them). */
 static void shade_instance(const fused_ctx *f, const is_vs_input *in, is_vs_grid *grid, rs_vertex *out)
 {
     const fetch_plan *fp = f->fp;
     const uint32_t n = f->count;
     const is_vertex_shader *vs = f->vs;
-    if (grid) vs->grid_batch(&f->consts, in, n, f->live, fp->shared, grid, out);
-    else if (vs->batch) vs->batch(&f->consts, in, n, f->live, fp->shared, out);
+    if (grid) {   /* its colours come saturated (is_vs_grid_batch_fn) */
+        vs->grid_batch(&f->consts, in, n, f->live, fp->shared, grid, out);
+        post_remap(&f->remap, out, n);
+        return;
+    }
+    if (vs->batch) vs->batch(&f->consts, in, n, f->live, fp->shared, out);
     else
         for (uint32_t v = 0; v < n; v++) vs->main(&f->consts, &in[v], &out[v]);
     post_shade(&f->remap, out, n);

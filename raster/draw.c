@@ -371,8 +371,8 @@ static bool reserve_gpv(rs_chunk *ch, size_t n) { return rs_reserve(&ch->gpv, &c
 
 /* Produce piece c of src on the calling thread and set it up into chunk ch: shade (the producer), project each
  * vertex once (as the shared pass, into the slot's pv_slot vertices of rs->pv), set up and bin.  A piece of a
- * source with group_prims that may be grouped (rs_group_ok; every vertex inside the clip volume) is projected into
- * the chunk's own records instead and binned by groups (rs_setup_groups). */
+ * source with group_prims that may be grouped (rs_group_ok; every vertex inside the clip volume) is projected by
+ * rs_setup_groups into the chunk's own records (or a grid piece's rows) instead and binned by groups. */
 static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, size_t c, rs_chunk *ch, int slot,
                          size_t pv_slot)
 {
@@ -389,7 +389,7 @@ static void source_chunk(const rs_job *j, rs_context *rs, const rs_source *src, 
         const bool grouped = src->group_prims && rs_group_ok(j) && reserve_gpv(ch, nv);
         if (grouped || nv <= 3 * np) {
             rs_pvert *pv = grouped ? ch->gpv : (rs_pvert *)((char *)rs->pv + (size_t)slot * pv_slot * rs_pvert_size());
-            jl.kern->project_vertices(&jl, v, nv, pv);
+            if (!grouped) jl.kern->project_vertices(&jl, v, nv, pv);   /* (a grouped piece's: setup_groups') */
             jl.pv = pv;
         }
         if (grouped && jl.kern->setup_groups(&jl, ch, v, nv, idx, np, src->group_prims, src->grid_level)) {

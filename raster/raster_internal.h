@@ -323,8 +323,9 @@ void rs_setup_shared_avx512(const rs_job *j, rs_chunk *c);
  * group entry of a tile's bin, the group's triangles whose box meets the tile -- rs_setup_shared's edges and planes
  * (finish4), into an L1 scratch -- and rasterizes each at once with rs_tri_tile, in the group's order (grid groups:
  * with rs_tri_run, below).
- * rs_setup_groups returns false (the chunk left for rs_setup_chunk with j->pv = c->gpv) when a vertex of the piece
- * is not PV_READY (clipping needed).
+ * rs_setup_groups projects the piece itself (a grid piece's vertices straight into its rows, the records only when
+ * a path reading them comes up) and returns false (the chunk left for rs_setup_chunk with j->pv = c->gpv, the
+ * records made) when a vertex of the piece is not PV_READY (clipping needed).
  * Grid groups (level = rs_source.grid_level > 0; setup_simd.c, "grid rows"): a full group of a grid piece whose
  * vertices span less than 2^15 (1/256 px, 128 px) in x and in y keeps no rs_gtri: the set-up region counts and
  * boxes its triangles from contiguous loads of vertex rows r and r+1 (eight consecutive triangles of a row -- up,

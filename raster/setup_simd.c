@@ -100,9 +100,17 @@ static inline v4d clamp4(v4d x, double lim)
     return (v4d)r;
 }
 
-/* rs_project_vertex for the four vertices v[0..4): outcode6 and rs_project per lane with the same double
- * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22). */
-static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+/* The first 16 bytes of four records (x, y, z in int32 lanes and the flags, oc and pad int32; 0 where not
+ * projected) and their 1/w (0 where not projected), in lanes; or, for the rows (proj4 without records), x, y, z and
+ * 1/w as projected (not zeroed) and in ready the lanes that are PV_READY (-1). */
+typedef struct proj4_lanes { __m128i x, y, z, fl; __m256d iw; v4q ready; } proj4_lanes;
+
+/* rs_project_vertex for the four vertices v[0..4) in lanes: outcode6 and rs_project per lane with the same double
+ * operations (a value is finite iff x - x == 0; llrint is cvtpd2dq, exact for the clamped |x| <= 2^22).  Without
+ * records (the rows: read only when every vertex of the piece is ready, where the zeroing changes nothing) the
+ * outcode is only tested for zero: the six plane tests ANDed. */
+static inline __attribute__((always_inline)) void proj4(const rs_job *j, const rs_vertex *v, bool records,
+                                                        proj4_lanes *o)
 {
     /* the four positions transposed (fewer instructions than gathering the sixteen floats one by one) */
     __m128 p0 = _mm_loadu_ps(&v[0].pos.x), p1 = _mm_loadu_ps(&v[1].pos.x);
@@ -111,8 +119,6 @@ static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
     v4d x = (v4d)_mm256_cvtps_pd(p0), y = (v4d)_mm256_cvtps_pd(p1);
     v4d z = (v4d)_mm256_cvtps_pd(p2), w = (v4d)_mm256_cvtps_pd(p3);
     v4q fin = (x - x == 0.0) & (y - y == 0.0) & (z - z == 0.0) & (w - w == 0.0);
-    v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
-             (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
     v4d fx = x / w * j->sx_scale, fy = y / w * j->sy_scale, zw = z / w, iw = 1.0 / w;
     v4q ok = fin & (w > 0.0) & (fx - fx == 0.0) & (fy - fy == 0.0) & (zw - zw == 0.0) & (iw - iw == 0.0);
     const double lim = (double)RS_GUARD_BAND * RS_SUB;
@@ -122,22 +128,39 @@ static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
     __m128i rx = _mm256_cvtpd_epi32((__m256d)fx), ry = _mm256_cvtpd_epi32((__m256d)fy);
     v4d zd = (double)j->zoff + (double)j->zscale * zw;
     __m128i zf = _mm_castps_si128(_mm256_cvtpd_ps((__m256d)zd));
-    /* the records' first 16 bytes in int32 lanes (0 where not projected), then transposed into place */
+    if (!records) {
+        const v4q inside = (z >= 0.0) & (w - z >= 0.0) & (x + j->gx * w >= 0.0) & (j->gx * w - x >= 0.0) &
+                           (y + j->gy * w >= 0.0) & (j->gy * w - y >= 0.0);
+        o->ready = ok & inside;
+        o->x = rx, o->y = ry, o->z = zf, o->iw = (__m256d)iw;
+        return;
+    }
+    v4q oc = (~(z >= 0.0) & 1) | (~(w - z >= 0.0) & 2) | (~(x + j->gx * w >= 0.0) & 4) |
+             (~(j->gx * w - x >= 0.0) & 8) | (~(y + j->gy * w >= 0.0) & 16) | (~(j->gy * w - y >= 0.0) & 32);
+    /* the records' first 16 bytes in int32 lanes (0 where not projected) */
     const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
     __m128i fin32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)fin, even));
     __m128i ok32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)ok, even));
     __m128i oc32 = _mm_and_si128(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32((__m256i)oc, even)), fin32);
     __m128i ready = _mm_and_si128(ok32, _mm_cmpeq_epi32(oc32, _mm_setzero_si128()));
-    __m128i fl = _mm_or_si128(_mm_or_si128(_mm_and_si128(fin32, _mm_set1_epi32(PV_FINITE)),
-                                           _mm_and_si128(ok32, _mm_set1_epi32(PV_PROJECTED))),
-                              _mm_or_si128(_mm_and_si128(ready, _mm_set1_epi32(PV_READY)), _mm_slli_epi32(oc32, 8)));
+    o->fl = _mm_or_si128(_mm_or_si128(_mm_and_si128(fin32, _mm_set1_epi32(PV_FINITE)),
+                                      _mm_and_si128(ok32, _mm_set1_epi32(PV_PROJECTED))),
+                         _mm_or_si128(_mm_and_si128(ready, _mm_set1_epi32(PV_READY)), _mm_slli_epi32(oc32, 8)));
+    o->x = _mm_and_si128(rx, ok32), o->y = _mm_and_si128(ry, ok32), o->z = _mm_and_si128(zf, ok32);
+    o->iw = (__m256d)((v4q)iw & ok);
+}
+
+/* rs_project_vertex for the four vertices v[0..4): proj4's lanes transposed into the records. */
+static void project4(const rs_job *j, const rs_vertex *v, rs_pvert *out)
+{
+    proj4_lanes o;
+    proj4(j, v, true, &o);
     char *const dst[4] = { (char *)&out[0], (char *)&out[1], (char *)&out[2], (char *)&out[3] };
     _Static_assert(offsetof(rs_pvert, y) == 4 && offsetof(rs_pvert, z) == 8 && offsetof(rs_pvert, flags) == 12 &&
                    offsetof(rs_pvert, oc) == 13 && offsetof(rs_pvert, iw) == 16, "rs_pvert's layout as project4 writes it");
-    store_t32(_mm_castsi128_ps(_mm_and_si128(rx, ok32)), _mm_castsi128_ps(_mm_and_si128(ry, ok32)),
-              _mm_castsi128_ps(_mm_and_si128(zf, ok32)), _mm_castsi128_ps(fl), dst, 0);   /* little endian: flags, oc */
-    __m256d w4 = (__m256d)((v4q)iw & ok);
-    __m128d w01 = _mm256_castpd256_pd128(w4), w23 = _mm256_extractf128_pd(w4, 1);
+    store_t32(_mm_castsi128_ps(o.x), _mm_castsi128_ps(o.y), _mm_castsi128_ps(o.z), _mm_castsi128_ps(o.fl), dst,
+              0);   /* little endian: flags, oc */
+    __m128d w01 = _mm256_castpd256_pd128(o.iw), w23 = _mm256_extractf128_pd(o.iw, 1);
     _mm_storel_pd(&out[0].iw, w01), _mm_storeh_pd(&out[1].iw, w01);
     _mm_storel_pd(&out[2].iw, w23), _mm_storeh_pd(&out[3].iw, w23);
 }
@@ -635,9 +658,11 @@ static inline grid_cols grid_cols_of(const rs_chunk *c)
     return (grid_cols){ w, x, x + c->gsoa_cap, (const float *)(x + 2 * c->gsoa_cap) };
 }
 
-/* Copy the records pv[0..nv) into chunk c's rows (gsoa) with RS_GRID_PAD zeros after them, and their flags ANDed
- * into *all; false (nothing ANDed) when out of memory. */
-static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv, unsigned *all)
+/* Project v[0..nv) (rs_project_vertices' values: proj4's lanes) straight into chunk c's rows (gsoa) with
+ * RS_GRID_PAD zeros after them, and their flags' PV_READY ANDed into *all -- no records (rs_setup_groups makes them
+ * only when a path that reads them comes up; the rows are read only when every vertex is ready); false (nothing
+ * ANDed) when out of memory. */
+static bool grid_rows_project(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, unsigned *all)
 {
     const size_t n = nv + RS_GRID_PAD, each = sizeof(double) + 2 * sizeof(int32_t) + sizeof(float);
     if (!rs_reserve(&c->gsoa, &c->gsoa_cap, n, each)) return false;   /* (all rewritten below) */
@@ -646,22 +671,20 @@ static bool grid_rows_keep(rs_chunk *c, const rs_pvert *pv, size_t nv, unsigned 
     int32_t *x = (int32_t *)g.x, *y = (int32_t *)g.y;
     float *z = (float *)g.z;
     size_t i = 0;
-    __m128i fl = _mm_set1_epi32(-1);   /* the records' fourth int32 (flags, oc, pad) ANDed per lane */
-    for (; i + 4 <= nv; i += 4) {   /* four records transposed (gather4's shuffles) */
-        const __m128i r0 = _mm_loadu_si128((const __m128i *)&pv[i]), r1 = _mm_loadu_si128((const __m128i *)&pv[i + 1]);
-        const __m128i r2 = _mm_loadu_si128((const __m128i *)&pv[i + 2]), r3 = _mm_loadu_si128((const __m128i *)&pv[i + 3]);
-        const __m128i t0 = _mm_unpacklo_epi32(r0, r1), t1 = _mm_unpacklo_epi32(r2, r3);
-        const __m128i t2 = _mm_unpackhi_epi32(r0, r1), t3 = _mm_unpackhi_epi32(r2, r3);
-        _mm_storeu_si128((__m128i *)(x + i), _mm_unpacklo_epi64(t0, t1));
-        _mm_storeu_si128((__m128i *)(y + i), _mm_unpackhi_epi64(t0, t1));
-        _mm_storeu_si128((__m128i *)(z + i), _mm_unpacklo_epi64(t2, t3));
-        fl = _mm_and_si128(fl, _mm_unpackhi_epi64(t2, t3));
-        _mm256_storeu_pd(w + i, _mm256_setr_pd(pv[i].iw, pv[i + 1].iw, pv[i + 2].iw, pv[i + 3].iw));
+    v4q ready = { -1, -1, -1, -1 };   /* per lane: every vertex so far PV_READY */
+    for (; i + 4 <= nv; i += 4) {
+        proj4_lanes o;
+        proj4(j, v + i, false, &o);
+        _mm_storeu_si128((__m128i *)(x + i), o.x), _mm_storeu_si128((__m128i *)(y + i), o.y);
+        _mm_storeu_si128((__m128i *)(z + i), o.z), _mm256_storeu_pd(w + i, o.iw);
+        ready &= o.ready;
     }
-    _Static_assert(offsetof(rs_pvert, flags) == 12, "the flags: the low byte of the fourth int32");
-    fl = _mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(1, 0, 3, 2)));
-    unsigned f = (unsigned)_mm_cvtsi128_si32(_mm_and_si128(fl, _mm_shuffle_epi32(fl, _MM_SHUFFLE(2, 3, 0, 1)))) & 0xffu;
-    for (; i < nv; i++) w[i] = pv[i].iw, x[i] = pv[i].x, y[i] = pv[i].y, z[i] = pv[i].z, f &= pv[i].flags;
+    unsigned f = _mm256_movemask_pd((__m256d)ready) == 15 ? PV_READY : 0u;
+    for (; i < nv; i++) {
+        rs_pvert r;
+        RS_KERNEL(rs_project_vertex)(j, &v[i], &r);
+        w[i] = r.iw, x[i] = r.x, y[i] = r.y, z[i] = r.z, f &= r.flags;
+    }
     for (; i < n; i++) w[i] = 0.0, x[i] = 0, y[i] = 0, z[i] = 0.0f;
     *all &= f;
     return true;
@@ -937,20 +960,61 @@ static bool grid_group_setup(const grid_cols *g, const grid_consts *k, rs_chunk 
 }
 #endif
 
-/* Can the piece of np triangles over nv vertices in groups of `group` take the grid rows at `level` (0: no)?  Its
- * rows (with the records' flags ANDed into *all) and row boxes made room for in chunk c (records pv); false also
- * when out of memory (the rs_gtri path then). */
-static bool grid_piece(rs_chunk *c, const rs_pvert *pv, size_t nv, size_t np, size_t group, size_t level,
-                       unsigned *all)
+/* Can the piece of np triangles over nv vertices v in groups of `group` take the grid rows at `level` (0: no)?
+ * Its rows projected (grid_rows_project, the flags ANDed into *all) and its row boxes made room for in chunk c;
+ * false also when out of memory (the rs_gtri path then). */
+static bool grid_piece(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, size_t np, size_t group,
+                       size_t level, unsigned *all)
 {
 #ifdef __AVX2__
     if (!level || group != level * level || level > RS_GRID_MAX_LEVEL) return false;
     const size_t boxes = (np / group + 1) * grid_boxes(level);
-    return rs_reserve((void **)&c->grow, &c->grow_cap, boxes, sizeof *c->grow) && grid_rows_keep(c, pv, nv, all);
+    return rs_reserve((void **)&c->grow, &c->grow_cap, boxes, sizeof *c->grow) && grid_rows_project(j, c, v, nv, all);
 #else
-    (void)c, (void)pv, (void)nv, (void)np, (void)group, (void)level, (void)all;
+    (void)j, (void)c, (void)v, (void)nv, (void)np, (void)group, (void)level, (void)all;
     return false;
 #endif
+}
+
+/* Make the records c->gpv of the piece's vertices v[0..nv) when they are not made yet (*made): a grid piece's
+ * vertices go to the rows only, and rs_setup_chunk after a false return reads records (the groups that read them
+ * take group_records) -- the same values. */
+static inline void records_made(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, bool *made)
+{
+    if (*made) return;
+    RS_KERNEL(rs_project_vertices)(j, v, nv, c->gpv);
+    *made = true;
+}
+
+/* The records of a grid piece's vertices [a, a + m) from its rows: rs_setup_groups' group loop runs only when every
+ * vertex is PV_READY, whose record is its rows' values (not zeroed), flags PV_FINITE | PV_PROJECTED | PV_READY and
+ * outcode 0 -- what projecting it again would give, for a fifth of the instructions. */
+static void records_of_rows(rs_chunk *c, size_t a, size_t m)
+{
+#ifdef __AVX2__
+    const grid_cols g = grid_cols_of(c);
+    rs_pvert *pv = c->gpv;
+    for (size_t i = a; i < a + m; i++)
+        pv[i] = (rs_pvert){ .x = g.x[i], .y = g.y[i], .z = g.z[i], .flags = PV_FINITE | PV_PROJECTED | PV_READY,
+                            .oc = 0, .pad = 0, .iw = g.w[i] };
+#else
+    (void)c, (void)a, (void)m;   /* (no rows: every piece's records are made) */
+#endif
+}
+
+/* The records a group of a grid piece of nv vertices reads, inside the group loop: those of its own vertices
+ * [vb, vb + m) when it is full (the grid piece's promise, which the row path relies on too: instance k's triangles
+ * index its vertices k * m ..), else all of them (*made then) -- from the rows (records_of_rows) when not made yet
+ * (*made). */
+static void group_records(rs_chunk *c, size_t nv, bool full, size_t vb, size_t m, bool *made)
+{
+    if (*made) return;
+    if (full && vb + m <= nv) {
+        records_of_rows(c, vb, m);
+        return;
+    }
+    records_of_rows(c, 0, nv);
+    *made = true;
 }
 
 bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v, size_t nv, const uint32_t *idx,
@@ -958,10 +1022,16 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
 {
     const rs_pvert *pv = c->gpv;
     unsigned all = PV_READY;
-    const bool grid = grid_piece(c, pv, nv, np, group, level, &all);
-    if (!grid)
+    const bool grid = grid_piece(j, c, v, nv, np, group, level, &all);
+    bool made = !grid;   /* the records (records_made) */
+    if (!grid) {
+        RS_KERNEL(rs_project_vertices)(j, v, nv, c->gpv);
         for (size_t i = 0; i < nv; i++) all &= pv[i].flags;
-    if (!all || group == 0 || np > UINT32_MAX / 3) return false;   /* rs_setup_shared's fallbacks: clipping */
+    }
+    if (!all || group == 0 || np > UINT32_MAX / 3) {   /* rs_setup_shared's fallbacks: clipping */
+        records_made(j, c, v, nv, &made);
+        return false;
+    }
     c->n = 0;
     c->culled = c->clipped = c->degenerate = c->drawn = c->work = 0;
     c->oom = false;
@@ -972,10 +1042,10 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
     size_t nt = 0;   /* drawn triangles kept */
     queued q[4];     /* the triangles of groups set up per triangle, waiting for finish_queued */
     int nq = 0;
+    const size_t gverts = (level + 1) * (level + 2) / 2;   /* vertices of a grid group */
 #ifdef __AVX2__
     const grid_cols gc = grid ? grid_cols_of(c) : (grid_cols){ 0 };
     const grid_consts gk = grid_consts_of(j);
-    const size_t gverts = (level + 1) * (level + 2) / 2;   /* vertices of a grid group */
     const size_t gboxes = grid ? grid_boxes(level) : 0;     /* its row and step boxes */
     size_t ng = 0;    /* row and step boxes kept */
 #endif
@@ -996,10 +1066,13 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
                 continue;
             }
             c->work = work;   /* per triangle, as below: push_front counts the work again */
+            group_records(c, nv, true, vb, gverts, &made);
             if (!group_as_triangles(j, c, &bc, idx, g0, n, g0 + n, &tc, q, &nq)) break;
             continue;
         }
 #endif
+        /* (this group reads them, and the tile pass its rs_gtri) */
+        group_records(c, nv, n == group, g0 / group * gverts, gverts, &made);
         int32_t u[4] = { INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN };
         size_t k = g0;   /* the triangles before k are counted */
         bool big = false;

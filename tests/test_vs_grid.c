@@ -1,8 +1,9 @@
 /* tests/test_vs_grid.c -- the patch shaders' grid workspace (is_vertex_shader.grid_batch, core/device.h): the
  * per-grid plan (which points are interior, on an edge or corners, their Bernstein products, Gregory weights and
  * curve parameters, computed once per grid) gives exactly the bytes of the per-vertex evaluation (`main`) and of
- * the plain batch, on regular, adaptive and primitive-generator grids and grid points with negative zeros, tiny
- * and slightly negative weights, for the N-Patch and the smoothed patch, every normal mode, with and without the
+ * the plain batch (with the colours saturated, as grid_batch hands them over), on regular, adaptive and
+ * primitive-generator grids and grid points with negative zeros, tiny and slightly negative weights, for the
+ * N-Patch and the smoothed patch, every normal mode, with and without the
  * smooth shortcut, with every instance family of tests/test_reference_path.c (degenerate edges, zero normals,
  * huge coordinates, boundary edges); the workspace's states (not ready, ready for another grid, too small,
  * absent, holding garbage); and the device's fused path, which must rebuild the plan when the grid of a draw
@@ -82,7 +83,8 @@ static bool same_live(const is_vs_output *a, const is_vs_output *b, uint32_t liv
     return true;
 }
 
-/* The constants of normal mode `mode % 3`, the smooth shortcut off for mode >= 3. */
+/* The constants of normal mode `mode % 3`, the smooth shortcut off for mode >= 3; a diffuse colour outside
+ * [0, 1] (what grid_batch saturates and batch does not). */
 static void constants(int mode, is_vs_constants *c)
 {
     float4x4 wvp = {{{1, 0.2f, 0, 0}, {0, 1, 0.1f, 0}, {0.3f, 0, 1, 1}, {0, 0, 3, 4}}};
@@ -91,7 +93,7 @@ static void constants(int mode, is_vs_constants *c)
     o.normals = (vs_normals)(mode % 3);
     o.flags = mode >= 3 ? VS_FLAG_NO_SHORTCUT : 0u;
     memset(c, 0, sizeof *c);
-    vs_set_constants(c, &wvp, &world, f4(0.8f, 0.7f, 0.6f, 1), &o);
+    vs_set_constants(c, &wvp, &world, f4(1.75f, 0.7f, -0.6f, 1), &o);
 }
 
 /* Buffers of n vertices for one comparison. */
@@ -109,9 +111,20 @@ static void bufs_make(bufs *B, size_t n)
 }
 static void bufs_free(bufs *B) { free(B->sh), free(B->full), free(B->ref), free(B->plain), free(B->grid); }
 
-/* Shade B's inputs with main (complete inputs), batch and grid_batch (workspace ws) of s; every vertex must agree
- * with both in oPos and the live outputs (every byte for ~0u: the others may stay unwritten, as is_vs_batch_fn
- * allows).  what names the case. */
+/* The device's saturation of the colour outputs (core's saturate_colors) on o. */
+static void saturated(is_vs_output *o)
+{
+    float *c = &o->attr[RS_ATTR_COLOR0].x;
+    for (int k = 0; k < 8; k++) {
+        float x = c[k] >= 0.0f ? c[k] : 0.0f;
+        c[k] = x <= 1.0f ? x : 1.0f;
+    }
+}
+
+/* Shade B's inputs with main (complete inputs), batch and grid_batch (workspace ws) of s; batch must give main's
+ * bytes, grid_batch main's and batch's with the colours saturated (is_vs_grid_batch_fn), every vertex in oPos and
+ * the live outputs (every byte for ~0u: the others may stay unwritten, as is_vs_batch_fn allows).  what names the
+ * case. */
 static void compare(const is_vertex_shader *s, const is_vs_constants *c, bufs *B, uint32_t live, uint32_t shared,
                     is_vs_grid *ws, const char *what)
 {
@@ -122,6 +135,9 @@ static void compare(const is_vertex_shader *s, const is_vs_constants *c, bufs *B
     s->batch(c, B->sh, n, live, shared, B->plain);
     s->grid_batch(c, B->sh, n, live, shared, ws, B->grid);
     for (size_t v = 0; v < n; v++) {
+        if (!same_live(&B->ref[v], &B->plain[v], live))
+            fail_msg("%s %s: vertex %zu: batch differs from main", s->name, what, v);
+        saturated(&B->ref[v]), saturated(&B->plain[v]);
         if (!same_live(&B->ref[v], &B->grid[v], live))
             fail_msg("%s %s: vertex %zu (b = %a %a %a) differs from main", s->name, what, v, B->full[v].position[0].x,
                      B->full[v].position[0].y, B->full[v].position[0].z);

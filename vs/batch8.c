@@ -13,6 +13,19 @@
 #include "../core/hlsl.h"
 #include <stddef.h>
 
+/* The colour outputs COLOR0 and COLOR1 of out[0..n) saturated as the device does after any shader (core's
+ * saturate_colors: x >= 0 ? x : 0, then x <= 1 ? x : 1): grid_batch hands them over saturated (core/device.h). */
+static void sat_colors(is_vs_output *out, size_t n)
+{
+    for (size_t v = 0; v < n; v++) {
+        float *c = &out[v].attr[RS_ATTR_COLOR0].x;
+        for (int k = 0; k < 8; k++) {
+            float x = c[k] >= 0.0f ? c[k] : 0.0f;
+            c[k] = x <= 1.0f ? x : 1.0f;
+        }
+    }
+}
+
 #ifdef __AVX2__
 #include <immintrin.h>
 
@@ -55,16 +68,29 @@ static inline v8i finite(v8f a)
     return m != bf(__builtin_inff());
 }
 static inline v8i finite3(f3x8 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
+/* The device's colour saturation per lane (saturate_colors: x >= 0 ? x : 0, then <= 1 ? : 1; NaN gives 0, -0
+ * stays -0): the and keeps x's bits where x >= 0, min(x, 1) is x <= 1 ? x : 1 for the non-NaN x left. */
+static inline v8f sat8(v8f x)
+{
+    v8f p = (v8f)((v8i)x & (v8i)(x >= bf(0.0f)));
+    return (v8f)_mm256_min_ps((__m256)p, (__m256)bf(1.0f));
+}
 /* -1 / 0 lanes -> 8-bit mask. */
 static inline unsigned mask_of(v8i m) { return (unsigned)_mm256_movemask_ps((__m256)m); }
 
-/* Lanes of 8 vertices: barycentrics and where each lane's outputs go (lanes past n_real are copies). */
+/* Lanes of 8 vertices: barycentrics and where each lane's outputs go (lanes past n_real are copies): lane i is
+ * vertex idx[i] of the batch, its input in0 + idx[i], its output at byte off[i] (idx[i] * sizeof(is_vs_output))
+ * from out0; idx and off point at the lanes' own arrays or at a plan group's (no per-group pointer array). */
 typedef struct lanes8 {
     f3x8 b;
     f3x8 ap, bp, an, bn, b21, b12; /* edge lanes: the canonical ends, normals and inner control points */
     v8f s, t;                       /* edge lanes: the weights of the ends */
-    is_vs_output *out[8];
-    const is_vs_input *in[8];
+    const is_vs_input *in0;
+    is_vs_output *out0;
+    const int32_t *idx;
+    const size_t *off;
+    int32_t own_idx[8];
+    size_t own_off[8];
     int n_real;
 } lanes8;
 
@@ -226,8 +252,9 @@ static f3x8 smooth8_w(const smooth_inst *s, const v8f w[W_COUNT], const smooth_w
 
 /* ---------------------------------------------------------------- outputs */
 
-/* Store float4 lanes (x, y, z, w) into register `r` of the outputs of lanes 0..n-1 (a 4x8 transpose). */
-static inline __attribute__((always_inline)) void store4(const lanes8 *L, int r, v8f x, v8f y, v8f z, v8f w)
+/* Store float4 lanes (x, y, z, w) into register `r` of the outputs dst[0..n) of lanes 0..n-1 (a 4x8 transpose). */
+static inline __attribute__((always_inline)) void store4(char *const dst[8], int n, int r, v8f x, v8f y, v8f z,
+                                                        v8f w)
 {
     __m256 t0 = _mm256_unpacklo_ps((__m256)x, (__m256)y), t1 = _mm256_unpackhi_ps((__m256)x, (__m256)y);
     __m256 t2 = _mm256_unpacklo_ps((__m256)z, (__m256)w), t3 = _mm256_unpackhi_ps((__m256)z, (__m256)w);
@@ -237,16 +264,17 @@ static inline __attribute__((always_inline)) void store4(const lanes8 *L, int r,
                          _mm256_castps256_ps128(u3), _mm256_extractf128_ps(u0, 1), _mm256_extractf128_ps(u1, 1),
                          _mm256_extractf128_ps(u2, 1), _mm256_extractf128_ps(u3, 1)};
     const size_t off = r < 0 ? offsetof(is_vs_output, pos) : offsetof(is_vs_output, attr) + (size_t)r * sizeof(float4);
-    if (L->n_real == 8) { /* a full group: eight stores, no loop */
+    if (n == 8) { /* a full group: eight stores, no loop */
 #pragma GCC unroll 8
-        for (int i = 0; i < 8; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
+        for (int i = 0; i < 8; i++) _mm_storeu_ps((float *)(dst[i] + off), q[i]);
         return;
     }
-    for (int i = 0; i < L->n_real; i++) _mm_storeu_ps((float *)((char *)L->out[i] + off), q[i]);
+    for (int i = 0; i < n; i++) _mm_storeu_ps((float *)(dst[i] + off), q[i]);
 }
 
-/* The matrices and the diffuse colour broadcast once per batch (w[3][c] is the 1 * W[3][c] of oPos's product). */
-typedef struct consts8 { v8f w[4][4], m[3][3], diffuse[3]; } consts8;
+/* The matrices and the diffuse colour broadcast once per batch (w[3][c] is the 1 * W[3][c] of oPos's product);
+ * sat: COLOR0 goes out saturated (grid_batch's outputs, core/device.h; the plain batch gives main's bytes). */
+typedef struct consts8 { v8f w[4][4], m[3][3], diffuse[3]; bool sat; } consts8;
 static void consts8_make(const vs_batch_consts *k, consts8 *K)
 {
     for (int r = 0; r < 4; r++)
@@ -254,6 +282,7 @@ static void consts8_make(const vs_batch_consts *k, consts8 *K)
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) K->m[r][c] = bf(k->world.m[r][c]);
     K->diffuse[0] = bf(k->diffuse.x), K->diffuse[1] = bf(k->diffuse.y), K->diffuse[2] = bf(k->diffuse.z);
+    K->sat = false;
 }
 
 /* vs_write_outputs_k per lane (K: consts8 of k); TEXCOORD0 (oTex) and TEXCOORD3 (id) are the instance's.  Only
@@ -265,8 +294,12 @@ static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts
     const uint32_t live = k->live;
     v8f one = bf(1.0f), zero = bf(0.0f);
     v8f px[4];
+#pragma GCC unroll 4
     for (int c = 0; c < 4; c++) px[c] = pos.x * K->w[0][c] + pos.y * K->w[1][c] + pos.z * K->w[2][c] + K->w[3][c];
-    store4(L, -1, px[0], px[1], px[2], px[3]);
+    char *dst[8]; /* the lanes' outputs (a local array: the stores through it do not make the compiler reload it) */
+    for (int i = 0; i < 8; i++) dst[i] = (char *)L->out0 + L->off[i];
+    const int n = L->n_real;
+    store4(dst, n, -1, px[0], px[1], px[2], px[3]);
     if (!(live & (IS_OUT_COLOR0 | IS_OUT_TEXCOORD(VS_OUT_TEX) | IS_OUT_TEXCOORD(VS_OUT_NORMAL) | IS_OUT_TEXCOORD(VS_OUT_BARY) | IS_OUT_TEXCOORD(VS_OUT_INSTANCE) |
                   IS_OUT_TEXCOORD(VS_OUT_GREGORY))))
         return;
@@ -277,20 +310,22 @@ static inline __attribute__((always_inline)) void outputs8(const vs_batch_consts
         v8f d = N.x * bf(0.0f) + N.y * bf(0.0f) + N.z * bf(-1.0f);
         d = sel(d == d, d, zero);                                /* isnan(d) ? 0 : d */
         d = sel(d < zero, zero, sel(d > one, one, d));           /* saturate */
-        store4(L, RS_ATTR_COLOR0, K->diffuse[0] * d, K->diffuse[1] * d, K->diffuse[2] * d, one);
+        v8f r = K->diffuse[0] * d, gr = K->diffuse[1] * d, bl = K->diffuse[2] * d;
+        if (K->sat) r = sat8(r), gr = sat8(gr), bl = sat8(bl);
+        store4(dst, n, RS_ATTR_COLOR0, r, gr, bl, one);
     }
     if (live & IS_OUT_TEXCOORD(VS_OUT_TEX)) {
         v8f tx = bf(t[0].x) * L->b.x + bf(t[1].x) * L->b.y + bf(t[2].x) * L->b.z;
         v8f ty = bf(t[0].y) * L->b.x + bf(t[1].y) * L->b.y + bf(t[2].y) * L->b.z;
-        store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_TEX, tx, ty, zero, one);
+        store4(dst, n, RS_ATTR_TEXCOORD0 + VS_OUT_TEX, tx, ty, zero, one);
     }
     if (live & IS_OUT_TEXCOORD(VS_OUT_NORMAL)) {
         f3x8 nn = normalize(N);
-        store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL, nn.x, nn.y, nn.z, zero);
+        store4(dst, n, RS_ATTR_TEXCOORD0 + VS_OUT_NORMAL, nn.x, nn.y, nn.z, zero);
     }
-    if (live & IS_OUT_TEXCOORD(VS_OUT_BARY)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_BARY, L->b.x, L->b.y, L->b.z, one);
-    if (live & IS_OUT_TEXCOORD(VS_OUT_INSTANCE)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE, bf(id), zero, zero, one);
-    if (live & IS_OUT_TEXCOORD(VS_OUT_GREGORY)) store4(L, RS_ATTR_TEXCOORD0 + VS_OUT_GREGORY, g.x, g.y, g.z, zero);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_BARY)) store4(dst, n, RS_ATTR_TEXCOORD0 + VS_OUT_BARY, L->b.x, L->b.y, L->b.z, one);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_INSTANCE)) store4(dst, n, RS_ATTR_TEXCOORD0 + VS_OUT_INSTANCE, bf(id), zero, zero, one);
+    if (live & IS_OUT_TEXCOORD(VS_OUT_GREGORY)) store4(dst, n, RS_ATTR_TEXCOORD0 + VS_OUT_GREGORY, g.x, g.y, g.z, zero);
 }
 
 /* ---------------------------------------------------------------- the batch walk */
@@ -340,6 +375,7 @@ static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input 
     if (I->p != VS_PATCH_SMOOTH) g = f3(0, 0, 0);
     float2 oTex = add2(add2(scale2(I->T.t[0], b.x), scale2(I->T.t[1], b.y)), scale2(I->T.t[2], b.z));
     vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
+    if (I->K.sat) sat_colors(out, 1); /* as outputs8's lanes */
 }
 
 /* The lanes of L (below n_real) not in the 8-bit mask ok through the per-vertex path. */
@@ -347,7 +383,7 @@ static inline void fallback(const vs_batch_consts *k, const inst8 *I, const lane
 {
     for (unsigned bad = ~ok & ((1u << L->n_real) - 1u); bad; bad &= bad - 1u) {
         int i = __builtin_ctz(bad);
-        vertex1(k, I, L->in[i], L->out[i]);
+        vertex1(k, I, L->in0 + L->idx[i], L->out0 + L->idx[i]);
     }
 }
 
@@ -425,9 +461,22 @@ static void edge_group8(const vs_batch_consts *k, const inst8 *I, lanes8 *L)
     edge_group8_w(k, I, L, &w, all_lanes);
 }
 
-/* Add an edge vertex (in, out) of edge e with end weights (ws, wt) to the edge lanes; run them when full. */
+/* Lane i of L for vertex v (its input and output at L's bases). */
+static inline void lane_at(lanes8 *L, int i, size_t v)
+{
+    L->own_idx[i] = (int32_t)v, L->own_off[i] = v * sizeof(is_vs_output);
+}
+
+/* Lanes over the batch in[0..), out[0..) with their own index arrays, empty. */
+static void lanes_init(lanes8 *L, const is_vs_input *in, is_vs_output *out)
+{
+    L->in0 = in, L->out0 = out, L->idx = L->own_idx, L->off = L->own_off, L->n_real = 0;
+    for (int i = 0; i < 8; i++) L->own_idx[i] = 0, L->own_off[i] = 0; /* (outputs8 reads all eight) */
+}
+
+/* Add edge vertex v (input in) of edge e with end weights (ws, wt) to the edge lanes; run them when full. */
 static void push_edge(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const edge_cp *e, float ws, float wt,
-                      const is_vs_input *in, is_vs_output *out)
+                      const is_vs_input *in, size_t v)
 {
     int i = L->n_real++;
     L->b.x[i] = in->position[0].x, L->b.y[i] = in->position[0].y, L->b.z[i] = in->position[0].z;
@@ -438,16 +487,16 @@ static void push_edge(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const
     L->b21.x[i] = e->b21.x, L->b21.y[i] = e->b21.y, L->b21.z[i] = e->b21.z;
     L->b12.x[i] = e->b12.x, L->b12.y[i] = e->b12.y, L->b12.z[i] = e->b12.z;
     L->s[i] = ws, L->t[i] = wt;
-    L->in[i] = in, L->out[i] = out;
+    lane_at(L, i, v);
     if (L->n_real == 8) edge_group8(k, I, L), L->n_real = 0;
 }
 
-/* Add vertex (in, out) to the lanes; run the group when full. */
-static void push_lane(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const is_vs_input *in, is_vs_output *out)
+/* Add vertex v (input in) to the lanes; run the group when full. */
+static void push_lane(const vs_batch_consts *k, const inst8 *I, lanes8 *L, const is_vs_input *in, size_t v)
 {
     int i = L->n_real++;
     L->b.x[i] = in->position[0].x, L->b.y[i] = in->position[0].y, L->b.z[i] = in->position[0].z;
-    L->in[i] = in, L->out[i] = out;
+    lane_at(L, i, v);
     if (L->n_real == 8) group8(k, I, L), L->n_real = 0;
 }
 
@@ -471,10 +520,10 @@ static void flush_lanes(const vs_batch_consts *k, const inst8 *I, lanes8 *L, lan
     }
 }
 
-/* Route vertex v: interior -> interior lanes, on a canonical edge -> edge lanes, else (corners, degenerate
- * edges, other normal modes) the per-vertex path. */
+/* Route vertex v of the lanes' batch (input in, output out): interior -> interior lanes, on a canonical edge ->
+ * edge lanes, else (corners, degenerate edges, other normal modes) the per-vertex path. */
 static void route(const vs_batch_consts *k, const inst8 *I, lanes8 *L, lanes8 *E, const is_vs_input *in,
-                  is_vs_output *out)
+                  is_vs_output *out, size_t v)
 {
     const float4 b = in->position[0];
     float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
@@ -482,12 +531,12 @@ static void route(const vs_batch_consts *k, const inst8 *I, lanes8 *L, lanes8 *E
     if (I->o.normals != VS_NORMALS_LINEAR || zeros >= 2) {
         vertex1(k, I, in, out);
     } else if (zeros == 0) {
-        push_lane(k, I, L, in, out);
+        push_lane(k, I, L, in, v);
     } else {
         int zi = bw[0] == 0.0f ? 0 : (bw[1] == 0.0f ? 1 : 2), e = (zi + 1) % 3, j = (e + 1) % 3;
         const edge_cp *c = &I->e[e];
         if (!c->ok) vertex1(k, I, in, out); /* the weights keep with their ends through the swap */
-        else push_edge(k, I, E, c, c->swapped ? bw[j] : bw[e], c->swapped ? bw[e] : bw[j], in, out);
+        else push_edge(k, I, E, c, c->swapped ? bw[j] : bw[e], c->swapped ? bw[e] : bw[j], in, v);
     }
 }
 
@@ -580,13 +629,13 @@ static void batch8(vs_patch p, const is_vs_constants *c, const is_vs_input *in, 
     inst8 I;
     consts8_make(&k, &I.K);
     lanes8 L, E;
-    L.n_real = E.n_real = 0;
+    lanes_init(&L, in, out), lanes_init(&E, in, out);
     for (size_t v = 0; v < n; v++) {
         if (v == 0 || (!shared && !same_inst(p, &in[v], &in[v - 1]))) {
             flush_lanes(&k, &I, &L, &E);
             inst_read(p, &k, &in[v], &I);
         }
-        route(&k, &I, &L, &E, &in[v], &out[v]);
+        route(&k, &I, &L, &E, &in[v], &out[v], v);
     }
     flush_lanes(&k, &I, &L, &E);
 }
@@ -604,6 +653,7 @@ typedef struct plan_int {
     v8f w[W_COUNT];
     smooth_w sw;
     int32_t idx[8];
+    size_t off[8]; /* idx * sizeof(is_vs_output) */
     int32_t n_real;
 } plan_int;
 
@@ -616,6 +666,7 @@ typedef struct plan_edge {
     edge_w w[2];
     v8i on[3];
     int32_t idx[8];
+    size_t off[8];
     int32_t n_real, edge;
 } plan_edge;
 
@@ -626,6 +677,7 @@ typedef struct plan_corner {
     f3x8 b, g;
     v8i on[3];
     int32_t idx[8];
+    size_t off[8];
     int32_t n_real;
 } plan_corner;
 
@@ -676,7 +728,7 @@ static void plan_interior(grid_plan *P, const is_vs_input *in, const uint32_t *l
         G->n_real = (int32_t)(m - a < 8 ? m - a : 8);
         for (int i = 0; i < 8; i++) {
             uint32_t v = list[a + (size_t)(i < G->n_real ? i : 0)];
-            G->idx[i] = (int32_t)v;
+            G->idx[i] = (int32_t)v, G->off[i] = v * sizeof(is_vs_output);
             G->b.x[i] = in[v].position[0].x, G->b.y[i] = in[v].position[0].y, G->b.z[i] = in[v].position[0].z;
         }
         npatch_weights(G->b, G->w);
@@ -694,7 +746,7 @@ static void plan_edges(grid_plan *P, const is_vs_input *in, const uint32_t *list
         G->edge = edge_of[list[a]];
         for (int i = 0; i < 8; i++) {
             uint32_t v = list[a + (size_t)(i < G->n_real ? i : 0)];
-            G->idx[i] = (int32_t)v;
+            G->idx[i] = (int32_t)v, G->off[i] = v * sizeof(is_vs_output);
             G->b.x[i] = in[v].position[0].x, G->b.y[i] = in[v].position[0].y, G->b.z[i] = in[v].position[0].z;
             G->s[i] = s[v], G->t[i] = t[v];
             for (int e = 0; e < 3; e++) G->on[e][i] = edge_of[v] == e ? -1 : 0;
@@ -717,7 +769,7 @@ static void plan_corners(grid_plan *P, const is_vs_input *in, const uint32_t *li
             float bw[3] = {b.x > 0.0f ? b.x : 0.0f, b.y > 0.0f ? b.y : 0.0f, b.z > 0.0f ? b.z : 0.0f};
             int corner = bw[2] != 0.0f ? 2 : bw[1] != 0.0f ? 1 : 0; /* patch.c's classify: the last nonzero */
             float3 g = vs_gregory(f3(bw[0], bw[1], bw[2]));
-            G->idx[i] = (int32_t)v;
+            G->idx[i] = (int32_t)v, G->off[i] = v * sizeof(is_vs_output);
             G->b.x[i] = b.x, G->b.y[i] = b.y, G->b.z[i] = b.z;
             G->g.x[i] = g.x, G->g.y[i] = g.y, G->g.z[i] = g.z;
             for (int e = 0; e < 3; e++) G->on[e][i] = corner == e ? -1 : 0;
@@ -766,11 +818,11 @@ static const grid_plan *plan_get(is_vs_grid *g, const is_vs_input *in, size_t n)
     return P;
 }
 
-/* The lanes of a plan group: b, and the outputs and inputs of its vertices (in + idx, out + idx). */
-static void plan_lanes(lanes8 *L, f3x8 b, const int32_t idx[8], int n_real, const is_vs_input *in, is_vs_output *out)
+/* The lanes of a plan group: b, and the inputs and outputs of its vertices (in + idx, at byte off from out). */
+static inline void plan_lanes(lanes8 *L, f3x8 b, const int32_t idx[8], const size_t off[8], int n_real,
+                              const is_vs_input *in, is_vs_output *out)
 {
-    L->b = b, L->n_real = n_real;
-    for (int i = 0; i < 8; i++) L->in[i] = in + idx[i], L->out[i] = out + idx[i];
+    L->b = b, L->n_real = n_real, L->idx = idx, L->off = off, L->in0 = in, L->out0 = out;
 }
 
 /* x with the lanes of m replaced by y's (a blend per float). */
@@ -784,12 +836,13 @@ static void plan_run_edges(const vs_batch_consts *k, const inst8 *I, const grid_
     lanes8 L;
     for (uint32_t q = 0; q < P->n_edge; q++) {
         const plan_edge *G = &P->eg[q];
-        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        plan_lanes(&L, G->b, G->idx, G->off, G->n_real, in, out);
         int e0 = G->edge >= 0 ? G->edge : 2;
         const edge_cp *c = &I->e[e0];
         L.ap = b3(c->ap), L.bp = b3(c->bp), L.an = b3(c->an), L.bn = b3(c->bn), L.b21 = b3(c->b21), L.b12 = b3(c->b12);
         v8i swap = c->swapped ? all_lanes : (v8i){0}, ok = c->ok ? all_lanes : (v8i){0};
-        edge_w w = G->w[c->swapped];
+        const edge_w *w = &G->w[c->swapped];
+        edge_w mixed;
         if (G->edge < 0) { /* lanes of edges 0 and 1 over edge 2's */
             for (int e = 0; e < 2; e++) {
                 const edge_cp *d = &I->e[e];
@@ -801,11 +854,13 @@ static void plan_run_edges(const vs_batch_consts *k, const inst8 *I, const grid_
                 ok = d->ok ? ok | m : ok & ~m;
             }
             const edge_w *w0 = &G->w[0], *w1 = &G->w[1];
-            w.sss = sel(swap, w1->sss, w0->sss), w.ttt = sel(swap, w1->ttt, w0->ttt);
-            w.sst = sel(swap, w1->sst, w0->sst), w.stt = sel(swap, w1->stt, w0->stt);
+            mixed = *w;
+            mixed.sss = sel(swap, w1->sss, w0->sss), mixed.ttt = sel(swap, w1->ttt, w0->ttt);
+            mixed.sst = sel(swap, w1->sst, w0->sst), mixed.stt = sel(swap, w1->stt, w0->stt);
+            w = &mixed;
         }
         L.s = sel(swap, G->t, G->s), L.t = sel(swap, G->s, G->t);
-        edge_group8_w(k, I, &L, &w, ok);
+        edge_group8_w(k, I, &L, w, ok);
     }
 }
 
@@ -818,7 +873,7 @@ static void plan_run_corners(const vs_batch_consts *k, const inst8 *I, const gri
     const f3x8 v0 = b3(I->T.v[0]), v1 = b3(I->T.v[1]), v2 = b3(I->T.v[2]);
     for (uint32_t q = 0; q < P->n_corner; q++) {
         const plan_corner *G = &P->cg[q];
-        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        plan_lanes(&L, G->b, G->idx, G->off, G->n_real, in, out);
         f3x8 pos = pick3(pick3(v2, G->on[1], v1), G->on[0], v0);
         f3x8 N = normalize(pick3(pick3(I->nv[2], G->on[1], I->nv[1]), G->on[0], I->nv[0]));
         v8i ok = finite3(N) & (dot(N, N) > bf(0.0f));
@@ -836,7 +891,7 @@ static void plan_run(const vs_batch_consts *k, const inst8 *I, const grid_plan *
     lanes8 L;
     for (uint32_t q = 0; q < P->n_int; q++) {
         const plan_int *G = &P->ig[q];
-        plan_lanes(&L, G->b, G->idx, G->n_real, in, out);
+        plan_lanes(&L, G->b, G->idx, G->off, G->n_real, in, out);
         group8_w(k, I, &L, G->w, &G->sw);
     }
     plan_run_edges(k, I, P, in, out);
@@ -855,10 +910,12 @@ static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input 
     const grid_plan *P = g && fused && k.o.normals == VS_NORMALS_LINEAR ? plan_get(g, in, n) : NULL;
     if (!P) {
         batch8(p, c, in, n, live, shared, out);
+        sat_colors(out, n);
         return;
     }
     inst8 I;
     consts8_make(&k, &I.K);
+    I.K.sat = true;
     inst_read(p, &k, in, &I);
     plan_run(&k, &I, P, in, out);
 }
@@ -880,6 +937,7 @@ static void grid_batch8(vs_patch p, const is_vs_constants *c, const is_vs_input 
                         uint32_t shared, is_vs_grid *g, is_vs_output *out)
 {
     batch8(p, c, in, n, live, shared, out);
+    sat_colors(out, n);
 }
 
 static size_t plan_room(size_t n) { return 0; }
