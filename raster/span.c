@@ -21,7 +21,11 @@
  * triangles per rs_tri_run call a pass holds 1.9 of them, and the per-triangle overlap test and lane packing cost
  * more than the passes saved: B npatch 120.76 -> 128.9 M instructions per frame; a second version, the coefficients
  * gathered from per-step tables and passes only in steps of 4 or more stamp lanes, gave 120.76 -> 119.82 M and no
- * wall-time gain in three alternated runs, so it was not kept either.) */
+ * wall-time gain in three alternated runs, so it was not kept either.  A third, the step's region walked in 4x2
+ * blocks -- per block the covering triangle per lane from the edges, per-lane coefficients by permutes --, gave
+ * 113.88 -> 135.98 M: a step's covered pixels (15.2 in a union box of 53) fill region blocks no better than each
+ * triangle's own stamp, 4.86 block passes per step against 4.37 stamp passes, and each block pays the coverage
+ * of several triangles and the permutes; only packing the step's pixels (2.36 passes) would cut the passes.) */
 #include "span_lanes.h"
 
 #ifdef __AVX2__
