@@ -105,13 +105,7 @@ static void make_draw(uint64_t *s, draw_def *d, int L, float rlo, float rhi)
 {
     d->st = random_state(s);
     d->level = L, d->inst = INST, d->cut = 0, d->points = core_grid_points(L), d->prims = core_grid_triangles(L);
-    d->idx = malloc(3 * INST * d->prims * sizeof *d->idx);
-    float3 *bary = malloc(d->points * sizeof *bary);
-    assert_true(d->idx && bary);
-    assert_int_equal(core_grid_regular(L, bary, d->idx), d->points);
-    for (size_t k = 1; k < INST; k++)
-        for (size_t t = 0; t < 3 * d->prims; t++) d->idx[k * 3 * d->prims + t] = d->idx[t] + (uint32_t)(k * d->points);
-    free(bary);
+    d->idx = test_grid_instances(L, INST);
     for (int p = 0; p < PIECES; p++) {
         d->v[p] = malloc(INST * d->points * sizeof *d->v[p]);
         assert_non_null(d->v[p]);

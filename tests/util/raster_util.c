@@ -6,7 +6,9 @@
 #include <cmocka.h>
 
 #include "raster_util.h"
+#include "../../core/core.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 rs_state test_rs_defaults(int w, int h)
@@ -134,4 +136,17 @@ void test_rs_paths_agree(int w, int h, const rs_state *st, const rs_vertex *v, i
         }
     }
     rs_target_free(&ref);
+}
+
+uint32_t *test_grid_instances(int L, size_t inst)
+{
+    const size_t points = core_grid_points(L), prims = core_grid_triangles(L);
+    uint32_t *idx = malloc(3 * inst * prims * sizeof *idx);
+    float3 *bary = malloc(points * sizeof *bary);
+    assert_true(idx && bary);
+    assert_int_equal(core_grid_regular(L, bary, idx), points);
+    for (size_t k = 1; k < inst; k++)
+        for (size_t t = 0; t < 3 * prims; t++) idx[k * 3 * prims + t] = idx[t] + (uint32_t)(k * points);
+    free(bary);
+    return idx;
 }

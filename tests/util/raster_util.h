@@ -14,6 +14,11 @@ float test_frnd(uint64_t *s, float lo, float hi);
  * target of size n, or anywhere in it -- moved by a uniform offset in [lo, hi). */
 float test_near_edge(uint64_t *s, int n, float lo, float hi);
 
+/* The index list of `inst` instances of the level-L regular grid (core_grid_regular), instance k's indices offset by
+ * k times the grid's points: 3 * inst * L^2 indices, malloc'd (the caller frees them); a failed allocation fails
+ * the test. */
+uint32_t *test_grid_instances(int L, size_t inst);
+
 /* D3D9's defaults for a full w x h viewport: cull CCW, solid, Gouraud, z LESSEQUAL with write, no blending,
  * multisampling on, COLOR0 interpolated. */
 rs_state test_rs_defaults(int w, int h);
