@@ -370,14 +370,8 @@ static inline uint64_t fetch_offset(uint64_t index, uint32_t divider, uint64_t s
  * COLOR1 of out[0..n) clamped to [0, 1] (NaN becomes 0).  Every draw path calls it after the shader. */
 static inline void saturate_colors(rs_vertex *out, size_t n)
 {
-    _Static_assert(RS_ATTR_COLOR1 == RS_ATTR_COLOR0 + 1, "COLOR0 and COLOR1 are adjacent: 8 floats");
-    for (size_t v = 0; v < n; v++) {
-        float *c = &out[v].attr[RS_ATTR_COLOR0].x;
-        for (int k = 0; k < 8; k++) {   /* branch-free (the compiler vectorizes it); NaN fails c >= 0 and becomes 0 */
-            float x = c[k] >= 0.0f ? c[k] : 0.0f;
-            c[k] = x <= 1.0f ? x : 1.0f;
-        }
-    }
+    _Static_assert(RS_ATTR_COLOR1 == RS_ATTR_COLOR0 + 1, "COLOR0 and COLOR1 are adjacent");
+    for (size_t v = 0; v < n; v++) saturate_color_outputs(&out[v].attr[RS_ATTR_COLOR0]);
 }
 
 /* post_shade's viewport part alone: oPos of out[0..n) mapped for the clipped viewport when m is on (the fused

@@ -38,6 +38,22 @@ static inline float3 normalize3(float3 a)
 }
 static inline float3 lerp3(float3 a, float3 b, float t) { return add3(a, scale3(sub3(b, a), t)); }
 static inline float saturate(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x); }
+/* D3D9's saturation of a vertex colour output component: clamped to [0, 1], NaN to 0 (x >= 0 ? x : 0, then
+ * x <= 1 ? x : 1; branch-free). */
+static inline float saturate_color(float x)
+{
+    x = x >= 0.0f ? x : 0.0f;
+    return x <= 1.0f ? x : 1.0f;
+}
+/* What D3D9 does to a vertex shader's colour outputs oD0 and oD1 (c[0], c[1]) per vertex, before they are
+ * interpolated: every component through saturate_color. */
+static inline void saturate_color_outputs(float4 c[2])
+{
+    for (int k = 0; k < 2; k++) {
+        c[k].x = saturate_color(c[k].x), c[k].y = saturate_color(c[k].y);
+        c[k].z = saturate_color(c[k].z), c[k].w = saturate_color(c[k].w);
+    }
+}
 static inline float2 add2(float2 a, float2 b) { return f2(a.x + b.x, a.y + b.y); }
 static inline float2 scale2(float2 a, float s) { return f2(a.x * s, a.y * s); }
 static inline float4 scale4(float4 a, float s) { return f4(a.x * s, a.y * s, a.z * s, a.w * s); }

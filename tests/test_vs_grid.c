@@ -112,14 +112,7 @@ static void bufs_make(bufs *B, size_t n)
 static void bufs_free(bufs *B) { free(B->sh), free(B->full), free(B->ref), free(B->plain), free(B->grid); }
 
 /* The device's saturation of the colour outputs (core's saturate_colors) on o. */
-static void saturated(is_vs_output *o)
-{
-    float *c = &o->attr[RS_ATTR_COLOR0].x;
-    for (int k = 0; k < 8; k++) {
-        float x = c[k] >= 0.0f ? c[k] : 0.0f;
-        c[k] = x <= 1.0f ? x : 1.0f;
-    }
-}
+static void saturated(is_vs_output *o) { saturate_color_outputs(&o->attr[RS_ATTR_COLOR0]); }
 
 /* Shade B's inputs with main (complete inputs), batch and grid_batch (workspace ws) of s; batch must give main's
  * bytes, grid_batch main's and batch's with the colours saturated (is_vs_grid_batch_fn), every vertex in oPos and

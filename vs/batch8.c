@@ -13,17 +13,11 @@
 #include "../core/hlsl.h"
 #include <stddef.h>
 
-/* The colour outputs COLOR0 and COLOR1 of out[0..n) saturated as the device does after any shader (core's
- * saturate_colors: x >= 0 ? x : 0, then x <= 1 ? x : 1): grid_batch hands them over saturated (core/device.h). */
+/* The colour outputs of out[0..n) saturated as the device does after any shader: grid_batch hands them over so
+ * (core/device.h). */
 static void sat_colors(is_vs_output *out, size_t n)
 {
-    for (size_t v = 0; v < n; v++) {
-        float *c = &out[v].attr[RS_ATTR_COLOR0].x;
-        for (int k = 0; k < 8; k++) {
-            float x = c[k] >= 0.0f ? c[k] : 0.0f;
-            c[k] = x <= 1.0f ? x : 1.0f;
-        }
-    }
+    for (size_t v = 0; v < n; v++) saturate_color_outputs(&out[v].attr[RS_ATTR_COLOR0]);
 }
 
 #ifdef __AVX2__
@@ -68,7 +62,7 @@ static inline v8i finite(v8f a)
     return m != bf(__builtin_inff());
 }
 static inline v8i finite3(f3x8 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
-/* The device's colour saturation per lane (saturate_colors: x >= 0 ? x : 0, then <= 1 ? : 1; NaN gives 0, -0
+/* The device's colour saturation per lane (hlsl.h's saturate_color_outputs: x >= 0 ? x : 0, then <= 1 ? : 1; NaN gives 0, -0
  * stays -0): the and keeps x's bits where x >= 0, min(x, 1) is x <= 1 ? x : 1 for the non-NaN x left. */
 static inline v8f sat8(v8f x)
 {
@@ -375,7 +369,7 @@ static void vertex1(const vs_batch_consts *k, const inst8 *I, const is_vs_input 
     if (I->p != VS_PATCH_SMOOTH) g = f3(0, 0, 0);
     float2 oTex = add2(add2(scale2(I->T.t[0], b.x), scale2(I->T.t[1], b.y)), scale2(I->T.t[2], b.z));
     vs_write_outputs_k(k, pos, normal, oTex, b, I->T.id, g, out);
-    if (I->K.sat) sat_colors(out, 1); /* as outputs8's lanes */
+    if (I->K.sat) saturate_color_outputs(&out->attr[RS_ATTR_COLOR0]); /* as outputs8's lanes (core/device.h) */
 }
 
 /* The lanes of L (below n_real) not in the 8-bit mask ok through the per-vertex path. */
