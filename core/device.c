@@ -582,23 +582,21 @@ is_result dev_clear(is_device *dev, unsigned flags, uint32_t argb, float z)
     return dev_clear_rects(dev, 0, NULL, flags, argb, z);
 }
 
-/* The target, with any deferred clear written (so its planes may be read directly). */
-rs_target *dev_render_target(is_device *dev)
+/* The target with the recorded draws run and the planes `planes` (RS_CLEAR_*) of any deferred clear written;
+ * NULL for a dead device. */
+static rs_target *target_flushed(is_device *dev, unsigned planes)
 {
     if (!dev_live(dev)) return NULL;
-    rs_target_flush(dev->rs, &dev->rt);   /* the recorded draws, the untouched tiles filled in their tile pass */
-    dev_scene_flush(dev);                 /* (their counters and errors) */
+    rs_target_flush_planes(dev->rs, &dev->rt, planes);   /* the recorded draws, untouched tiles filled in their pass */
+    dev_scene_flush(dev);                                /* (their counters and errors) */
     return &dev->rt;
 }
 
+/* The target, with any deferred clear written (so its planes may be read directly). */
+rs_target *dev_render_target(is_device *dev) { return target_flushed(dev, RS_CLEAR_COLOR | RS_CLEAR_DEPTH); }
+
 /* The target with its colour and AOV planes written (its depth's deferred clear may stay deferred). */
-const rs_target *dev_present(is_device *dev)
-{
-    if (!dev_live(dev)) return NULL;
-    rs_target_flush_planes(dev->rs, &dev->rt, RS_CLEAR_COLOR);   /* as dev_render_target, the colour alone */
-    dev_scene_flush(dev);
-    return &dev->rt;
-}
+const rs_target *dev_present(is_device *dev) { return target_flushed(dev, RS_CLEAR_COLOR); }
 
 /* The recorded draws run now; the first error of one since the last call (device.h). */
 is_result dev_flush(is_device *dev)
