@@ -113,6 +113,7 @@ typedef struct bench_args {
     const char *keep;     /* directory for the images and scene files, or NULL */
     int no_gl;
     int cull;             /* --cull: instess with its pre-tessellation cull (dev_set_patch_cull) */
+    int keep_depth;       /* --keep-depth: instess presents without DISCARD_DEPTHSTENCIL, llvmpipe without invalidating */
     int isa;              /* --isa: the rasterizer's instruction set (RS_ISA_*), -1: the device's own choice */
     bench_lod_args lod;   /* --lod-modes: scene D's modes (bench/bench_lod.c) */
 } bench_args;
@@ -122,13 +123,14 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: bench [--frames N] [--warmup N] [--scenes ABCDP|A,B,C,D,P] [--patch npatch|smooth|both]\n"
                "             [--threads N] [--lp-threads LIST] [--gl PATH] [--keep DIR] [--no-gl] [--cull]\n"
-               "             [--isa avx2|avx512] [--lod-modes LIST]\n"
+               "             [--keep-depth] [--isa avx2|avx512] [--lod-modes LIST]\n"
                "  --scenes LIST     A, B, C (the fixed pixel path), P (pixel shader and texture): default ABCP;\n"
                "                    D (adaptive level of detail, instess only; bench/README.md)\n"
                "  --threads N       instess thread counts: 1 and N (default: 1 and all cores)\n"
                "  --lp-threads LIST LP_NUM_THREADS values tried for llvmpipe, best taken (default 1,2)\n"
                "  --keep DIR        keep the scene files and images (instess, llvmpipe, diff) in DIR\n"
                "  --cull            instess with its pre-tessellation cull (same image; see bench/README.md)\n"
+               "  --keep-depth      keep each frame's depth: no DISCARD_DEPTHSTENCIL present, no glInvalidateFramebuffer\n"
                "  --isa I           instess's rasterizer kernels: avx2, or avx512 (the default where the CPU has it)\n"
                "  --lod-modes LIST  scene D's modes: uniform (or u), pixels per segment (--lod screen) and d with the\n"
                "                    pixels of deviation allowed (TESS_LOD_DEVIATION), e.g. u,3,d0.3 (default\n"
@@ -155,6 +157,7 @@ static int parse_option(bench_args *a, const char *opt, const char *v, int *used
     *used = 1;
     if (strcmp(opt, "--no-gl") == 0) return *used = 0, a->no_gl = 1, 0;
     if (strcmp(opt, "--cull") == 0) return *used = 0, a->cull = 1, 0;
+    if (strcmp(opt, "--keep-depth") == 0) return *used = 0, a->keep_depth = 1, 0;
     if (!v) return -1;
     if (strcmp(opt, "--frames") == 0) return parse_int_list(v, &a->frames, 1, 1, 10000) == 1 ? 0 : -1;
     if (strcmp(opt, "--warmup") == 0) return parse_int_list(v, &a->warmup, 1, 0, 10000) == 1 ? 0 : -1;
@@ -509,7 +512,7 @@ static is_result inst_pixel_stage(inst_gpu *g, const bench_data *bd)
 /* Create the device (1 sample, D3D9's default states), bind the scene layer's instanced draw of the scene, the
  * patch's shader and the constants; 0 or -1 with a message. */
 static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *bd, vs_patch patch, int threads,
-                      bool cull, int isa, char *err, size_t errlen)
+                      bool cull, bool discard, int isa, char *err, size_t errlen)
 {
     memset(g, 0, sizeof *g);
     g->dev = dev_create(d->width, d->height, 1, err, errlen);
@@ -527,12 +530,17 @@ static int inst_setup(inst_gpu *g, const bench_scene_def *d, const bench_data *b
     if (e != IS_OK) return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
     dev_set_timing(g->dev, true);
     dev_set_patch_cull(g->dev, cull);
+    /* the frame's depth is not needed after its present, which a D3D9 program says so (llvmpipe is told the same:
+     * gl_ref.c's glInvalidateFramebuffer) */
+    if (discard && dev_set_present_flags(g->dev, IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL) != IS_OK)
+        return snprintf(err, errlen, "instess setup failed: %s", dev_last_error(g->dev)), -1;
     return 0;
 }
 
 /* One frame: Clear + the instanced DrawIndexedPrimitive + the present (dev_present: every pixel of the frame's
  * colour written, as a Present needs -- the tiles no draw touched get the clear colour; their depth's clear stays
- * deferred, as nothing reads it before the next frame's Clear). */
+ * deferred, as nothing reads it before the next frame's Clear; with DISCARD_DEPTHSTENCIL the drawn tiles' depth is
+ * not written out either). */
 static is_result inst_frame(inst_gpu *g, const bench_data *bd)
 {
     uint32_t bg = IS_COLOR_ARGB(255, bench_background[0], bench_background[1], bench_background[2]);
@@ -637,7 +645,7 @@ static int inst_run(const bench_scene_def *d, const bench_data *bd, vs_patch pat
 {
     memset(r, 0, (size_t)a->n_threads * sizeof *r);
     inst_gpu g;
-    int rc = inst_setup(&g, d, bd, patch, a->threads[0], a->cull != 0, a->isa, err, errlen);
+    int rc = inst_setup(&g, d, bd, patch, a->threads[0], a->cull != 0, !a->keep_depth, a->isa, err, errlen);
     if (rc == 0) rc = inst_measure(&g, bd, a, r, err, errlen);
     inst_release(&g);
     return rc;
@@ -704,7 +712,7 @@ static void gl_run(const char *gl_path, const char *scene_file, const char *imag
     char frames[16], warmup[16], vars[2][512];
     snprintf(frames, sizeof frames, "%d", a->frames), snprintf(warmup, sizeof warmup, "%d", a->warmup);
     char *argv[] = {(char *)gl_path, (char *)scene_file, "--frames", frames, "--warmup", warmup, "--out",
-                    (char *)image_out, NULL};
+                    (char *)image_out, a->keep_depth ? "--keep-depth" : NULL, NULL};
     int fd[2];
     char **env = child_env(lp, vars);
     if (!env || pipe(fd) != 0) {

@@ -95,6 +95,7 @@ typedef struct gl_api {
     PFNGLPIXELSTOREIPROC PixelStorei;
     PFNGLREADPIXELSPROC ReadPixels;
     PFNGLCLIPCONTROLPROC ClipControl;            /* GL 4.5 / ARB_clip_control; may be NULL */
+    PFNGLINVALIDATEFRAMEBUFFERPROC InvalidateFramebuffer;   /* GL 4.3; may be NULL */
     PFNGLGENQUERIESPROC GenQueries;
     PFNGLBEGINQUERYPROC BeginQuery;
     PFNGLENDQUERYPROC EndQuery;
@@ -127,7 +128,7 @@ static const gl_entry gl_entries[] = {
     GL_ENTRY(PixelStorei, 0), GL_ENTRY(ReadPixels, 0), GL_ENTRY(ClipControl, 1), GL_ENTRY(GenQueries, 0),
     GL_ENTRY(BeginQuery, 0), GL_ENTRY(EndQuery, 0), GL_ENTRY(GetQueryObjectui64v, 0), GL_ENTRY(GenTextures, 0),
     GL_ENTRY(BindTexture, 0), GL_ENTRY(ActiveTexture, 0), GL_ENTRY(TexImage2D, 0), GL_ENTRY(TexParameteri, 0),
-    GL_ENTRY(Uniform1i, 0),
+    GL_ENTRY(Uniform1i, 0), GL_ENTRY(InvalidateFramebuffer, 1),
 };
 
 /* Load every entry point; 0, or -1 naming the first required one missing. */
@@ -441,12 +442,17 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-/* One frame: clear, one instanced draw, glFinish. */
-static void draw_frame(const gl_api *gl, const gl_scene *s, GLenum index_type)
+/* One frame: clear, one instanced draw, the depth invalidated (unless `keep`: the frame's depth is not needed
+ * afterwards, as instess's present is told with DISCARD_DEPTHSTENCIL), glFinish. */
+static void draw_frame(const gl_api *gl, const gl_scene *s, GLenum index_type, int keep)
 {
     gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)s->h.n_indices, index_type, (const void *)0,
                               (GLsizei)s->h.n_instances);
+    if (!keep && gl->InvalidateFramebuffer) {
+        const GLenum depth = GL_DEPTH_ATTACHMENT;
+        gl->InvalidateFramebuffer(GL_FRAMEBUFFER, 1, &depth);
+    }
     gl->Finish();
 }
 
@@ -471,7 +477,7 @@ static void count_frame(const gl_api *gl, const gl_scene *s, GLenum index_type, 
     GLuint64 v[4] = {0};
     gl->GenQueries(4, q);
     for (int k = 0; k < 4; k++) gl->BeginQuery(targets[k], q[k]);
-    draw_frame(gl, s, index_type);
+    draw_frame(gl, s, index_type, 1);
     for (int k = 0; k < 4; k++) gl->EndQuery(targets[k]);
     for (int k = 0; k < 4; k++) gl->GetQueryObjectui64v(q[k], GL_QUERY_RESULT, &v[k]);
     *counts = (gl_counts){1, v[0], v[1], v[2], v[3]};
@@ -511,12 +517,12 @@ static int write_image(const char *path, const unsigned char *rgba, int w, int h
 
 /* ---------------------------------------- main ---------------------------------------- */
 
-typedef struct gl_args { const char *scene, *out, *ppm; int frames, warmup, no_clip_control; } gl_args;
+typedef struct gl_args { const char *scene, *out, *ppm; int frames, warmup, no_clip_control, keep_depth; } gl_args;
 
 /* Parse the command line; 0 or -1 (usage on stderr). */
 static int parse_args(int argc, char **argv, gl_args *a)
 {
-    *a = (gl_args){NULL, NULL, NULL, 10, 3, 0};
+    *a = (gl_args){NULL, NULL, NULL, 10, 3, 0, 0};
     for (int i = 1; i < argc; i++) {
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(argv[i], "--frames") == 0 && v) a->frames = atoi(v), i++;
@@ -524,28 +530,29 @@ static int parse_args(int argc, char **argv, gl_args *a)
         else if (strcmp(argv[i], "--out") == 0 && v) a->out = v, i++;
         else if (strcmp(argv[i], "--ppm") == 0 && v) a->ppm = v, i++;
         else if (strcmp(argv[i], "--no-clip-control") == 0) a->no_clip_control = 1;
+        else if (strcmp(argv[i], "--keep-depth") == 0) a->keep_depth = 1;
         else if (argv[i][0] != '-' && !a->scene) a->scene = argv[i];
         else a->scene = NULL, i = argc;
     }
     if (!a->scene || a->frames < 1 || a->frames > 100000 || a->warmup < 0) {
         fprintf(stderr, "usage: bench-gl SCENE_FILE [--frames N] [--warmup N] [--out FILE.rgba] [--ppm FILE.ppm] "
-                        "[--no-clip-control]\n");
+                        "[--no-clip-control] [--keep-depth]\n");
         return -1;
     }
     return 0;
 }
 
 /* The result line: key=value pairs parsed by build/bench. */
-static void print_result(const gl_api *gl, const egl_state *e, int clip_control, const double *ms, int n,
-                         const gl_counts *c)
+static void print_result(const gl_api *gl, const egl_state *e, int clip_control, int invalidate, const double *ms,
+                         int n, const gl_counts *c)
 {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     const char *lp = getenv("LP_NUM_THREADS");
     printf("bench-gl renderer=\"%s\" gl=%d.%d clip_control=%d lp_threads=%s frames=%d median_ms=%.4f "
-           "min_ms=%.4f max_ms=%.4f maxrss_kb=%ld",
+           "min_ms=%.4f max_ms=%.4f maxrss_kb=%ld invalidate_depth=%d",
            (const char *)gl->GetString(GL_RENDERER), e->major, e->minor, clip_control, lp ? lp : "default", n,
-           ms[n / 2], ms[0], ms[n - 1], ru.ru_maxrss);
+           ms[n / 2], ms[0], ms[n - 1], ru.ru_maxrss, invalidate);
     if (c->have)
         printf(" vs_invocations=%llu prims_submitted=%llu clip_prims=%llu fs_invocations=%llu",
                (unsigned long long)c->vs_invocations, (unsigned long long)c->prims_submitted,
@@ -556,10 +563,10 @@ static void print_result(const gl_api *gl, const egl_state *e, int clip_control,
 /* Time the frames: warm-up, then a.frames frames; ms gets the sorted times. */
 static void time_frames(const gl_api *gl, const gl_scene *s, GLenum index_type, const gl_args *a, double *ms)
 {
-    for (int k = 0; k < a->warmup; k++) draw_frame(gl, s, index_type);
+    for (int k = 0; k < a->warmup; k++) draw_frame(gl, s, index_type, a->keep_depth);
     for (int k = 0; k < a->frames; k++) {
         double t0 = now_ms();
-        draw_frame(gl, s, index_type);
+        draw_frame(gl, s, index_type, a->keep_depth);
         ms[k] = now_ms() - t0;
     }
     qsort(ms, (size_t)a->frames, sizeof *ms, cmp_double);
@@ -587,7 +594,7 @@ static int run(const gl_api *gl, const egl_state *e, const gl_scene *s, const gl
     if (err != GL_NO_ERROR) fprintf(stderr, "bench-gl: GL error 0x%x\n", err);
     if (rc == 0 && a->out) rc = write_image(a->out, img, s->h.width, s->h.height, 0);
     if (rc == 0 && a->ppm) rc = write_image(a->ppm, img, s->h.width, s->h.height, 1);
-    if (rc == 0) print_result(gl, e, cc, ms, a->frames, &counts);
+    if (rc == 0) print_result(gl, e, cc, !a->keep_depth && gl->InvalidateFramebuffer, ms, a->frames, &counts);
     free(img);
     free(ms);
     return rc;

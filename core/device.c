@@ -259,6 +259,19 @@ void dev_set_timing(is_device *dev, bool on)
     rs_set_timing(dev->rs, on);
 }
 
+/* D3DPRESENT_PARAMETERS.Flags (device.h): IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL alone, or none. */
+is_result dev_set_present_flags(is_device *dev, unsigned flags)
+{
+    if (!dev_live(dev)) return IS_ERR_INVALIDCALL;
+    if (flags & ~IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL) {
+        snprintf(dev->err, sizeof dev->err, "SetPresentFlags: flags 0x%x: only DISCARD_DEPTHSTENCIL (0x2) is known",
+                 flags);
+        return IS_ERR_INVALIDCALL;
+    }
+    dev->present_flags = flags;
+    return IS_OK;
+}
+
 /* Pre-tessellation culling on or off (draw_cull.c). */
 void dev_set_patch_cull(is_device *dev, bool on)
 {
@@ -595,8 +608,13 @@ static rs_target *target_flushed(is_device *dev, unsigned planes)
 /* The target, with any deferred clear written (so its planes may be read directly). */
 rs_target *dev_render_target(is_device *dev) { return target_flushed(dev, RS_CLEAR_COLOR | RS_CLEAR_DEPTH); }
 
-/* The target with its colour and AOV planes written (its depth's deferred clear may stay deferred). */
-const rs_target *dev_present(is_device *dev) { return target_flushed(dev, RS_CLEAR_COLOR); }
+/* The target with its colour and AOV planes written (its depth's deferred clear may stay deferred; with
+ * DISCARD_DEPTHSTENCIL the frame's drawn depth may be dropped too). */
+const rs_target *dev_present(is_device *dev)
+{
+    const bool discard = dev_live(dev) && (dev->present_flags & IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL);
+    return target_flushed(dev, RS_CLEAR_COLOR | (discard ? RS_DISCARD_DEPTH : 0u));
+}
 
 /* The recorded draws run now; the first error of one since the last call (device.h). */
 is_result dev_flush(is_device *dev)
@@ -610,7 +628,7 @@ is_result dev_flush(is_device *dev)
 is_result dev_get_render_target_data(is_device *dev, uint32_t *rgba, size_t count)
 {
     if (!dev_live(dev) || !rgba) return IS_ERR_INVALIDCALL;
-    const rs_target *rt = dev_present(dev);   /* the colour alone is read */
+    const rs_target *rt = target_flushed(dev, RS_CLEAR_COLOR);   /* the colour alone is read (not a present) */
     if (count < (size_t)rt->width * (size_t)rt->height) {
         snprintf(dev->err, sizeof dev->err, "GetRenderTargetData: a buffer of %zu pixels for a %dx%d target", count,
                  rt->width, rt->height);

@@ -348,6 +348,15 @@ INSTESS_API void dev_set_timing(is_device *dev, bool on);
  * CW or CCW, solid fill) with every grid triangle culled by its snapped winding.  The image bytes are those of the
  * draw without it; the statistics count fewer triangles and vertices (dev_instances_culled counts the skips). */
 INSTESS_API void dev_set_patch_cull(is_device *dev, bool on);
+/* D3DPRESENT_PARAMETERS.Flags, of which instess acts on one: IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL (D3D9's
+ * D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL, 0x2; default off, dev_reset keeps it): the program does not need the depth
+ * buffer's contents after a Present, so dev_present may drop the depth the frame drew.  Where the frame's Clear of
+ * the depth is still deferred (the tiles a draw touched, after a whole-target Clear) the depth then reads as that
+ * cleared value -- the Windows debug runtime clears it to a constant, drivers leave it undefined --, elsewhere as
+ * drawn; stencil is kept.  Saves writing each drawn tile's depth to memory.  IS_ERR_INVALIDCALL for other bits
+ * (dev_last_error says which) or a NULL or destroyed device. */
+#define IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL 0x2u
+INSTESS_API is_result dev_set_present_flags(is_device *dev, unsigned flags);
 
 /* Buffers: CreateVertexBuffer / CreateIndexBuffer, Lock (returns the memory), Unlock. */
 INSTESS_API is_result dev_create_vertex_buffer(is_device *dev, size_t bytes, is_vertex_buffer **out);
@@ -512,8 +521,8 @@ INSTESS_API rs_target *dev_render_target(is_device *dev);
 /* The frame as a Present shows it: the recorded draws run and the colour (and AOV) planes written, as
  * dev_render_target, but a deferred dev_clear of the depth buffer stays deferred in the tiles no draw touched
  * (written when something reads the depth -- dev_render_target, binding other targets -- or dropped when the next
- * frame's clear replaces it).  So read only the colour and AOV planes of the target it returns; NULL for a NULL or
- * destroyed device. */
+ * frame's clear replaces it; with dev_set_present_flags' DISCARD_DEPTHSTENCIL in the tiles drawn too).  So read
+ * only the colour and AOV planes of the target it returns; NULL for a NULL or destroyed device. */
 INSTESS_API const rs_target *dev_present(is_device *dev);
 /* Run the draws recorded so far now and report how they went.  Instanced triangle draws on the fast path are
  * recorded, not run (a snapshot of the shader, constants, samplers, fetch plan and indices; the vertex buffers

@@ -253,6 +253,7 @@ struct is_device {
     bool reference;         /* dev_set_reference_path */
     bool timing;            /* dev_set_timing: phase times into stats (setup_ms, tile_ms) */
     bool patch_cull;        /* dev_set_patch_cull */
+    unsigned present_flags; /* dev_set_present_flags */
     uint32_t rs_state[IS_RS_COUNT];
     is_viewport viewport;   /* as set (and read back by GetViewport) */
     rs_viewport rs_vp;      /* the rasterizer's: clipped to the target, MaxZ fixed (dev_viewport_update) */

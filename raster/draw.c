@@ -451,7 +451,8 @@ static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int t
 /* Rasterize tile `tile`: draws d[0..nd) (one target) one after the other, each chunk's bin of it in submission
  * order; counters into ts[0..2).  buf: the thread's tile buffer (used when the tile's clear is deferred: every
  * draw of the tile then draws in it) or NULL (the tile is drawn in the target).  A tile no draw touches gets the
- * deferred clear of the planes `fill` (RS_CLEAR_*; 0: none). */
+ * deferred clear of the planes `fill` (RS_CLEAR_*; 0: none); with RS_DISCARD_DEPTH in `fill` a drawn tile whose
+ * depth clear is deferred keeps it deferred (rs_target_flush_planes). */
 static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd, int tile, uint64_t *ts, void *buf,
                         unsigned fill)
 {
@@ -461,11 +462,15 @@ static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd,
     t.color = j->rt->color, t.depth = j->rt->depth;
     t.ox = t.oy = 0, t.pitch = (size_t)j->rt->width;
     bool has = tile_has_prims(rs, d, nd, tile);
+    /* RS_DISCARD_DEPTH: the depth is not copied out where its clear is deferred (rs_target_flush_planes then defers
+     * it again: tiles drawn in the target too) */
+    const unsigned keep = has && (fill & RS_DISCARD_DEPTH) ? rs_tile_pending(rs, j, tile) & RS_CLEAR_DEPTH : 0u;
     bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
     if (has && !buffered) rs_tile_flush(rs, j, tile, RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
-    if (!has && fill) rs_tile_flush(rs, j, tile, fill);
+    const unsigned fp = fill & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
+    if (!has && fp) rs_tile_flush(rs, j, tile, fp);
     for (size_t k = 0; has && k < nd; k++) raster_tile_draw(rs, &d[k], tile, &t);
-    if (buffered) rs_tile_buffer_end(rs, j, tile, &t);
+    if (buffered) rs_tile_buffer_end(rs, j, tile, &t, keep);
     ts[0] = t.tested;
     ts[1] = t.written;
 }

@@ -286,7 +286,8 @@ INSTESS_API void rs_target_free(rs_target *rt);
 /* Add an AOV plane copying `comps` components of attribute `slot`; RS_EINVAL if samples != 1 or full. */
 INSTESS_API int rs_target_add_aov(rs_target *rt, int slot, int comps);
 /* What a clear writes (D3DCLEAR_TARGET and D3DCLEAR_ZBUFFER have these values). */
-enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2, RS_CLEAR_STENCIL = 4 /* see rs_target_clear_stencil */ };
+enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2, RS_CLEAR_STENCIL = 4 /* see rs_target_clear_stencil */,
+       RS_DISCARD_DEPTH = 8 /* rs_target_flush_planes: the drawn depth is not kept (below) */ };
 /* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
 INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* The same for the pixels x0 <= x < x1, y0 <= y < y1 only (clipped to the target); no deferred clear of rt may be
@@ -303,7 +304,11 @@ INSTESS_API void rs_target_flush(rs_context *rs, rs_target *rt);
 /* rs_target_flush for the planes in `planes` alone (RS_CLEAR_COLOR: colour and AOV planes; RS_CLEAR_DEPTH): those
  * may then be read; the others' deferred clear stays deferred (a present reads only the colour: the depth of the
  * tiles no draw touched is then written only if something reads it -- rs_target_flush -- before the next
- * rs_target_clear_deferred replaces it).  The queued draws run first, as for rs_target_flush. */
+ * rs_target_clear_deferred replaces it).  The queued draws run first, as for rs_target_flush.  With
+ * RS_DISCARD_DEPTH in `planes` (D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL: the depth is not needed after the present)
+ * the depth the queued draws write is dropped too in every tile whose depth clear was deferred: that clear stays
+ * deferred, so the depth plane then reads as the cleared value there (the tile pass skips the depth's copy-out);
+ * tiles whose depth was not cleared keep the drawn depth. */
 INSTESS_API void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes);
 /* Set the stencil of every sample of pixels x0 <= x < x1, y0 <= y < y1 (clipped to the target) to the low 8 bits
  * of value (D3DCLEAR_STENCIL; never deferred: the stencil plane is only written by stencil draws and this). */

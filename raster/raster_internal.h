@@ -371,8 +371,11 @@ size_t rs_tile_buffer_size(const rs_job *j);
  * aligned) with the clear (planes the clear keeps are copied from the target), clear its AOV pixels in the target,
  * and point t at the buffer; false (nothing done) when the clear is not deferred. */
 bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf);
-/* Copy tile buffer t back into the job's target and mark the tile's clear done. */
-void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t);
+/* Copy tile buffer t back into the job's target but for the planes `keep` (RS_CLEAR_*), and mark the tile's clear
+ * done but for those (their deferred clear stays: rs_target_flush_planes' RS_DISCARD_DEPTH). */
+void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t, unsigned keep);
+/* The planes (RS_CLEAR_*) of tile `tile` of the job's target whose clear is deferred on rs (0: none). */
+unsigned rs_tile_pending(const rs_context *rs, const rs_job *j, int tile);
 
 /* ---- span.c, span_wide.c: the 8-lane fast path of triangles on 1-sample targets ---- */
 /* True when the job may take the fast path: 1-sample targets off the reference path, with AVX2. */

@@ -286,6 +286,12 @@ static int tile_count(const rs_target *rt)
     return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
 }
 
+/* rs->pend[tile]'s bits: the planes whose clear is deferred (RS_CLEAR_COLOR, RS_CLEAR_DEPTH), and PEND_FRAME_DEPTH
+ * when the deferred clear covered the tile's depth -- kept when the tile is written, so that a discarding present
+ * (RS_DISCARD_DEPTH) can defer it again whatever the frame drew there. */
+#define PEND_PLANES (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)
+#define PEND_FRAME_DEPTH 16u
+
 /* Is rs's deferred clear for rt (the same target, not reallocated since)? */
 static bool pending_on(const rs_context *rs, const rs_target *rt)
 {
@@ -294,13 +300,16 @@ static bool pending_on(const rs_context *rs, const rs_target *rt)
 
 void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
 {
-    planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH;
+    planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH | (planes & RS_CLEAR_DEPTH ? 0u : RS_DISCARD_DEPTH);
     rs_flush_fill(rs, rt, planes);   /* the queued draws (rs_set_scene) first, the tiles they leave filled too */
     if (!rs || !rt || !pending_on(rs, rt)) {
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
     }
     int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE, left = 0;
+    if (planes & RS_DISCARD_DEPTH)   /* the frame's depth dropped: the clear deferred again, however it was drawn */
+        for (int t = 0; t < n; t++) rs->pend[t] |= (uint8_t)(rs->pend[t] & PEND_FRAME_DEPTH ? RS_CLEAR_DEPTH : 0);
+    planes &= PEND_PLANES;
     for (int t = 0; t < n && !left; t++) left = rs->pend[t] & planes;
     int nt = rs->threads > 0 ? rs->threads : omp_get_num_procs();
     nt = nt < 1 ? 1 : nt;
@@ -332,7 +341,7 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
         }
         rs->pend = p, rs->pend_cap = n;
     }
-    memset(rs->pend, (int)(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH)), n);   /* per tile: the planes deferred */
+    memset(rs->pend, (int)((flags & PEND_PLANES) | (flags & RS_CLEAR_DEPTH ? PEND_FRAME_DEPTH : 0)), n);   /* per tile */
     rs->pend_tiles = (int)n, rs->pend_rt = rt, rs->pend_color = rt->color;
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
 }
@@ -352,13 +361,13 @@ size_t rs_tile_buffer_size(const rs_job *j)
 bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf)
 {
     rs_target *rt = j->rt;
-    if (!buf || !pending_on(rs, rt) || !rs->pend[tile]) return false;
+    if (!buf || !pending_on(rs, rt) || !(rs->pend[tile] & PEND_PLANES)) return false;
     const int x0 = tile % j->tiles_x * RS_TILE, y0 = tile / j->tiles_x * RS_TILE;
     const int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
     const int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)RS_TILE * ns;
     uint32_t *col = buf, *dep = col + row * RS_TILE, zb;
-    const unsigned pf = rs->pend[tile];   /* the planes still deferred in this tile; the others from the target */
+    const unsigned pf = rs->pend[tile] & PEND_PLANES;   /* the planes still deferred here; the others from the target */
     memcpy(&zb, &rs->pend_z, 4);
     /* a cleared plane is filled whole, its rows at once (the columns past the target's right edge too, which
      * nothing copies out): one call per plane where one per row cost the fill's set-up 64 times */
@@ -379,7 +388,7 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
 }
 
 
-void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t)
+void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t, unsigned keep)
 {
     rs_target *rt = j->rt;
     const int x1 = t->ox + RS_TILE < rt->width ? t->ox + RS_TILE : rt->width;
@@ -390,10 +399,15 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
     for (int y = t->oy; y < y1; y++) {
         size_t at = ((size_t)y * (size_t)rt->width + (size_t)t->ox) * ns, bt = rs_tile_index(t, t->ox, y) * ns;
         copy32(rt->color + at, t->color + bt, n, stream);
-        copy32((word32 *)rt->depth + at, (const word32 *)t->depth + bt, n, stream);
+        if (!(keep & RS_CLEAR_DEPTH)) copy32((word32 *)rt->depth + at, (const word32 *)t->depth + bt, n, stream);
     }
     stream_fence(stream);
-    rs->pend[tile] = 0;
+    rs->pend[tile] = (uint8_t)(rs->pend[tile] & (PEND_FRAME_DEPTH | (keep & RS_CLEAR_DEPTH)));
+}
+
+unsigned rs_tile_pending(const rs_context *rs, const rs_job *j, int tile)
+{
+    return pending_on(rs, j->rt) ? rs->pend[tile] & PEND_PLANES : 0u;
 }
 
 /* rs_target_clear_stencil: the stencil bytes of the pixels of [x0, x1) x [y0, y1) inside the target. */

@@ -67,6 +67,7 @@ static void test_null_device(void **state)
     dev_set_threads(NULL, 2);
     dev_set_timing(NULL, true);
     dev_set_patch_cull(NULL, true);
+    assert_int_equal(dev_set_present_flags(NULL, IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL), IS_ERR_INVALIDCALL);
     dev_set_reference_path(NULL, true);
     assert_false(dev_reference_path(NULL));
     assert_int_equal(dev_set_isa(NULL, 0), -1);
@@ -306,6 +307,9 @@ static void test_state_edges(void **state)
     assert_int_equal(dev_isa(dev), isa);
     dev_set_timing(dev, true);
     dev_set_patch_cull(dev, true);
+    assert_int_equal(dev_set_present_flags(dev, UINT_MAX), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_present_flags(dev, IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL | 0x80000000u), IS_ERR_INVALIDCALL);
+    assert_int_equal(dev_set_present_flags(dev, 0), IS_OK);
     dev_set_reference_path(dev, true);
     assert_true(dev_reference_path(dev));
     dev_set_reference_path(dev, false);

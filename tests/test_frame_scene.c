@@ -121,6 +121,15 @@ static scene make_scene(int threads, bool reference)
     return sc;
 }
 
+/* Release the scene's buffers and its device. */
+static void scene_free(scene *sc)
+{
+    decl_release(sc->decl);
+    vb_release(sc->grid), vb_release(sc->inst[0]), vb_release(sc->inst[1]), vb_release(sc->line);
+    ib_release(sc->ib);
+    dev_destroy(sc->dev);
+}
+
 /* Random states and constants for draw d (cull, depth function and writes, blending, scissor, viewport). */
 static void random_states(is_device *dev, uint64_t *s)
 {
@@ -195,10 +204,7 @@ static void render(uint64_t seed, int threads, bool reference, result *out)
     out->stats = *dev_stats(sc.dev);
     assert_int_equal(dev_get_render_target_data(sc.dev, out->color, W * H), IS_OK);
     memcpy(out->depth, dev_render_target(sc.dev)->depth, sizeof out->depth);
-    decl_release(sc.decl);
-    vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
-    ib_release(sc.ib);
-    dev_destroy(sc.dev);
+    scene_free(&sc);
 }
 
 /* The recorded frame against the reference path (images) and 1 against 2 threads (images and counters). */
@@ -247,10 +253,7 @@ static void test_one_region_per_frame(void **state)
         assert_int_equal(st->setup_regions, 1u);
         assert_int_equal(st->tile_regions, 1u);
         assert_true(st->samples_written > 0);
-        decl_release(sc.decl);
-        vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
-        ib_release(sc.ib);
-        dev_destroy(sc.dev);
+        scene_free(&sc);
     }
 }
 
@@ -287,10 +290,7 @@ static void render_texture_frame(int threads, bool reference, uint32_t *color)
     }
     assert_int_equal(dev_get_render_target_data(sc.dev, color, W * H), IS_OK);
     tex_release(t);
-    decl_release(sc.decl);
-    vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
-    ib_release(sc.ib);
-    dev_destroy(sc.dev);
+    scene_free(&sc);
 }
 
 /* A texture locked between recorded draws: the reference path's bytes, 1 and 2 threads. */
@@ -337,10 +337,7 @@ static void test_error_at_flush(void **state)
     assert_non_null(strstr(dev_last_error(sc.dev), "times on average"));
     assert_int_equal(dev_flush(sc.dev), IS_OK);   /* reported once */
     assert_int_equal(dev_stats(sc.dev)->prims_drawn, 2u * (N - 1) * (N - 1));   /* the first draw only */
-    decl_release(sc.decl);
-    vb_release(sc.grid), vb_release(sc.inst[0]), vb_release(sc.inst[1]), vb_release(sc.line);
-    ib_release(sc.ib);
-    dev_destroy(sc.dev);
+    scene_free(&sc);
 }
 
 /* vs_grid with the colour made of every component of three per-vertex elements (FLOAT1 texcoord1, FLOAT3
@@ -435,6 +432,50 @@ static void test_per_vertex_floats(void **state)
     free(ref), free(img);
 }
 
+/* Frame seed shown by dev_present on a device with present flags `flags`: its colour as dev_present returns it and
+ * the depth dev_render_target reads afterwards, into *out.  (One frame: the next frame's Clear is not the whole
+ * target -- draw_frame's last viewport -- so it would draw over the discarded depth.) */
+static void render_present(uint64_t seed, int threads, bool reference, unsigned flags, result *out)
+{
+    scene sc = make_scene(threads, reference);
+    assert_int_equal(dev_set_present_flags(sc.dev, flags), IS_OK);
+    draw_frame(&sc, seed);
+    memcpy(out->color, dev_present(sc.dev)->color, sizeof out->color);
+    memcpy(out->depth, dev_render_target(sc.dev)->depth, sizeof out->depth);
+    scene_free(&sc);
+}
+
+/* D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL: the presented colour is the frame's, on the reference and the fast path,
+ * 1 and 2 threads; the depth afterwards is the frame's Clear value (the drawn depth dropped) -- and without the
+ * flag the drawn depth; GetRenderTargetData is not a present (the depth kept); other flags refused. */
+static void test_present_discard_depth(void **state)
+{
+    (void)state;
+    result *keep = malloc(sizeof *keep), *drop = malloc(sizeof *drop);
+    assert_true(keep && drop);
+    for (int path = 0; path < 3; path++) {   /* reference, 1 thread, 2 threads */
+        render_present(77, path == 2 ? 2 : 1, path == 0, 0, keep);
+        render_present(77, path == 2 ? 2 : 1, path == 0, IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL, drop);
+        assert_memory_equal(keep->color, drop->color, sizeof keep->color);
+        size_t drawn = 0;
+        for (size_t p = 0; p < W * H; p++) {
+            drawn += keep->depth[p] != 1.0f;
+            if (drop->depth[p] != 1.0f) fail_msg("path %d: depth %g at (%zu, %zu)", path, drop->depth[p], p % W, p / W);
+        }
+        assert_true(drawn > 1000);
+    }
+    scene sc = make_scene(2, false);
+    assert_int_equal(dev_set_present_flags(sc.dev, IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL), IS_OK);
+    draw_frame(&sc, 77);
+    assert_int_equal(dev_get_render_target_data(sc.dev, drop->color, W * H), IS_OK);
+    assert_memory_equal(keep->color, drop->color, sizeof keep->color);
+    assert_memory_equal(keep->depth, dev_render_target(sc.dev)->depth, sizeof keep->depth);
+    assert_int_equal(dev_set_present_flags(sc.dev, 0x1u), IS_ERR_INVALIDCALL);   /* LOCKABLE_BACKBUFFER: not known */
+    assert_non_null(strstr(dev_last_error(sc.dev), "0x1"));
+    scene_free(&sc);
+    free(keep), free(drop);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -443,6 +484,7 @@ int main(void)
         cmocka_unit_test(test_texture_lock_between_draws),
         cmocka_unit_test(test_error_at_flush),
         cmocka_unit_test(test_per_vertex_floats),
+        cmocka_unit_test(test_present_discard_depth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -263,7 +263,8 @@ static void test_flush_fills_untouched_tiles(void **state)
  * first (rs_target_flush_planes: with the scene on, the tiles no draw touched are filled in the draws' tile pass),
  * and then the tiles outside the draws' viewports (x >= 256 or y >= 192) must hold the clear colour and the old
  * depth.  The planes after rs_target_flush into color / depth (448 x 320 each). */
-static void draw_present(const frame *f, bool scene, bool present, int threads, uint32_t *color, float *depth)
+static void draw_present(const frame *f, bool scene, unsigned clear, unsigned present, int threads, uint32_t *color,
+                         float *depth)
 {
     enum { PW = 448, PH = 320 };
     const uint32_t old = 0x01020304u, bg = 0xff402010u;
@@ -274,7 +275,7 @@ static void draw_present(const frame *f, bool scene, bool present, int threads, 
     rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, old, 0.25f);
     rs_stats sink = {0}, s;
     rs_set_scene(rs, scene ? &sink : NULL);
-    rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
+    rs_target_clear_deferred(rs, &rt, clear, bg, 1.0f);
     src_ctx ctx[DRAWS];
     for (int d = 0; d < DRAWS; d++) {
         ctx[d] = (src_ctx){f, d};
@@ -282,9 +283,9 @@ static void draw_present(const frame *f, bool scene, bool present, int threads, 
         assert_int_equal(rs_draw_source(rs, &f->st[d], &rt, &src, &s), RS_OK);
     }
     if (present) {
-        rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
+        rs_target_flush_planes(rs, &rt, present);
         if (scene) assert_true(sink.samples_written > 0);   /* the queue ran */
-        for (int y = 0; y < PH; y += 3)
+        for (int y = 0; y < PH && clear == (RS_CLEAR_COLOR | RS_CLEAR_DEPTH); y += 3)
             for (int x = 0; x < PW; x += 5) {
                 const size_t p = (size_t)y * PW + (size_t)x;
                 if (x < 256 && y < 192) continue;
@@ -311,13 +312,47 @@ static void test_present_fused(void **state)
     float *d0 = malloc(N * sizeof *d0), *d1 = malloc(N * sizeof *d1);
     assert_true(f && c0 && c1 && d0 && d1);
     make_frame(f, 0x51ed270b27u);
-    draw_present(f, false, false, 1, c0, d0);
+    draw_present(f, false, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1, c0, d0);
     for (int threads = 1; threads <= 2; threads++)
         for (int scene = 0; scene < 2; scene++) {
-            draw_present(f, scene, true, threads, c1, d1);
+            draw_present(f, scene, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, RS_CLEAR_COLOR, threads, c1, d1);
             assert_memory_equal(c0, c1, N * sizeof *c0);
             assert_memory_equal(d0, d1, N * sizeof *d0);
         }
+    free(f), free(c0), free(c1), free(d0), free(d1);
+}
+
+/* A present that discards the depth (RS_DISCARD_DEPTH, D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL): the colour of the
+ * frame drawn and flushed whole, and the depth the frame's deferred clear -- drawn in tile buffers (the scene's
+ * draws) or in the target (draw by draw) --, 1 and 2 threads; a frame whose clear kept the depth keeps its drawn
+ * depth. */
+static void test_present_discard(void **state)
+{
+    (void)state;
+    enum { N = 448 * 320 };
+    frame *f = malloc(sizeof *f);
+    uint32_t *c0 = malloc(N * sizeof *c0), *c1 = malloc(N * sizeof *c1);
+    float *d0 = malloc(N * sizeof *d0), *d1 = malloc(N * sizeof *d1);
+    assert_true(f && c0 && c1 && d0 && d1);
+    make_frame(f, 0x51ed270b27u);
+    const unsigned both = RS_CLEAR_COLOR | RS_CLEAR_DEPTH, discard = RS_CLEAR_COLOR | RS_DISCARD_DEPTH;
+    draw_present(f, false, both, 0, 1, c0, d0);
+    size_t drawn = 0;
+    for (size_t p = 0; p < N; p++) drawn += d0[p] != 1.0f;
+    assert_true(drawn > 1000);   /* the frame draws depth (which the discard must drop) */
+    for (int threads = 1; threads <= 2; threads++)
+        for (int scene = 0; scene < 2; scene++) {
+            draw_present(f, scene, both, discard, threads, c1, d1);
+            assert_memory_equal(c0, c1, N * sizeof *c0);
+            for (size_t p = 0; p < N; p++)
+                if (d1[p] != 1.0f) fail_msg("threads %d, scene %d: depth %g at %zu, not the clear's", threads, scene, d1[p], p);
+        }
+    draw_present(f, false, RS_CLEAR_COLOR, 0, 1, c0, d0);   /* the depth not cleared: the drawn depth kept */
+    for (int scene = 0; scene < 2; scene++) {
+        draw_present(f, scene, RS_CLEAR_COLOR, discard, 2, c1, d1);
+        assert_memory_equal(c0, c1, N * sizeof *c0);
+        assert_memory_equal(d0, d1, N * sizeof *d0);
+    }
     free(f), free(c0), free(c1), free(d0), free(d1);
 }
 
@@ -328,6 +363,7 @@ int main(void)
         cmocka_unit_test(test_scene_defers),
         cmocka_unit_test(test_flush_fills_untouched_tiles),
         cmocka_unit_test(test_present_fused),
+        cmocka_unit_test(test_present_discard),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
