@@ -1356,11 +1356,13 @@ static inline __attribute__((always_inline)) __m256i grid_cov_rows(__m256i e0, _
                                                                    __m256i b2, int nr, int nc)
 {
     __m256i d0 = b0, d1 = b1, d2 = b2;   /* -(b + (nc - 1) * a): from a row's last column to the first one above */
+#pragma GCC unroll 4
     for (int c = 1; c < nc; c++) d0 = _mm256_add_epi32(d0, a0), d1 = _mm256_add_epi32(d1, a1), d2 = _mm256_add_epi32(d2, a2);
     const __m256i zero = _mm256_setzero_si256();
     d0 = _mm256_sub_epi32(zero, d0), d1 = _mm256_sub_epi32(zero, d1), d2 = _mm256_sub_epi32(zero, d2);
     __m256i cov = zero;
     for (int r = nr;;) {
+#pragma GCC unroll 4
         for (int c = 0; c < nc; c++) {
             if (c) e0 = _mm256_add_epi32(e0, a0), e1 = _mm256_add_epi32(e1, a1), e2 = _mm256_add_epi32(e2, a2);
             cov = cov_add(cov, e0, e1, e2, 1 << c);
@@ -1379,14 +1381,20 @@ static inline __attribute__((always_inline)) __m256i grid_cov_rows(__m256i e0, _
 static inline __attribute__((always_inline)) __m256i grid_cov8(const edges8 *ev, __m256i x0, __m256i y0, __m256i x1,
                                                                __m256i y1, __m256i sv, __m256i vcx, __m256i vcy)
 {
-    const __m256i one = _mm256_set1_epi32(1), w = _mm256_sub_epi32(x1, x0), h = _mm256_sub_epi32(y1, y0);
-    /* bit h and bit 8 + w of each lane of sv, or-ed over the lanes: the rows and columns to walk */
-    __m256i hw = _mm256_and_si256(_mm256_or_si256(_mm256_sllv_epi32(one, h), _mm256_sllv_epi32(_mm256_set1_epi32(256), w)), sv);
-    hw = _mm256_or_si256(hw, _mm256_permute2x128_si256(hw, hw, 1));
-    hw = _mm256_or_si256(hw, _mm256_shuffle_epi32(hw, _MM_SHUFFLE(1, 0, 3, 2)));
-    hw = _mm256_or_si256(hw, _mm256_shuffle_epi32(hw, _MM_SHUFFLE(2, 3, 0, 1)));
-    const unsigned bits = (unsigned)_mm256_cvtsi256_si32(hw);
-    const int nr = 32 - __builtin_clz(bits & 0xffu), nc = 32 - __builtin_clz(bits >> 8);
+    /* each lane's box as a mask: columns 0..w of each row (a table indexed by w = x1 - x0, 0..3) and rows 0..h (by
+     * h = y1 - y0, 0..7); or-ed over sv's lanes, its highest bit is in the tallest box's last row, its first row's
+     * in the widest box's last column: the rows and columns to walk */
+    const __m256i box = _mm256_and_si256(
+        _mm256_permutevar8x32_epi32(_mm256_setr_epi32(0x11111111, 0x33333333, 0x77777777, -1, 0, 0, 0, 0),
+                                    _mm256_sub_epi32(x1, x0)),
+        _mm256_permutevar8x32_epi32(_mm256_setr_epi32(0xf, 0xff, 0xfff, 0xffff, 0xfffff, 0xffffff, 0xfffffff, -1),
+                                    _mm256_sub_epi32(y1, y0)));
+    __m256i u = _mm256_and_si256(box, sv);
+    u = _mm256_or_si256(u, _mm256_permute2x128_si256(u, u, 1));
+    u = _mm256_or_si256(u, _mm256_shuffle_epi32(u, _MM_SHUFFLE(1, 0, 3, 2)));
+    u = _mm256_or_si256(u, _mm256_shuffle_epi32(u, _MM_SHUFFLE(2, 3, 0, 1)));
+    const unsigned bits = (unsigned)_mm256_cvtsi256_si32(u);
+    const int nr = ((31 - __builtin_clz(bits)) >> 2) + 1, nc = 32 - __builtin_clz(bits & 0xfu);
     /* column 0 of row nr - 1 */
     const __m256i X = _mm256_sub_epi32(_mm256_slli_epi32(x0, RS_SUB_BITS), vcx);
     const __m256i Y = _mm256_sub_epi32(_mm256_slli_epi32(_mm256_add_epi32(y0, _mm256_set1_epi32(nr - 1)), RS_SUB_BITS), vcy);
@@ -1403,11 +1411,7 @@ static inline __attribute__((always_inline)) __m256i grid_cov8(const edges8 *ev,
     case 3: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 3); break;
     default: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 4); break;
     }
-    /* the box: columns 0..w of each row, rows 0..h (a shift by 32 for h = 7 gives 0: all rows) */
-    const __m256i cols = _mm256_mullo_epi32(_mm256_sub_epi32(_mm256_sllv_epi32(_mm256_set1_epi32(2), w), one),
-                                            _mm256_set1_epi32(0x11111111));
-    const __m256i rows = _mm256_sub_epi32(_mm256_sllv_epi32(one, _mm256_slli_epi32(_mm256_add_epi32(h, one), 2)), one);
-    return _mm256_and_si256(cov, _mm256_and_si256(cols, rows));
+    return _mm256_and_si256(cov, box);
 }
 
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
