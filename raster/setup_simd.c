@@ -1417,7 +1417,8 @@ static inline __attribute__((always_inline)) __m256i grid_cov8(const edges8 *ev,
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
  * (grid_step8), those that are drawn and meet the tile set up from the rows (grid_finish_half) into the L1 scratch
  * and rasterized at once in the group's order by rs_tri_run (span.c: what rs_tri_tile does for them, with the box
- * clipped to the tile and the walk picked in these lanes). */
+ * clipped to the tile and the walk picked in these lanes; the stamp lanes' coverage computed here for the step at
+ * once, grid_cov8). */
 static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *gp)
 {
     const grid_cols g = grid_cols_of(c);
