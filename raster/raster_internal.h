@@ -417,12 +417,14 @@ void rs_tri_wide_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const flo
  * rs_tri_fast -- the same bytes and counters.  The lanes of `stamp` (a part of those: the caller's test of
  * rs_tri_fast's and walk_small's conditions for the stamp walk, plain modes only) go to the stamp walk at once, and
  * their attribute blocks hold the colour slot alone, as v0, d1, d2 of four channels each (rs_fill_slot's values,
- * not interleaved); the others' blocks are rs_fill_slot's.  Returns the triangles that went straight (the test's
- * counter). */
+ * not interleaved), and covm[l] is their coverage (the stamp walk's mask: bit row * 4 + column of the clipped box
+ * set for a covered pixel; the caller computes it for the whole step); the others' blocks are rs_fill_slot's.
+ * Returns the triangles that went straight (the test's counter). */
 unsigned rs_tri_run_avx2(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
+                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp, const uint32_t *covm);
 unsigned rs_tri_run_avx512(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                           const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp);
+                           const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
+                           const uint32_t *covm);
 
 /* ---- the kernel table: one row per instruction set (draw.c) ---- */
 struct rs_kernels {

@@ -1267,9 +1267,16 @@ static inline void store4_t64(__m256i r0, __m256i r1, __m256i r2, __m256i r3, ch
     _mm256_storeu_si256((__m256i *)(base + 3 * step), _mm256_permute2x128_si256(b, d, 0x31));
 }
 
+/* The three edges of eight triangles, one per int32 lane: ea, eb and the low 32 bits of ec (the stamp coverage's
+ * values are modulo 2^32, exact by coef_small).  (Named fields, no arrays: gcc keeps arrays of vectors in memory.) */
+typedef struct edges8 { __m256i a0, a1, a2, b0, b1, b2, c0, c1, c2; } edges8;
+
+/* The low 32 bits of the int64 lanes of e (the even lanes' values) and of o (the odd lanes'), as eight int32 lanes. */
+static inline __m256i lo32_pair(__m256i e, __m256i o) { return _mm256_blend_epi32(e, _mm256_slli_epi64(o, 32), 0xaa); }
+
 /* finish4_edges for the eight lanes of step o into the rs_tri of sp[0..8) (every lane: the stores of lanes not
- * drawn or not in the tile are not read). */
-static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs_prim *sp)
+ * drawn or not in the tile are not read), and the same edges as vectors into *ev (grid_cov8's). */
+static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs_prim *sp, edges8 *ev)
 {
     /* (unrolled by hand, no arrays: gcc keeps loops over arrays of vectors in memory) */
     const __m256i xo0 = _mm256_srli_epi64(o->x[0], 32), yo0 = _mm256_srli_epi64(o->y[0], 32);
@@ -1296,6 +1303,7 @@ static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs
     const __m256i vxo = _mm256_blend_epi32(xo0, o->y[0], 0xaa);
     store4_t64(ece0, ece1, ece2, vxe, t0 + offsetof(rs_tri, ec), 2 * st);
     store4_t64(eco0, eco1, eco2, vxo, t0 + st + offsetof(rs_tri, ec), 2 * st);
+    *ev = (edges8){ ea0, ea1, ea2, eb0, eb1, eb2, lo32_pair(ece0, eco0), lo32_pair(ece1, eco1), lo32_pair(ece2, eco2) };
 }
 
 /* Planes of lanes 4h..4h+3 of step o (rows r0, r1 from quad i on, as grid_step8_tri) into sp[0..4) (the edges:
@@ -1331,10 +1339,86 @@ static inline void grid_finish_half(const bias4 *bias, const grid_cols *g, size_
                    &live64, tr);
 }
 
+/* cov with bit `bit` set in the lanes whose edge values e0, e1, e2 are all >= 0 (the sign bit of e0 | e1 | e2
+ * clear: walk_band's test), the others' unchanged. */
+static inline __m256i cov_add(__m256i cov, __m256i e0, __m256i e1, __m256i e2, int bit)
+{
+    const __m256 s = _mm256_castsi256_ps(_mm256_or_si256(_mm256_or_si256(e0, e1), e2));
+    return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(_mm256_or_si256(cov, _mm256_set1_epi32(bit))),
+                                                _mm256_castsi256_ps(cov), s));
+}
+
+/* The coverage of nr rows (1..8) of nc columns (1..4, a constant) per lane from the edge values e0..e2 at column 0
+ * of row nr - 1, stepped by a0..a2 per column and b0..b2 per row (ea, eb times one pixel): bit r * 4 + c set where
+ * position (c, r) is inside the three edges.  The rows from the last up, so that the mask moves by a shift. */
+static inline __attribute__((always_inline)) __m256i grid_cov_rows(__m256i e0, __m256i e1, __m256i e2, __m256i a0,
+                                                                   __m256i a1, __m256i a2, __m256i b0, __m256i b1,
+                                                                   __m256i b2, int nr, int nc)
+{
+    __m256i d0 = b0, d1 = b1, d2 = b2;   /* -(b + (nc - 1) * a): from a row's last column to the first one above */
+#pragma GCC unroll 4
+    for (int c = 1; c < nc; c++) d0 = _mm256_add_epi32(d0, a0), d1 = _mm256_add_epi32(d1, a1), d2 = _mm256_add_epi32(d2, a2);
+    const __m256i zero = _mm256_setzero_si256();
+    d0 = _mm256_sub_epi32(zero, d0), d1 = _mm256_sub_epi32(zero, d1), d2 = _mm256_sub_epi32(zero, d2);
+    __m256i cov = zero;
+    for (int r = nr;;) {
+#pragma GCC unroll 4
+        for (int c = 0; c < nc; c++) {
+            if (c) e0 = _mm256_add_epi32(e0, a0), e1 = _mm256_add_epi32(e1, a1), e2 = _mm256_add_epi32(e2, a2);
+            cov = cov_add(cov, e0, e1, e2, 1 << c);
+        }
+        if (--r == 0) return cov;
+        cov = _mm256_slli_epi32(cov, 4);
+        e0 = _mm256_add_epi32(e0, d0), e1 = _mm256_add_epi32(e1, d1), e2 = _mm256_add_epi32(e2, d2);
+    }
+}
+
+/* The stamp walk's coverage masks (span.c's walk_band with 4-wide stamps: bit row * 4 + column set for a covered
+ * pixel of the box) of the lanes sv (-1 lanes, some) of a step whose edges are ev and clipped boxes x0, y0, x1, y1
+ * (at most 4 x 8 in sv), all at once: per position the lanes' ea * X + eb * Y + ec modulo 2^32 at its sample point
+ * (X, Y: 1/256 px from the centre, cx and cy's low halves in vcx, vcy: walk_band's values), over the columns and
+ * rows of sv's widest and tallest box, masked to each lane's box.  The other lanes' masks are not meaningful. */
+static inline __attribute__((always_inline)) __m256i grid_cov8(const edges8 *ev, __m256i x0, __m256i y0, __m256i x1,
+                                                               __m256i y1, __m256i sv, __m256i vcx, __m256i vcy)
+{
+    /* each lane's box as a mask: columns 0..w of each row (a table indexed by w = x1 - x0, 0..3) and rows 0..h (by
+     * h = y1 - y0, 0..7); or-ed over sv's lanes, its highest bit is in the tallest box's last row, its first row's
+     * in the widest box's last column: the rows and columns to walk */
+    const __m256i box = _mm256_and_si256(
+        _mm256_permutevar8x32_epi32(_mm256_setr_epi32(0x11111111, 0x33333333, 0x77777777, -1, 0, 0, 0, 0),
+                                    _mm256_sub_epi32(x1, x0)),
+        _mm256_permutevar8x32_epi32(_mm256_setr_epi32(0xf, 0xff, 0xfff, 0xffff, 0xfffff, 0xffffff, 0xfffffff, -1),
+                                    _mm256_sub_epi32(y1, y0)));
+    __m256i u = _mm256_and_si256(box, sv);
+    u = _mm256_or_si256(u, _mm256_permute2x128_si256(u, u, 1));
+    u = _mm256_or_si256(u, _mm256_shuffle_epi32(u, _MM_SHUFFLE(1, 0, 3, 2)));
+    u = _mm256_or_si256(u, _mm256_shuffle_epi32(u, _MM_SHUFFLE(2, 3, 0, 1)));
+    const unsigned bits = (unsigned)_mm256_cvtsi256_si32(u);
+    const int nr = ((31 - __builtin_clz(bits)) >> 2) + 1, nc = 32 - __builtin_clz(bits & 0xfu);
+    /* column 0 of row nr - 1 */
+    const __m256i X = _mm256_sub_epi32(_mm256_slli_epi32(x0, RS_SUB_BITS), vcx);
+    const __m256i Y = _mm256_sub_epi32(_mm256_slli_epi32(_mm256_add_epi32(y0, _mm256_set1_epi32(nr - 1)), RS_SUB_BITS), vcy);
+    const __m256i e0 = _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(ev->a0, X), _mm256_mullo_epi32(ev->b0, Y)), ev->c0);
+    const __m256i e1 = _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(ev->a1, X), _mm256_mullo_epi32(ev->b1, Y)), ev->c1);
+    const __m256i e2 = _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(ev->a2, X), _mm256_mullo_epi32(ev->b2, Y)), ev->c2);
+    const __m256i a0 = _mm256_slli_epi32(ev->a0, RS_SUB_BITS), a1 = _mm256_slli_epi32(ev->a1, RS_SUB_BITS);
+    const __m256i a2 = _mm256_slli_epi32(ev->a2, RS_SUB_BITS), b0 = _mm256_slli_epi32(ev->b0, RS_SUB_BITS);
+    const __m256i b1 = _mm256_slli_epi32(ev->b1, RS_SUB_BITS), b2 = _mm256_slli_epi32(ev->b2, RS_SUB_BITS);
+    __m256i cov;
+    switch (nc) {   /* (the columns unrolled) */
+    case 1: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 1); break;
+    case 2: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 2); break;
+    case 3: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 3); break;
+    default: cov = grid_cov_rows(e0, e1, e2, a0, a1, a2, b0, b1, b2, nr, 4); break;
+    }
+    return _mm256_and_si256(cov, box);
+}
+
 /* Rasterize grid group g of chunk c inside tile t: per row whose box meets the tile, eight triangles at a time
  * (grid_step8), those that are drawn and meet the tile set up from the rows (grid_finish_half) into the L1 scratch
  * and rasterized at once in the group's order by rs_tri_run (span.c: what rs_tri_tile does for them, with the box
- * clipped to the tile and the walk picked in these lanes). */
+ * clipped to the tile and the walk picked in these lanes; the stamp lanes' coverage computed here for the step at
+ * once, grid_cov8). */
 static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_prim *gp)
 {
     const grid_cols g = grid_cols_of(c);
@@ -1349,6 +1433,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const size_t stride = ns * RS_ATTR_STRIDE;
     const __m256i span_max = _mm256_set1_epi32(8192);   /* span.c's coef_small: |ea|, |eb| <= 2^13 */
     const __m256i four = _mm256_set1_epi32(4), eight = _mm256_set1_epi32(8);
+    const __m256i vcx = _mm256_set1_epi32((int32_t)(uint32_t)j->cx), vcy = _mm256_set1_epi32((int32_t)(uint32_t)j->cy);
     const bool stamp_ok = ns == 1 && !j->st->blend_enable && j->rt->n_aov == 0 && t->x1 - t->x0 >= 8;
     _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
@@ -1378,27 +1463,40 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
             _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
             _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
-            grid_edges8(&o, sp);
-            for (int h = 0; h < 2; h++) {
-                if (!((m >> (4 * h)) & 15)) continue;
-                grid_finish_half(&bias, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
-            }
-            /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
-             * and the rs_tri alone) */
+            edges8 ev;
+            grid_edges8(&o, sp, &ev);
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
              * vertices' spans in x and in y are */
             const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
                                                  _mm256_min_epi32(_mm256_min_epi32(o.x[0], o.x[1]), o.x[2]));
             const __m256i spy = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.y[0], o.y[1]), o.y[2]),
                                                  _mm256_min_epi32(_mm256_min_epi32(o.y[0], o.y[1]), o.y[2]));
-            const unsigned small = ~mask8(_mm256_or_si256(_mm256_cmpgt_epi32(spx, span_max),
-                                                          _mm256_cmpgt_epi32(spy, span_max))) & 0xffu;
+            const __m256i big = _mm256_or_si256(_mm256_cmpgt_epi32(spx, span_max), _mm256_cmpgt_epi32(spy, span_max));
+            const unsigned small = ~mask8(big) & 0xffu;
             /* the stamp walk's lanes (rs_tri_run): COLOR0 alone, plain, coef_small, box at most 4 x 8 in a tile at
-             * least 8 wide; their slot as v0, d1, d2 (no interleaving) */
-            const unsigned stamp = stamp_ok ? m & small & mask8(_mm256_and_si256(
-                                                  _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
-                                                  _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0))))
-                                            : 0u;
+             * least 8 wide; their slot as v0, d1, d2 (no interleaving); their coverage here, for the step at once,
+             * and the lanes that cover no pixel dropped (walk_band draws nothing for them; the test's counter
+             * counts them still) */
+            const __m256i sv = stamp_ok ? _mm256_andnot_si256(big, _mm256_and_si256(live, _mm256_and_si256(
+                                              _mm256_cmpgt_epi32(four, _mm256_sub_epi32(cx1, cx0)),
+                                              _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0)))))
+                                        : _mm256_setzero_si256();
+            unsigned stamp = mask8(sv);
+            _Alignas(32) uint32_t covm[8];
+            if (stamp) {
+                const __m256i cov = grid_cov8(&ev, cx0, cy0, cx1, cy1, sv, vcx, vcy);
+                _mm256_store_si256((__m256i *)covm, cov);
+                const unsigned empty = stamp & mask8(_mm256_cmpeq_epi32(cov, _mm256_setzero_si256()));
+                stamp &= ~empty, m &= ~empty;
+                direct += (uint64_t)__builtin_popcount(empty);
+                if (!m) continue;
+            }
+            for (int h = 0; h < 2; h++) {
+                if (!((m >> (4 * h)) & 15)) continue;
+                grid_finish_half(&bias, &g, q0, q1, &o, h, half4(live, h), sp + 4 * h);
+            }
+            /* (the scratch's rs_prim boxes are not written: rs_tri_run and span.c's walks read the clipped boxes cb
+             * and the rs_tri alone) */
             const rs_vec4 *ga = c->gattr;
             unsigned rest = m;   /* the lanes whose slot is filled one at a time */
             const unsigned both = ns == 1 ? m & (m >> 1) & 0x55u : 0u;   /* quads with both triangles live */
@@ -1430,7 +1528,7 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                     for (size_t s = 0; s < ns; s++)
                         rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[i0 * ns + s], &ga[i1 * ns + s], &ga[i2 * ns + s]);
             }
-            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp);
+            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp, covm);
         }
     }
     /* the test's counter (raster_internal.h): once per group and tile; the chunk is the set-up region's, read-only
