@@ -189,18 +189,14 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
     else stamp_pass(m, j, t, tr, pc, false, 3, ids, nl, o, w, Xs, Ys);
 }
 
-/* The stamp walk's drawing: triangle p's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
- * whose corner pixel is (x0, y0) in tile t, mode m plain) packed into the lanes (pack16, take8) and drawn 8 per pass
- * (stamp_pass); nothing when cov is 0. */
-ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, bool vl,
-                             int wbits, uint64_t cov, int x0, int y0)
+/* The stamp walk's drawing: triangle tr's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
+ * whose corner pixel is at index o of tile t's planes and at Xs, Ys from vertex 0 (1/256 px, modulo 2^32), mode m
+ * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
+ * nothing when cov is 0. */
+ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
+                             int wbits, uint64_t cov, size_t o, int32_t Xs, int32_t Ys)
 {
     if (!cov) return;
-    const rs_tri *tr = &p->u.t;
-    const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
-    const int32_t Xs = (int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx);
-    const int32_t Ys = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    const size_t o = rs_tile_index(t, x0, y0);
     const int32_t w = (int32_t)t->pitch;
     int n = __builtin_popcountll(cov);
     uint64_t ids;
@@ -247,7 +243,9 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
         cov |= (uint64_t)(bx & ~mask_of((v8i)(e0 | e1 | e2))) << (8 * v); /* sign bit: some edge < 0 */
         e0 += d0, e1 += d1, e2 += d2;
     }
-    band_draw(m, j, t, p, a, false, wbits, cov, x0, y0);
+    const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
+    band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0),
+              (int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx), (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy));
 }
 
 /* ---- the instances ---- */
@@ -289,58 +287,65 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 
 /* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
 
-/* rs_tri_run in mode m: the lanes of `stamp` straight to band_draw with their coverage masks covm[l] (the stamp walk
- * after its coverage; their attribute blocks in shade8_l's vector layout); the others of live whose triangle is coef_small (`small`, from the set-up lanes) with a box at most 8
- * pixels wide in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to walk_small; the
- * rest through rs_tri_fast.  Returns the count of the first two. */
-ALWAYS_INLINE unsigned run_lanes(zmode m, const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa,
-                                 size_t stride, const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                                 const uint32_t *covm)
+/* rs_tri_run in mode m, white: the job's colour_idx < 0 (the stamp lanes' colour slot, when there is one, is slot
+ * 0: grid_tile gives stamp lanes only for one slot): the lanes of s->stamp straight to band_draw with their coverage
+ * masks and offsets (the stamp walk after its coverage; their attribute blocks in shade8_l's vector layout); the
+ * others of s->live whose triangle is coef_small (s->small, from the set-up lanes) with a box at most 8 pixels wide
+ * in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to walk_small; the rest through
+ * rs_tri_fast.  Returns the count of the first two. */
+ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *t, const rs_prim *sp,
+                                 const float *sa, size_t stride, const rs_run_step *s)
 {
-    unsigned direct = 0;
+    const int32_t (*cb)[8] = s->cb;
+    unsigned live = s->live, direct = 0;
+    const unsigned stamp = s->stamp;
     if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
         const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
         const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
-        direct = live & small & mask_of(x1 - x0 < bi(8));
+        direct = live & s->small & mask_of(x1 - x0 < bi(8));
     }
     RS_ASSERT((stamp & ~direct) == 0 && (stamp == 0 || m.plain));
+    RS_ASSERT(stamp == 0 || j->color_idx == (white ? -1 : 0));
     for (; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *a = sa + (size_t)l * stride;
-        if (stamp >> l & 1u) band_draw(m, j, t, &sp[l], a, true, 2, covm[l], cb[0][l], cb[1][l]);
+        if (stamp >> l & 1u)
+            band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
+                      s->xs[l], s->ys[l]);
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
     }
     return (unsigned)__builtin_popcount(direct);
 }
 
-/* run_lanes per mode (the job's span_mode), out of line: one dispatch per step instead of one per triangle. */
+/* run_lanes per mode (the job's span_mode) and colour, out of line: one dispatch per step instead of one per
+ * triangle. */
 typedef unsigned run_fn(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp, const uint32_t *covm);
-#define RUN_INSTANCE(name, mode)                                                                                \
+                        const rs_run_step *s);
+#define RUN_INSTANCE(name, mode, white)                                                                         \
     static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
-                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,                  \
-                         const uint32_t *covm)                                                                  \
+                         const rs_run_step *s)                                                                  \
     {                                                                                                           \
-        return run_lanes(mode, j, t, sp, sa, stride, cb, live, small, stamp, covm);                             \
+        return run_lanes(mode, white, j, t, sp, sa, stride, s);                                                 \
     }
-RUN_INSTANCE(run_le, MODE_LE)
-RUN_INSTANCE(run_less, MODE_LESS)
-RUN_INSTANCE(run_any, MODE_JOB(j))
-static run_fn *const runs[3] = {run_le, run_less, run_any};
+RUN_INSTANCE(run_le, MODE_LE, false)
+RUN_INSTANCE(run_less, MODE_LESS, false)
+RUN_INSTANCE(run_any, MODE_JOB(j), false)
+RUN_INSTANCE(run_le_w, MODE_LE, true)
+RUN_INSTANCE(run_less_w, MODE_LESS, true)
+RUN_INSTANCE(run_any_w, MODE_JOB(j), true)
+static run_fn *const runs[2][3] = {{run_le, run_less, run_any}, {run_le_w, run_less_w, run_any_w}};
 
 unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                               const uint32_t *covm)
+                               const rs_run_step *s)
 {
-    return runs[j->span_mode](j, t, sp, sa, stride, cb, live, small, stamp, covm);
+    return runs[j->color_idx < 0][j->span_mode](j, t, sp, sa, stride, s);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
 
 unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                               const uint32_t *covm)
+                               const rs_run_step *s)
 {
     return 0;
 }
