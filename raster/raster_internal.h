@@ -413,9 +413,10 @@ void rs_tri_wide_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const flo
  * scratch: triangle sp[l], attribute block sa + l * stride, pixel box already clipped to tile t in cb[0..4)[l] as
  * x0, y0, x1, y1) for the lanes l of live (cb, live, small, stamp, covm: rs_run_step's fields), in lane order, with
  * the walk picked once per call from the job's span_mode and the lanes' box sizes: a lane of `small` (the set-up
- * lanes' coef_small: vertex spans of at most 2^13 in x and in y) whose box rs_tri_fast would give the small-triangle walks goes straight to them, any other through
- * rs_tri_fast -- the same bytes and counters.  The lanes of `stamp` (a part of those: the caller's test of
- * rs_tri_fast's and walk_small's conditions for the stamp walk, plain modes only) go to the stamp walk at once, and
+ * lanes' coef_small: vertex spans of at most 2^13 in x and in y) whose box rs_tri_fast would give the
+ * small-triangle walks goes straight to them, any other through rs_tri_fast -- the same bytes and counters.  The
+ * lanes of `stamp` (a part of those: the caller's test of rs_tri_fast's and walk_small's conditions for the stamp
+ * walk, plain modes only) go to the stamp walk at once, and
  * their attribute blocks hold the colour slot alone, as v0, d1, d2 of four channels each (rs_fill_slot's values,
  * not interleaved), and covm[l] is their coverage (the stamp walk's mask: bit row * 4 + column of the clipped box
  * set for a covered pixel; the caller computes it for the whole step, with the box corner's offsets from vertex 0

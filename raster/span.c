@@ -296,16 +296,26 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *t, const rs_prim *sp,
                                  const float *sa, size_t stride, const rs_run_step *s)
 {
-    const int32_t (*cb)[8] = s->cb;
-    unsigned live = s->live, direct = 0;
+    unsigned live = s->live;
     const unsigned stamp = s->stamp;
+    RS_ASSERT(stamp == 0 || (m.plain && j->color_idx == (white ? -1 : 0)));
+    if (live == stamp) { /* (most steps of scene B) the stamp walk alone: no dispatch in the loop; the stamp lanes
+                          * are a part of the direct ones, so here all are */
+        for (; live; live &= live - 1) {
+            const int l = __builtin_ctz(live);
+            band_draw(m, j, t, &sp[l].u.t, white ? NULL : sa + (size_t)l * stride, true, 2, s->covm[l],
+                      (size_t)(uint32_t)s->off[l], s->xs[l], s->ys[l]);
+        }
+        return (unsigned)__builtin_popcount(stamp);
+    }
+    const int32_t (*cb)[8] = s->cb;
+    unsigned direct = 0;
     if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
         const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
         const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
         direct = live & s->small & mask_of(x1 - x0 < bi(8));
     }
-    RS_ASSERT((stamp & ~direct) == 0 && (stamp == 0 || m.plain));
-    RS_ASSERT(stamp == 0 || j->color_idx == (white ? -1 : 0));
+    RS_ASSERT((stamp & ~direct) == 0);
     for (; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *a = sa + (size_t)l * stride;
