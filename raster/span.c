@@ -301,10 +301,13 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
     RS_ASSERT(stamp == 0 || (m.plain && j->color_idx == (white ? -1 : 0)));
     if (live == stamp) { /* (most steps of scene B) the stamp walk alone: no dispatch in the loop; the stamp lanes
                           * are a part of the direct ones, so here all are */
+        RS_ASSERT(stride == RS_ATTR_STRIDE); /* one slot (grid_tile's stamp_ok) */
         for (; live; live &= live - 1) {
             const int l = __builtin_ctz(live);
-            band_draw(m, j, t, &sp[l].u.t, white ? NULL : sa + (size_t)l * stride, true, 2, s->covm[l],
-                      (size_t)(uint32_t)s->off[l], s->xs[l], s->ys[l]);
+            const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
+            if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
+            band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], s->xs[l],
+                      s->ys[l]);
         }
         return (unsigned)__builtin_popcount(stamp);
     }
@@ -319,9 +322,11 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
     for (; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *a = sa + (size_t)l * stride;
-        if (stamp >> l & 1u)
+        if (stamp >> l & 1u) {
+            if (!white && !a) __builtin_unreachable();
             band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
                       s->xs[l], s->ys[l]);
+        }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
     }
