@@ -287,6 +287,22 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 
 /* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
 
+/* rs_tri_run's steps whose live lanes are all stamp lanes (most of scene B's), in mode m, white as run_lanes: a
+ * loop of band_draw alone, out of line apart from run_lanes (no dispatch in the loop, fewer values kept across it:
+ * the stamp lanes are a part of the direct ones, so here all are).  Returns their count. */
+ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile *t, const rs_prim *sp,
+                                  const float *sa, size_t stride, const rs_run_step *s)
+{
+    RS_ASSERT(m.plain && j->color_idx == (white ? -1 : 0) && stride == RS_ATTR_STRIDE); /* one slot: stamp_ok */
+    for (unsigned live = s->live; live; live &= live - 1) {
+        const int l = __builtin_ctz(live);
+        const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
+        if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
+        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], s->xs[l], s->ys[l]);
+    }
+    return (unsigned)__builtin_popcount(s->live);
+}
+
 /* rs_tri_run in mode m, white: the job's colour_idx < 0 (the stamp lanes' colour slot, when there is one, is slot
  * 0: grid_tile gives stamp lanes only for one slot): the lanes of s->stamp straight to band_draw with their coverage
  * masks and offsets (the stamp walk after its coverage; their attribute blocks in shade8_l's vector layout); the
@@ -299,18 +315,6 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
     unsigned live = s->live;
     const unsigned stamp = s->stamp;
     RS_ASSERT(stamp == 0 || (m.plain && j->color_idx == (white ? -1 : 0)));
-    if (live == stamp) { /* (most steps of scene B) the stamp walk alone: no dispatch in the loop; the stamp lanes
-                          * are a part of the direct ones, so here all are */
-        RS_ASSERT(stride == RS_ATTR_STRIDE); /* one slot (grid_tile's stamp_ok) */
-        for (; live; live &= live - 1) {
-            const int l = __builtin_ctz(live);
-            const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
-            if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
-            band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], s->xs[l],
-                      s->ys[l]);
-        }
-        return (unsigned)__builtin_popcount(stamp);
-    }
     const int32_t (*cb)[8] = s->cb;
     unsigned direct = 0;
     if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
@@ -350,11 +354,25 @@ RUN_INSTANCE(run_le_w, MODE_LE, true)
 RUN_INSTANCE(run_less_w, MODE_LESS, true)
 RUN_INSTANCE(run_any_w, MODE_JOB(j), true)
 static run_fn *const runs[2][3] = {{run_le, run_less, run_any}, {run_le_w, run_less_w, run_any_w}};
+#define STAMPS_INSTANCE(name, mode, white)                                                                      \
+    static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
+                         const rs_run_step *s)                                                                  \
+    {                                                                                                           \
+        return run_stamps(mode, white, j, t, sp, sa, stride, s);                                                \
+    }
+STAMPS_INSTANCE(stamps_le, MODE_LE, false)
+STAMPS_INSTANCE(stamps_less, MODE_LESS, false)
+STAMPS_INSTANCE(stamps_any, MODE_JOB(j), false)
+STAMPS_INSTANCE(stamps_le_w, MODE_LE, true)
+STAMPS_INSTANCE(stamps_less_w, MODE_LESS, true)
+STAMPS_INSTANCE(stamps_any_w, MODE_JOB(j), true)
+static run_fn *const stamps[2][3] = {{stamps_le, stamps_less, stamps_any},
+                                     {stamps_le_w, stamps_less_w, stamps_any_w}};
 
 unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
                                const rs_run_step *s)
 {
-    return runs[j->color_idx < 0][j->span_mode](j, t, sp, sa, stride, s);
+    return (s->live == s->stamp ? stamps : runs)[j->color_idx < 0][j->span_mode](j, t, sp, sa, stride, s);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
