@@ -127,7 +127,7 @@ static inline uint64_t pack16(unsigned m)
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
  * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
 ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                              int wbits, uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
+                              int wbits, uint64_t ids, int nl, size_t o, int32_t w, v8i Xs, v8i Ys)
 {
     const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
     const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
@@ -136,8 +136,8 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
      * fx + 0.0f is fx (fx is an integer times 1/256, never -0) */
     RS_ASSERT(j->sox[0] == 0 && j->soy[0] == 0);
     const float k = 1.0f / RS_SUB;
-    const v8f fx = __builtin_convertvector(bi(Xs) + (col << RS_SUB_BITS), v8f) * bf(k);
-    const v8f fy = __builtin_convertvector(bi(Ys) + (row << RS_SUB_BITS), v8f) * bf(k);
+    const v8f fx = __builtin_convertvector(Xs + (col << RS_SUB_BITS), v8f) * bf(k);
+    const v8f fy = __builtin_convertvector(Ys + (row << RS_SUB_BITS), v8f) * bf(k);
     const rows8 r = {bf(tr->z[2]) + bf(tr->z[0]) * fx, bf(tr->s[2]) + bf(tr->s[0]) * fx,
                      bf(tr->q1[2]) + bf(tr->q1[0]) * fx, bf(tr->q2[2]) + bf(tr->q2[0]) * fx};
     const ypart y = {bf(tr->z[1]) * fy, bf(tr->s[1]) * fy, bf(tr->q1[1]) * fy, bf(tr->q2[1]) * fy};
@@ -182,7 +182,7 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
  * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
 static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
                                                     const float *pc, bool vl, int wbits, uint64_t ids, int nl,
-                                                    size_t o, int32_t w, int32_t Xs, int32_t Ys)
+                                                    size_t o, int32_t w, v8i Xs, v8i Ys)
 {
     if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
     else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
@@ -194,7 +194,7 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
  * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
  * nothing when cov is 0. */
 ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                             int wbits, uint64_t cov, size_t o, int32_t Xs, int32_t Ys)
+                             int wbits, uint64_t cov, size_t o, v8i Xs, v8i Ys)
 {
     if (!cov) return;
     const int32_t w = (int32_t)t->pitch;
@@ -245,7 +245,7 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     }
     const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
     band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0),
-              (int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx), (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy));
+              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)));
 }
 
 /* ---- the instances ---- */
@@ -287,6 +287,10 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 
 /* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
 
+/* *p in every lane, broadcast from memory (one vpbroadcastd: gcc otherwise loads the scalar early and broadcasts it
+ * from a register later). */
+static inline v8i bcast(const int32_t *p) { return (v8i)_mm256_broadcastd_epi32(_mm_loadu_si32(p)); }
+
 /* rs_tri_run's steps whose live lanes are all stamp lanes (most of scene B's), in mode m, white as run_lanes: a
  * loop of band_draw alone, out of line apart from run_lanes (no dispatch in the loop, fewer values kept across it:
  * the stamp lanes are a part of the direct ones, so here all are).  Returns their count. */
@@ -298,7 +302,8 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
         const int l = __builtin_ctz(live);
         const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
         if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
-        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], s->xs[l], s->ys[l]);
+        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->xs[l]),
+                  bcast(&s->ys[l]));
     }
     return (unsigned)__builtin_popcount(s->live);
 }
@@ -329,7 +334,7 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
         if (stamp >> l & 1u) {
             if (!white && !a) __builtin_unreachable();
             band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
-                      s->xs[l], s->ys[l]);
+                      bcast(&s->xs[l]), bcast(&s->ys[l]));
         }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
