@@ -428,6 +428,7 @@ typedef struct rs_run_step {
     uint32_t covm[8];               /* the stamp lanes: coverage (bit row * 4 + column of the clipped box) */
     int32_t xs[8], ys[8], off[8];   /* the stamp lanes: the box corner from vertex 0 (1/256 px, modulo 2^32) and its
                                        rs_tile_index */
+    int32_t pitch;                  /* the tile's pitch (the stamp lanes broadcast it from here) */
     unsigned live, small, stamp;
 } rs_run_step;
 unsigned rs_tri_run_avx2(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,

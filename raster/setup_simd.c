@@ -1439,6 +1439,8 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const bool stamp_ok = ns == 1 && !j->st->blend_enable && j->rt->n_aov == 0 && t->x1 - t->x0 >= 8;
     _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
+    _Alignas(32) rs_run_step rs;   /* rs_tri_run's arrays; cb: the boxes clipped to the tile */
+    rs.pitch = (int32_t)t->pitch;
     uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
     const int16_t (*b)[4] = boxes;   /* the row's box, then its steps' */
@@ -1462,7 +1464,6 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                                                      _mm256_cmpgt_epi32(cy0, cy1)), o.drawn);
             unsigned m = mask8(live);
             if (!m) continue;
-            _Alignas(32) rs_run_step rs;   /* rs_tri_run's arrays; cb: the boxes clipped to the tile */
             _mm256_store_si256((__m256i *)rs.cb[0], cx0), _mm256_store_si256((__m256i *)rs.cb[1], cy0);
             _mm256_store_si256((__m256i *)rs.cb[2], cx1), _mm256_store_si256((__m256i *)rs.cb[3], cy1);
             edges8 ev;

@@ -127,11 +127,11 @@ static inline uint64_t pack16(unsigned m)
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
  * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
 ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                              int wbits, uint64_t ids, int nl, size_t o, int32_t w, v8i Xs, v8i Ys)
+                              int wbits, uint64_t ids, int nl, size_t o, v8i w, v8i Xs, v8i Ys)
 {
     const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
     const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
-    const v8i off = row * bi(w) + col;
+    const v8i off = row * w + col;
     /* rows8_at and ypart_at without their sample offsets: on a 1-sample target sox[0] = soy[0] = 0 (draw.c), and
      * fx + 0.0f is fx (fx is an integer times 1/256, never -0) */
     RS_ASSERT(j->sox[0] == 0 && j->soy[0] == 0);
@@ -182,7 +182,7 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
  * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
 static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
                                                     const float *pc, bool vl, int wbits, uint64_t ids, int nl,
-                                                    size_t o, int32_t w, v8i Xs, v8i Ys)
+                                                    size_t o, v8i w, v8i Xs, v8i Ys)
 {
     if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
     else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
@@ -194,10 +194,9 @@ static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs
  * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
  * nothing when cov is 0. */
 ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                             int wbits, uint64_t cov, size_t o, v8i Xs, v8i Ys)
+                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
 {
     if (!cov) return;
-    const int32_t w = (int32_t)t->pitch;
     int n = __builtin_popcountll(cov);
     uint64_t ids;
     if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
@@ -244,7 +243,7 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
         e0 += d0, e1 += d1, e2 += d2;
     }
     const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
-    band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0),
+    band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0), bi((int32_t)t->pitch),
               bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)));
 }
 
@@ -302,8 +301,8 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
         const int l = __builtin_ctz(live);
         const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
         if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
-        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->xs[l]),
-                  bcast(&s->ys[l]));
+        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->pitch),
+                  bcast(&s->xs[l]), bcast(&s->ys[l]));
     }
     return (unsigned)__builtin_popcount(s->live);
 }
@@ -334,7 +333,7 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
         if (stamp >> l & 1u) {
             if (!white && !a) __builtin_unreachable();
             band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
-                      bcast(&s->xs[l]), bcast(&s->ys[l]));
+                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]));
         }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
