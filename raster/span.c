@@ -120,6 +120,9 @@ static inline uint64_t pack16(unsigned m)
     return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
 }
 
+/* *p in every lane, broadcast from memory (one vbroadcastss). */
+static inline v8f bcf(const float *p) { return (v8f)_mm256_broadcast_ss(p); }
+
 /* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
  * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
@@ -138,9 +141,11 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     const float k = 1.0f / RS_SUB;
     const v8f fx = __builtin_convertvector(Xs + (col << RS_SUB_BITS), v8f) * bf(k);
     const v8f fy = __builtin_convertvector(Ys + (row << RS_SUB_BITS), v8f) * bf(k);
-    const rows8 r = {bf(tr->z[2]) + bf(tr->z[0]) * fx, bf(tr->s[2]) + bf(tr->s[0]) * fx,
-                     bf(tr->q1[2]) + bf(tr->q1[0]) * fx, bf(tr->q2[2]) + bf(tr->q2[0]) * fx};
-    const ypart y = {bf(tr->z[1]) * fy, bf(tr->s[1]) * fy, bf(tr->q1[1]) * fy, bf(tr->q2[1]) * fy};
+    /* (the coefficients broadcast from memory, bcf: gcc otherwise loads most of them early and broadcasts them
+     * later, two instructions each) */
+    const rows8 r = {bcf(&tr->z[2]) + bcf(&tr->z[0]) * fx, bcf(&tr->s[2]) + bcf(&tr->s[0]) * fx,
+                     bcf(&tr->q1[2]) + bcf(&tr->q1[0]) * fx, bcf(&tr->q2[2]) + bcf(&tr->q2[0]) * fx};
+    const ypart y = {bcf(&tr->z[1]) * fy, bcf(&tr->s[1]) * fy, bcf(&tr->q1[1]) * fy, bcf(&tr->q2[1]) * fy};
     float *dep = t->depth + o;
     v8i pass = lane_idx < bi(nl);
     v8f z = bf(0.0f);
