@@ -141,11 +141,14 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     const float k = 1.0f / RS_SUB;
     const v8f fx = __builtin_convertvector(Xs + (col << RS_SUB_BITS), v8f) * bf(k);
     const v8f fy = __builtin_convertvector(Ys + (row << RS_SUB_BITS), v8f) * bf(k);
-    /* (the coefficients broadcast from memory, bcf: gcc otherwise loads most of them early and broadcasts them
-     * later, two instructions each) */
-    const rows8 r = {bcf(&tr->z[2]) + bcf(&tr->z[0]) * fx, bcf(&tr->s[2]) + bcf(&tr->s[0]) * fx,
-                     bcf(&tr->q1[2]) + bcf(&tr->q1[0]) * fx, bcf(&tr->q2[2]) + bcf(&tr->q2[0]) * fx};
-    const ypart y = {bcf(&tr->z[1]) * fy, bcf(&tr->s[1]) * fy, bcf(&tr->q1[1]) * fy, bcf(&tr->q2[1]) * fy};
+    /* (the grid rows' stamp lanes (vl) broadcast the coefficients from memory, bcf: gcc otherwise loads most of
+     * them early and broadcasts them later, two instructions each; walk_band's instances keep bf, A npatch +0.04%
+     * with bcf) */
+#define C(x) (vl ? bcf(&(x)) : bf(x))
+    const rows8 r = {C(tr->z[2]) + C(tr->z[0]) * fx, C(tr->s[2]) + C(tr->s[0]) * fx,
+                     C(tr->q1[2]) + C(tr->q1[0]) * fx, C(tr->q2[2]) + C(tr->q2[0]) * fx};
+    const ypart y = {C(tr->z[1]) * fy, C(tr->s[1]) * fy, C(tr->q1[1]) * fy, C(tr->q2[1]) * fy};
+#undef C
     float *dep = t->depth + o;
     v8i pass = lane_idx < bi(nl);
     v8f z = bf(0.0f);
