@@ -309,6 +309,8 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
         const int l = __builtin_ctz(live);
         const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
         if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
+        RS_ASSERT(s->covm[l] != 0);
+        if (!s->covm[l]) __builtin_unreachable(); /* (grid_tile drops the empty lanes: no test in band_draw) */
         band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->pitch),
                   bcast(&s->xs[l]), bcast(&s->ys[l]));
     }
