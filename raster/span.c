@@ -19,10 +19,23 @@
  *    attribute slots.  Measured (per frame, 1 thread, AVX2): B npatch 107.59 -> 98.70 M instructions (run_le
  *    54.02 -> 41.40 M, rs_group_tile 23.72 -> 27.47 M), B smooth 116.77 -> 107.95 M; the per-triangle coverage in
  *    walk_band cost ~100 instructions per stamp triangle, the step's ~170 per step of ~4.4 stamp lanes (the first
- *    version, columns in a loop and the box masks by shifts: 101.08 M).
+ *    version, columns in a loop and the box masks by shifts: 101.08 M).  Then (issue 29 wave 3) the step's arrays in
+ *    one struct (rs_run_step) with the stamp lanes' box corners from vertex 0 and in the tile (grid_tile computes
+ *    them for the step) and the pitch, broadcast from memory (bcast); instances per colour (white or slot 0); the
+ *    steps whose live lanes are all stamp lanes (~74% on scene B) through a loop of band_draw alone (run_stamps);
+ *    stamp_pass's plane coefficients broadcast from memory for these lanes (bcf: gcc loaded them early and
+ *    broadcast them after the depth test); their masks known non-zero.  B npatch 98.70 -> 93.26 M instructions per
+ *    frame (struct and offsets 96.52, stamp-only loop 95.77, colour slot 95.49, out of line 95.31, bcast 94.85,
+ *    pitch 94.80, bcf 93.79 (93.63 with bcf in walk_band's instances too, but A npatch +0.04%), masks 93.26),
+ *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
+ * (Measured on scene B npatch and dropped in wave 3: the tested / written counters kept in locals across a run and
+ * added once (96.52 -> 97.25 M: spilled); the barycentrics computed before the test of the pass mask (no change);
+ * a counted store loop when every lane passed (95.77 -> 97.39 M); pack32, the 4x8 stamps' positions of more than 4
+ * rows without take8 (95.49 -> 95.51 M); col = id - (row << W) (+0.003 M); Xs, Ys and the pitch passed by pointer
+ * to stamp_pass (93.79 -> 94.51 M).)
  * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
  * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.
  * Also dropped: passes shared by the stamp lanes of several triangles of a step, issue 29 step 6 -- with ~4 stamp
@@ -124,7 +137,8 @@ static inline uint64_t pack16(unsigned m)
 static inline v8f bcf(const float *p) { return (v8f)_mm256_broadcast_ss(p); }
 
 /* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
- * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
+ * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px;
+ * w, Xs, Ys in every lane):
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
  * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
