@@ -411,20 +411,30 @@ void rs_tri_wide_avx512(const rs_job *j, rs_tile *t, const rs_prim *p, const flo
 
 /* The grid rows' tile pass (setup_simd.c's grid_tile) rasterizes the triangles of a step (up to 8, in the L1
  * scratch: triangle sp[l], attribute block sa + l * stride, pixel box already clipped to tile t in cb[0..4)[l] as
- * x0, y0, x1, y1) for the lanes l of live, in lane order, with the walk picked once per call from the job's span_mode
- * and the lanes' box sizes: a lane of `small` (the set-up lanes' coef_small: vertex spans of at most 2^13 in x and
- * in y) whose box rs_tri_fast would give the small-triangle walks goes straight to them, any other through
- * rs_tri_fast -- the same bytes and counters.  The lanes of `stamp` (a part of those: the caller's test of
- * rs_tri_fast's and walk_small's conditions for the stamp walk, plain modes only) go to the stamp walk at once, and
+ * x0, y0, x1, y1) for the lanes l of live (cb, live, small, stamp, covm: rs_run_step's fields), in lane order, with
+ * the walk picked once per call from the job's span_mode and the lanes' box sizes: a lane of `small` (the set-up
+ * lanes' coef_small: vertex spans of at most 2^13 in x and in y) whose box rs_tri_fast would give the
+ * small-triangle walks goes straight to them, any other through rs_tri_fast -- the same bytes and counters.  The
+ * lanes of `stamp` (a part of those: the caller's test of rs_tri_fast's and walk_small's conditions for the stamp
+ * walk, plain modes only) go to the stamp walk at once, and
  * their attribute blocks hold the colour slot alone, as v0, d1, d2 of four channels each (rs_fill_slot's values,
  * not interleaved), and covm[l] is their coverage (the stamp walk's mask: bit row * 4 + column of the clipped box
- * set for a covered pixel; the caller computes it for the whole step); the others' blocks are rs_fill_slot's.
+ * set for a covered pixel; the caller computes it for the whole step, with the box corner's offsets from vertex 0
+ * and in the tile's planes); the others' blocks are rs_fill_slot's.  (The step's arrays in one struct: one pointer
+ * instead of four arguments.)
  * Returns the triangles that went straight (the test's counter). */
+typedef struct rs_run_step {
+    int32_t cb[4][8];               /* the lanes' boxes clipped to the tile: x0, y0, x1, y1 */
+    uint32_t covm[8];               /* the stamp lanes: coverage (bit row * 4 + column of the clipped box) */
+    int32_t xs[8], ys[8], off[8];   /* the stamp lanes: the box corner from vertex 0 (1/256 px, modulo 2^32) and its
+                                       rs_tile_index */
+    int32_t pitch;                  /* the tile's pitch (the stamp lanes broadcast it from here) */
+    unsigned live, small, stamp;
+} rs_run_step;
 unsigned rs_tri_run_avx2(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp, const uint32_t *covm);
+                         const rs_run_step *s);
 unsigned rs_tri_run_avx512(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                           const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                           const uint32_t *covm);
+                           const rs_run_step *s);
 
 /* ---- the kernel table: one row per instruction set (draw.c) ---- */
 struct rs_kernels {

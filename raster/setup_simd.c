@@ -1434,9 +1434,13 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
     const __m256i span_max = _mm256_set1_epi32(8192);   /* span.c's coef_small: |ea|, |eb| <= 2^13 */
     const __m256i four = _mm256_set1_epi32(4), eight = _mm256_set1_epi32(8);
     const __m256i vcx = _mm256_set1_epi32((int32_t)(uint32_t)j->cx), vcy = _mm256_set1_epi32((int32_t)(uint32_t)j->cy);
+    const __m256i vox = _mm256_set1_epi32(t->ox), voy = _mm256_set1_epi32(t->oy);
+    const __m256i vpitch = _mm256_set1_epi32((int32_t)t->pitch);   /* (tile offsets below 2^31: rs_tile_index) */
     const bool stamp_ok = ns == 1 && !j->st->blend_enable && j->rt->n_aov == 0 && t->x1 - t->x0 >= 8;
     _Alignas(64) rs_prim sp[8];                                    /* the scratch: 1 KB, in L1 ... */
     _Alignas(64) float sa[8 * RS_MAX_ATTR * RS_ATTR_STRIDE];       /* ... and 384 bytes of COLOR0 */
+    _Alignas(32) rs_run_step rs;   /* rs_tri_run's arrays; cb: the boxes clipped to the tile */
+    rs.pitch = (int32_t)t->pitch;
     uint64_t direct = 0;
     for (int l = 0; l < 8; l++) sp[l].kind = RS_K_TRI, sp[l].back = 0;
     const int16_t (*b)[4] = boxes;   /* the row's box, then its steps' */
@@ -1460,9 +1464,8 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                                                      _mm256_cmpgt_epi32(cy0, cy1)), o.drawn);
             unsigned m = mask8(live);
             if (!m) continue;
-            int32_t cb[4][8];   /* the boxes clipped to the tile: x0, y0, x1, y1 per lane */
-            _mm256_storeu_si256((__m256i *)cb[0], cx0), _mm256_storeu_si256((__m256i *)cb[1], cy0);
-            _mm256_storeu_si256((__m256i *)cb[2], cx1), _mm256_storeu_si256((__m256i *)cb[3], cy1);
+            _mm256_store_si256((__m256i *)rs.cb[0], cx0), _mm256_store_si256((__m256i *)rs.cb[1], cy0);
+            _mm256_store_si256((__m256i *)rs.cb[2], cx1), _mm256_store_si256((__m256i *)rs.cb[3], cy1);
             edges8 ev;
             grid_edges8(&o, sp, &ev);
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
@@ -1482,10 +1485,17 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                               _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0)))))
                                         : _mm256_setzero_si256();
             unsigned stamp = mask8(sv);
-            _Alignas(32) uint32_t covm[8];
             if (stamp) {
                 const __m256i cov = grid_cov8(&ev, cx0, cy0, cx1, cy1, sv, vcx, vcy);
-                _mm256_store_si256((__m256i *)covm, cov);
+                _mm256_store_si256((__m256i *)rs.covm, cov);
+                /* the box corners as band_draw takes them: from vertex 0 (o.x[0], o.y[0]: lane l's vx, vy) in 1/256
+                 * px modulo 2^32 (walk_band's int64 values' low halves), and rs_tile_index */
+                const __m256i sx = _mm256_sub_epi32(_mm256_slli_epi32(cx0, RS_SUB_BITS), vcx);
+                const __m256i sy = _mm256_sub_epi32(_mm256_slli_epi32(cy0, RS_SUB_BITS), vcy);
+                _mm256_store_si256((__m256i *)rs.xs, _mm256_sub_epi32(sx, o.x[0]));
+                _mm256_store_si256((__m256i *)rs.ys, _mm256_sub_epi32(sy, o.y[0]));
+                const __m256i oy = _mm256_mullo_epi32(_mm256_sub_epi32(cy0, voy), vpitch);
+                _mm256_store_si256((__m256i *)rs.off, _mm256_add_epi32(oy, _mm256_sub_epi32(cx0, vox)));
                 const unsigned empty = stamp & mask8(_mm256_cmpeq_epi32(cov, _mm256_setzero_si256()));
                 stamp &= ~empty, m &= ~empty;
                 direct += (uint64_t)__builtin_popcount(empty);
@@ -1528,7 +1538,8 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                     for (size_t s = 0; s < ns; s++)
                         rs_fill_slot(a + s * RS_ATTR_STRIDE, &ga[i0 * ns + s], &ga[i1 * ns + s], &ga[i2 * ns + s]);
             }
-            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, (const int32_t (*)[8])cb, m, small, stamp, covm);
+            rs.live = m, rs.small = small, rs.stamp = stamp;
+            direct += RS_KERNEL(rs_tri_run)(j, t, sp, sa, stride, &rs);
         }
     }
     /* the test's counter (raster_internal.h): once per group and tile; the chunk is the set-up region's, read-only

@@ -19,10 +19,23 @@
  *    attribute slots.  Measured (per frame, 1 thread, AVX2): B npatch 107.59 -> 98.70 M instructions (run_le
  *    54.02 -> 41.40 M, rs_group_tile 23.72 -> 27.47 M), B smooth 116.77 -> 107.95 M; the per-triangle coverage in
  *    walk_band cost ~100 instructions per stamp triangle, the step's ~170 per step of ~4.4 stamp lanes (the first
- *    version, columns in a loop and the box masks by shifts: 101.08 M).
+ *    version, columns in a loop and the box masks by shifts: 101.08 M).  Then (issue 29 wave 3) the step's arrays in
+ *    one struct (rs_run_step) with the stamp lanes' box corners from vertex 0 and in the tile (grid_tile computes
+ *    them for the step) and the pitch, broadcast from memory (bcast); instances per colour (white or slot 0); the
+ *    steps whose live lanes are all stamp lanes (~74% on scene B) through a loop of band_draw alone (run_stamps);
+ *    stamp_pass's plane coefficients broadcast from memory for these lanes (bcf: gcc loaded them early and
+ *    broadcast them after the depth test); their masks known non-zero.  B npatch 98.70 -> 93.26 M instructions per
+ *    frame (struct and offsets 96.52, stamp-only loop 95.77, colour slot 95.49, out of line 95.31, bcast 94.85,
+ *    pitch 94.80, bcf 93.79 (93.63 with bcf in walk_band's instances too, but A npatch +0.04%), masks 93.26),
+ *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
+ * (Measured on scene B npatch and dropped in wave 3: the tested / written counters kept in locals across a run and
+ * added once (96.52 -> 97.25 M: spilled); the barycentrics computed before the test of the pass mask (no change);
+ * a counted store loop when every lane passed (95.77 -> 97.39 M); pack32, the 4x8 stamps' positions of more than 4
+ * rows without take8 (95.49 -> 95.51 M); col = id - (row << W) (+0.003 M); Xs, Ys and the pitch passed by pointer
+ * to stamp_pass (93.79 -> 94.51 M).)
  * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
  * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.
  * Also dropped: passes shared by the stamp lanes of several triangles of a step, issue 29 step 6 -- with ~4 stamp
@@ -120,27 +133,36 @@ static inline uint64_t pack16(unsigned m)
     return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
 }
 
+/* *p in every lane, broadcast from memory (one vbroadcastss). */
+static inline v8f bcf(const float *p) { return (v8f)_mm256_broadcast_ss(p); }
+
 /* Depth-test (mode m), shade and write nl (1..8) covered pixels of a stamp W = 1 << wbits pixels wide whose
- * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px):
+ * corner pixel is at index o of tile t's planes (pitch w) and at Xs, Ys from vertex 0 of triangle tr (1/256 px;
+ * w, Xs, Ys in every lane):
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
  * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
  * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
 ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                              int wbits, uint64_t ids, int nl, size_t o, int32_t w, int32_t Xs, int32_t Ys)
+                              int wbits, uint64_t ids, int nl, size_t o, v8i w, v8i Xs, v8i Ys)
 {
     const v8i id = (v8i)_mm256_cvtepu8_epi32(_mm_cvtsi64_si128((long long)ids));
     const v8i col = id & bi((1 << wbits) - 1), row = id >> wbits;
-    const v8i off = row * bi(w) + col;
+    const v8i off = row * w + col;
     /* rows8_at and ypart_at without their sample offsets: on a 1-sample target sox[0] = soy[0] = 0 (draw.c), and
      * fx + 0.0f is fx (fx is an integer times 1/256, never -0) */
     RS_ASSERT(j->sox[0] == 0 && j->soy[0] == 0);
     const float k = 1.0f / RS_SUB;
-    const v8f fx = __builtin_convertvector(bi(Xs) + (col << RS_SUB_BITS), v8f) * bf(k);
-    const v8f fy = __builtin_convertvector(bi(Ys) + (row << RS_SUB_BITS), v8f) * bf(k);
-    const rows8 r = {bf(tr->z[2]) + bf(tr->z[0]) * fx, bf(tr->s[2]) + bf(tr->s[0]) * fx,
-                     bf(tr->q1[2]) + bf(tr->q1[0]) * fx, bf(tr->q2[2]) + bf(tr->q2[0]) * fx};
-    const ypart y = {bf(tr->z[1]) * fy, bf(tr->s[1]) * fy, bf(tr->q1[1]) * fy, bf(tr->q2[1]) * fy};
+    const v8f fx = __builtin_convertvector(Xs + (col << RS_SUB_BITS), v8f) * bf(k);
+    const v8f fy = __builtin_convertvector(Ys + (row << RS_SUB_BITS), v8f) * bf(k);
+    /* (the grid rows' stamp lanes (vl) broadcast the coefficients from memory, bcf: gcc otherwise loads most of
+     * them early and broadcasts them later, two instructions each; walk_band's instances keep bf, A npatch +0.04%
+     * with bcf) */
+#define C(x) (vl ? bcf(&(x)) : bf(x))
+    const rows8 r = {C(tr->z[2]) + C(tr->z[0]) * fx, C(tr->s[2]) + C(tr->s[0]) * fx,
+                     C(tr->q1[2]) + C(tr->q1[0]) * fx, C(tr->q2[2]) + C(tr->q2[0]) * fx};
+    const ypart y = {C(tr->z[1]) * fy, C(tr->s[1]) * fy, C(tr->q1[1]) * fy, C(tr->q2[1]) * fy};
+#undef C
     float *dep = t->depth + o;
     v8i pass = lane_idx < bi(nl);
     v8f z = bf(0.0f);
@@ -182,26 +204,21 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
  * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
 static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
                                                     const float *pc, bool vl, int wbits, uint64_t ids, int nl,
-                                                    size_t o, int32_t w, int32_t Xs, int32_t Ys)
+                                                    size_t o, v8i w, v8i Xs, v8i Ys)
 {
     if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
     else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
     else stamp_pass(m, j, t, tr, pc, false, 3, ids, nl, o, w, Xs, Ys);
 }
 
-/* The stamp walk's drawing: triangle p's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
- * whose corner pixel is (x0, y0) in tile t, mode m plain) packed into the lanes (pack16, take8) and drawn 8 per pass
- * (stamp_pass); nothing when cov is 0. */
-ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, bool vl,
-                             int wbits, uint64_t cov, int x0, int y0)
+/* The stamp walk's drawing: triangle tr's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
+ * whose corner pixel is at index o of tile t's planes and at Xs, Ys from vertex 0 (1/256 px, modulo 2^32), mode m
+ * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
+ * nothing when cov is 0. */
+ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
+                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
 {
     if (!cov) return;
-    const rs_tri *tr = &p->u.t;
-    const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
-    const int32_t Xs = (int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx);
-    const int32_t Ys = (int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy);
-    const size_t o = rs_tile_index(t, x0, y0);
-    const int32_t w = (int32_t)t->pitch;
     int n = __builtin_popcountll(cov);
     uint64_t ids;
     if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
@@ -247,7 +264,9 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
         cov |= (uint64_t)(bx & ~mask_of((v8i)(e0 | e1 | e2))) << (8 * v); /* sign bit: some edge < 0 */
         e0 += d0, e1 += d1, e2 += d2;
     }
-    band_draw(m, j, t, p, a, false, wbits, cov, x0, y0);
+    const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
+    band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0), bi((int32_t)t->pitch),
+              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)));
 }
 
 /* ---- the instances ---- */
@@ -289,58 +308,105 @@ void RS_KERNEL(rs_tri_fast)(const rs_job *j, rs_tile *t, const rs_prim *p, const
 
 /* ---- the grid rows' run (setup_simd.c's grid_tile): a step's triangles from the L1 scratch ---- */
 
-/* rs_tri_run in mode m: the lanes of `stamp` straight to band_draw with their coverage masks covm[l] (the stamp walk
- * after its coverage; their attribute blocks in shade8_l's vector layout); the others of live whose triangle is coef_small (`small`, from the set-up lanes) with a box at most 8
- * pixels wide in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to walk_small; the
- * rest through rs_tri_fast.  Returns the count of the first two. */
-ALWAYS_INLINE unsigned run_lanes(zmode m, const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa,
-                                 size_t stride, const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                                 const uint32_t *covm)
+/* *p in every lane, broadcast from memory (one vpbroadcastd: gcc otherwise loads the scalar early and broadcasts it
+ * from a register later). */
+static inline v8i bcast(const int32_t *p) { return (v8i)_mm256_broadcastd_epi32(_mm_loadu_si32(p)); }
+
+/* rs_tri_run's steps whose live lanes are all stamp lanes (most of scene B's), in mode m, white as run_lanes: a
+ * loop of band_draw alone, out of line apart from run_lanes (no dispatch in the loop, fewer values kept across it:
+ * the stamp lanes are a part of the direct ones, so here all are).  Returns their count. */
+ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile *t, const rs_prim *sp,
+                                  const float *sa, size_t stride, const rs_run_step *s)
 {
+    RS_ASSERT(m.plain && j->color_idx == (white ? -1 : 0) && stride == RS_ATTR_STRIDE); /* one slot: stamp_ok */
+    for (unsigned live = s->live; live; live &= live - 1) {
+        const int l = __builtin_ctz(live);
+        const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
+        if (!white && !pc) __builtin_unreachable(); /* (no test of pc in stamp_pass) */
+        RS_ASSERT(s->covm[l] != 0);
+        if (!s->covm[l]) __builtin_unreachable(); /* (grid_tile drops the empty lanes: no test in band_draw) */
+        band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->pitch),
+                  bcast(&s->xs[l]), bcast(&s->ys[l]));
+    }
+    return (unsigned)__builtin_popcount(s->live);
+}
+
+/* rs_tri_run in mode m, white: the job's colour_idx < 0 (the stamp lanes' colour slot, when there is one, is slot
+ * 0: grid_tile gives stamp lanes only for one slot): the lanes of s->stamp straight to band_draw with their coverage
+ * masks and offsets (the stamp walk after its coverage; their attribute blocks in shade8_l's vector layout); the
+ * others of s->live whose triangle is coef_small (s->small, from the set-up lanes) with a box at most 8 pixels wide
+ * in a tile at least 8 wide -- rs_tri_fast's conditions for walk_small -- straight to walk_small; the rest through
+ * rs_tri_fast.  Returns the count of the first two. */
+ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *t, const rs_prim *sp,
+                                 const float *sa, size_t stride, const rs_run_step *s)
+{
+    unsigned live = s->live;
+    const unsigned stamp = s->stamp;
+    RS_ASSERT(stamp == 0 || (m.plain && j->color_idx == (white ? -1 : 0)));
+    const int32_t (*cb)[8] = s->cb;
     unsigned direct = 0;
     if (t->x1 - t->x0 >= 8) { /* the boxes' widths in lanes: rs_tri_fast's test */
         const v8i x0 = (v8i)_mm256_loadu_si256((const __m256i *)cb[0]);
         const v8i x1 = (v8i)_mm256_loadu_si256((const __m256i *)cb[2]);
-        direct = live & small & mask_of(x1 - x0 < bi(8));
+        direct = live & s->small & mask_of(x1 - x0 < bi(8));
     }
-    RS_ASSERT((stamp & ~direct) == 0 && (stamp == 0 || m.plain));
+    RS_ASSERT((stamp & ~direct) == 0);
     for (; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *a = sa + (size_t)l * stride;
-        if (stamp >> l & 1u) band_draw(m, j, t, &sp[l], a, true, 2, covm[l], cb[0][l], cb[1][l]);
+        if (stamp >> l & 1u) {
+            if (!white && !a) __builtin_unreachable();
+            band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
+                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]));
+        }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
     }
     return (unsigned)__builtin_popcount(direct);
 }
 
-/* run_lanes per mode (the job's span_mode), out of line: one dispatch per step instead of one per triangle. */
+/* run_lanes per mode (the job's span_mode) and colour, out of line: one dispatch per step instead of one per
+ * triangle. */
 typedef unsigned run_fn(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                        const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp, const uint32_t *covm);
-#define RUN_INSTANCE(name, mode)                                                                                \
+                        const rs_run_step *s);
+#define RUN_INSTANCE(name, mode, white)                                                                         \
     static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
-                         const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,                  \
-                         const uint32_t *covm)                                                                  \
+                         const rs_run_step *s)                                                                  \
     {                                                                                                           \
-        return run_lanes(mode, j, t, sp, sa, stride, cb, live, small, stamp, covm);                             \
+        return run_lanes(mode, white, j, t, sp, sa, stride, s);                                                 \
     }
-RUN_INSTANCE(run_le, MODE_LE)
-RUN_INSTANCE(run_less, MODE_LESS)
-RUN_INSTANCE(run_any, MODE_JOB(j))
-static run_fn *const runs[3] = {run_le, run_less, run_any};
+RUN_INSTANCE(run_le, MODE_LE, false)
+RUN_INSTANCE(run_less, MODE_LESS, false)
+RUN_INSTANCE(run_any, MODE_JOB(j), false)
+RUN_INSTANCE(run_le_w, MODE_LE, true)
+RUN_INSTANCE(run_less_w, MODE_LESS, true)
+RUN_INSTANCE(run_any_w, MODE_JOB(j), true)
+static run_fn *const runs[2][3] = {{run_le, run_less, run_any}, {run_le_w, run_less_w, run_any_w}};
+#define STAMPS_INSTANCE(name, mode, white)                                                                      \
+    static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
+                         const rs_run_step *s)                                                                  \
+    {                                                                                                           \
+        return run_stamps(mode, white, j, t, sp, sa, stride, s);                                                \
+    }
+STAMPS_INSTANCE(stamps_le, MODE_LE, false)
+STAMPS_INSTANCE(stamps_less, MODE_LESS, false)
+STAMPS_INSTANCE(stamps_any, MODE_JOB(j), false)
+STAMPS_INSTANCE(stamps_le_w, MODE_LE, true)
+STAMPS_INSTANCE(stamps_less_w, MODE_LESS, true)
+STAMPS_INSTANCE(stamps_any_w, MODE_JOB(j), true)
+static run_fn *const stamps[2][3] = {{stamps_le, stamps_less, stamps_any},
+                                     {stamps_le_w, stamps_less_w, stamps_any_w}};
 
 unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                               const uint32_t *covm)
+                               const rs_run_step *s)
 {
-    return runs[j->span_mode](j, t, sp, sa, stride, cb, live, small, stamp, covm);
+    return (s->live == s->stamp ? stamps : runs)[j->color_idx < 0][j->span_mode](j, t, sp, sa, stride, s);
 }
 
 #else /* without AVX2 every draw takes the reference path (rs_span_ok is false) */
 
 unsigned RS_KERNEL(rs_tri_run)(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
-                               const int32_t (*cb)[8], unsigned live, unsigned small, unsigned stamp,
-                               const uint32_t *covm)
+                               const rs_run_step *s)
 {
     return 0;
 }
