@@ -181,7 +181,7 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
         load8(&d, dep, n);
         v8f sx = fx + bf((float)j->sox[0] * k);
         float sy = fy + (float)j->soy[0] * k;
-        v8f z = zclamp8(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), bf(j->zlo), bf(j->zhi));
+        v8f z = zclamp8m(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), bf(j->zlo), bf(j->zhi));
         pass &= zpass8(st->z_func, z, d);
         if (st->z_write) {
             d = sel(pass, z, d);
@@ -320,7 +320,7 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
     if (m.ze) {
         float *d0 = c->depth + o0, *d1 = c->depth + o1;
         v8f d = (v8f)load_lanes(d0, d1, split);
-        v8f z = zclamp8(r->zx + y->zy, c->zlo, c->zhi);
+        v8f z = zclamp8m(r->zx + y->zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
         if (m.zw) store_lanes(d0, d1, split, (__m256i)sel(pass, z, d));
     }
