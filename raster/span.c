@@ -168,7 +168,7 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     v8f z = bf(0.0f);
     if (m.ze) { /* lanes past nl read the stamp's position 0 (id 0): a pixel of the box, so inside the planes */
         const v8f d = (v8f)_mm256_i32gather_ps(dep, (__m256i)off, 4);
-        z = zclamp8m(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
+        z = zclamp8(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
         pass &= zpass8(m.zf, z, d);
     }
     t->tested += (uint64_t)nl;

@@ -63,12 +63,10 @@ static inline unsigned lane_range(int l0, int l1) { return ((2u << l1) - 1u) & ~
 /* |X| < 2^24 in every lane: the offsets (1/256 px) whose conversion to float is exact (for RS_ASSERT). */
 static inline bool lanes_exact(v8i X) { return mask_of((X >= bi(1 << 24)) | (X <= bi(-(1 << 24)))) == 0; }
 
-/* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
-static inline v8f zclamp8(v8f z, v8f lo, v8f hi) { return sel(z >= lo, sel(z <= hi, z, hi), lo); }
-
-/* zclamp8 in three instructions: min(hi, z) is hi < z ? hi : z, which is z <= hi ? z : hi but for a NaN z (then
- * z), and the outer test's blend gives lo for that: the same bits per lane, -0 and NaN included. */
-static inline v8f zclamp8m(v8f z, v8f lo, v8f hi)
+/* rs_zclamp per lane, z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo), in three instructions: min(hi, z) is
+ * hi < z ? hi : z, which is z <= hi ? z : hi but for a NaN z (then z), and the outer test's blend gives lo for
+ * that: the same bits per lane, -0 and NaN included. */
+static inline v8f zclamp8(v8f z, v8f lo, v8f hi)
 {
     return sel(z >= lo, (v8f)_mm256_min_ps((__m256)hi, (__m256)z), lo);
 }
@@ -181,7 +179,7 @@ static void span8(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
         load8(&d, dep, n);
         v8f sx = fx + bf((float)j->sox[0] * k);
         float sy = fy + (float)j->soy[0] * k;
-        v8f z = zclamp8m(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), bf(j->zlo), bf(j->zhi));
+        v8f z = zclamp8(bf(tr->z[2]) + bf(tr->z[0]) * sx + bf(tr->z[1] * sy), bf(j->zlo), bf(j->zhi));
         pass &= zpass8(st->z_func, z, d);
         if (st->z_write) {
             d = sel(pass, z, d);
@@ -320,7 +318,7 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
     if (m.ze) {
         float *d0 = c->depth + o0, *d1 = c->depth + o1;
         v8f d = (v8f)load_lanes(d0, d1, split);
-        v8f z = zclamp8m(r->zx + y->zy, c->zlo, c->zhi);
+        v8f z = zclamp8(r->zx + y->zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
         if (m.zw) store_lanes(d0, d1, split, (__m256i)sel(pass, z, d));
     }

@@ -13,12 +13,12 @@
  * the coverage of a window of 2 or 4 groups, 32-bit edge values) and a block walk (8x8 blocks with trivial
  * accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.  Then (issue
  * 29, wave 3) A 20.42 -> 19.56 M, C 34.30 -> 32.84 M: the packs do the channels' lower saturation (to8_8p), the
- * depth clamp in three instructions (zclamp8m), the edges permuted into starts and ends for row_spans (no caps),
+ * depth clamp in three instructions (zclamp8), the edges permuted into starts and ends for row_spans (no caps),
  * the medium walk's groups kept inside the box (x parts of its columns only), any two rows of at most 4 pixels
  * in one 4x2 group (each with its own 4 columns).  Wave 3, round 2 (main 897ac3f: A npatch 18.39 M, C npatch
  * 28.49 M per frame; span_le 9.84 M of A's, ~88k groups for 422k pixels): span8 and frag8 clamp depth with
- * zclamp8m too (A npatch -4k, A smooth -4k, C -0.3k; B npatch +2.5k, B smooth +3k per frame against main's binary:
- * 0.003%, cause not found).  Tried and dropped: pairing each row's tail (k % 8 in 1..4 after k / 8 full
+ * the three-instruction zclamp8 too, the old two-blend one removed (A npatch -4k, A smooth -4k, C -0.3k;
+ * B npatch +2.5k, B smooth +3k per frame against main's binary: 0.003%, cause not found).  Tried and dropped: pairing each row's tail (k % 8 in 1..4 after k / 8 full
  * groups) with the next row's in a 4x2 group, a superset of the short-row pairing: 7% fewer groups on A but the
  * row loop's bookkeeping grew more (span_le 9.84 -> 10.58 M, A 18.39 -> 19.13 M); n[nr] = 0 so that the short-row
  * test reads n[i + 1] without i + 1 < nr (A +16k); c->w in a local (A unchanged).
@@ -259,7 +259,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
     v8i pass = lanes;
     if (m.ze) {
         const v8f d = (v8f)load_lanes(dp, dp1, split);
-        const v8f z = zclamp8m(XP(xz) + zy, c->zlo, c->zhi);
+        const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
         if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
     }

@@ -202,7 +202,7 @@ static void test_wide_colour_range(void **state)
 }
 
 /* A viewport depth range of [0.25, 0.75] and a depth bias of +-0.3 (with a slope-scaled one): depths below and
- * above the range, clamped to it per pixel (the walk's zclamp8m), against the reference path, LESSEQUAL and LESS
+ * above the range, clamped to it per pixel (the walk's zclamp8), against the reference path, LESSEQUAL and LESS
  * with writes, GREATER without. */
 static void test_wide_depth_clamp(void **state)
 {
