@@ -369,31 +369,25 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
  * triangle. */
 typedef unsigned run_fn(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,
                         const rs_run_step *s);
-#define RUN_INSTANCE(name, mode, white)                                                                         \
+#define STEP_INSTANCE(name, body, mode, white)                                                                  \
     static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
                          const rs_run_step *s)                                                                  \
     {                                                                                                           \
-        return run_lanes(mode, white, j, t, sp, sa, stride, s);                                                 \
+        return body(mode, white, j, t, sp, sa, stride, s);                                                      \
     }
-RUN_INSTANCE(run_le, MODE_LE, false)
-RUN_INSTANCE(run_less, MODE_LESS, false)
-RUN_INSTANCE(run_any, MODE_JOB(j), false)
-RUN_INSTANCE(run_le_w, MODE_LE, true)
-RUN_INSTANCE(run_less_w, MODE_LESS, true)
-RUN_INSTANCE(run_any_w, MODE_JOB(j), true)
+STEP_INSTANCE(run_le, run_lanes, MODE_LE, false)
+STEP_INSTANCE(run_less, run_lanes, MODE_LESS, false)
+STEP_INSTANCE(run_any, run_lanes, MODE_JOB(j), false)
+STEP_INSTANCE(run_le_w, run_lanes, MODE_LE, true)
+STEP_INSTANCE(run_less_w, run_lanes, MODE_LESS, true)
+STEP_INSTANCE(run_any_w, run_lanes, MODE_JOB(j), true)
 static run_fn *const runs[2][3] = {{run_le, run_less, run_any}, {run_le_w, run_less_w, run_any_w}};
-#define STAMPS_INSTANCE(name, mode, white)                                                                      \
-    static unsigned name(const rs_job *j, rs_tile *t, const rs_prim *sp, const float *sa, size_t stride,       \
-                         const rs_run_step *s)                                                                  \
-    {                                                                                                           \
-        return run_stamps(mode, white, j, t, sp, sa, stride, s);                                                \
-    }
-STAMPS_INSTANCE(stamps_le, MODE_LE, false)
-STAMPS_INSTANCE(stamps_less, MODE_LESS, false)
-STAMPS_INSTANCE(stamps_any, MODE_JOB(j), false)
-STAMPS_INSTANCE(stamps_le_w, MODE_LE, true)
-STAMPS_INSTANCE(stamps_less_w, MODE_LESS, true)
-STAMPS_INSTANCE(stamps_any_w, MODE_JOB(j), true)
+STEP_INSTANCE(stamps_le, run_stamps, MODE_LE, false)
+STEP_INSTANCE(stamps_less, run_stamps, MODE_LESS, false)
+STEP_INSTANCE(stamps_any, run_stamps, MODE_JOB(j), false)
+STEP_INSTANCE(stamps_le_w, run_stamps, MODE_LE, true)
+STEP_INSTANCE(stamps_less_w, run_stamps, MODE_LESS, true)
+STEP_INSTANCE(stamps_any_w, run_stamps, MODE_JOB(j), true)
 static run_fn *const stamps[2][3] = {{stamps_le, stamps_less, stamps_any},
                                      {stamps_le_w, stamps_less_w, stamps_any_w}};
 

@@ -300,26 +300,39 @@ static void draw_present(const frame *f, bool scene, unsigned clear, unsigned pr
     rs_destroy(rs);
 }
 
+enum { PRESENT_PIXELS = 448 * 320 };   /* draw_present's target */
+
+/* A frame (make_frame's, a fixed seed) and two colour and depth buffers of draw_present's target. */
+typedef struct present_run {
+    frame f;
+    uint32_t c[2][PRESENT_PIXELS];
+    float d[2][PRESENT_PIXELS];
+} present_run;
+
+/* A present_run, its frame made; free() releases it. */
+static present_run *present_run_new(void)
+{
+    present_run *r = malloc(sizeof *r);
+    assert_non_null(r);
+    make_frame(&r->f, 0x51ed270b27u);
+    return r;
+}
+
 /* The present (the colour alone) after a scene: the tiles no draw touched get the clear colour in the draws' tile
  * pass and keep their depth's clear deferred; the bytes after the full flush are those of the frame drawn draw by
  * draw and flushed whole, 1 and 2 threads. */
 static void test_present_fused(void **state)
 {
     (void)state;
-    enum { N = 448 * 320 };
-    frame *f = malloc(sizeof *f);
-    uint32_t *c0 = malloc(N * sizeof *c0), *c1 = malloc(N * sizeof *c1);
-    float *d0 = malloc(N * sizeof *d0), *d1 = malloc(N * sizeof *d1);
-    assert_true(f && c0 && c1 && d0 && d1);
-    make_frame(f, 0x51ed270b27u);
-    draw_present(f, false, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1, c0, d0);
+    present_run *r = present_run_new();
+    draw_present(&r->f, false, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, 0, 1, r->c[0], r->d[0]);
     for (int threads = 1; threads <= 2; threads++)
         for (int scene = 0; scene < 2; scene++) {
-            draw_present(f, scene, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, RS_CLEAR_COLOR, threads, c1, d1);
-            assert_memory_equal(c0, c1, N * sizeof *c0);
-            assert_memory_equal(d0, d1, N * sizeof *d0);
+            draw_present(&r->f, scene, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, RS_CLEAR_COLOR, threads, r->c[1], r->d[1]);
+            assert_memory_equal(r->c[0], r->c[1], sizeof r->c[0]);
+            assert_memory_equal(r->d[0], r->d[1], sizeof r->d[0]);
         }
-    free(f), free(c0), free(c1), free(d0), free(d1);
+    free(r);
 }
 
 /* A present that discards the depth (RS_DISCARD_DEPTH, D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL): the colour of the
@@ -329,31 +342,27 @@ static void test_present_fused(void **state)
 static void test_present_discard(void **state)
 {
     (void)state;
-    enum { N = 448 * 320 };
-    frame *f = malloc(sizeof *f);
-    uint32_t *c0 = malloc(N * sizeof *c0), *c1 = malloc(N * sizeof *c1);
-    float *d0 = malloc(N * sizeof *d0), *d1 = malloc(N * sizeof *d1);
-    assert_true(f && c0 && c1 && d0 && d1);
-    make_frame(f, 0x51ed270b27u);
+    present_run *r = present_run_new();
     const unsigned both = RS_CLEAR_COLOR | RS_CLEAR_DEPTH, discard = RS_CLEAR_COLOR | RS_DISCARD_DEPTH;
-    draw_present(f, false, both, 0, 1, c0, d0);
+    draw_present(&r->f, false, both, 0, 1, r->c[0], r->d[0]);
     size_t drawn = 0;
-    for (size_t p = 0; p < N; p++) drawn += d0[p] != 1.0f;
+    for (size_t p = 0; p < PRESENT_PIXELS; p++) drawn += r->d[0][p] != 1.0f;
     assert_true(drawn > 1000);   /* the frame draws depth (which the discard must drop) */
     for (int threads = 1; threads <= 2; threads++)
         for (int scene = 0; scene < 2; scene++) {
-            draw_present(f, scene, both, discard, threads, c1, d1);
-            assert_memory_equal(c0, c1, N * sizeof *c0);
-            for (size_t p = 0; p < N; p++)
-                if (d1[p] != 1.0f) fail_msg("threads %d, scene %d: depth %g at %zu, not the clear's", threads, scene, d1[p], p);
+            draw_present(&r->f, scene, both, discard, threads, r->c[1], r->d[1]);
+            assert_memory_equal(r->c[0], r->c[1], sizeof r->c[0]);
+            for (size_t p = 0; p < PRESENT_PIXELS; p++)
+                if (r->d[1][p] != 1.0f)
+                    fail_msg("threads %d, scene %d: depth %g at %zu, not the clear's", threads, scene, r->d[1][p], p);
         }
-    draw_present(f, false, RS_CLEAR_COLOR, 0, 1, c0, d0);   /* the depth not cleared: the drawn depth kept */
+    draw_present(&r->f, false, RS_CLEAR_COLOR, 0, 1, r->c[0], r->d[0]);   /* the depth not cleared: kept as drawn */
     for (int scene = 0; scene < 2; scene++) {
-        draw_present(f, scene, RS_CLEAR_COLOR, discard, 2, c1, d1);
-        assert_memory_equal(c0, c1, N * sizeof *c0);
-        assert_memory_equal(d0, d1, N * sizeof *d0);
+        draw_present(&r->f, scene, RS_CLEAR_COLOR, discard, 2, r->c[1], r->d[1]);
+        assert_memory_equal(r->c[0], r->c[1], sizeof r->c[0]);
+        assert_memory_equal(r->d[0], r->d[1], sizeof r->d[0]);
     }
-    free(f), free(c0), free(c1), free(d0), free(d1);
+    free(r);
 }
 
 int main(void)
