@@ -343,7 +343,8 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
         }
         rs->pend = p, rs->pend_cap = n;
     }
-    memset(rs->pend, (int)((flags & PEND_PLANES) | (flags & RS_CLEAR_DEPTH ? PEND_FRAME_DEPTH : 0)), n);   /* per tile */
+    const unsigned frame = flags & RS_CLEAR_DEPTH ? PEND_FRAME_DEPTH : 0u;   /* per tile: the planes deferred */
+    memset(rs->pend, (int)((flags & PEND_PLANES) | frame), n);
     rs->pend_tiles = (int)n, rs->pend_rt = rt, rs->pend_color = rt->color;
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
 }
