@@ -24,7 +24,10 @@
  * test reads n[i + 1] without i + 1 < nr (A +16k); c->w in a local (A unchanged).
  * Wave 3, round 3 (main 615eb03: A npatch 18.36 M, span_le 9.84 M): a group's lane mask one load from a [lo][hi]
  * table instead of two loads and an andnot (A npatch 18.359 -> 18.315 M, A smooth 18.759 -> 18.713 M, C npatch
- * 28.485 -> 28.440 M, B npatch unchanged).  Tried and dropped: the group plan (every row's groups listed first as
+ * 28.485 -> 28.440 M, B npatch unchanged); frag_w's two blends by the pass mask as one vblendvps each (blend_sign,
+ * inline asm: the intrinsic is folded into a compare with 0 and a blend, an extra instruction and register per
+ * group; A npatch 18.315 -> 18.104 M, span_le 9.79 -> 9.58 M; A smooth 18.713 -> 18.500 M, C npatch 28.440 ->
+ * 28.236 M, B unchanged).  Tried and dropped: the group plan (every row's groups listed first as
  * 8-byte entries, offset, column, row, lanes; then one loop over the row groups and one over the 4x2 pairs): the
  * scalar list costs more than the row loop it replaces (~13 instructions to store an entry, ~10 to read one back:
  * span_le 9.84 -> 10.91 M, A 18.36 -> 19.43 M); it would pay only built with vectors, 8 rows at a time.
@@ -255,6 +258,15 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
     return (v8i)_mm256_shuffle_epi8(x, order);
 }
 
+/* mask ? a : b per lane by mask's sign bits, as one vblendvps: sel's intrinsic is folded into a compare with 0
+ * and a blend, one instruction more per group when the mask has two uses. */
+static inline v8f blend_sign(v8i mask, v8f a, v8f b)
+{
+    v8f r;
+    __asm__("vblendvps %3, %2, %1, %0" : "=x"(r) : "x"(b), "x"(a), "x"(mask));
+    return r;
+}
+
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
  * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  split: lanes
  * 0..3 are the 4 pixels at dp, cp and lanes 4..7 4 pixels of the next row, dx columns right of those (x parts
@@ -273,7 +285,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
         const v8f d = (v8f)load_lanes(dp, dp1, split);
         const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
-        if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
+        if (m.zw) store_lanes(dp, dp1, split, (__m256i)blend_sign(pass, z, d));
     }
     const unsigned pm = mask_of(pass);
     if (!pm) return;
@@ -283,7 +295,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
     const v8f b2 = (XP(xq2) + q2y) * rr;
 #undef XP
     const v8i src = a8c ? shade8w(w, 0, b1, b2) : c->pc ? shade8w(w, c->a8, b1, b2) : bi(-1);
-    store_lanes(cp, cp1, split, (__m256i)seli(pass, src, (v8i)load_lanes(cp, cp1, split)));
+    store_lanes(cp, cp1, split, (__m256i)blend_sign(pass, (v8f)src, (v8f)load_lanes(cp, cp1, split)));
 }
 
 /* The x parts of the planes per column: column bx + i at index i, for up to 72 columns (a tile's 64 and the 8
