@@ -258,15 +258,6 @@ ALWAYS_INLINE v8i shade8w(const wconst *w, int a8, v8f b1, v8f b2)
     return (v8i)_mm256_shuffle_epi8(x, order);
 }
 
-/* mask ? a : b per lane by mask's sign bits, as one vblendvps: sel's intrinsic is folded into a compare with 0
- * and a blend, one instruction more per group when the mask has two uses. */
-static inline v8f blend_sign(v8i mask, v8f a, v8f b)
-{
-    v8f r;
-    __asm__("vblendvps %3, %2, %1, %0" : "=x"(r) : "x"(b), "x"(a), "x"(mask));
-    return r;
-}
-
 /* Depth-test (mode m, plain), shade and write lanes `lanes` of the 8 pixels at dp (depth) and cp (colour) in c's
  * planes, whose x parts are at xz, xs, xq1, xq2 and y parts zy, sy, q1y, q2y: frag8's operations.  split: lanes
  * 0..3 are the 4 pixels at dp, cp and lanes 4..7 4 pixels of the next row, dx columns right of those (x parts
