@@ -53,6 +53,15 @@ static inline v8i seli(v8i mask, v8i a, v8i b)
     return (v8i)_mm256_blendv_ps((__m256)b, (__m256)a, (__m256)mask);
 }
 
+/* mask ? a : b per lane by mask's sign bits, as one vblendvps: sel's intrinsic is folded into a compare with 0
+ * and a blend, one instruction more per group when the mask has two uses. */
+static inline v8f blend_sign(v8i mask, v8f a, v8f b)
+{
+    v8f r;
+    __asm__("vblendvps %3, %2, %1, %0" : "=x"(r) : "x"(b), "x"(a), "x"(mask));
+    return r;
+}
+
 /* 8-bit lane mask -> -1 / 0 lanes. */
 static inline v8i lanes_of(unsigned m) { return (bi((int32_t)m) & lane_bit) == lane_bit; }
 /* -1 / 0 lanes (or any sign bits) -> 8-bit lane mask. */
@@ -320,7 +329,7 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
         v8f d = (v8f)load_lanes(d0, d1, split);
         v8f z = zclamp8(r->zx + y->zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
-        if (m.zw) store_lanes(d0, d1, split, (__m256i)sel(pass, z, d));
+        if (m.zw) store_lanes(d0, d1, split, (__m256i)blend_sign(pass, z, d));
     }
     unsigned pm = mask_of(pass);
     c->tested += (uint64_t)__builtin_popcount(cov);
@@ -331,7 +340,7 @@ ALWAYS_INLINE void frag8(fctx *c, zmode m, bool split, unsigned cov, size_t o0, 
     v8f b2 = (r->q2x + y->q2y) * rr;
     v8i src = c->pc ? shade8(c->pc, c->a8, b1, b2) : bi(-1);
     uint32_t *c0 = c->color + o0, *c1 = c->color + o1;
-    store_lanes(c0, c1, split, (__m256i)seli(pass, src, (v8i)load_lanes(c0, c1, split)));
+    store_lanes(c0, c1, split, (__m256i)blend_sign(pass, (v8f)src, (v8f)load_lanes(c0, c1, split)));
 }
 
 /* ---- the edge values ---- */

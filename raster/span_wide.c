@@ -22,6 +22,19 @@
  * groups) with the next row's in a 4x2 group, a superset of the short-row pairing: 7% fewer groups on A but the
  * row loop's bookkeeping grew more (span_le 9.84 -> 10.58 M, A 18.39 -> 19.13 M); n[nr] = 0 so that the short-row
  * test reads n[i + 1] without i + 1 < nr (A +16k); c->w in a local (A unchanged).
+ * Wave 3, round 3 (main 615eb03: A npatch 18.36 M, span_le 9.84 M): a group's lane mask one load from a [lo][hi]
+ * table instead of two loads and an andnot (A npatch 18.359 -> 18.315 M, A smooth 18.759 -> 18.713 M, C npatch
+ * 28.485 -> 28.440 M, B npatch unchanged); frag_w's two blends by the pass mask as one vblendvps each (blend_sign,
+ * inline asm: the intrinsic is folded into a compare with 0 and a blend, an extra instruction and register per
+ * group; A npatch 18.315 -> 18.104 M, span_le 9.79 -> 9.58 M; A smooth 18.713 -> 18.500 M, C npatch 28.440 ->
+ * 28.236 M, B unchanged); the aligned walk's rows that end inside the target (the last group at most gmax) go
+ * straight to frag_w, the groups between the first and the last unmasked in a loop of their own (no span8 test, no
+ * tail test per group; C npatch 28.236 -> 26.546 M, big_le 20.43 -> 18.74 M; A, B unchanged).  Tried and dropped: the group plan (every row's groups listed first as
+ * 8-byte entries, offset, column, row, lanes; then one loop over the row groups and one over the 4x2 pairs): the
+ * scalar list costs more than the row loop it replaces (~13 instructions to store an entry, ~10 to read one back:
+ * span_le 9.84 -> 10.91 M, A 18.36 -> 19.43 M); it would pay only built with vectors, 8 rows at a time.  The
+ * aligned walk's fast rows for the medium walk too (rows whose groups from the first column all start at most at
+ * gmax: full groups unmasked, the last one lanes [0, k)): A npatch 18.1033 -> 18.1049 M, the row loop's registers.
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
@@ -199,19 +212,25 @@ static inline __attribute__((unused)) bool spans_exact(const rs_job *j, const rs
     return true;
 }
 
-/* Lanes [lo, 8) of 8 (lt8[k] & ~lt8[lo]: lanes [lo, k)), as rows of a table. */
-static const int32_t lt8[9][8] __attribute__((aligned(32))) = {
-    {0, 0, 0, 0, 0, 0, 0, 0},         {-1, 0, 0, 0, 0, 0, 0, 0},         {-1, -1, 0, 0, 0, 0, 0, 0},
-    {-1, -1, -1, 0, 0, 0, 0, 0},      {-1, -1, -1, -1, 0, 0, 0, 0},      {-1, -1, -1, -1, -1, 0, 0, 0},
-    {-1, -1, -1, -1, -1, -1, 0, 0},   {-1, -1, -1, -1, -1, -1, -1, 0},   {-1, -1, -1, -1, -1, -1, -1, -1},
+/* Lanes [lo, hi) of 8 as -1 / 0 lanes, at lanes_tab[lo][hi] (0 <= lo < 8, hi <= 8): one load per group. */
+#define LB(lo, hi, i) ((i) >= (lo) && (i) < (hi) ? -1 : 0)
+#define LROW(lo, hi) {LB(lo, hi, 0), LB(lo, hi, 1), LB(lo, hi, 2), LB(lo, hi, 3), LB(lo, hi, 4), LB(lo, hi, 5), \
+                      LB(lo, hi, 6), LB(lo, hi, 7)}
+#define LTAB(lo) {LROW(lo, 0), LROW(lo, 1), LROW(lo, 2), LROW(lo, 3), LROW(lo, 4), LROW(lo, 5), LROW(lo, 6), \
+                  LROW(lo, 7), LROW(lo, 8)}
+static const int32_t lanes_tab[8][9][8] __attribute__((aligned(32))) = {
+    LTAB(0), LTAB(1), LTAB(2), LTAB(3), LTAB(4), LTAB(5), LTAB(6), LTAB(7),
 };
+#undef LTAB
+#undef LROW
+#undef LB
 /* Lanes [lo, k) as -1 / 0 lanes (0 <= lo < k <= 8). */
 static inline v8i lanes_between(int lo, int k)
 {
-    v8i a, b;
-    memcpy(&a, lt8[k], 32);
-    memcpy(&b, lt8[lo], 32);
-    return (v8i)_mm256_andnot_si256((__m256i)b, (__m256i)a);
+    RS_ASSERT(lo >= 0 && lo < k && k <= 8);
+    v8i a;
+    memcpy(&a, lanes_tab[lo][k], 32);
+    return a;
 }
 
 /* A walk's per-triangle constants as vectors: the colour slot's 12 coefficients (rs_fill_slot's layout) and the
@@ -261,7 +280,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
         const v8f d = (v8f)load_lanes(dp, dp1, split);
         const v8f z = zclamp8(XP(xz) + zy, c->zlo, c->zhi);
         pass &= zpass8(m.zf, z, d);
-        if (m.zw) store_lanes(dp, dp1, split, (__m256i)sel(pass, z, d));
+        if (m.zw) store_lanes(dp, dp1, split, (__m256i)blend_sign(pass, z, d));
     }
     const unsigned pm = mask_of(pass);
     if (!pm) return;
@@ -271,7 +290,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
     const v8f b2 = (XP(xq2) + q2y) * rr;
 #undef XP
     const v8i src = a8c ? shade8w(w, 0, b1, b2) : c->pc ? shade8w(w, c->a8, b1, b2) : bi(-1);
-    store_lanes(cp, cp1, split, (__m256i)seli(pass, src, (v8i)load_lanes(cp, cp1, split)));
+    store_lanes(cp, cp1, split, (__m256i)blend_sign(pass, (v8f)src, (v8f)load_lanes(cp, cp1, split)));
 }
 
 /* The x parts of the planes per column: column bx + i at index i, for up to 72 columns (a tile's 64 and the 8
@@ -421,6 +440,22 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
                 lw = gx > gmax ? gx - gmax : 0;
                 gx -= lw, xi -= lw;
             }
+            continue;
+        }
+        const int last = (g + k - 1) & ~7; /* aligned: the row's last group */
+        if (m.plain && last <= gmax) { /* all through frag_w: no span8 test per group, the middle ones unmasked */
+#define FRAG(lanes) frag_w(c, &w, m, a8c, false, 0, lanes, drow + xi, crow + xi, xc.zx + xi, xc.sx + xi, xc.q1x + xi, \
+                           xc.q2x + xi, yv[0], yv[1], yv[2], yv[3])
+            if (lo + k <= 8) {
+                FRAG(lanes_between(lo, lo + k));
+                continue;
+            }
+            FRAG(lanes_between(lo, 8));
+            const ptrdiff_t xl = xi + (last - gx);
+            for (xi += 8; xi < xl; xi += 8)
+                FRAG(bi(-1));
+            FRAG(lanes_between(0, g + k - last));
+#undef FRAG
             continue;
         }
         if (lo + k <= 8) { /* one group */
