@@ -27,7 +27,14 @@
  *    broadcast them after the depth test); their masks known non-zero.  B npatch 98.70 -> 93.26 M instructions per
  *    frame (struct and offsets 96.52, stamp-only loop 95.77, colour slot 95.49, out of line 95.31, bcast 94.85,
  *    pitch 94.80, bcf 93.79 (93.63 with bcf in walk_band's instances too, but A npatch +0.04%), masks 93.26),
- *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).
+ *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).  Then a band of more than 8 covered pixels
+ *    wholly out of line (band_draw_rt, its first pass included; LESSEQUAL with writes a constant there), so that the
+ *    one-pass band keeps no value across its pass (gcc spilled the pitch, Xs and Ys for the later passes, and reloaded
+ *    sp), and stamp_pass's lanes below nl by bzhi of the depth test's mask (one instruction; lane_idx < nl took four):
+ *    B npatch 93.32 -> 91.86 M (stamps_le 21.02 -> 19.72, run_le 14.51 -> 13.49), B smooth 102.56 -> 101.16 M,
+ *    A npatch 18.360 -> 18.369 M (+0.05%: its ~30 bands per frame of 9..16 pixels pay both passes out of line), C
+ *    28.485 -> 28.487 M.  (Dropped: the first pass of walk_band's bands kept inline, B 92.78 M (A 18.349); the
+ *    8-wide ones' only, B 92.39, A 18.347.)
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
@@ -164,15 +171,15 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     const ypart y = {C(tr->z[1]) * fy, C(tr->s[1]) * fy, C(tr->q1[1]) * fy, C(tr->q2[1]) * fy};
 #undef C
     float *dep = t->depth + o;
-    v8i pass = lane_idx < bi(nl);
+    unsigned zm = 0xffu;
     v8f z = bf(0.0f);
     if (m.ze) { /* lanes past nl read the stamp's position 0 (id 0): a pixel of the box, so inside the planes */
         const v8f d = (v8f)_mm256_i32gather_ps(dep, (__m256i)off, 4);
         z = zclamp8(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
-        pass &= zpass8(m.zf, z, d);
+        zm = mask_of(zpass8(m.zf, z, d));
     }
     t->tested += (uint64_t)nl;
-    unsigned pm = mask_of(pass);
+    unsigned pm = _bzhi_u32(zm, (unsigned)nl); /* lanes below nl (one instruction; lane_idx < nl took four) */
     if (!pm) return;
     t->written += (uint64_t)__builtin_popcount(pm);
     const v8f rr = bf(1.0f) / (r.sx + y.sy);
@@ -200,38 +207,48 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     }
 }
 
-/* stamp_pass out of line, with the mode as a value: the passes after a band's first (more than 8 covered pixels),
- * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
-static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
-                                                    const float *pc, bool vl, int wbits, uint64_t ids, int nl,
-                                                    size_t o, v8i w, v8i Xs, v8i Ys)
+/* band_draw_rt's passes in mode m: take8's positions of cov (not 0), 8 per pass. */
+ALWAYS_INLINE void band_passes(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
+                               int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
 {
-    if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
-    else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
-    else stamp_pass(m, j, t, tr, pc, false, 3, ids, nl, o, w, Xs, Ys);
+    int n;
+    do {
+        const uint64_t ids = take8(&cov, &n);
+        if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, n, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
+        else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, n, o, w, Xs, Ys);
+        else stamp_pass(m, j, t, tr, pc, false, 3, ids, n, o, w, Xs, Ys);
+    } while (cov);
+}
+
+/* The stamp walk's drawing of the covered positions cov (not 0) of a band of more than 8, out of line, the mode m
+ * as a value (LESSEQUAL with writes, the grids' mode, as a constant: A npatch +0.05% without): take8's positions,
+ * 8 per pass.  The whole band here, its first pass included, so that band_draw's common one-pass band keeps no
+ * value across its pass (gcc spilled the pitch, Xs and Ys there for the later passes). */
+static __attribute__((noinline)) void band_draw_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
+                                                   const float *pc, bool vl, int wbits, uint64_t cov, size_t o,
+                                                   v8i w, v8i Xs, v8i Ys)
+{
+    if (m.ze && m.zw && m.zf == RS_CMP_LESSEQUAL) band_passes(MODE_LE, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
+    else band_passes(m, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
 }
 
 /* The stamp walk's drawing: triangle tr's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
  * whose corner pixel is at index o of tile t's planes and at Xs, Ys from vertex 0 (1/256 px, modulo 2^32), mode m
- * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
- * nothing when cov is 0. */
+ * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass,
+ * the bands of more than one pass out of line: band_draw_rt); nothing when cov is 0. */
 ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
                              int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
 {
     if (!cov) return;
-    int n = __builtin_popcountll(cov);
-    uint64_t ids;
-    if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
-        ids = pack16((unsigned)cov);
-        cov = 0;
-    } else {
-        ids = take8(&cov, &n);
+    const int n = __builtin_popcountll(cov);
+    if (n > 8) { /* more than one pass: out of line */
+        band_draw_rt(m, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
+        return;
     }
+    int k = n;
+    /* the common case, 16 positions: at once (pack16) */
+    const uint64_t ids = cov <= 0xffffu ? pack16((unsigned)cov) : take8(&cov, &k);
     stamp_pass(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
-    while (cov) { /* more than 8 covered pixels: out of line */
-        ids = take8(&cov, &n);
-        stamp_pass_rt(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
-    }
 }
 
 /* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
