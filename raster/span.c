@@ -34,7 +34,9 @@
  *    B npatch 93.32 -> 91.86 M (stamps_le 21.02 -> 19.72, run_le 14.51 -> 13.49), B smooth 102.56 -> 101.16 M,
  *    A npatch 18.360 -> 18.369 M (+0.05%: its ~30 bands per frame of 9..16 pixels pay both passes out of line), C
  *    28.485 -> 28.487 M.  (Dropped: the first pass of walk_band's bands kept inline, B 92.78 M (A 18.349); the
- *    8-wide ones' only, B 92.39, A 18.347.)
+ *    8-wide ones' only, B 92.39, A 18.347.)  Then stamp_pass's s, q1, q2 planes after the depth test (gcc broadcast
+ *    their coefficients before the gather and spilled two): B npatch 91.86 -> 91.63 M, B smooth
+ *    101.16 -> 100.94 M, A npatch 18.369 -> 18.361 M, C npatch 28.485 M.
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
@@ -166,25 +168,23 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
      * them early and broadcasts them later, two instructions each; walk_band's instances keep bf, A npatch +0.04%
      * with bcf) */
 #define C(x) (vl ? bcf(&(x)) : bf(x))
-    const rows8 r = {C(tr->z[2]) + C(tr->z[0]) * fx, C(tr->s[2]) + C(tr->s[0]) * fx,
-                     C(tr->q1[2]) + C(tr->q1[0]) * fx, C(tr->q2[2]) + C(tr->q2[0]) * fx};
-    const ypart y = {C(tr->z[1]) * fy, C(tr->s[1]) * fy, C(tr->q1[1]) * fy, C(tr->q2[1]) * fy};
-#undef C
     float *dep = t->depth + o;
     unsigned zm = 0xffu;
     v8f z = bf(0.0f);
     if (m.ze) { /* lanes past nl read the stamp's position 0 (id 0): a pixel of the box, so inside the planes */
         const v8f d = (v8f)_mm256_i32gather_ps(dep, (__m256i)off, 4);
-        z = zclamp8(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
+        z = zclamp8((C(tr->z[2]) + C(tr->z[0]) * fx) + C(tr->z[1]) * fy, bf(j->zlo), bf(j->zhi));
         zm = mask_of(zpass8(m.zf, z, d));
     }
     t->tested += (uint64_t)nl;
     unsigned pm = _bzhi_u32(zm, (unsigned)nl); /* lanes below nl (one instruction; lane_idx < nl took four) */
     if (!pm) return;
     t->written += (uint64_t)__builtin_popcount(pm);
-    const v8f rr = bf(1.0f) / (r.sx + y.sy);
-    const v8f b1 = (r.q1x + y.q1y) * rr;
-    const v8f b2 = (r.q2x + y.q2y) * rr;
+    /* the other planes after the test (their coefficients were broadcast before the gather and spilled) */
+    const v8f rr = bf(1.0f) / ((C(tr->s[2]) + C(tr->s[0]) * fx) + C(tr->s[1]) * fy);
+    const v8f b1 = ((C(tr->q1[2]) + C(tr->q1[0]) * fx) + C(tr->q1[1]) * fy) * rr;
+    const v8f b2 = ((C(tr->q2[2]) + C(tr->q2[0]) * fx) + C(tr->q2[1]) * fy) * rr;
+#undef C
     const v8i src = pc ? shade8_l(pc, -1, b1, b2, vl) : bi(-1);
     int32_t ov[8]; /* unaligned: no realignment of the stack for them */
     float zv[8];
