@@ -36,7 +36,10 @@
  *    28.485 -> 28.487 M.  (Dropped: the first pass of walk_band's bands kept inline, B 92.78 M (A 18.349); the
  *    8-wide ones' only, B 92.39, A 18.347.)  Then stamp_pass's s, q1, q2 planes after the depth test (gcc broadcast
  *    their coefficients before the gather and spilled two): B npatch 91.86 -> 91.63 M, B smooth
- *    101.16 -> 100.94 M, A npatch 18.369 -> 18.361 M, C npatch 28.485 M.
+ *    101.16 -> 100.94 M, A npatch 18.369 -> 18.361 M, C npatch 28.485 M.  Then pack16's constants set once
+ *    before run_stamps' loop (pk16_loop; gcc rebuilt them by three movabs per triangle): B npatch 91.63 ->
+ *    91.39 M (stamps_le 19.59 -> 19.35), B smooth 100.94 -> 100.70 M, A and C unchanged (18.362, 28.485 M); in
+ *    run_lanes' loop too: run_le 13.41 -> 13.43, dropped.
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
@@ -130,16 +133,32 @@ static inline uint64_t take8(uint64_t *cov, int *n)
     return ids;
 }
 
+/* pack16's constants: the nibbles' low bits, the nibbles' positions, the bytes' low nibbles. */
+typedef struct pk16c {
+    uint64_t one, idx, low;
+} pk16c;
+#define PK16C ((pk16c){0x1111111111111111ull, 0xfedcba9876543210ull, 0x0f0f0f0f0f0f0f0full})
+
+/* PK16C for a loop of band_draw: opaque to gcc (an empty asm), so that they are set once before the loop and
+ * kept in registers or read by pdep / pext from the stack, not rebuilt by three movabs per triangle. */
+static inline pk16c pk16_loop(void)
+{
+    pk16c k = PK16C;
+    __asm__("" : "+r"(k.one), "+r"(k.idx), "+r"(k.low));
+    return k;
+}
+
 /* The positions of the set bits of the 16-bit mask m (at most 8 of them), one byte each from the low byte, as
- * take8 gives them: _pdep_u64 spreads each bit of m over its nibble (times 0xf), _pext_u64 keeps those nibbles of
- * 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64 widens the 8 low nibbles to bytes.
+ * take8 gives them (k: PK16C or pk16_loop's): _pdep_u64 spreads each bit of m over its nibble (times 0xf),
+ * _pext_u64 keeps those nibbles of 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64
+ * widens the 8 low nibbles to bytes.
  * (BMI2's pdep / pext take one instruction each: fast on Intel since Haswell and on AMD since Zen 3, microcoded
  * and slow on Zen 1 and 2.  Measured and not kept: a 256-entry table of byte positions, low byte's then high
  * byte's (+ 8) shifted past them -- B npatch 120.76 -> 121.03 M instructions per frame, +0.2%.) */
-static inline uint64_t pack16(unsigned m)
+static inline uint64_t pack16(unsigned m, pk16c k)
 {
-    const uint64_t nib = _pext_u64(0xfedcba9876543210ull, _pdep_u64(m, 0x1111111111111111ull) * 0xfu);
-    return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
+    const uint64_t nib = _pext_u64(k.idx, _pdep_u64(m, k.one) * 0xfu);
+    return _pdep_u64(nib, k.low);
 }
 
 /* *p in every lane, broadcast from memory (one vbroadcastss). */
@@ -237,7 +256,7 @@ static __attribute__((noinline)) void band_draw_rt(zmode m, const rs_job *j, rs_
  * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass,
  * the bands of more than one pass out of line: band_draw_rt); nothing when cov is 0. */
 ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
+                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys, pk16c kc)
 {
     if (!cov) return;
     const int n = __builtin_popcountll(cov);
@@ -247,7 +266,7 @@ ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri 
     }
     int k = n;
     /* the common case, 16 positions: at once (pack16) */
-    const uint64_t ids = cov <= 0xffffu ? pack16((unsigned)cov) : take8(&cov, &k);
+    const uint64_t ids = cov <= 0xffffu ? pack16((unsigned)cov, kc) : take8(&cov, &k);
     stamp_pass(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
 }
 
@@ -283,7 +302,8 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     }
     const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
     band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0), bi((int32_t)t->pitch),
-              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)));
+              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)),
+              PK16C);
 }
 
 /* ---- the instances ---- */
@@ -336,6 +356,7 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
                                   const float *sa, size_t stride, const rs_run_step *s)
 {
     RS_ASSERT(m.plain && j->color_idx == (white ? -1 : 0) && stride == RS_ATTR_STRIDE); /* one slot: stamp_ok */
+    const pk16c kc = pk16_loop();
     for (unsigned live = s->live; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
@@ -343,7 +364,7 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
         RS_ASSERT(s->covm[l] != 0);
         if (!s->covm[l]) __builtin_unreachable(); /* (grid_tile drops the empty lanes: no test in band_draw) */
         band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->pitch),
-                  bcast(&s->xs[l]), bcast(&s->ys[l]));
+                  bcast(&s->xs[l]), bcast(&s->ys[l]), kc);
     }
     return (unsigned)__builtin_popcount(s->live);
 }
@@ -374,7 +395,7 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
         if (stamp >> l & 1u) {
             if (!white && !a) __builtin_unreachable();
             band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
-                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]));
+                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]), PK16C);
         }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
