@@ -27,7 +27,22 @@
  *    broadcast them after the depth test); their masks known non-zero.  B npatch 98.70 -> 93.26 M instructions per
  *    frame (struct and offsets 96.52, stamp-only loop 95.77, colour slot 95.49, out of line 95.31, bcast 94.85,
  *    pitch 94.80, bcf 93.79 (93.63 with bcf in walk_band's instances too, but A npatch +0.04%), masks 93.26),
- *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).
+ *    B smooth 107.95 -> 102.56 M, A and C unchanged (18.36, 28.48 M).  Then a band of more than 8 covered pixels
+ *    wholly out of line (band_draw_rt, its first pass included; LESSEQUAL with writes a constant there), so that the
+ *    one-pass band keeps no value across its pass (gcc spilled the pitch, Xs and Ys for the later passes, and reloaded
+ *    sp), and stamp_pass's lanes below nl by bzhi of the depth test's mask (one instruction; lane_idx < nl took four):
+ *    B npatch 93.32 -> 91.86 M (stamps_le 21.02 -> 19.72, run_le 14.51 -> 13.49), B smooth 102.56 -> 101.16 M,
+ *    A npatch 18.360 -> 18.369 M (+0.05%: its ~30 bands per frame of 9..16 pixels pay both passes out of line), C
+ *    28.485 -> 28.487 M.  (Dropped: the first pass of walk_band's bands kept inline, B 92.78 M (A 18.349); the
+ *    8-wide ones' only, B 92.39, A 18.347.)  Then stamp_pass's s, q1, q2 planes after the depth test (gcc broadcast
+ *    their coefficients before the gather and spilled two): B npatch 91.86 -> 91.63 M, B smooth
+ *    101.16 -> 100.94 M, A npatch 18.369 -> 18.361 M, C npatch 28.485 M.  Then pack16's constants set once
+ *    before run_stamps' loop (pk16_loop; gcc rebuilt them by three movabs per triangle): B npatch 91.63 ->
+ *    91.39 M (stamps_le 19.59 -> 19.35), B smooth 100.94 -> 100.70 M, A and C unchanged (18.362, 28.485 M); in
+ *    run_lanes' loop too: run_le 13.41 -> 13.43, dropped.  Then the store loop's lane index by low_bit (tzcnt
+ *    in an asm, 64-bit: gcc put an xor before its own tzcnt and, for a 32-bit index, a zero extension): 9 -> 8
+ *    instructions per written pixel, B npatch 91.39 -> 91.08 M (stamps_le 19.35 -> 19.12, run_le 13.41 -> 13.36),
+ *    B smooth 100.70 -> 100.38 M, A npatch 18.361, A smooth 18.758, C npatch 28.485 M.
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
@@ -121,16 +136,41 @@ static inline uint64_t take8(uint64_t *cov, int *n)
     return ids;
 }
 
+/* pack16's constants: the nibbles' low bits, the nibbles' positions, the bytes' low nibbles. */
+typedef struct pk16c {
+    uint64_t one, idx, low;
+} pk16c;
+#define PK16C ((pk16c){0x1111111111111111ull, 0xfedcba9876543210ull, 0x0f0f0f0f0f0f0f0full})
+
+/* PK16C for a loop of band_draw: opaque to gcc (an empty asm), so that they are set once before the loop and
+ * kept in registers or read by pdep / pext from the stack, not rebuilt by three movabs per triangle. */
+static inline pk16c pk16_loop(void)
+{
+    pk16c k = PK16C;
+    __asm__("" : "+r"(k.one), "+r"(k.idx), "+r"(k.low));
+    return k;
+}
+
 /* The positions of the set bits of the 16-bit mask m (at most 8 of them), one byte each from the low byte, as
- * take8 gives them: _pdep_u64 spreads each bit of m over its nibble (times 0xf), _pext_u64 keeps those nibbles of
- * 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64 widens the 8 low nibbles to bytes.
+ * take8 gives them (k: PK16C or pk16_loop's): _pdep_u64 spreads each bit of m over its nibble (times 0xf),
+ * _pext_u64 keeps those nibbles of 0xfedcba9876543210 (each nibble its own position), and the last _pdep_u64
+ * widens the 8 low nibbles to bytes.
  * (BMI2's pdep / pext take one instruction each: fast on Intel since Haswell and on AMD since Zen 3, microcoded
  * and slow on Zen 1 and 2.  Measured and not kept: a 256-entry table of byte positions, low byte's then high
  * byte's (+ 8) shifted past them -- B npatch 120.76 -> 121.03 M instructions per frame, +0.2%.) */
-static inline uint64_t pack16(unsigned m)
+static inline uint64_t pack16(unsigned m, pk16c k)
 {
-    const uint64_t nib = _pext_u64(0xfedcba9876543210ull, _pdep_u64(m, 0x1111111111111111ull) * 0xfu);
-    return _pdep_u64(nib, 0x0f0f0f0f0f0f0f0full);
+    const uint64_t nib = _pext_u64(k.idx, _pdep_u64(m, k.one) * 0xfu);
+    return _pdep_u64(nib, k.low);
+}
+
+/* The index of the lowest set bit of m (not 0) by tzcnt, without the xor that gcc puts before its own tzcnt
+ * (against a false dependency on the destination of older Intel cores): one instruction less per written pixel. */
+static inline uint64_t low_bit(uint64_t m)
+{
+    uint64_t l;
+    __asm__("tzcnt %1, %0" : "=r"(l) : "r"(m) : "cc");
+    return l;
 }
 
 /* *p in every lane, broadcast from memory (one vbroadcastss). */
@@ -159,25 +199,23 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
      * them early and broadcasts them later, two instructions each; walk_band's instances keep bf, A npatch +0.04%
      * with bcf) */
 #define C(x) (vl ? bcf(&(x)) : bf(x))
-    const rows8 r = {C(tr->z[2]) + C(tr->z[0]) * fx, C(tr->s[2]) + C(tr->s[0]) * fx,
-                     C(tr->q1[2]) + C(tr->q1[0]) * fx, C(tr->q2[2]) + C(tr->q2[0]) * fx};
-    const ypart y = {C(tr->z[1]) * fy, C(tr->s[1]) * fy, C(tr->q1[1]) * fy, C(tr->q2[1]) * fy};
-#undef C
     float *dep = t->depth + o;
-    v8i pass = lane_idx < bi(nl);
+    unsigned zm = 0xffu;
     v8f z = bf(0.0f);
     if (m.ze) { /* lanes past nl read the stamp's position 0 (id 0): a pixel of the box, so inside the planes */
         const v8f d = (v8f)_mm256_i32gather_ps(dep, (__m256i)off, 4);
-        z = zclamp8(r.zx + y.zy, bf(j->zlo), bf(j->zhi));
-        pass &= zpass8(m.zf, z, d);
+        z = zclamp8((C(tr->z[2]) + C(tr->z[0]) * fx) + C(tr->z[1]) * fy, bf(j->zlo), bf(j->zhi));
+        zm = mask_of(zpass8(m.zf, z, d));
     }
     t->tested += (uint64_t)nl;
-    unsigned pm = mask_of(pass);
+    uint64_t pm = _bzhi_u32(zm, (unsigned)nl); /* lanes below nl (one instruction; lane_idx < nl took four) */
     if (!pm) return;
-    t->written += (uint64_t)__builtin_popcount(pm);
-    const v8f rr = bf(1.0f) / (r.sx + y.sy);
-    const v8f b1 = (r.q1x + y.q1y) * rr;
-    const v8f b2 = (r.q2x + y.q2y) * rr;
+    t->written += (uint64_t)__builtin_popcountll(pm);
+    /* the other planes after the test (their coefficients were broadcast before the gather and spilled) */
+    const v8f rr = bf(1.0f) / ((C(tr->s[2]) + C(tr->s[0]) * fx) + C(tr->s[1]) * fy);
+    const v8f b1 = ((C(tr->q1[2]) + C(tr->q1[0]) * fx) + C(tr->q1[1]) * fy) * rr;
+    const v8f b2 = ((C(tr->q2[2]) + C(tr->q2[0]) * fx) + C(tr->q2[1]) * fy) * rr;
+#undef C
     const v8i src = pc ? shade8_l(pc, -1, b1, b2, vl) : bi(-1);
     int32_t ov[8]; /* unaligned: no realignment of the stack for them */
     float zv[8];
@@ -188,50 +226,60 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     if (m.ze && m.zw) {
         _mm256_storeu_ps(zv, (__m256)z);
         do {
-            const int l = __builtin_ctz(pm);
+            const uint64_t l = low_bit(pm);
             dep[ov[l]] = zv[l];
             col0[ov[l]] = cv[l];
         } while (pm &= pm - 1);
     } else {
         do {
-            const int l = __builtin_ctz(pm);
+            const uint64_t l = low_bit(pm);
             col0[ov[l]] = cv[l];
         } while (pm &= pm - 1);
     }
 }
 
-/* stamp_pass out of line, with the mode as a value: the passes after a band's first (more than 8 covered pixels),
- * kept apart so that the common one-pass band's planes are not hoisted and spilled for them. */
-static __attribute__((noinline)) void stamp_pass_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
-                                                    const float *pc, bool vl, int wbits, uint64_t ids, int nl,
-                                                    size_t o, v8i w, v8i Xs, v8i Ys)
+/* band_draw_rt's passes in mode m: take8's positions of cov (not 0), 8 per pass. */
+ALWAYS_INLINE void band_passes(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
+                               int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
 {
-    if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, nl, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
-    else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, nl, o, w, Xs, Ys);
-    else stamp_pass(m, j, t, tr, pc, false, 3, ids, nl, o, w, Xs, Ys);
+    int n;
+    do {
+        const uint64_t ids = take8(&cov, &n);
+        if (vl) stamp_pass(m, j, t, tr, pc, true, 2, ids, n, o, w, Xs, Ys); /* (the grid rows' stamp lanes: 4 wide) */
+        else if (wbits == 2) stamp_pass(m, j, t, tr, pc, false, 2, ids, n, o, w, Xs, Ys);
+        else stamp_pass(m, j, t, tr, pc, false, 3, ids, n, o, w, Xs, Ys);
+    } while (cov);
+}
+
+/* The stamp walk's drawing of the covered positions cov (not 0) of a band of more than 8, out of line, the mode m
+ * as a value (LESSEQUAL with writes, the grids' mode, as a constant: A npatch +0.05% without): take8's positions,
+ * 8 per pass.  The whole band here, its first pass included, so that band_draw's common one-pass band keeps no
+ * value across its pass (gcc spilled the pitch, Xs and Ys there for the later passes). */
+static __attribute__((noinline)) void band_draw_rt(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr,
+                                                   const float *pc, bool vl, int wbits, uint64_t cov, size_t o,
+                                                   v8i w, v8i Xs, v8i Ys)
+{
+    if (m.ze && m.zw && m.zf == RS_CMP_LESSEQUAL) band_passes(MODE_LE, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
+    else band_passes(m, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
 }
 
 /* The stamp walk's drawing: triangle tr's covered positions cov (bit row * W + column, W = 1 << wbits, of its box
  * whose corner pixel is at index o of tile t's planes and at Xs, Ys from vertex 0 (1/256 px, modulo 2^32), mode m
- * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass);
- * nothing when cov is 0. */
+ * plain; pc: its colour slot, NULL: white) packed into the lanes (pack16, take8) and drawn 8 per pass (stamp_pass,
+ * the bands of more than one pass out of line: band_draw_rt); nothing when cov is 0. */
 ALWAYS_INLINE void band_draw(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
-                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys)
+                             int wbits, uint64_t cov, size_t o, v8i w, v8i Xs, v8i Ys, pk16c kc)
 {
     if (!cov) return;
-    int n = __builtin_popcountll(cov);
-    uint64_t ids;
-    if (cov <= 0xffffu && n <= 8) { /* the common case: the positions at once (pack16) */
-        ids = pack16((unsigned)cov);
-        cov = 0;
-    } else {
-        ids = take8(&cov, &n);
+    const int n = __builtin_popcountll(cov);
+    if (n > 8) { /* more than one pass: out of line */
+        band_draw_rt(m, j, t, tr, pc, vl, wbits, cov, o, w, Xs, Ys);
+        return;
     }
+    int k = n;
+    /* the common case, 16 positions: at once (pack16) */
+    const uint64_t ids = cov <= 0xffffu ? pack16((unsigned)cov, kc) : take8(&cov, &k);
     stamp_pass(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
-    while (cov) { /* more than 8 covered pixels: out of line */
-        ids = take8(&cov, &n);
-        stamp_pass_rt(m, j, t, tr, pc, vl, wbits, ids, n, o, w, Xs, Ys);
-    }
 }
 
 /* The stamp walk of the box [x0, x1] x [y0, y1] of triangle p (in tile t, mode m plain), at most W = 1 << wbits
@@ -266,7 +314,8 @@ ALWAYS_INLINE void walk_band(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     }
     const float *pc = j->color_idx < 0 ? NULL : a + j->color_idx * RS_ATTR_STRIDE;
     band_draw(m, j, t, tr, pc, false, wbits, cov, rs_tile_index(t, x0, y0), bi((int32_t)t->pitch),
-              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)));
+              bi((int32_t)((int64_t)x0 * RS_SUB - j->cx - tr->vx)), bi((int32_t)((int64_t)y0 * RS_SUB - j->cy - tr->vy)),
+              PK16C);
 }
 
 /* ---- the instances ---- */
@@ -319,6 +368,7 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
                                   const float *sa, size_t stride, const rs_run_step *s)
 {
     RS_ASSERT(m.plain && j->color_idx == (white ? -1 : 0) && stride == RS_ATTR_STRIDE); /* one slot: stamp_ok */
+    const pk16c kc = pk16_loop();
     for (unsigned live = s->live; live; live &= live - 1) {
         const int l = __builtin_ctz(live);
         const float *pc = white ? NULL : sa + (size_t)l * RS_ATTR_STRIDE;
@@ -326,7 +376,7 @@ ALWAYS_INLINE unsigned run_stamps(zmode m, bool white, const rs_job *j, rs_tile 
         RS_ASSERT(s->covm[l] != 0);
         if (!s->covm[l]) __builtin_unreachable(); /* (grid_tile drops the empty lanes: no test in band_draw) */
         band_draw(m, j, t, &sp[l].u.t, pc, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l], bcast(&s->pitch),
-                  bcast(&s->xs[l]), bcast(&s->ys[l]));
+                  bcast(&s->xs[l]), bcast(&s->ys[l]), kc);
     }
     return (unsigned)__builtin_popcount(s->live);
 }
@@ -357,7 +407,7 @@ ALWAYS_INLINE unsigned run_lanes(zmode m, bool white, const rs_job *j, rs_tile *
         if (stamp >> l & 1u) {
             if (!white && !a) __builtin_unreachable();
             band_draw(m, j, t, &sp[l].u.t, white ? NULL : a, true, 2, s->covm[l], (size_t)(uint32_t)s->off[l],
-                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]));
+                      bcast(&s->pitch), bcast(&s->xs[l]), bcast(&s->ys[l]), PK16C);
         }
         else if (direct >> l & 1u) walk_small(m, j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
         else RS_KERNEL(rs_tri_fast)(j, t, &sp[l], a, cb[0][l], cb[1][l], cb[2][l], cb[3][l]);
