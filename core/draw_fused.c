@@ -11,13 +11,14 @@
  * the constants and vertex samplers, the viewport map, the fetch plan, the per-vertex inputs, instance 0's index
  * list, the cull -- into a record, marks the vertex buffers it reads (its streams), and hands the record to
  * the rasterizer (rs_draw_source with the scene on, which the device turns on).  At the rasterizer's next flush
- * the threads take pieces across all recorded draws in ONE parallel region, then ONE tile pass walks each tile's
- * draws in submission order: a frame of many small draws (scene D: ~650) pays two regions per flush, not two per
- * draw.  Each slot's scratch (dev->fz) says which record its inputs and index list were made for, and a record
+ * the threads take pieces across all recorded draws, then ONE tile pass walks each tile's draws in submission
+ * order, both in ONE parallel region: a frame of many small draws (scene D: ~650) pays one region per flush, not
+ * two per draw.  Each slot's scratch (dev->fz) says which record its inputs and index list were made for, and a record
  * whose per-vertex registers are those the slot holds, bit for bit (scene D: the two parities of a pattern), keeps
  * them and the shader's grid plan.  On a machine
  * whose cores are busy with other processes, each region's end can wait for a descheduled thread while libgomp's
- * default busy-waiting keeps the core -- run with OMP_WAIT_POLICY=passive there. */
+ * default busy-waiting keeps the core -- run with OMP_WAIT_POLICY=passive there (the flush's region passes from
+ * the set-up to the tile pass by its own short wait, which yields the core after ~4096 spins). */
 #include "device_internal.h"
 
 #include <stdlib.h>

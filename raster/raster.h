@@ -205,11 +205,13 @@ typedef struct rs_target {
  * line, or a non-finite position), drawn (the rest).  samples_tested: covered samples that reached the depth
  * test (with raster/pixel.c's states: every covered sample, the alpha test's failures included);
  * samples_written: those that passed it (colour written).  Zeroed when rs_draw fails.
- * setup_ms, tile_ms: wall-clock milliseconds of the draw's two parallel regions, measured only with
- * rs_set_timing on (else 0, so that the counters of two runs compare equal byte for byte): setup_ms the set-up
- * region (projection, clipping, set-up and binning of every chunk; for rs_draw_source also the producer's
- * shading), tile_ms the tile pass (deferred clear into the tile buffers, rasterization, copy-out).  Everything
- * else of a draw (validation, the checks between the regions, summing the counters) is in neither.
+ * setup_ms, tile_ms: wall-clock milliseconds of the draw's two phases, measured only with rs_set_timing on
+ * (else 0, so that the counters of two runs compare equal byte for byte): setup_ms the set-up (projection,
+ * clipping, set-up and binning of every chunk; for rs_draw_source also the producer's shading), tile_ms the tile
+ * pass (deferred clear into the tile buffers, rasterization, copy-out).  A draw run at once has one parallel
+ * region for each, and everything else of it (validation, the checks between the regions, summing the counters)
+ * is in neither; a flush of the frame's scene (rs_set_scene) runs both phases in one region, setup_ms from its
+ * start to the end of the last piece, tile_ms the rest (the checks between the phases included).
  * setup_regions, tile_regions: the set-up regions and tile passes run (one each per draw, or per flush of the
  * frame's scene: rs_set_scene), counted only with rs_set_timing on (else 0), whatever the thread count. */
 typedef struct rs_stats {
@@ -328,9 +330,9 @@ INSTESS_API int rs_draw(rs_context *rs, const rs_state *st, rs_target *rt, int p
 /* ---- draw sources: triangles whose vertices are produced piece by piece on the set-up threads ----
  * The device's fast path for instanced draws: each piece (a few instances) is shaded, projected, set up and
  * binned by one thread while its vertices are still in the cache, so one draw costs one set-up region and one
- * tile region (with rs_set_scene: a frame's recorded draws share one of each), and the shaded vertices never go
- * through memory.  Each piece is one set-up chunk, in order, so the bytes are those of rs_draw on the
- * concatenated pieces. */
+ * tile region (with rs_set_scene: a frame's recorded draws share one region for both), and the shaded vertices
+ * never go through memory.  Each piece is one set-up chunk, in order, so the bytes are those of rs_draw on
+ * the concatenated pieces. */
 /* Produce piece `piece`: vertices into *verts (n_verts of them, at most the source's max_verts), its triangles'
  * indices (into *verts, 3 per triangle) into *idx; returns the triangle count.  `slot` (below rs_threads) is the
  * calling thread's: pieces produced at the same time have different slots, so a producer may keep one scratch
