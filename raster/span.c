@@ -8,8 +8,8 @@
  *    boxes of at most 4x8 or 8x2 pixels in the plain modes take the stamp walk: the coverage of the whole box
  *    first, then only its covered pixels packed into the lanes (one pass of 8 for almost every triangle of a
  *    tessellated grid, where the 4x2 walk below drew about a third of its lanes), depth read by a gather and the
- *    passing pixels written one by one; larger boxes go 4x2 pixels at a time (two rows in the 8 lanes) when at
- *    most 4 wide, the others one row of 8 lanes;
+ *    passing pixels written by a masked scatter (AVX-512) or by stores of every lane (AVX2); larger boxes go
+ *    4x2 pixels at a time (two rows in the 8 lanes) when at most 4 wide, the others one row of 8 lanes;
  *  - rs_tri_run, the grid rows' entry (setup_simd.c's grid_tile): a step's up to 8 triangles, the mode picked once
  *    and each triangle's walk from the set-up lanes (coef_small) and its clipped box, rs_tri_fast only for the rest;
  *    the stamp lanes come with their coverage masks, which grid_tile computes for the whole step at once (grid_cov8:
@@ -42,7 +42,8 @@
  *    run_lanes' loop too: run_le 13.41 -> 13.43, dropped.  Then the store loop's lane index by low_bit (tzcnt
  *    in an asm, 64-bit: gcc put an xor before its own tzcnt and, for a 32-bit index, a zero extension): 9 -> 8
  *    instructions per written pixel, B npatch 91.39 -> 91.08 M (stamps_le 19.35 -> 19.12, run_le 13.41 -> 13.36),
- *    B smooth 100.70 -> 100.38 M, A npatch 18.361, A smooth 18.758, C npatch 28.485 M.
+ *    B smooth 100.70 -> 100.38 M, A npatch 18.361, A smooth 18.758, C npatch 28.485 M (that loop is gone since:
+ *    stamp_pass writes without a branch per pixel).
  * Each walk is instantiated with the depth state as compile-time constants for the common states (depth test
  * LESSEQUAL or LESS with writes, no blending, no AOV planes) and once with the job's values for the rest;
  * blending and AOV planes go through span8 (per-pixel write-out, as the reference).
@@ -164,15 +165,6 @@ static inline uint64_t pack16(unsigned m, pk16c k)
     return _pdep_u64(nib, k.low);
 }
 
-/* The index of the lowest set bit of m (not 0) by tzcnt, without the xor that gcc puts before its own tzcnt
- * (against a false dependency on the destination of older Intel cores): one instruction less per written pixel. */
-static inline uint64_t low_bit(uint64_t m)
-{
-    uint64_t l;
-    __asm__("tzcnt %1, %0" : "=r"(l) : "r"(m) : "cc");
-    return l;
-}
-
 /* *p in every lane, broadcast from memory (one vbroadcastss). */
 static inline v8f bcf(const float *p) { return (v8f)_mm256_broadcast_ss(p); }
 
@@ -182,7 +174,8 @@ static inline v8f bcf(const float *p) { return (v8f)_mm256_broadcast_ss(p); }
  * lane l holds stamp position ids byte l (column id % W, row id / W).  Per lane the x and y parts of the planes as
  * rows8_at and ypart_at give them for that pixel (the same integer offsets, so the same floats: see below) and
  * frag8's operations (pc: the colour slot, NULL: white; alpha always interpolated); the depth is read by a gather,
- * the passing lanes are written one by one (a triangle's pixels are distinct: their order does not matter). */
+ * the passing lanes written by a scatter or by stores of every lane (a triangle's pixels are distinct: their order
+ * does not matter). */
 ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri *tr, const float *pc, bool vl,
                               int wbits, uint64_t ids, int nl, size_t o, v8i w, v8i Xs, v8i Ys)
 {
@@ -217,25 +210,45 @@ ALWAYS_INLINE void stamp_pass(zmode m, const rs_job *j, rs_tile *t, const rs_tri
     const v8f b2 = ((C(tr->q2[2]) + C(tr->q2[0]) * fx) + C(tr->q2[1]) * fy) * rr;
 #undef C
     const v8i src = pc ? shade8_l(pc, -1, b1, b2, vl) : bi(-1);
+    /* the passing lanes written without a branch per pixel: the loop over pm's bits (~3.5 pixels a triangle on scene
+     * B) mispredicted its exit about once a triangle (callgrind's branch model: ~140k mispredictions a frame, a
+     * quarter of the frame's).  AVX-512: a masked scatter each (B npatch 10.08 -> 8.76 ms on 1 thread, eight
+     * alternated pairs, AMD EPYC); AVX2: the lanes that fail take the last passing lane's offset and values, so
+     * that storing every lane writes that pixel again with the same bytes -- lanes 0-3 always, 4-7 when one of
+     * them passes (--isa avx2: 10.11 -> 9.63 ms; all 8 always: 9.71 ms). */
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+    if (m.ze && m.zw) _mm256_mask_i32scatter_ps(dep, (__mmask8)pm, (__m256i)off, (__m256)z, 4);
+    _mm256_mask_i32scatter_epi32(t->color + o, (__mmask8)pm, (__m256i)off, (__m256i)src, 4);
+#else
+    const v8i pass = ((bi((int32_t)pm) >> lane_idx) & bi(1)) != bi(0);
+    const v8i hv = bi((int32_t)(63 - __builtin_clzll(pm)));   /* the last passing lane */
+    const v8i offw = (v8i)_mm256_blendv_epi8(_mm256_permutevar8x32_epi32((__m256i)off, (__m256i)hv), (__m256i)off,
+                                             (__m256i)pass);
+    const v8i srcw = (v8i)_mm256_blendv_epi8(_mm256_permutevar8x32_epi32((__m256i)src, (__m256i)hv), (__m256i)src,
+                                             (__m256i)pass);
     int32_t ov[8]; /* unaligned: no realignment of the stack for them */
-    float zv[8];
     uint32_t cv[8];
-    _mm256_storeu_si256((__m256i *)ov, (__m256i)off);
-    _mm256_storeu_si256((__m256i *)cv, (__m256i)src);
+    _mm256_storeu_si256((__m256i *)ov, (__m256i)offw);
+    _mm256_storeu_si256((__m256i *)cv, (__m256i)srcw);
     uint32_t *col0 = t->color + o;
     if (m.ze && m.zw) {
-        _mm256_storeu_ps(zv, (__m256)z);
-        do {
-            const uint64_t l = low_bit(pm);
-            dep[ov[l]] = zv[l];
-            col0[ov[l]] = cv[l];
-        } while (pm &= pm - 1);
+        const v8f zw =
+            (v8f)_mm256_blendv_ps(_mm256_permutevar8x32_ps((__m256)z, (__m256i)hv), (__m256)z, (__m256)pass);
+        float zv[8];
+        _mm256_storeu_ps(zv, (__m256)zw);
+#pragma GCC unroll 4
+        for (int l = 0; l < 4; l++) dep[ov[l]] = zv[l], col0[ov[l]] = cv[l];
+        if (pm > 15u)
+#pragma GCC unroll 4
+            for (int l = 4; l < 8; l++) dep[ov[l]] = zv[l], col0[ov[l]] = cv[l];
     } else {
-        do {
-            const uint64_t l = low_bit(pm);
-            col0[ov[l]] = cv[l];
-        } while (pm &= pm - 1);
+#pragma GCC unroll 4
+        for (int l = 0; l < 4; l++) col0[ov[l]] = cv[l];
+        if (pm > 15u)
+#pragma GCC unroll 4
+            for (int l = 4; l < 8; l++) col0[ov[l]] = cv[l];
     }
+#endif
 }
 
 /* band_draw_rt's passes in mode m: take8's positions of cov (not 0), 8 per pass. */
