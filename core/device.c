@@ -613,7 +613,7 @@ rs_target *dev_render_target(is_device *dev) { return target_flushed(dev, RS_CLE
 const rs_target *dev_present(is_device *dev)
 {
     const bool discard = dev_live(dev) && (dev->present_flags & IS_PRESENTFLAG_DISCARD_DEPTHSTENCIL);
-    return target_flushed(dev, RS_CLEAR_COLOR | (discard ? RS_DISCARD_DEPTH : 0u));
+    return target_flushed(dev, RS_CLEAR_COLOR | RS_PRESENT | (discard ? RS_DISCARD_DEPTH : 0u));
 }
 
 /* The recorded draws run now; the first error of one since the last call (device.h). */

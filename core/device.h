@@ -513,16 +513,19 @@ INSTESS_API is_result dev_draw_indexed_primitive_up(is_device *dev, is_primtype 
 
 /* The render target (for output and tests) and statistics accumulated since the last dev_clear.  dev_clear is
  * deferred per tile (tiles are filled when first drawn to), and a frame's instanced draws are recorded and run
- * together (one set-up region and one tile pass: dev_flush below, raster.h's rs_set_scene) when the target is next
- * read; dev_render_target does both, so call it again after clearing and drawing before reading the planes -- a
- * pointer kept across draws may see a target they have not been drawn into yet.  dev_stats runs the recorded
- * draws too (their counters). */
+ * together (their set-up and one tile pass in one parallel region: dev_flush below, raster.h's rs_set_scene) when
+ * the target is next read; dev_render_target does both, so call it again after clearing and drawing before reading the planes -- a
+ * pointer kept across draws may see a target they have not been drawn into yet -- and before writing them after a
+ * dev_present (the device remembers which tiles a present filled with the clear colour and does not fill them
+ * again while they hold it; this call makes it forget).  dev_stats runs the recorded draws too (their counters). */
 INSTESS_API rs_target *dev_render_target(is_device *dev);
 /* The frame as a Present shows it: the recorded draws run and the colour (and AOV) planes written, as
  * dev_render_target, but a deferred dev_clear of the depth buffer stays deferred in the tiles no draw touched
  * (written when something reads the depth -- dev_render_target, binding other targets -- or dropped when the next
  * frame's clear replaces it; with dev_set_present_flags' DISCARD_DEPTHSTENCIL in the tiles drawn too).  So read
- * only the colour and AOV planes of the target it returns; NULL for a NULL or destroyed device. */
+ * only the colour and AOV planes of the target it returns, and do not write them (a tile no draw touched keeps the
+ * clear colour the present wrote there, and the next frame's dev_clear of that colour does not write it again:
+ * rs_target_flush_planes' RS_PRESENT); NULL for a NULL or destroyed device. */
 INSTESS_API const rs_target *dev_present(is_device *dev);
 /* Run the draws recorded so far now and report how they went.  Instanced triangle draws on the fast path are
  * recorded, not run (a snapshot of the shader, constants, samplers, fetch plan and indices; the vertex buffers

@@ -106,6 +106,7 @@ void rs_destroy(rs_context *rs)
     free(rs->tile_stats);
     free(rs->pv);
     free(rs->pend);
+    free(rs->clean);
     free(rs->tbuf);
     free(rs);
 }
@@ -468,6 +469,7 @@ static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd,
     /* RS_DISCARD_DEPTH: the depth is not copied out where its clear is deferred (rs_target_flush_planes then defers
      * it again: tiles drawn in the target too) */
     const unsigned keep = has && (fill & RS_DISCARD_DEPTH) ? rs_tile_pending(rs, j, tile) & RS_CLEAR_DEPTH : 0u;
+    if (has) rs_tile_drawn(rs, j, tile);
     bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
     if (has && !buffered) rs_tile_flush(rs, j, tile, RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
     const unsigned fp = fill & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH);

@@ -289,7 +289,8 @@ INSTESS_API void rs_target_free(rs_target *rt);
 INSTESS_API int rs_target_add_aov(rs_target *rt, int slot, int comps);
 /* What a clear writes (D3DCLEAR_TARGET and D3DCLEAR_ZBUFFER have these values). */
 enum { RS_CLEAR_COLOR = 1 /* colour and AOV planes */, RS_CLEAR_DEPTH = 2, RS_CLEAR_STENCIL = 4 /* see rs_target_clear_stencil */,
-       RS_DISCARD_DEPTH = 8 /* rs_target_flush_planes: the drawn depth is not kept (below) */ };
+       RS_DISCARD_DEPTH = 8 /* rs_target_flush_planes: the drawn depth is not kept (below) */,
+       RS_PRESENT = 16 /* rs_target_flush_planes: a present, the planes only read until the next frame (below) */ };
 /* Clear colour (packed RGBA8) and depth of every sample, and AOV planes to 0 (flags: RS_CLEAR_*). */
 INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* The same for the pixels x0 <= x < x1, y0 <= y < y1 only (clipped to the target); no deferred clear of rt may be
@@ -310,7 +311,11 @@ INSTESS_API void rs_target_flush(rs_context *rs, rs_target *rt);
  * RS_DISCARD_DEPTH in `planes` (D3DPRESENTFLAG_DISCARD_DEPTHSTENCIL: the depth is not needed after the present)
  * the depth the queued draws write is dropped too in every tile whose depth clear was deferred: that clear stays
  * deferred, so the depth plane then reads as the cleared value there (the tile pass skips the depth's copy-out);
- * tiles whose depth was not cleared keep the drawn depth. */
+ * tiles whose depth was not cleared keep the drawn depth.  With RS_PRESENT in `planes` the caller promises that
+ * nothing writes rt's planes but through rs until the next rs_target_clear_deferred: the tiles no draw touched,
+ * whose colour this flush fills with the clear's, are remembered, and when the next frame's deferred clear has
+ * the same colour and leaves them untouched too they are not written again (they hold those bytes already).  Any
+ * flush without RS_PRESENT forgets them (its caller may write the planes), as does a clear of another colour. */
 INSTESS_API void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes);
 /* Set the stencil of every sample of pixels x0 <= x < x1, y0 <= y < y1 (clipped to the target) to the low 8 bits
  * of value (D3DCLEAR_STENCIL; never deferred: the stencil plane is only written by stencil draws and this). */

@@ -241,6 +241,17 @@ struct rs_context {
     unsigned pend_flags;         /* the deferred clear's flags, colour and depth */
     uint32_t pend_rgba;
     float pend_z;
+    /* the tiles whose colour plane holds clean_rgba as fill_tile wrote it, nothing written there since (clean[tile]
+     * 1), valid while clean_on for clean_rt with colour plane clean_color and clean_tiles tiles: from the deferred
+     * clear through the frame's present to the next deferred clear (rs_target_flush_planes' RS_PRESENT), whose
+     * fill those tiles then skip; any other flush of a target drops them all (the caller may write the planes) */
+    uint8_t *clean;
+    size_t clean_cap;
+    bool clean_on;
+    const rs_target *clean_rt;
+    const uint32_t *clean_color;
+    int clean_tiles;
+    uint32_t clean_rgba;
     void *tbuf;                  /* tile buffers of the tile pass, one per thread (rs_tile_buffer_size bytes each) */
     size_t tbuf_cap;             /* bytes */
     rs_stats *sink;              /* rs_set_scene: the queued draws' tile counters go here; NULL: no queue */
@@ -376,6 +387,8 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
 void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t, unsigned keep);
 /* The planes (RS_CLEAR_*) of tile `tile` of the job's target whose clear is deferred on rs (0: none). */
 unsigned rs_tile_pending(const rs_context *rs, const rs_job *j, int tile);
+/* The tile pass draws into tile `tile` of the job's target: its colour no longer holds a fill (rs->clean). */
+void rs_tile_drawn(const rs_context *rs, const rs_job *j, int tile);
 
 /* ---- span.c, span_wide.c: the 8-lane fast path of triangles on 1-sample targets ---- */
 /* True when the job may take the fast path: 1-sample targets off the reference path, with AVX2. */

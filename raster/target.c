@@ -13,7 +13,11 @@
  * traffic of drawing in the target.)  The copy-out uses streaming stores on planes of COPY_STREAM_BYTES or more
  * whose rows are whole cache lines (planes are 64-byte aligned): they skip reading the target's lines before
  * writing them (scene C: 1 thread 4.3 -> 3.3 ms, 2 threads 2.6 -> 1.9 ms).  Streaming stores into planes 16 bytes
- * off a cache line, as calloc gave, write partial lines and were 3x slower. */
+ * off a cache line, as calloc gave, write partial lines and were 3x slower.  A present (RS_PRESENT) leaves marks on
+ * the tiles whose colour it filled with the clear's (rs->clean); the next frame's deferred clear of the same colour
+ * keeps them and its fill skips the tiles still marked -- they hold those bytes -- while a draw into a tile, another
+ * colour, or any flush without RS_PRESENT (after which the caller may write the planes) drops them (scene C: 577 of
+ * 1024 tiles, 9.4 MB of colour a frame not written again; 1 thread 2.39 -> 1.93 ms, A 1.55 -> 1.43 ms). */
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -259,12 +263,28 @@ static void clear_aov_row(rs_target *rt, int x0, int x1, int y)
     }
 }
 
+/* Do rs's clean marks (rs->clean) hold for rt now: armed by the deferred clear, rt the same target with the same
+ * colour plane and tile count, no AOV planes (a fill clears them too, and nothing tracks them), the fill's colour
+ * theirs? */
+static bool clean_for(const rs_context *rs, const rs_target *rt)
+{
+    return rs->clean_on && rs->clean_rt == rt && rs->clean_color == rt->color && rt->n_aov == 0 &&
+           rs->clean_rgba == rs->pend_rgba &&
+           rs->clean_tiles == ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
+}
+
 /* Write the planes `planes` (RS_CLEAR_COLOR: colour and AOV planes, RS_CLEAR_DEPTH) of rt's deferred clear (as
  * rs_target_clear with rs's pending values) into 64x64 tile (tx, ty); streaming stores on the planes the tile
  * copy-out streams into (the present's tiles no draw touched: on a 2048x2048 target most of its 32 MB, which
  * plain stores would first read). */
 static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsigned planes)
 {
+    if ((planes & RS_CLEAR_COLOR) && clean_for(rs, rt)) {   /* the colour: not again where the last fill holds */
+        uint8_t *c = &rs->clean[(size_t)ty * (size_t)((rt->width + RS_TILE - 1) / RS_TILE) + (size_t)tx];
+        if (*c) planes &= ~(unsigned)RS_CLEAR_COLOR;
+        *c = 1;
+        if (!planes) return;
+    }
     int x0 = tx * RS_TILE, y0 = ty * RS_TILE;
     int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
     int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
@@ -302,6 +322,7 @@ static bool pending_on(const rs_context *rs, const rs_target *rt)
 
 void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
 {
+    if (rs && !(planes & RS_PRESENT)) rs->clean_on = false;   /* the caller may write the planes next */
     planes &= RS_CLEAR_COLOR | RS_CLEAR_DEPTH | (planes & RS_CLEAR_DEPTH ? 0u : RS_DISCARD_DEPTH);
     rs_flush_fill(rs, rt, planes);   /* the queued draws (rs_set_scene) first, the tiles they leave filled too */
     if (!rs || !rt || !pending_on(rs, rt)) {
@@ -326,6 +347,22 @@ void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
 
 void rs_target_flush(rs_context *rs, rs_target *rt) { rs_target_flush_planes(rs, rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH); }
 
+/* The clean marks for the frame rs_target_clear_deferred starts on rt (flags, colour rgba, n tiles): kept when they
+ * hold for the same target, colour plane, tile count and colour since the last present (clean_for), else all
+ * cleared -- or off when the colour is not cleared or the marks cannot be allocated. */
+static void clean_arm(rs_context *rs, const rs_target *rt, unsigned flags, uint32_t rgba, size_t n)
+{
+    const bool keep = (flags & RS_CLEAR_COLOR) && clean_for(rs, rt) && rs->clean_rgba == rgba;
+    rs->clean_on = false;
+    if (!(flags & RS_CLEAR_COLOR) || rt->n_aov > 0) return;
+    if (!keep) {
+        if (!rs_reserve((void **)&rs->clean, &rs->clean_cap, n, 1)) return;
+        memset(rs->clean, 0, n);
+    }
+    rs->clean_on = true, rs->clean_rt = rt, rs->clean_color = rt->color, rs->clean_tiles = (int)n;
+    rs->clean_rgba = rgba;
+}
+
 void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z)
 {
     if (!rs || !rs_target_valid(rt) || !(flags & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH))) return;
@@ -338,6 +375,7 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
     if (n > rs->pend_cap) {
         uint8_t *p = realloc(rs->pend, n);
         if (!p) {
+            rs->clean_on = false;   /* (the marks do not know this clear) */
             rs_target_clear_threads(rt, flags, rgba, z, rs->threads);
             return;
         }
@@ -347,7 +385,9 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
     memset(rs->pend, (int)((flags & PEND_PLANES) | frame), n);
     rs->pend_tiles = (int)n, rs->pend_rt = rt, rs->pend_color = rt->color;
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
+    clean_arm(rs, rt, flags, rgba, n);
 }
+
 
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned planes)
 {
@@ -411,6 +451,11 @@ void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const r
 unsigned rs_tile_pending(const rs_context *rs, const rs_job *j, int tile)
 {
     return pending_on(rs, j->rt) ? rs->pend[tile] & PEND_PLANES : 0u;
+}
+
+void rs_tile_drawn(const rs_context *rs, const rs_job *j, int tile)
+{
+    if (rs->clean_on && rs->clean_rt == j->rt) rs->clean[tile] = 0;
 }
 
 /* rs_target_clear_stencil: the stencil bytes of the pixels of [x0, x1) x [y0, y1) inside the target. */

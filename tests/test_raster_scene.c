@@ -5,8 +5,8 @@
  * viewport), with lines drawn by rs_draw in between and a draw on a second target, must give the same bytes and
  * counters as the same frame drawn draw by draw (scene off) and on the reference path, for 1 and 2 threads; the
  * queued draws' samples arrive in the sink only when the queue is flushed; a present (the colour flushed alone)
- * fills the untouched tiles' colour in the draws' tile pass and leaves their depth deferred.  Deterministic: a
- * fixed seed. */
+ * fills the untouched tiles' colour in the draws' tile pass and leaves their depth deferred, and the next frame's
+ * clear of the same colour does not fill them again when nothing wrote them.  Deterministic: a fixed seed. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -365,6 +365,74 @@ static void test_present_discard(void **state)
     free(r);
 }
 
+/* Draws [d0, d1) of frame f into rt on rs after a deferred clear of colour bg (colour and depth), then the colour
+ * flushed with `flush` (rs_target_flush_planes' planes): the frame's colour into color (448 x 320). */
+static void frame_into(rs_context *rs, rs_target *rt, const frame *f, int d0, int d1, uint32_t bg, unsigned flush,
+                       uint32_t *color)
+{
+    rs_stats s;
+    src_ctx ctx[DRAWS];
+    rs_target_clear_deferred(rs, rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
+    for (int d = d0; d < d1; d++) {
+        ctx[d] = (src_ctx){f, d};
+        rs_source src = {PIECES, PIECES * PER_PIECE, 3 * PER_PIECE, produce, &ctx[d], 0, 0};
+        assert_int_equal(rs_draw_source(rs, &f->st[d], rt, &src, &s), RS_OK);
+    }
+    rs_target_flush_planes(rs, rt, flush);
+    memcpy(color, rt->color, PRESENT_PIXELS * sizeof *color);
+}
+
+/* Presents remember the tiles they filled with the clear colour and the next frame's clear of that colour does not
+ * fill them again (RS_PRESENT): a sequence of frames on one target -- fewer draws than the frame before (tiles
+ * drawn, then untouched: filled again), the same again (tiles skipped), tiles filled, then drawn, then untouched
+ * (filled again), another clear colour, a flush without RS_PRESENT after which the caller writes the planes, a
+ * discarding present -- gives, after each present, the colour of the same frame drawn on a fresh target; 1 and 2
+ * threads, scene on and off.  (The draws touch only the 12 tiles at x < 256, y < 192 of the 35.) */
+static void test_present_clean_tiles(void **state)
+{
+    (void)state;
+    enum { PW = 448, PH = 320 };
+    present_run *r = present_run_new();
+    const uint32_t a = 0xff402010u, b = 0xff102040u;
+    const unsigned pr = RS_CLEAR_COLOR | RS_PRESENT;
+    /* per frame: draws [0, n), clear colour, present planes, and whether the caller writes the plane before it */
+    const struct { int n; uint32_t bg; unsigned flush; bool scribble; } seq[] = {
+        {DRAWS, a, pr, false}, {8, a, pr, false}, {8, a, pr, false}, {3, a, pr | RS_DISCARD_DEPTH, false},
+        {DRAWS, a, pr, false}, {3, a, pr, false}, {3, b, pr, false}, {3, b, pr, false}, {3, b, pr, true},
+        {3, b, RS_CLEAR_COLOR, false}, {8, b, pr, false},
+    };
+    for (int threads = 1; threads <= 2; threads++)
+        for (int scene = 0; scene < 2; scene++) {
+            rs_context *rs = rs_create(threads);
+            rs_stats sink = {0};
+            rs_target rt;
+            assert_non_null(rs);
+            assert_int_equal(rs_target_init(&rt, PW, PH, 1), RS_OK);
+            rs_set_scene(rs, scene ? &sink : NULL);
+            for (size_t k = 0; k < sizeof seq / sizeof seq[0]; k++) {
+                if (seq[k].scribble) {   /* the planes written by their owner after a flush that is not a present */
+                    rs_target_flush(rs, &rt);
+                    for (size_t p = 0; p < PRESENT_PIXELS; p++) rt.color[p] = (uint32_t)p * 2654435761u;
+                }
+                frame_into(rs, &rt, &r->f, 0, seq[k].n, seq[k].bg, seq[k].flush, r->c[1]);
+                rs_context *fresh = rs_create(threads);
+                rs_target ft;
+                assert_non_null(fresh);
+                assert_int_equal(rs_target_init(&ft, PW, PH, 1), RS_OK);
+                frame_into(fresh, &ft, &r->f, 0, seq[k].n, seq[k].bg, RS_CLEAR_COLOR, r->c[0]);
+                for (size_t p = 0; p < PRESENT_PIXELS; p++)
+                    if (r->c[0][p] != r->c[1][p])
+                        fail_msg("threads %d, scene %d, frame %zu: pixel (%zu, %zu) %08x, a fresh target's %08x",
+                                 threads, scene, k, p % PW, p / PW, r->c[1][p], r->c[0][p]);
+                rs_target_free(&ft);
+                rs_destroy(fresh);
+            }
+            rs_target_free(&rt);
+            rs_destroy(rs);
+        }
+    free(r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -373,6 +441,7 @@ int main(void)
         cmocka_unit_test(test_flush_fills_untouched_tiles),
         cmocka_unit_test(test_present_fused),
         cmocka_unit_test(test_present_discard),
+        cmocka_unit_test(test_present_clean_tiles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
