@@ -233,6 +233,32 @@ static inline v8i lanes_between(int lo, int k)
     return a;
 }
 
+/* Runs of k lanes (0 <= k <= 8 * SPAN_GROUPS): runs_tab[k][8 + c] is -1 for 0 <= c < k, else 0, so that from
+ * run = runs_tab[k] + 8 - l (per row: its k columns from l), the 8 entries at run + s are the lanes of the group at
+ * column s, masked to the row's interval, for any s in [l - 7, l + k + 7]: one unaligned load, a memory operand
+ * of the lane arithmetic, no index arithmetic per group. */
+#define RUNW (8 + 8 * SPAN_GROUPS + 8)
+#define RB(k, c) ((c) >= 8 && (c) < 8 + (k) ? -1 : 0)
+#define R8(k, c) RB(k, c), RB(k, c + 1), RB(k, c + 2), RB(k, c + 3), RB(k, c + 4), RB(k, c + 5), RB(k, c + 6), \
+                 RB(k, c + 7)
+#define RROW(k) {R8(k, 0), R8(k, 8), R8(k, 16), R8(k, 24), R8(k, 32), R8(k, 40)}
+#define RROW4(k) RROW(k), RROW(k + 1), RROW(k + 2), RROW(k + 3)
+_Static_assert(RUNW == 48, "runs_tab's rows are written out for SPAN_GROUPS 4");
+static const int32_t runs_tab[8 * SPAN_GROUPS + 1][RUNW] __attribute__((aligned(32))) = {
+    RROW4(0), RROW4(4), RROW4(8), RROW4(12), RROW4(16), RROW4(20), RROW4(24), RROW4(28), RROW(32),
+};
+#undef RROW4
+#undef RROW
+#undef R8
+#undef RB
+/* The 8 lanes of run at entry s (runs_tab's comment). */
+static inline v8i run_lanes(const int32_t *run, ptrdiff_t s)
+{
+    v8i a;
+    memcpy(&a, run + s, 32);
+    return a;
+}
+
 /* A walk's per-triangle constants as vectors: the colour slot's 12 coefficients (rs_fill_slot's layout) and the
  * constant alpha broadcast once, so the lanes' arithmetic takes them as memory operands (AVX2 has no broadcast
  * operand: shade8 broadcasts them per group). */
@@ -431,6 +457,24 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
             continue;
         }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
+#define FRAG(lanes, at) frag_w(c, &w, m, a8c, false, 0, lanes, drow + (at), crow + (at), xc.zx + (at), xc.sx + (at), \
+                               xc.q1x + (at), xc.q2x + (at), yv[0], yv[1], yv[2], yv[3])
+        if (!aligned && m.plain) { /* groups of 8 from xi (<= wr), each masked by the row's run, the one past wr
+                                    * moved left to wr (its lanes before s done already) */
+            RS_ASSERT(bx == x0 && k <= 8 * SPAN_GROUPS);
+            const int32_t *run = runs_tab[k] + 8 - l[i];
+            const ptrdiff_t e = l[i] + k, wr = gmax - bx;
+            for (ptrdiff_t s = xi;;) {
+                FRAG(run_lanes(run, s), s);
+                s += 8;
+                if (s >= e) break;
+                if (s > wr) {
+                    FRAG(lanes_between((int)(s - wr), (int)(e - wr)), wr);
+                    break;
+                }
+            }
+            continue;
+        }
         if (!aligned) { /* groups of 8 from gx (<= gmax), the one past gmax moved left: one masked group site */
             const int end = g + k;
             for (int lw = lo;;) {
@@ -444,20 +488,18 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         }
         const int last = (g + k - 1) & ~7; /* aligned: the row's last group */
         if (m.plain && last <= gmax) { /* all through frag_w: no span8 test per group, the middle ones unmasked */
-#define FRAG(lanes) frag_w(c, &w, m, a8c, false, 0, lanes, drow + xi, crow + xi, xc.zx + xi, xc.sx + xi, xc.q1x + xi, \
-                           xc.q2x + xi, yv[0], yv[1], yv[2], yv[3])
             if (lo + k <= 8) {
-                FRAG(lanes_between(lo, lo + k));
+                FRAG(lanes_between(lo, lo + k), xi);
                 continue;
             }
-            FRAG(lanes_between(lo, 8));
+            FRAG(lanes_between(lo, 8), xi);
             const ptrdiff_t xl = xi + (last - gx);
             for (xi += 8; xi < xl; xi += 8)
-                FRAG(bi(-1));
-            FRAG(lanes_between(0, g + k - last));
-#undef FRAG
+                FRAG(bi(-1), xi);
+            FRAG(lanes_between(0, g + k - last), xi);
             continue;
         }
+#undef FRAG
         if (lo + k <= 8) { /* one group */
             GROUP(lo, lo + k, false);
             continue;
