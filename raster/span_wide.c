@@ -347,9 +347,10 @@ static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int 
     }
 }
 
-/* The y parts of the planes per row: row y0 + i at index i (64 rows and the rest of a vector of 8). */
+/* The y parts of the planes per row: row y0 + i at index i (64 rows and the rest of a vector of 8; 8 more that
+ * rows2's load may read and then ignore). */
 typedef struct yrows {
-    float zy[RS_TILE], sy[RS_TILE], q1y[RS_TILE], q2y[RS_TILE];
+    float zy[RS_TILE + 8], sy[RS_TILE + 8], q1y[RS_TILE + 8], q2y[RS_TILE + 8];
 } yrows;
 
 /* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector, without its
@@ -374,10 +375,9 @@ static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int 
 /* p[0] in lanes 0..3 and p[1] in lanes 4..7 (the y parts of two rows, for the 4x2 groups). */
 static inline v8f rows2(const float *p)
 {
-    double d; /* p[0], p[1] as one 8-byte value (p is only 4-byte aligned: memcpy, not a double load) */
-    memcpy(&d, p, sizeof d);
-    const __m256 two = _mm256_castpd_ps(_mm256_set1_pd(d)); /* p[0], p[1], p[0], ... */
-    return (v8f)_mm256_permutevar8x32_ps(two, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
+    __m256 v; /* p[0 .. 7] (p[2 ..] ignored; yrows has room for them): the permute's memory operand */
+    memcpy(&v, p, sizeof v);
+    return (v8f)_mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
 }
 
 /* One group of the interval walk: lanes [lo, hi) of the 8 pixels from column gx of row y (index xi in xc, in the
