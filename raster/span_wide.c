@@ -459,19 +459,18 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
 #define FRAG(lanes, at) frag_w(c, &w, m, a8c, false, 0, lanes, drow + (at), crow + (at), xc.zx + (at), xc.sx + (at), \
                                xc.q1x + (at), xc.q2x + (at), yv[0], yv[1], yv[2], yv[3])
-        if (!aligned && m.plain) { /* groups of 8 from xi (<= wr), each masked by the row's run, the one past wr
-                                    * moved left to wr (its lanes before s done already) */
+        if (!aligned && m.plain) { /* per group the row's next 8 columns from lr, the group moved left to end at
+                                    * wr + 8 at most, its lanes masked to [lr, e) by the rest's run (which is
+                                    * runs_tab[k - 8] + 8 - (lr + 8) after each group: one constant step) */
             RS_ASSERT(bx == x0 && k <= 8 * SPAN_GROUPS);
             const int32_t *run = runs_tab[k] + 8 - l[i];
             const ptrdiff_t e = l[i] + k, wr = gmax - bx;
-            for (ptrdiff_t s = xi;;) {
+            for (ptrdiff_t lr = l[i];;) {
+                const ptrdiff_t s = lr < wr ? lr : wr;
                 FRAG(run_lanes(run, s), s);
-                s += 8;
-                if (s >= e) break;
-                if (s > wr) {
-                    FRAG(lanes_between((int)(s - wr), (int)(e - wr)), wr);
-                    break;
-                }
+                lr += 8;
+                if (lr >= e) break;
+                run -= 8 * (RUNW + 1);
             }
             continue;
         }
