@@ -35,6 +35,20 @@
  * span_le 9.84 -> 10.91 M, A 18.36 -> 19.43 M); it would pay only built with vectors, 8 rows at a time.  The
  * aligned walk's fast rows for the medium walk too (rows whose groups from the first column all start at most at
  * gmax: full groups unmasked, the last one lanes [0, k)): A npatch 18.1033 -> 18.1049 M, the row loop's registers.
+ * Wave 3, round 4 (main a13220c: A npatch 18.095 M, A smooth 18.491 M; span_le 9.58 M of A's, per frame ~57k rows,
+ * ~57k single-row groups at ~65 instructions and ~10k 4x2 pairs at ~135): the medium walk's plain groups take
+ * their lanes from the row's run (runs_tab[k] + 8 - l, one memory operand per group instead of lanes_tab's index
+ * arithmetic: A npatch 18.095 -> 17.910 M); rows2 one vpermps with a memory operand (17.910 -> 17.874 M); the
+ * medium plain rows one group site, the run pointer one constant step per group, no out-of-line moved-left group
+ * (17.874 -> 17.304 M, span_le 9.58 -> 8.79 M; A smooth 18.491 -> 17.696 M; B npatch 91.064 M, C npatch
+ * 26.513 M unchanged).  Tried and dropped, each against 17.304 M (gcc's register allocation of the row loop swings
+ * by 0.1 M on small changes): the pair's
+ * lanes from the two rows' runs (_mm256_loadu2_m128i) instead of two lanes_tab loads, 17.436 M (neutral, 17.874
+ * M, before the one group site); the medium plain rows, pair and run loop, in one block ahead of the general row
+ * set-up, 17.365 M (17.429 M with lanes_tab's pair lanes); the constant alpha's NaN test against a zero register
+ * instead of k[10], k[11] (zeros) as memory operands, 17.401 M; a pair whose two rows fit the same 4 columns at
+ * one column (x parts one 16-byte load each, tested first), 17.342 M; no 4x2 pairs at all, 17.447 M (a pair still
+ * saves ~14 instructions on two single-row groups and their row overhead).
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
