@@ -37,7 +37,7 @@
  * gmax: full groups unmasked, the last one lanes [0, k)): A npatch 18.1033 -> 18.1049 M, the row loop's registers.
  * Wave 3, round 4 (main a13220c: A npatch 18.095 M, A smooth 18.491 M; span_le 9.58 M of A's, per frame ~57k rows,
  * ~57k single-row groups at ~65 instructions and ~10k 4x2 pairs at ~135): the medium walk's plain groups take
- * their lanes from the row's run (runs_tab[k] + 8 - l, one memory operand per group instead of lanes_tab's index
+ * their lanes from the row's run (runs_tab's row k from entry 8 - l, one memory operand per group instead of lanes_tab's index
  * arithmetic: A npatch 18.095 -> 17.910 M); rows2 one vpermps with a memory operand (17.910 -> 17.874 M); the
  * medium plain rows one group site, the run pointer one constant step per group, no out-of-line moved-left group
  * (17.874 -> 17.304 M, span_le 9.58 -> 8.79 M; A smooth 18.491 -> 17.696 M; B npatch 91.064 M, C npatch
@@ -76,21 +76,25 @@ static inline v4d exact_pd(__m256i v)
 }
 
 #define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
+#define RUNW (8 + 8 * SPAN_GROUPS + 8) /* runs_tab's row length */
 #define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
 
 /* Store rows i .. i + 3 of row_spans' answer from their starts st and ends en (columns, exact integers): st in
  * [0, 2^41]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range conversion
  * gives INT32_MIN, as does n's below -2^31). */
-static inline void spans_store(__m256d st, __m256d en, int32_t *l, int32_t *n, int i)
+static inline void spans_store(__m256d st, __m256d en, int32_t *l, int32_t *n, int32_t *r, int i)
 {
-    _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
-    _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+    const __m128i li = _mm256_cvttpd_epi32(st), ni = _mm256_cvttpd_epi32(_mm256_sub_pd(en, st));
+    _mm_storeu_si128((__m128i *)(l + i), li);
+    _mm_storeu_si128((__m128i *)(n + i), ni);
+    /* n * RUNW - l: the row's run in runs_tab from its entry 8 (used when 0 < n <= 32; else wraps harmlessly) */
+    _mm_storeu_si128((__m128i *)(r + i), _mm_sub_epi32(_mm_mullo_epi32(ni, _mm_set1_epi32(RUNW)), li));
 }
 
 /* row_spans for edges in role order (e0, A, B permuted: lanes 0 and 1 starts and 2 an end, or with two_ends lane
  * 0 a start and 1, 2 ends): each row's start the largest of its starts' u (and 0), its end the smallest of its
  * ends' u (and w) -- what the caps of row_spans_any select, without them. */
-ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int nr, int32_t *l, int32_t *n)
+ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int nr, int32_t *l, int32_t *n, int32_t *r)
 {
     const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0}, rows = {0.0, 1.0, 2.0, 3.0};
     const v4l isz = (v4l)(A == zero);
@@ -109,15 +113,15 @@ ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int
         const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + eps), CEIL);
         e_0 += d_0, e_1 += d_1, e_2 += d_2;
         if (two_ends)
-            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), l, n, i);
+            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), l, n, r, i);
         else
-            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), l, n, i);
+            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), l, n, r, i);
     }
 }
 
 /* row_spans for any roles (every edge through caps: its u for a start, -huge for an end in the starts' maximum,
  * and the reverse in the ends' minimum); right: the ends' lanes (A < 0). */
-static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, int32_t *l, int32_t *n)
+static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, int32_t *l, int32_t *n, int32_t *r)
 {
     const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
     const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
@@ -144,7 +148,7 @@ static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w,
                                    _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
         __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
                                    _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
-        spans_store(st, en, l, n, i);
+        spans_store(st, en, l, n, r, i);
     }
 }
 
@@ -172,7 +176,7 @@ static const int32_t role_perm[8][8] __attribute__((aligned(32))) = {
  * A triangle's edges have both roles (their A sum to 0): the usual case permutes them into starts, then ends
  * (spans_by_role, no caps per edge and row); a degenerate one (no start or no end) takes row_spans_any. */
 ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
-                             int32_t *n)
+                             int32_t *n, int32_t *r)
 {
     const edges4 E = edges4_of(tr);
     RS_ASSERT(rs_within((int64_t)x0 * RS_SUB - j->cx, 22) && rs_within((int64_t)y0 * RS_SUB - j->cy, 22));
@@ -184,13 +188,13 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     const v4d B = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->eb)) * 256.0; /* lane 3: ec's */
     const unsigned ends = (unsigned)_mm256_movemask_pd((__m256d)(A < (v4d){0.0, 0.0, 0.0, 0.0})) & 7u;
     if (ends == 0 || ends == 7) {
-        row_spans_any(e0, A, B, w, nr, l, n);
+        row_spans_any(e0, A, B, w, nr, l, n, r);
         return;
     }
     const __m256i pi = _mm256_load_si256((const __m256i *)role_perm[ends]);
 #define PERM(v) ((v4d)_mm256_permutevar8x32_ps((__m256)(v), pi))
-    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, w, nr, l, n);
-    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, w, nr, l, n);
+    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, w, nr, l, n, r);
+    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, w, nr, l, n, r);
 #undef PERM
 }
 #undef LANE
@@ -247,18 +251,19 @@ static inline v8i lanes_between(int lo, int k)
     return a;
 }
 
-/* Runs of k lanes (0 <= k <= 8 * SPAN_GROUPS): runs_tab[k][8 + c] is -1 for 0 <= c < k, else 0, so that from
- * run = runs_tab[k] + 8 - l (per row: its k columns from l), the 8 entries at run + s are the lanes of the group at
- * column s, masked to the row's interval, for any s in [l - 7, l + k + 7]: one unaligned load, a memory operand
- * of the lane arithmetic, no index arithmetic per group. */
-#define RUNW (8 + 8 * SPAN_GROUPS + 8)
+/* Runs of k lanes (0 <= k <= 8 * SPAN_GROUPS), row k of RUNW entries: runs_tab[k * RUNW + 8 + c] is -1 for
+ * 0 <= c < k, else 0, so that from run = runs_tab + k * RUNW + 8 - l (per row: its k columns from l; row_spans
+ * gives k * RUNW - l), the 8 entries at run + s are the lanes of the group at column s, masked to the row's
+ * interval, for any s in [l - 7, l + k + 7]: one unaligned load, a memory operand of the lane arithmetic, no index
+ * arithmetic per group. */
 #define RB(k, c) ((c) >= 8 && (c) < 8 + (k) ? -1 : 0)
 #define R8(k, c) RB(k, c), RB(k, c + 1), RB(k, c + 2), RB(k, c + 3), RB(k, c + 4), RB(k, c + 5), RB(k, c + 6), \
                  RB(k, c + 7)
-#define RROW(k) {R8(k, 0), R8(k, 8), R8(k, 16), R8(k, 24), R8(k, 32), R8(k, 40)}
+#define RROW(k) R8(k, 0), R8(k, 8), R8(k, 16), R8(k, 24), R8(k, 32), R8(k, 40)
 #define RROW4(k) RROW(k), RROW(k + 1), RROW(k + 2), RROW(k + 3)
 _Static_assert(RUNW == 48, "runs_tab's rows are written out for SPAN_GROUPS 4");
-static const int32_t runs_tab[8 * SPAN_GROUPS + 1][RUNW] __attribute__((aligned(32))) = {
+static const int32_t runs_tab[(8 * SPAN_GROUPS + 1) * RUNW] __attribute__((aligned(32))) = { /* (one array:
+                                                                   * the runs' pointers step across its rows) */
     RROW4(0), RROW4(4), RROW4(8), RROW4(12), RROW4(16), RROW4(20), RROW4(24), RROW4(28), RROW(32),
 };
 #undef RROW4
@@ -422,8 +427,8 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
     const rs_tri *tr = c->tr;
     const int nr = y1 - y0 + 1;
     RS_ASSERT(nr <= RS_TILE && x1 - x0 < RS_TILE && x0 >= t->x0 && x1 < t->x1);
-    int32_t l[RS_TILE + 4], n[RS_TILE + 4];
-    row_spans(j, tr, x0, y0, x1 - x0 + 1, nr, l, n);
+    int32_t l[RS_TILE + 4], n[RS_TILE + 4], ro[RS_TILE + 4];
+    row_spans(j, tr, x0, y0, x1 - x0 + 1, nr, l, n, ro);
     RS_ASSERT(spans_exact(j, tr, x0, y0, x1, nr, l, n));
     const int bx = aligned ? x0 & ~7 : x0; /* xcols' column 0 */
     /* aligned: the last group of 8 existing pixels; else: the last group start inside the box and the tile, so
@@ -475,9 +480,9 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
                                xc.q1x + (at), xc.q2x + (at), yv[0], yv[1], yv[2], yv[3])
         if (!aligned && m.plain) { /* per group the row's next 8 columns from lr, the group moved left to end at
                                     * wr + 8 at most, its lanes masked to [lr, e) by the rest's run (which is
-                                    * runs_tab[k - 8] + 8 - (lr + 8) after each group: one constant step) */
-            RS_ASSERT(bx == x0 && k <= 8 * SPAN_GROUPS);
-            const int32_t *run = runs_tab[k] + 8 - l[i];
+                                    * row k - 8's entry 8 - (lr + 8) after each group: one constant step) */
+            RS_ASSERT(bx == x0 && k <= 8 * SPAN_GROUPS && ro[i] == k * RUNW - l[i]);
+            const int32_t *run = runs_tab + 8 + ro[i]; /* row k's entry 8 - l[i] */
             const ptrdiff_t e = l[i] + k, wr = gmax - bx;
             for (ptrdiff_t lr = l[i];;) {
                 const ptrdiff_t s = lr < wr ? lr : wr;
