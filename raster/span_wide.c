@@ -35,6 +35,23 @@
  * span_le 9.84 -> 10.91 M, A 18.36 -> 19.43 M); it would pay only built with vectors, 8 rows at a time.  The
  * aligned walk's fast rows for the medium walk too (rows whose groups from the first column all start at most at
  * gmax: full groups unmasked, the last one lanes [0, k)): A npatch 18.1033 -> 18.1049 M, the row loop's registers.
+ * Wave 3, round 4 (main a13220c: A npatch 18.095 M, A smooth 18.491 M, C npatch 26.513 M; span_le 9.58 M of A's,
+ * per frame ~57k rows, ~57k single-row groups at ~65 instructions, ~10k 4x2 pairs at ~135): the medium walk's
+ * plain groups take their lanes from the row's run (runs_tab's row k from entry 8 - l: one memory operand per
+ * group instead of lanes_tab's index arithmetic; A npatch 18.095 -> 17.910 M); rows2 one vpermps with a memory
+ * operand (17.910 -> 17.874 M); the medium plain rows one group site, the run pointer one constant step per group,
+ * no out-of-line moved-left group (17.874 -> 17.304 M, span_le 9.58 -> 8.79 M); row_spans stores each row's run
+ * offset (one load per row instead of ~6 instructions; 17.304 -> 17.237 M, but C npatch +41k while the aligned
+ * walk stored it too) and, medium walk only, the pair's column and lanes per row (17.237 -> 17.121 M).  In all
+ * A npatch 18.095 -> 17.121 M (-5.4%), A smooth 18.491 -> 17.514 M, C npatch 26.513 -> 26.387 M, B unchanged.
+ * Tried and dropped, each against 17.304 M (gcc's register allocation of the row loop swings by 0.1 M on small
+ * changes): the pair's lanes from the two rows' runs (_mm256_loadu2_m128i, index arithmetic per pair) instead of
+ * two lanes_tab loads, 17.436 M (neutral, 17.874 M, before the one group site; it pays once row_spans gives the
+ * offsets); the medium plain rows, pair and run loop, in one block ahead of the general row set-up, 17.365 M
+ * (17.429 M with lanes_tab's pair lanes); the constant alpha's NaN test against a zero register instead of k[10],
+ * k[11] (zeros) as memory operands, 17.401 M; a pair whose two rows fit the same 4 columns at one column (x parts
+ * one 16-byte load each, tested first), 17.342 M; no 4x2 pairs at all, 17.447 M (a pair still saves ~14
+ * instructions on two single-row groups and their row overhead).
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
@@ -62,21 +79,39 @@ static inline v4d exact_pd(__m256i v)
 }
 
 #define CEIL (_MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
+#define RUNW (8 + 8 * SPAN_GROUPS + 8) /* runs_tab's row length */
 #define LANE(v, i) ((v4d)_mm256_permute4x64_pd((__m256d)(v), 0x55 * (i)))
+
+/* row_spans' answer, per row i of the box (4 more: the last vector's rows past nr); r, u, p only for the medium
+ * walk (n <= 32, w >= 9; row_spans_any, for degenerate triangles, stores them always). */
+typedef struct spans {
+    int32_t l[RS_TILE + 4]; /* the first covered column, relative to x0 */
+    int32_t n[RS_TILE + 4]; /* how many from it (<= 0: none) */
+    int32_t r[RS_TILE + 4]; /* n * RUNW - l: the row's run in runs_tab (from its entry 8) */
+    int32_t u[RS_TILE + 4]; /* min(l, w - 4): the row's 4 columns in a 4x2 pair, inside the box */
+    int32_t p[RS_TILE + 4]; /* r + u: their lanes in the row's run */
+} spans;
 
 /* Store rows i .. i + 3 of row_spans' answer from their starts st and ends en (columns, exact integers): st in
  * [0, 2^41]: n = en - st <= 0 when st > 64 (the start's int32 then does not matter; an out-of-range conversion
  * gives INT32_MIN, as does n's below -2^31). */
-static inline void spans_store(__m256d st, __m256d en, int32_t *l, int32_t *n, int i)
+static inline void spans_store(__m256d st, __m256d en, bool medium, spans *sp, int i, __m128i w4)
 {
-    _mm_storeu_si128((__m128i *)(l + i), _mm256_cvttpd_epi32(st));
-    _mm_storeu_si128((__m128i *)(n + i), _mm256_cvttpd_epi32(_mm256_sub_pd(en, st)));
+    const __m128i l = _mm256_cvttpd_epi32(st), n = _mm256_cvttpd_epi32(_mm256_sub_pd(en, st));
+    _mm_storeu_si128((__m128i *)(sp->l + i), l);
+    _mm_storeu_si128((__m128i *)(sp->n + i), n);
+    if (medium) { /* (r wraps harmlessly where n <= 0: not read) */
+        const __m128i r = _mm_sub_epi32(_mm_mullo_epi32(n, _mm_set1_epi32(RUNW)), l), u = _mm_min_epi32(l, w4);
+        _mm_storeu_si128((__m128i *)(sp->r + i), r);
+        _mm_storeu_si128((__m128i *)(sp->u + i), u);
+        _mm_storeu_si128((__m128i *)(sp->p + i), _mm_add_epi32(r, u));
+    }
 }
 
 /* row_spans for edges in role order (e0, A, B permuted: lanes 0 and 1 starts and 2 an end, or with two_ends lane
  * 0 a start and 1, 2 ends): each row's start the largest of its starts' u (and 0), its end the smallest of its
  * ends' u (and w) -- what the caps of row_spans_any select, without them. */
-ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int nr, int32_t *l, int32_t *n)
+ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, bool medium, int w, int nr, spans *sp)
 {
     const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0}, rows = {0.0, 1.0, 2.0, 3.0};
     const v4l isz = (v4l)(A == zero);
@@ -89,21 +124,24 @@ ALWAYS_INLINE void spans_by_role(v4d e0, v4d A, v4d B, bool two_ends, int w, int
     const v4d m_0 = LANE(m, 0), m_1 = LANE(m, 1), m_2 = LANE(m, 2);
     const v4d b_1 = two_ends ? eps : -eps; /* edge 0: a start (-eps), edge 2: an end (+eps) */
     const v4d wv = {w, w, w, w};
+    const __m128i w4 = _mm_set1_epi32(w - 4);
     for (int i = 0; i < nr; i += 4) {
         const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 - eps), CEIL);
         const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
         const __m256d u2 = _mm256_round_pd((__m256d)(e_2 * m_2 + eps), CEIL);
         e_0 += d_0, e_1 += d_1, e_2 += d_2;
         if (two_ends)
-            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), l, n, i);
+            spans_store(_mm256_max_pd(u0, (__m256d)zero), _mm256_min_pd(_mm256_min_pd(u1, u2), (__m256d)wv), medium,
+                        sp, i, w4);
         else
-            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), l, n, i);
+            spans_store(_mm256_max_pd(_mm256_max_pd(u0, u1), (__m256d)zero), _mm256_min_pd(u2, (__m256d)wv), medium,
+                        sp, i, w4);
     }
 }
 
 /* row_spans for any roles (every edge through caps: its u for a start, -huge for an end in the starts' maximum,
  * and the reverse in the ends' minimum); right: the ends' lanes (A < 0). */
-static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, int32_t *l, int32_t *n)
+static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w, int nr, spans *sp)
 {
     const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
     const v4l isz = (v4l)(A == zero), right = (v4l)(A < zero);
@@ -121,6 +159,7 @@ static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w,
     const v4d b_0 = LANE(bias, 0), b_1 = LANE(bias, 1), b_2 = LANE(bias, 2);
     const v4d c_0 = LANE(caps, 0), c_1 = LANE(caps, 1), c_2 = LANE(caps, 2);
     const v4d wv = {w, w, w, w};
+    const __m128i w4 = _mm_set1_epi32(w - 4);
     for (int i = 0; i < nr; i += 4) {
         const __m256d u0 = _mm256_round_pd((__m256d)(e_0 * m_0 + b_0), CEIL);
         const __m256d u1 = _mm256_round_pd((__m256d)(e_1 * m_1 + b_1), CEIL);
@@ -130,7 +169,7 @@ static __attribute__((noinline)) void row_spans_any(v4d e0, v4d A, v4d B, int w,
                                    _mm256_max_pd(_mm256_min_pd(u2, (__m256d)c_2), (__m256d)zero));
         __m256d en = _mm256_min_pd(_mm256_min_pd(_mm256_max_pd(u0, (__m256d)c_0), _mm256_max_pd(u1, (__m256d)c_1)),
                                    _mm256_min_pd(_mm256_max_pd(u2, (__m256d)c_2), (__m256d)wv));
-        spans_store(st, en, l, n, i);
+        spans_store(st, en, true, sp, i, w4);
     }
 }
 
@@ -143,8 +182,8 @@ static const int32_t role_perm[8][8] __attribute__((aligned(32))) = {
 };
 
 /* The covered interval of each row of triangle tr in columns x0 .. x0 + w - 1 (w <= 64), rows y0 .. y0 + nr - 1
- * (nr <= 64), from each edge's exact crossing column, 4 rows per vector: l[i] the first covered column of row
- * y0 + i relative to x0, n[i] how many follow it (<= 0: none).
+ * (nr <= 64), from each edge's exact crossing column, 4 rows per vector, into sp: l[i] the first covered column of
+ * row y0 + i relative to x0, n[i] how many follow it (<= 0: none); medium: r, u, p too (spans).
  *
  * Edge i is e + A * c at column x0 + c of a row (A = ea * 256, e its value at x0; inside iff >= 0), q = -e / A:
  * for A > 0 the row's pixels start at c = ceil(q), for A < 0 they end before c = floor(q) + 1, for A = 0 they are
@@ -157,8 +196,8 @@ static const int32_t role_perm[8][8] __attribute__((aligned(32))) = {
  * When |q| > 128, p is beyond the walked columns as q is, and the bounds are clamped to them.
  * A triangle's edges have both roles (their A sum to 0): the usual case permutes them into starts, then ends
  * (spans_by_role, no caps per edge and row); a degenerate one (no start or no end) takes row_spans_any. */
-ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, int w, int nr, int32_t *l,
-                             int32_t *n)
+ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, bool medium, int x0, int y0, int w, int nr,
+                             spans *sp)
 {
     const edges4 E = edges4_of(tr);
     RS_ASSERT(rs_within((int64_t)x0 * RS_SUB - j->cx, 22) && rs_within((int64_t)y0 * RS_SUB - j->cy, 22));
@@ -170,13 +209,13 @@ ALWAYS_INLINE void row_spans(const rs_job *j, const rs_tri *tr, int x0, int y0, 
     const v4d B = _mm256_cvtepi32_pd(_mm_loadu_si128((const __m128i *)tr->eb)) * 256.0; /* lane 3: ec's */
     const unsigned ends = (unsigned)_mm256_movemask_pd((__m256d)(A < (v4d){0.0, 0.0, 0.0, 0.0})) & 7u;
     if (ends == 0 || ends == 7) {
-        row_spans_any(e0, A, B, w, nr, l, n);
+        row_spans_any(e0, A, B, w, nr, sp);
         return;
     }
     const __m256i pi = _mm256_load_si256((const __m256i *)role_perm[ends]);
 #define PERM(v) ((v4d)_mm256_permutevar8x32_ps((__m256)(v), pi))
-    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, w, nr, l, n);
-    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, w, nr, l, n);
+    if (ends == 3 || ends == 5 || ends == 6) spans_by_role(PERM(e0), PERM(A), PERM(B), true, medium, w, nr, sp);
+    else spans_by_role(PERM(e0), PERM(A), PERM(B), false, medium, w, nr, sp);
 #undef PERM
 }
 #undef LANE
@@ -230,6 +269,33 @@ static inline v8i lanes_between(int lo, int k)
     RS_ASSERT(lo >= 0 && lo < k && k <= 8);
     v8i a;
     memcpy(&a, lanes_tab[lo][k], 32);
+    return a;
+}
+
+/* Runs of k lanes (0 <= k <= 8 * SPAN_GROUPS), row k of RUNW entries: runs_tab[k * RUNW + 8 + c] is -1 for
+ * 0 <= c < k, else 0, so that from run = runs_tab + k * RUNW + 8 - l (per row: its k columns from l; row_spans
+ * gives k * RUNW - l), the 8 entries at run + s are the lanes of the group at column s, masked to the row's
+ * interval, for any s in [l - 7, l + k + 7]: one unaligned load, a memory operand of the lane arithmetic, no index
+ * arithmetic per group. */
+#define RB(k, c) ((c) >= 8 && (c) < 8 + (k) ? -1 : 0)
+#define R8(k, c) RB(k, c), RB(k, c + 1), RB(k, c + 2), RB(k, c + 3), RB(k, c + 4), RB(k, c + 5), RB(k, c + 6), \
+                 RB(k, c + 7)
+#define RROW(k) R8(k, 0), R8(k, 8), R8(k, 16), R8(k, 24), R8(k, 32), R8(k, 40)
+#define RROW4(k) RROW(k), RROW(k + 1), RROW(k + 2), RROW(k + 3)
+_Static_assert(RUNW == 48, "runs_tab's rows are written out for SPAN_GROUPS 4");
+static const int32_t runs_tab[(8 * SPAN_GROUPS + 1) * RUNW] __attribute__((aligned(32))) = { /* (one array:
+                                                                   * the runs' pointers step across its rows) */
+    RROW4(0), RROW4(4), RROW4(8), RROW4(12), RROW4(16), RROW4(20), RROW4(24), RROW4(28), RROW(32),
+};
+#undef RROW4
+#undef RROW
+#undef R8
+#undef RB
+/* The 8 lanes of run at entry s (runs_tab's comment). */
+static inline v8i run_lanes(const int32_t *run, ptrdiff_t s)
+{
+    v8i a;
+    memcpy(&a, run + s, 32);
     return a;
 }
 
@@ -321,9 +387,10 @@ static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int 
     }
 }
 
-/* The y parts of the planes per row: row y0 + i at index i (64 rows and the rest of a vector of 8). */
+/* The y parts of the planes per row: row y0 + i at index i (64 rows and the rest of a vector of 8; 8 more that
+ * rows2's load may read and then ignore). */
 typedef struct yrows {
-    float zy[RS_TILE], sy[RS_TILE], q1y[RS_TILE], q2y[RS_TILE];
+    float zy[RS_TILE + 8], sy[RS_TILE + 8], q1y[RS_TILE + 8], q2y[RS_TILE + 8];
 } yrows;
 
 /* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector, without its
@@ -348,10 +415,9 @@ static inline void yrows_fill(yrows *yr, const rs_job *j, const rs_tri *tr, int 
 /* p[0] in lanes 0..3 and p[1] in lanes 4..7 (the y parts of two rows, for the 4x2 groups). */
 static inline v8f rows2(const float *p)
 {
-    double d; /* p[0], p[1] as one 8-byte value (p is only 4-byte aligned: memcpy, not a double load) */
-    memcpy(&d, p, sizeof d);
-    const __m256 two = _mm256_castpd_ps(_mm256_set1_pd(d)); /* p[0], p[1], p[0], ... */
-    return (v8f)_mm256_permutevar8x32_ps(two, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
+    __m256 v; /* p[0 .. 7] (p[2 ..] ignored; yrows has room for them): the permute's memory operand */
+    memcpy(&v, p, sizeof v);
+    return (v8f)_mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1));
 }
 
 /* One group of the interval walk: lanes [lo, hi) of the 8 pixels from column gx of row y (index xi in xc, in the
@@ -382,8 +448,9 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
     const rs_tri *tr = c->tr;
     const int nr = y1 - y0 + 1;
     RS_ASSERT(nr <= RS_TILE && x1 - x0 < RS_TILE && x0 >= t->x0 && x1 < t->x1);
-    int32_t l[RS_TILE + 4], n[RS_TILE + 4];
-    row_spans(j, tr, x0, y0, x1 - x0 + 1, nr, l, n);
+    spans sp;
+    row_spans(j, tr, !aligned, x0, y0, x1 - x0 + 1, nr, &sp);
+    const int32_t *const l = sp.l, *const n = sp.n;
     RS_ASSERT(spans_exact(j, tr, x0, y0, x1, nr, l, n));
     const int bx = aligned ? x0 & ~7 : x0; /* xcols' column 0 */
     /* aligned: the last group of 8 existing pixels; else: the last group start inside the box and the tile, so
@@ -421,9 +488,11 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
             /* one group: 4 columns of each from its first covered one, moved left to end at x1 at most (so inside
              * the box, the tile and xcols) */
             const int k2 = n[i + 1], a0 = l[i], b0 = l[i + 1], wb = x1 - x0 + 1;
-            const int ua = a0 < wb - 4 ? a0 : wb - 4, ub = b0 < wb - 4 ? b0 : wb - 4;
+            const int ua = sp.u[i], ub = sp.u[i + 1];
+            RS_ASSERT(ua == (a0 < wb - 4 ? a0 : wb - 4) && ub == (b0 < wb - 4 ? b0 : wb - 4));
             RS_ASSERT(ua >= 0 && x0 + ua + 4 <= t->x1 && x0 + ub + 4 <= t->x1);
-            const v8i lanes = lanes_between(a0 - ua, a0 - ua + k) | lanes_between(b0 - ub + 4, b0 - ub + k2 + 4);
+            const v8i lanes = (v8i)_mm256_loadu2_m128i((const __m128i *)(runs_tab + 8 + sp.p[i + 1]),
+                                                       (const __m128i *)(runs_tab + 8 + sp.p[i]));
             frag_w(c, &w, m, a8c, true, ub - ua, lanes, drow + ua, crow + ua, xc.zx + ua, xc.sx + ua, xc.q1x + ua,
                    xc.q2x + ua, rows2(yr.zy + i), rows2(yr.sy + i), rows2(yr.q1y + i), rows2(yr.q2y + i));
             tested += (uint64_t)k2;
@@ -431,6 +500,23 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
             continue;
         }
         const v8f yv[4] = {bf(yr.zy[i]), bf(yr.sy[i]), bf(yr.q1y[i]), bf(yr.q2y[i])};
+#define FRAG(lanes, at) frag_w(c, &w, m, a8c, false, 0, lanes, drow + (at), crow + (at), xc.zx + (at), xc.sx + (at), \
+                               xc.q1x + (at), xc.q2x + (at), yv[0], yv[1], yv[2], yv[3])
+        if (!aligned && m.plain) { /* per group the row's next 8 columns from lr, the group moved left to end at
+                                    * wr + 8 at most, its lanes masked to [lr, e) by the rest's run (which is
+                                    * row k - 8's entry 8 - (lr + 8) after each group: one constant step) */
+            RS_ASSERT(bx == x0 && k <= 8 * SPAN_GROUPS && sp.r[i] == k * RUNW - l[i]);
+            const int32_t *run = runs_tab + 8 + sp.r[i]; /* row k's entry 8 - l[i] */
+            const ptrdiff_t e = l[i] + k, wr = gmax - bx;
+            for (ptrdiff_t lr = l[i];;) {
+                const ptrdiff_t s = lr < wr ? lr : wr;
+                FRAG(run_lanes(run, s), s);
+                lr += 8;
+                if (lr >= e) break;
+                run -= 8 * (RUNW + 1);
+            }
+            continue;
+        }
         if (!aligned) { /* groups of 8 from gx (<= gmax), the one past gmax moved left: one masked group site */
             const int end = g + k;
             for (int lw = lo;;) {
@@ -444,20 +530,18 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
         }
         const int last = (g + k - 1) & ~7; /* aligned: the row's last group */
         if (m.plain && last <= gmax) { /* all through frag_w: no span8 test per group, the middle ones unmasked */
-#define FRAG(lanes) frag_w(c, &w, m, a8c, false, 0, lanes, drow + xi, crow + xi, xc.zx + xi, xc.sx + xi, xc.q1x + xi, \
-                           xc.q2x + xi, yv[0], yv[1], yv[2], yv[3])
             if (lo + k <= 8) {
-                FRAG(lanes_between(lo, lo + k));
+                FRAG(lanes_between(lo, lo + k), xi);
                 continue;
             }
-            FRAG(lanes_between(lo, 8));
+            FRAG(lanes_between(lo, 8), xi);
             const ptrdiff_t xl = xi + (last - gx);
             for (xi += 8; xi < xl; xi += 8)
-                FRAG(bi(-1));
-            FRAG(lanes_between(0, g + k - last));
-#undef FRAG
+                FRAG(bi(-1), xi);
+            FRAG(lanes_between(0, g + k - last), xi);
             continue;
         }
+#undef FRAG
         if (lo + k <= 8) { /* one group */
             GROUP(lo, lo + k, false);
             continue;
