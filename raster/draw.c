@@ -469,9 +469,9 @@ static void raster_tile(const rs_context *rs, const rs_scene_draw *d, size_t nd,
     /* RS_DISCARD_DEPTH: the depth is not copied out where its clear is deferred (rs_target_flush_planes then defers
      * it again: tiles drawn in the target too) */
     const unsigned keep = has && (fill & RS_DISCARD_DEPTH) ? rs_tile_pending(rs, j, tile) & RS_CLEAR_DEPTH : 0u;
-    if (has) rs_tile_drawn(rs, j, tile);
     bool buffered = has && rs_tile_buffer_begin(rs, j, tile, &t, buf);
     if (has && !buffered) rs_tile_flush(rs, j, tile, RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
+    if (has) rs_tile_drawn(rs, j, tile);   /* (after the tile's fill in the target, which marks it) */
     const unsigned fp = fill & (RS_CLEAR_COLOR | RS_CLEAR_DEPTH);
     if (!has && fp) rs_tile_flush(rs, j, tile, fp);
     for (size_t k = 0; has && k < nd; k++) raster_tile_draw(rs, &d[k], tile, &t);

@@ -387,7 +387,9 @@ static void frame_into(rs_context *rs, rs_target *rt, const frame *f, int d0, in
  * drawn, then untouched: filled again), the same again (tiles skipped), tiles filled, then drawn, then untouched
  * (filled again), another clear colour, a flush without RS_PRESENT after which the caller writes the planes, a
  * discarding present -- gives, after each present, the colour of the same frame drawn on a fresh target; 1 and 2
- * threads, scene on and off.  (The draws touch only the 12 tiles at x < 256, y < 192 of the 35.) */
+ * threads, scene on and off, and on the reference path, which draws in the target after the tile's fill (a frame of
+ * one draw, whose tiles are drawn once each, then one of none).  (The draws touch only the 12 tiles at x < 256,
+ * y < 192 of the 35.) */
 static void test_present_clean_tiles(void **state)
 {
     (void)state;
@@ -398,17 +400,19 @@ static void test_present_clean_tiles(void **state)
     /* per frame: draws [0, n), clear colour, present planes, and whether the caller writes the plane before it */
     const struct { int n; uint32_t bg; unsigned flush; bool scribble; } seq[] = {
         {DRAWS, a, pr, false}, {8, a, pr, false}, {8, a, pr, false}, {3, a, pr | RS_DISCARD_DEPTH, false},
-        {DRAWS, a, pr, false}, {3, a, pr, false}, {3, b, pr, false}, {3, b, pr, false}, {3, b, pr, true},
+        {DRAWS, a, pr, false}, {3, a, pr, false}, {1, a, pr, false}, {0, a, pr, false}, {3, b, pr, false},
+        {3, b, pr, false}, {3, b, pr, true},
         {3, b, RS_CLEAR_COLOR, false}, {8, b, pr, false},
     };
     for (int threads = 1; threads <= 2; threads++)
-        for (int scene = 0; scene < 2; scene++) {
+        for (int scene = 0; scene < 3; scene++) {   /* scene off, on, and the reference path (drawn in the target) */
             rs_context *rs = rs_create(threads);
             rs_stats sink = {0};
             rs_target rt;
             assert_non_null(rs);
             assert_int_equal(rs_target_init(&rt, PW, PH, 1), RS_OK);
-            rs_set_scene(rs, scene ? &sink : NULL);
+            rs_set_scene(rs, scene == 1 ? &sink : NULL);
+            rs_set_reference_path(rs, scene == 2);
             for (size_t k = 0; k < sizeof seq / sizeof seq[0]; k++) {
                 if (seq[k].scribble) {   /* the planes written by their owner after a flush that is not a present */
                     rs_target_flush(rs, &rt);
