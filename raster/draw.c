@@ -628,13 +628,15 @@ typedef struct flush_sync {
     double t_mid;          /* when the set-up ended (phase_clock) */
 } flush_sync;
 
-/* The serial middle of a flush, run by the thread that finished the last piece: each recorded draw checked in
- * submission order (scene_check), the tile buffers of nt threads made, the set-up's end time noted. */
+/* The serial middle of a flush, run by the thread that finished the last piece: the set-up's end time noted, each
+ * recorded draw checked in submission order (scene_check), the tile buffers of nt threads made, then the tile pass
+ * released. */
 static void flush_middle(rs_context *rs, int nt, flush_sync *f)
 {
     f->t_mid = phase_clock(rs);
     for (size_t k = 0; k < rs->q_n; k++) scene_check(rs, &rs->q[k]);
     f->bufs = rs->q[0].j.reference ? NULL : tile_buffers(rs, &rs->q[0].j, nt);
+    atomic_store_explicit(&f->released, 1, memory_order_release);
 }
 
 /* One thread's part of a flush (nt: the team's size): pieces of the recorded draws set up, each into its own
@@ -651,15 +653,10 @@ static void flush_thread(rs_context *rs, flush_sync *f, int nt, bool par, unsign
             rs_chunk *ch = &rs->chunks[c];
             const rs_scene_draw *d = &rs->q[ch->draw];
             source_chunk(&d->j, rs, &d->src, ch->piece, ch, me, rs->q_max_verts);
-            if (atomic_fetch_add_explicit(&f->chunks_done, 1, memory_order_acq_rel) == nc - 1) {
+            if (atomic_fetch_add_explicit(&f->chunks_done, 1, memory_order_acq_rel) == nc - 1)
                 flush_middle(rs, nt, f);   /* the last piece done: the middle, by whoever did it */
-                atomic_store_explicit(&f->released, 1, memory_order_release);
-            }
         }
-    if (nc == 0 && me == 0) {
-        flush_middle(rs, nt, f);
-        atomic_store_explicit(&f->released, 1, memory_order_release);
-    }
+    if (nc == 0 && me == 0) flush_middle(rs, nt, f);
     wait_flag(&f->released);
     const size_t bsz = rs_tile_buffer_size(&rs->q[0].j);
     char *buf = f->bufs ? f->bufs + (size_t)me * bsz : NULL;

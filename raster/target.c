@@ -263,14 +263,19 @@ static void clear_aov_row(rs_target *rt, int x0, int x1, int y)
     }
 }
 
+/* Tiles of rt (64x64, the tile pass's grid). */
+static int tile_count(const rs_target *rt)
+{
+    return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
+}
+
 /* Do rs's clean marks (rs->clean) hold for rt now: armed by the deferred clear, rt the same target with the same
  * colour plane and tile count, no AOV planes (a fill clears them too, and nothing tracks them), the fill's colour
  * theirs? */
 static bool clean_for(const rs_context *rs, const rs_target *rt)
 {
     return rs->clean_on && rs->clean_rt == rt && rs->clean_color == rt->color && rt->n_aov == 0 &&
-           rs->clean_rgba == rs->pend_rgba &&
-           rs->clean_tiles == ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
+           rs->clean_rgba == rs->pend_rgba && rs->clean_tiles == tile_count(rt);
 }
 
 /* Write the planes `planes` (RS_CLEAR_COLOR: colour and AOV planes, RS_CLEAR_DEPTH) of rt's deferred clear (as
@@ -300,12 +305,6 @@ static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsig
         if (planes & RS_CLEAR_COLOR) clear_aov_row(rt, x0, x1, y);
     }
     stream_fence(stream);
-}
-
-/* Tiles of rt (64x64, the tile pass's grid). */
-static int tile_count(const rs_target *rt)
-{
-    return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
 }
 
 /* rs->pend[tile]'s bits: the planes whose clear is deferred (RS_CLEAR_COLOR, RS_CLEAR_DEPTH), and PEND_FRAME_DEPTH
@@ -352,7 +351,7 @@ void rs_target_flush(rs_context *rs, rs_target *rt) { rs_target_flush_planes(rs,
  * cleared -- or off when the colour is not cleared or the marks cannot be allocated. */
 static void clean_arm(rs_context *rs, const rs_target *rt, unsigned flags, uint32_t rgba, size_t n)
 {
-    const bool keep = (flags & RS_CLEAR_COLOR) && clean_for(rs, rt) && rs->clean_rgba == rgba;
+    const bool keep = (flags & RS_CLEAR_COLOR) && clean_for(rs, rt);   /* (pend_rgba is rgba already) */
     rs->clean_on = false;
     if (!(flags & RS_CLEAR_COLOR) || rt->n_aov > 0) return;
     if (!keep) {
@@ -387,7 +386,6 @@ void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uin
     rs->pend_flags = flags, rs->pend_rgba = rgba, rs->pend_z = z;
     clean_arm(rs, rt, flags, rgba, n);
 }
-
 
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned planes)
 {
