@@ -51,7 +51,11 @@
  * added once (96.52 -> 97.25 M: spilled); the barycentrics computed before the test of the pass mask (no change);
  * a counted store loop when every lane passed (95.77 -> 97.39 M); pack32, the 4x8 stamps' positions of more than 4
  * rows without take8 (95.49 -> 95.51 M); col = id - (row << W) (+0.003 M); Xs, Ys and the pitch passed by pointer
- * to stamp_pass (93.79 -> 94.51 M).)
+ * to stamp_pass (93.79 -> 94.51 M); in the AVX-512 kernel, the stamps whose positions are below 16 read and written
+ * by rows -- a masked load per row and a compress for the depth, an expand and a masked store per row for the
+ * writes -- instead of the gather and the two scatters (a microbenchmark on AMD EPYC: 6.3 -> 3.4 ns a pass), B npatch
+ * 1 thread 8.04 -> 8.21 ms (ten alternated pairs, 1 faster), rows for the read alone 8.37, for the writes alone
+ * 8.57: the gather and scatters overlap with the rest of the pass, the rows' masked stores forward worse.)
  * (Measured on scene B and dropped: the job's and tile's constants read once per step into locals or a struct --
  * the run's loop has no registers left for them, the compiler spills them and it costs more than the reloads.
  * Also dropped: passes shared by the stamp lanes of several triangles of a step, issue 29 step 6 -- with ~4 stamp
