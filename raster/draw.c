@@ -104,6 +104,7 @@ void rs_destroy(rs_context *rs)
     free(rs->chunks);
     free(rs->q);
     free(rs->tile_stats);
+    free(rs->ranges);
     free(rs->pv);
     free(rs->pend);
     free(rs->clean);
@@ -532,6 +533,67 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t c0, size_t n_chunks
     return true;
 }
 
+/* A thread's range of the tile pass: tiles lo..lo+n-1, taken from the front by their owner and from the back by a
+ * thread done with its own (fb: the front's count in the low 32 bits, the back's in the high 32: one atomic add
+ * takes a tile from either end and sees both counts, so no tile is taken twice or missed).  Each range in its own
+ * cache line.  Why ranges and not one counter: the per-tile bytes a tile's thread reads and writes (pend, clean,
+ * tile_stats) then lie in lines only that thread touches until the threads meet, where with one counter the two
+ * threads drew neighbouring tiles and passed those lines and the counter's back and forth (~150 ns a round trip
+ * between this VM's two vCPUs). */
+typedef struct rs_tile_range {
+    _Alignas(64) atomic_ullong fb;
+    int lo, n;
+} rs_tile_range;
+
+/* The next tile of range r, from its front (the owner) or its back (another thread); -1 when none is left. */
+static int range_take(rs_tile_range *r, bool back)
+{
+    const unsigned long long old = atomic_fetch_add_explicit(&r->fb, back ? 1ull << 32 : 1ull, memory_order_relaxed);
+    const unsigned long long f = old & 0xffffffffull, b = old >> 32;
+    if (f + b >= (unsigned long long)r->n) return -1;
+    return back ? r->lo + r->n - 1 - (int)b : r->lo + (int)f;
+}
+
+/* The ranges of a tile pass: rg[0..nr), one per thread below nr; one holds every tile when they could not be
+ * allocated. */
+typedef struct tile_plan {
+    rs_tile_range *rg;
+    int nr;
+    rs_tile_range one;
+} tile_plan;
+
+/* The plan of a tile pass over n tiles on nt threads: min(nt, n) ranges of consecutive tiles in rs->ranges, or one
+ * range (p->one) when they cannot be allocated. */
+static void plan_make(rs_context *rs, tile_plan *p, int n, int nt)
+{
+    const int nr = nt < n ? nt : n;
+    if (nr > 1 && (size_t)nr > rs->ranges_cap) {
+        free(rs->ranges);
+        rs->ranges = aligned_alloc(64, (size_t)nr * sizeof *rs->ranges);
+        rs->ranges_cap = rs->ranges ? (size_t)nr : 0;
+    }
+    p->rg = nr > 1 && rs->ranges ? rs->ranges : &p->one;
+    p->nr = p->rg == &p->one ? 1 : nr;
+    for (int r = 0; r < p->nr; r++) {
+        atomic_init(&p->rg[r].fb, 0);
+        p->rg[r].lo = (int)((int64_t)n * r / p->nr);
+        p->rg[r].n = (int)((int64_t)n * (r + 1) / p->nr) - p->rg[r].lo;
+    }
+}
+
+/* Thread me's part of a tile pass of plan p over draws d[0..nd): its own range (when it has one), then the others'
+ * from their back, each tile rasterized (raster_tile, with tile buffer buf) as it is taken. */
+static void plan_run(const rs_context *rs, tile_plan *p, int me, const rs_scene_draw *d, size_t nd, void *buf,
+                     unsigned fill)
+{
+    const bool owner = me < p->nr;   /* (a team larger than the tiles: the others only take from the back) */
+    for (int k = 0; k < p->nr; k++) {
+        rs_tile_range *r = &p->rg[(me + k) % p->nr];
+        for (int t; (t = range_take(r, !owner || k > 0)) >= 0;)
+            raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, buf, fill);
+    }
+}
+
 /* Rasterize every tile in parallel for draws d[0..nd) (one target, the same tiles), the tiles they do not touch
  * filled with the deferred clear of planes `fill`; the tiles' counters in rs->tile_stats; returns the region's ms
  * (rs_set_timing). */
@@ -543,11 +605,14 @@ static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, in
      * against it */
     char *bufs = j->reference ? NULL : tile_buffers(rs, j, nt);
     const size_t bsz = rs_tile_buffer_size(j);
+    tile_plan p;
+    plan_make(rs, &p, ntl, nt);
     const double t0 = phase_clock(rs);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
-    for (int t = 0; t < ntl; t++)
-        raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, bufs ? bufs + (size_t)omp_get_thread_num() * bsz : NULL,
-                    fill);
+#pragma omp parallel num_threads(nt)
+    {
+        const int me = omp_get_thread_num();
+        plan_run(rs, &p, me, d, nd, bufs ? bufs + (size_t)me * bsz : NULL, fill);
+    }
     return phase_clock(rs) - t0;
 }
 
@@ -619,11 +684,12 @@ static void wait_flag(atomic_int *flag)
 }
 
 /* The shared state of a flush's region: the next piece to set up and the pieces done, the tile pass's start
- * (released: set after the serial middle by the thread that finished the last piece), the next tile to take, and
- * the threads done with the tiles (all_done: set by the last of them). */
+ * (released: set after the serial middle by the thread that finished the last piece), the tile pass's plan, and the
+ * threads done with the tiles (all_done: set by the last of them). */
 typedef struct flush_sync {
     atomic_long next_chunk, chunks_done;
-    atomic_int next_tile, released, done, all_done;
+    atomic_int released, done, all_done;
+    tile_plan plan;        /* the tile pass's ranges */
     char *bufs;            /* the threads' tile buffers (NULL: the target) */
     double t_mid;          /* when the set-up ended (phase_clock) */
 } flush_sync;
@@ -660,8 +726,7 @@ static void flush_thread(rs_context *rs, flush_sync *f, int nt, bool par, unsign
     wait_flag(&f->released);
     const size_t bsz = rs_tile_buffer_size(&rs->q[0].j);
     char *buf = f->bufs ? f->bufs + (size_t)me * bsz : NULL;
-    for (int t; (t = atomic_fetch_add_explicit(&f->next_tile, 1, memory_order_relaxed)) < rs->q[0].j.n_tiles;)
-        raster_tile(rs, rs->q, rs->q_n, t, rs->tile_stats + 2 * (size_t)t, buf, fill);
+    plan_run(rs, &f->plan, me, rs->q, rs->q_n, buf, fill);
     if (atomic_fetch_add_explicit(&f->done, 1, memory_order_acq_rel) == nt - 1)
         atomic_store_explicit(&f->all_done, 1, memory_order_release);
     else
@@ -679,8 +744,9 @@ void rs_flush_fill(rs_context *rs, const rs_target *rt, unsigned planes)
     const unsigned fill = rt == rs->q_rt && rt->color == rs->q_color ? planes : 0;
     const bool par = rs->q_chunks > 1 && rs->q_prims >= RS_PARALLEL_SETUP_MIN;
     flush_sync f;
-    atomic_init(&f.next_chunk, 0), atomic_init(&f.chunks_done, 0), atomic_init(&f.next_tile, 0);
+    atomic_init(&f.next_chunk, 0), atomic_init(&f.chunks_done, 0);
     atomic_init(&f.released, 0), atomic_init(&f.done, 0), atomic_init(&f.all_done, 0);
+    plan_make(rs, &f.plan, rs->q[0].j.n_tiles, nt);
     f.bufs = NULL, f.t_mid = 0.0;
     const double t0 = phase_clock(rs);
 #pragma omp parallel num_threads(nt)

@@ -230,6 +230,8 @@ struct rs_context {
     size_t n_chunks_cap;
     uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
     size_t tile_stats_cap;
+    struct rs_tile_range *ranges; /* the flush's tile pass: one range of tiles per thread (draw.c) */
+    size_t ranges_cap;
     void *pv;                    /* rs_pvert scratch of the shared pass */
     size_t pv_cap;
     uint8_t *pend;               /* per tile of pend_rt: the planes (RS_CLEAR_COLOR, _DEPTH) whose deferred clear is

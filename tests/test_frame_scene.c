@@ -7,6 +7,7 @@
  * give the bytes of the reference path (each draw drawn at once) and the same bytes and counters on 1 and 2
  * threads; a frame without interruptions runs one set-up region and one tile pass; an error found at the flush
  * (the work bound) drops that draw and is reported by dev_flush.  Deterministic: fixed seeds. */
+#include <omp.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -228,6 +229,37 @@ static void test_frame_same_bytes(void **state)
         assert_memory_equal(&one->stats, &two->stats, sizeof one->stats);
     }
     free(ref), free(one), free(two);
+}
+
+/* Thread counts other than 1 and 2 give the 1-thread frame's bytes and counters: the tile pass's ranges (raster/
+ * draw.c, one per thread, taken from the back once a thread's own is done) split the frame's 6 tiles unevenly for 4
+ * threads, 7 and 9 threads have more threads than tiles (the extra ones only take from the others' backs), and a
+ * team of one thread for a plan of 4 ranges takes them all. */
+static void test_thread_counts(void **state)
+{
+    (void)state;
+    result *one = malloc(sizeof *one), *many = malloc(sizeof *many);
+    assert_true(one && many);
+    const uint64_t seed = 5 * 0x9e3779b97f4a7c15ull;
+    render(seed, 1, false, one);
+    assert_true(one->stats.samples_written > 1000);
+    const int counts[] = {3, 4, 7, 9};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        render(seed, counts[k], false, many);
+        assert_memory_equal(one->color, many->color, sizeof one->color);
+        assert_memory_equal(one->depth, many->depth, sizeof one->depth);
+        assert_memory_equal(&one->stats, &many->stats, sizeof one->stats);
+    }
+    /* a team smaller than the plan: the frame drawn inside a parallel region with nested regions off, where the
+     * draw's own region has one thread, which then takes all 4 ranges */
+    omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+#pragma omp single
+    render(seed, 4, false, many);
+    assert_memory_equal(one->color, many->color, sizeof one->color);
+    assert_memory_equal(one->depth, many->depth, sizeof one->depth);
+    assert_memory_equal(&one->stats, &many->stats, sizeof one->stats);
+    free(one), free(many);
 }
 
 /* A frame of recorded draws without interruptions runs one set-up region and one tile pass (counted with timing
@@ -480,6 +512,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frame_same_bytes),
+        cmocka_unit_test(test_thread_counts),
         cmocka_unit_test(test_one_region_per_frame),
         cmocka_unit_test(test_texture_lock_between_draws),
         cmocka_unit_test(test_error_at_flush),
