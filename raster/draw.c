@@ -105,6 +105,7 @@ void rs_destroy(rs_context *rs)
     free(rs->q);
     free(rs->tile_stats);
     free(rs->ranges);
+    free(rs->range_own);
     free(rs->pv);
     free(rs->pend);
     free(rs->clean);
@@ -533,20 +534,21 @@ static bool add_work(rs_context *rs, const rs_job *j, size_t c0, size_t n_chunks
     return true;
 }
 
-/* A thread's range of the tile pass: tiles lo..lo+n-1, taken from the front by their owner and from the back by a
- * thread done with its own (fb: the front's count in the low 32 bits, the back's in the high 32: one atomic add
- * takes a tile from either end and sees both counts, so no tile is taken twice or missed).  Each range in its own
- * cache line.  Why ranges and not one counter: the per-tile bytes a tile's thread reads and writes (pend, clean,
- * tile_stats) then lie in lines only that thread touches until the threads meet, where with one counter the two
- * threads drew neighbouring tiles and passed those lines and the counter's back and forth (~150 ns a round trip
- * between this VM's two vCPUs). */
-typedef struct rs_tile_range {
+/* A thread's range of a flush's work (pieces to set up, or tiles): items lo..lo+n-1, taken from the front by their
+ * owner and from the back by a thread done with its own (fb: the front's count in the low 32 bits, the back's in the
+ * high 32: one atomic add takes an item from either end and sees both counts, so none is taken twice or missed).
+ * Each range in its own cache line.  Why ranges and not one counter: the per-tile bytes a tile's thread reads and
+ * writes (pend, clean, tile_stats) then lie in lines only that thread touches until the threads meet, where with
+ * one counter the two threads drew neighbouring tiles and passed those lines and the counter back and forth (~150 ns
+ * a round trip between this VM's two vCPUs); and a thread's pieces are neighbours in the draw, often on screen too,
+ * so that plan_assign can give it the tiles they fall in. */
+typedef struct rs_range {
     _Alignas(64) atomic_ullong fb;
     int lo, n;
-} rs_tile_range;
+} rs_range;
 
-/* The next tile of range r, from its front (the owner) or its back (another thread); -1 when none is left. */
-static int range_take(rs_tile_range *r, bool back)
+/* The next item of range r, from its front (the owner) or its back (another thread); -1 when none is left. */
+static int range_take(rs_range *r, bool back)
 {
     const unsigned long long old = atomic_fetch_add_explicit(&r->fb, back ? 1ull << 32 : 1ull, memory_order_relaxed);
     const unsigned long long f = old & 0xffffffffull, b = old >> 32;
@@ -554,26 +556,38 @@ static int range_take(rs_tile_range *r, bool back)
     return back ? r->lo + r->n - 1 - (int)b : r->lo + (int)f;
 }
 
-/* The ranges of a tile pass: rg[0..nr), one per thread below nr; one holds every tile when they could not be
- * allocated. */
-typedef struct tile_plan {
-    rs_tile_range *rg;
-    int nr;
-    rs_tile_range one;
-} tile_plan;
+/* n items split over nt threads: ranges rg[0..nr), and own[0..nt), the range each thread owns (-1: none; NULL:
+ * thread i owns range i below nr); one range holds every item when the ranges could not be allocated. */
+typedef struct range_plan {
+    rs_range *rg;
+    int nr, nt;
+    int *own;
+    rs_range one;
+} range_plan;
 
-/* The plan of a tile pass over n tiles on nt threads: min(nt, n) ranges of consecutive tiles in rs->ranges, or one
- * range (p->one) when they cannot be allocated. */
-static void plan_make(rs_context *rs, tile_plan *p, int n, int nt)
+/* Room in rs for two plans of nt threads (ranges: tiles at 0, pieces at nt; owners of the tiles); false when out of
+ * memory (the plans then take one range each). */
+static bool plan_room(rs_context *rs, int nt)
+{
+    if ((size_t)nt > rs->ranges_cap) {
+        free(rs->ranges), free(rs->range_own);
+        rs->ranges = aligned_alloc(64, 2 * (size_t)nt * sizeof *rs->ranges);
+        rs->range_own = malloc((size_t)nt * sizeof *rs->range_own);
+        rs->ranges_cap = rs->ranges && rs->range_own ? (size_t)nt : 0;
+    }
+    return rs->ranges_cap >= (size_t)nt;
+}
+
+/* Plan p of n items on nt threads in the ranges at store (room for nt; NULL: one range), thread i owning range i;
+ * own: room for nt owners (NULL: thread i owns range i, never reassigned). */
+static void plan_make(range_plan *p, rs_range *store, int *own, int n, int nt)
 {
     const int nr = nt < n ? nt : n;
-    if (nr > 1 && (size_t)nr > rs->ranges_cap) {
-        free(rs->ranges);
-        rs->ranges = aligned_alloc(64, (size_t)nr * sizeof *rs->ranges);
-        rs->ranges_cap = rs->ranges ? (size_t)nr : 0;
-    }
-    p->rg = nr > 1 && rs->ranges ? rs->ranges : &p->one;
+    p->rg = nr > 1 && store ? store : &p->one;
     p->nr = p->rg == &p->one ? 1 : nr;
+    p->nt = nt;
+    p->own = p->rg == &p->one ? NULL : own;
+    for (int i = 0; p->own && i < nt; i++) p->own[i] = i < p->nr ? i : -1;
     for (int r = 0; r < p->nr; r++) {
         atomic_init(&p->rg[r].fb, 0);
         p->rg[r].lo = (int)((int64_t)n * r / p->nr);
@@ -581,17 +595,53 @@ static void plan_make(rs_context *rs, tile_plan *p, int n, int nt)
     }
 }
 
-/* Thread me's part of a tile pass of plan p over draws d[0..nd): its own range (when it has one), then the others'
- * from their back, each tile rasterized (raster_tile, with tile buffer buf) as it is taken. */
-static void plan_run(const rs_context *rs, tile_plan *p, int me, const rs_scene_draw *d, size_t nd, void *buf,
-                     unsigned fill)
+/* The next item of plan p for thread me: from its own range's front, then from the others' backs (*k: where it is
+ * in that order, 0 at the start); -1 when none is left anywhere. */
+static int plan_next(range_plan *p, int me, int *k)
 {
-    const bool owner = me < p->nr;   /* (a team larger than the tiles: the others only take from the back) */
-    for (int k = 0; k < p->nr; k++) {
-        rs_tile_range *r = &p->rg[(me + k) % p->nr];
-        for (int t; (t = range_take(r, !owner || k > 0)) >= 0;)
-            raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, buf, fill);
+    const int own = p->own ? (me < p->nt ? p->own[me] : -1) : (me < p->nr ? me : -1);
+    for (; *k < p->nr; ++*k) {   /* (a team larger than the ranges: the others only take from the backs) */
+        const int t = range_take(&p->rg[((own >= 0 ? own : me) + *k) % p->nr], own < 0 || *k > 0);
+        if (t >= 0) return t;
     }
+    return -1;
+}
+
+/* Largest team plan_assign weighs (larger ones keep thread i on range i). */
+#define PLAN_ASSIGN_MAX 16
+
+/* After the set-up of the recorded draws d[0..nd): the tile plan p's ranges to the threads whose chunks put the most
+ * bin entries in them (greedy, the largest weight first), so that a thread rasterizes first what its own set-up
+ * wrote, still in its caches.  Only which thread draws a tile changes, never the bytes. */
+static void plan_assign(const rs_context *rs, range_plan *p, const rs_scene_draw *d, size_t nd)
+{
+    if (p->nr < 2 || !p->own || p->nt > PLAN_ASSIGN_MAX) return;
+    uint64_t w[PLAN_ASSIGN_MAX][PLAN_ASSIGN_MAX] = {{0}};   /* [thread][range]: bin entries */
+    for (size_t k = 0; k < nd; k++)
+        for (size_t c = d[k].c0; c < d[k].c0 + d[k].nc; c++) {
+            const rs_chunk *ch = &rs->chunks[c];
+            if (ch->setup_thread < 0 || ch->setup_thread >= p->nt) continue;
+            for (int r = 0; r < p->nr; r++)
+                w[ch->setup_thread][r] += ch->bin_off[p->rg[r].lo + p->rg[r].n] - ch->bin_off[p->rg[r].lo];
+        }
+    unsigned taken_t = 0, taken_r = 0;
+    for (int i = 0; i < p->nt; i++) p->own[i] = -1;
+    for (int a = 0; a < p->nr; a++) {   /* nr <= nt: every range gets an owner */
+        int bt = -1, br = -1;
+        for (int t = 0; t < p->nt; t++)
+            for (int r = 0; r < p->nr; r++)
+                if (!(taken_t >> t & 1u) && !(taken_r >> r & 1u) && (bt < 0 || w[t][r] > w[bt][br])) bt = t, br = r;
+        p->own[bt] = br, taken_t |= 1u << bt, taken_r |= 1u << br;
+    }
+}
+
+/* Thread me's part of a tile pass of plan p over draws d[0..nd): each tile it takes rasterized (raster_tile, with
+ * tile buffer buf). */
+static void plan_tiles(const rs_context *rs, range_plan *p, int me, const rs_scene_draw *d, size_t nd, void *buf,
+                       unsigned fill)
+{
+    for (int k = 0, t; (t = plan_next(p, me, &k)) >= 0;)
+        raster_tile(rs, d, nd, t, rs->tile_stats + 2 * (size_t)t, buf, fill);
 }
 
 /* Rasterize every tile in parallel for draws d[0..nd) (one target, the same tiles), the tiles they do not touch
@@ -605,13 +655,14 @@ static double raster_scene(rs_context *rs, const rs_scene_draw *d, size_t nd, in
      * against it */
     char *bufs = j->reference ? NULL : tile_buffers(rs, j, nt);
     const size_t bsz = rs_tile_buffer_size(j);
-    tile_plan p;
-    plan_make(rs, &p, ntl, nt);
+    range_plan p;
+    const bool room = plan_room(rs, nt);
+    plan_make(&p, room ? rs->ranges : NULL, NULL, ntl, nt);
     const double t0 = phase_clock(rs);
 #pragma omp parallel num_threads(nt)
     {
         const int me = omp_get_thread_num();
-        plan_run(rs, &p, me, d, nd, bufs ? bufs + (size_t)me * bsz : NULL, fill);
+        plan_tiles(rs, &p, me, d, nd, bufs ? bufs + (size_t)me * bsz : NULL, fill);
     }
     return phase_clock(rs) - t0;
 }
@@ -687,9 +738,10 @@ static void wait_flag(atomic_int *flag)
  * (released: set after the serial middle by the thread that finished the last piece), the tile pass's plan, and the
  * threads done with the tiles (all_done: set by the last of them). */
 typedef struct flush_sync {
-    atomic_long next_chunk, chunks_done;
+    atomic_long chunks_done;
     atomic_int released, done, all_done;
-    tile_plan plan;        /* the tile pass's ranges */
+    range_plan pieces;     /* the set-up's ranges of pieces (chunks) */
+    range_plan tiles;      /* the tile pass's ranges (their owners set by flush_middle: plan_assign) */
     char *bufs;            /* the threads' tile buffers (NULL: the target) */
     double t_mid;          /* when the set-up ended (phase_clock) */
 } flush_sync;
@@ -701,6 +753,7 @@ static void flush_middle(rs_context *rs, int nt, flush_sync *f)
 {
     f->t_mid = phase_clock(rs);
     for (size_t k = 0; k < rs->q_n; k++) scene_check(rs, &rs->q[k]);
+    plan_assign(rs, &f->tiles, rs->q, rs->q_n);
     f->bufs = rs->q[0].j.reference ? NULL : tile_buffers(rs, &rs->q[0].j, nt);
     atomic_store_explicit(&f->released, 1, memory_order_release);
 }
@@ -715,9 +768,10 @@ static void flush_thread(rs_context *rs, flush_sync *f, int nt, bool par, unsign
     const int me = omp_get_thread_num();
     const long nc = (long)rs->q_chunks;
     if (par || me == 0)
-        for (long c; (c = atomic_fetch_add_explicit(&f->next_chunk, 1, memory_order_relaxed)) < nc;) {
+        for (int k = 0, c; (c = plan_next(&f->pieces, par ? me : 0, &k)) >= 0;) {
             rs_chunk *ch = &rs->chunks[c];
             const rs_scene_draw *d = &rs->q[ch->draw];
+            ch->setup_thread = me;
             source_chunk(&d->j, rs, &d->src, ch->piece, ch, me, rs->q_max_verts);
             if (atomic_fetch_add_explicit(&f->chunks_done, 1, memory_order_acq_rel) == nc - 1)
                 flush_middle(rs, nt, f);   /* the last piece done: the middle, by whoever did it */
@@ -726,7 +780,7 @@ static void flush_thread(rs_context *rs, flush_sync *f, int nt, bool par, unsign
     wait_flag(&f->released);
     const size_t bsz = rs_tile_buffer_size(&rs->q[0].j);
     char *buf = f->bufs ? f->bufs + (size_t)me * bsz : NULL;
-    plan_run(rs, &f->plan, me, rs->q, rs->q_n, buf, fill);
+    plan_tiles(rs, &f->tiles, me, rs->q, rs->q_n, buf, fill);
     if (atomic_fetch_add_explicit(&f->done, 1, memory_order_acq_rel) == nt - 1)
         atomic_store_explicit(&f->all_done, 1, memory_order_release);
     else
@@ -744,9 +798,11 @@ void rs_flush_fill(rs_context *rs, const rs_target *rt, unsigned planes)
     const unsigned fill = rt == rs->q_rt && rt->color == rs->q_color ? planes : 0;
     const bool par = rs->q_chunks > 1 && rs->q_prims >= RS_PARALLEL_SETUP_MIN;
     flush_sync f;
-    atomic_init(&f.next_chunk, 0), atomic_init(&f.chunks_done, 0);
+    atomic_init(&f.chunks_done, 0);
     atomic_init(&f.released, 0), atomic_init(&f.done, 0), atomic_init(&f.all_done, 0);
-    plan_make(rs, &f.plan, rs->q[0].j.n_tiles, nt);
+    const bool room = plan_room(rs, nt);
+    plan_make(&f.pieces, room ? rs->ranges + nt : NULL, NULL, (int)rs->q_chunks, nt);
+    plan_make(&f.tiles, room ? rs->ranges : NULL, rs->range_own, rs->q[0].j.n_tiles, nt);
     f.bufs = NULL, f.t_mid = 0.0;
     const double t0 = phase_clock(rs);
 #pragma omp parallel num_threads(nt)

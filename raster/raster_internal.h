@@ -202,6 +202,7 @@ typedef struct rs_chunk {
                                     one chunk run on several threads; zeroed by the set-up region) */
     uint32_t draw;               /* a recorded draw's chunk: its draw in rs->q ... */
     size_t piece;                /* ... and its piece of that draw's source */
+    int setup_thread;            /* the thread of the flush's region that set it up (the tile ranges follow: draw.c) */
 } rs_chunk;
 
 /* Is rt well formed: planes present, sizes and samples in range, AOV planes (at most RS_MAX_AOV, on one sample)
@@ -230,8 +231,9 @@ struct rs_context {
     size_t n_chunks_cap;
     uint64_t *tile_stats;        /* 2 per tile: samples tested, written */
     size_t tile_stats_cap;
-    struct rs_tile_range *ranges; /* the flush's tile pass: one range of tiles per thread (draw.c) */
-    size_t ranges_cap;
+    struct rs_range *ranges;     /* a flush's work split per thread (draw.c): ranges of tiles, ranges of pieces ... */
+    int *range_own;              /* ... and per thread the range of tiles it owns (-1: none) */
+    size_t ranges_cap;           /* threads both have room for */
     void *pv;                    /* rs_pvert scratch of the shared pass */
     size_t pv_cap;
     uint8_t *pend;               /* per tile of pend_rt: the planes (RS_CLEAR_COLOR, _DEPTH) whose deferred clear is
