@@ -759,10 +759,11 @@ static void flush_middle(rs_context *rs, int nt, flush_sync *f)
 }
 
 /* One thread's part of a flush (nt: the team's size): pieces of the recorded draws set up, each into its own
- * chunk, in any order by any thread (all of them when par, else thread 0 alone); once the last piece is done and
- * flush_middle has run, tiles taken one at a time and rasterized for every recorded draw (raster_tile); then a
- * wait for the others' last tiles, so that the region's own end finds every thread there and none sleeps.  A
- * thread that wakes late finds the pieces taken and goes to the tiles: nobody waits for it. */
+ * chunk, from the thread's range of pieces, then from the others' backs (all threads when par, else thread 0
+ * alone); once the last piece is done and flush_middle has run, tiles taken one at a time the same way from the
+ * tile ranges and rasterized for every recorded draw (raster_tile); then a wait for the others' last tiles, so
+ * that the region's own end finds every thread there and none sleeps.  A thread that wakes late finds its pieces
+ * taken by the others and goes to the tiles: nobody waits for it. */
 static void flush_thread(rs_context *rs, flush_sync *f, int nt, bool par, unsigned fill)
 {
     const int me = omp_get_thread_num();
