@@ -43,6 +43,9 @@ static inline uint32_t core_grid_index(int level, int i, int j)
  * count core_grid_points(L); else (another list, a NULL list, no triangles) 0.  A draw's instance list is
  * compared once (core/draw_fused.c tells the rasterizer, rs_source.grid_level), never assumed. */
 INSTESS_API int core_grid_regular_level(const uint32_t *idx, size_t n_triangles, size_t n_points);
+/* The same for core_grid_regular(L)'s list mirrored: each triangle's second and third index swapped (the winding
+ * an odd renumbering of the corners needs, as the adaptive buckets' flipped ranges); 0 for any other list. */
+INSTESS_API int core_grid_regular_level_mirrored(const uint32_t *idx, size_t n_triangles, size_t n_points);
 
 /* The pattern of the OpenGL 4 / Direct3D 11 primitive generator for triangles (seed 001, Figs. 10-11):
  * concentric rings from the inner level, outer edges subdivided by the three outer levels (outer[k] belongs to
@@ -86,6 +89,14 @@ INSTESS_API void core_grid_free(core_grid *g);
 /* The pattern of edge levels l[0..2] (any order); 0, or -1 for a level outside 1..CORE_LOD_MAX_LEVEL or no memory.
  * Free with core_grid_free. */
 INSTESS_API int core_grid_adaptive(const int levels[3], core_grid *out);
+/* The same pattern drawn as the regular grid: the core_grid_points(M) points of core_grid_regular(M), M the
+ * largest of the levels, at their core_grid_index places, each moved as core_grid_adaptive moves it (the pattern's
+ * points, bit for bit, the merged ones repeated).  core_grid_regular(M)'s triangle list over these points draws
+ * the pattern's triangles in the pattern's order, plus the merged ones, which have zero area and draw nothing --
+ * how Dyken et al. draw it, and what lets a renderer treat every pattern as a regular grid (instess's rasterizer
+ * sets such draws up from the grid's rows).  Returns M, or -1 (nothing written) for a level outside
+ * 1..CORE_LOD_MAX_LEVEL or a NULL array. */
+INSTESS_API int core_grid_adaptive_points(const int levels[3], float3 *bary);
 
 /* Patterns are kept for sorted triples a <= b <= c only: a triangle with edge levels e[0..2] is drawn with the
  * pattern of sort(e) after renumbering its vertices.  core_lod_order gives that renumbering: perm[i] is the

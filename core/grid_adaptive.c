@@ -37,6 +37,24 @@ static float3 edge_point(int e, int k, int l)
     return f3(c[0], c[1], c[2]);
 }
 
+/* Where the snap puts grid point (i, j) of level M under edge levels l: -1 for an interior point (it stays), else
+ * the edge e and the position k of 0..l[e] it moves to, a far corner given as point 0 of the next edge. */
+static int snapped_edge(const int l[3], int M, int i, int j, int *k)
+{
+    int s, e = point_edge(M, i, j, &s);
+    if (e < 0) return -1;
+    *k = snap(s, M, l[e]);
+    if (*k == l[e]) e = (e + 1) % 3, *k = 0; /* the far corner: point 0 of the next edge */
+    return e;
+}
+
+/* The barycentrics of grid point (i, j) of level M (interior) or of edge e's point k of l[e] (e >= 0). */
+static float3 point_bary(const int l[3], int M, int i, int j, int e, int k)
+{
+    if (e < 0) return f3((float)(M - i - j) / (float)M, (float)i / (float)M, (float)j / (float)M);
+    return edge_point(e, k, l[e]);
+}
+
 /* The levels and M in; for each grid point its pattern index written to map[], the points to out->bary; the point
  * count out.  ids[e][k] holds the index given to edge e's point k (corners are point 0 of their edge). */
 static size_t adaptive_points(const int l[3], int M, uint32_t *map, float3 *bary)
@@ -46,30 +64,48 @@ static size_t adaptive_points(const int l[3], int M, uint32_t *map, float3 *bary
     size_t n = 0;
     for (int j = 0; j <= M; j++)
         for (int i = 0; i + j <= M; i++) {
-            int s, e = point_edge(M, i, j, &s);
+            int k = 0, e = snapped_edge(l, M, i, j, &k);
             uint32_t *slot = &map[core_grid_index(M, i, j)];
             if (e < 0) {
-                bary[n] = f3((float)(M - i - j) / (float)M, (float)i / (float)M, (float)j / (float)M);
+                bary[n] = point_bary(l, M, i, j, e, k);
                 *slot = (uint32_t)n++;
                 continue;
             }
-            int k = snap(s, M, l[e]);
-            if (k == l[e]) e = (e + 1) % 3, k = 0; /* the far corner: point 0 of the next edge */
-            if (ids[e][k] < 0) ids[e][k] = (int32_t)n, bary[n++] = edge_point(e, k, l[e]);
+            if (ids[e][k] < 0) ids[e][k] = (int32_t)n, bary[n++] = point_bary(l, M, i, j, e, k);
             *slot = (uint32_t)ids[e][k];
         }
     return n;
+}
+
+/* Is every level in 1..CORE_LOD_MAX_LEVEL?  Their largest into *M. */
+static bool levels_ok(const int levels[3], int *M)
+{
+    *M = 0;
+    for (int e = 0; e < 3; e++) {
+        if (!levels || levels[e] < 1 || levels[e] > CORE_LOD_MAX_LEVEL) return false;
+        if (levels[e] > *M) *M = levels[e];
+    }
+    return true;
+}
+
+int core_grid_adaptive_points(const int levels[3], float3 *bary)
+{
+    int M;
+    if (!bary || !levels_ok(levels, &M)) return -1;
+    for (int j = 0; j <= M; j++)
+        for (int i = 0; i + j <= M; i++) {
+            int k = 0, e = snapped_edge(levels, M, i, j, &k);
+            bary[core_grid_index(M, i, j)] = point_bary(levels, M, i, j, e, k);
+        }
+    return M;
 }
 
 int core_grid_adaptive(const int levels[3], core_grid *out)
 {
     if (!out) return -1;
     memset(out, 0, sizeof *out);
-    int M = 0;
-    for (int e = 0; e < 3; e++) {
-        if (!levels || levels[e] < 1 || levels[e] > CORE_LOD_MAX_LEVEL) return -1;
-        if (levels[e] > M) M = levels[e];
-    }
+    int M;
+    if (!levels_ok(levels, &M)) return -1;
     const size_t np = core_grid_points(M), nt = core_grid_triangles(M);
     uint32_t *grid_idx = malloc(3 * nt * sizeof *grid_idx), *map = malloc(np * sizeof *map);
     out->bary = malloc(np * sizeof *out->bary);

@@ -1,7 +1,8 @@
 /* tests/test_adaptive.c -- the refinement patterns of core/grid_adaptive.c (per-edge levels): every pattern of
  * every sorted level triple is a valid tiling of the triangle (no fold, no zero area, areas summing to the
  * triangle, interior edges used twice in opposite directions, each edge cut into exactly its level's segments at
- * the points k / l), uniform levels give the regular grid, core_lod_order's renumbering, and the bounded cache. */
+ * the points k / l), uniform levels give the regular grid, the pattern drawn as the regular grid of moved points
+ * (core_grid_adaptive_points) is the pattern, core_lod_order's renumbering, and the bounded cache. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -150,6 +151,58 @@ static void test_uniform_is_regular(void **state)
     }
 }
 
+/* The pattern as the regular grid of moved points (core_grid_adaptive_points): over every triple of the tiling
+ * test's set and every order of a few, the regular level-M list over the moved points gives, once the triangles
+ * with two bit-equal points are left out, exactly the pattern's triangles in the pattern's order, point for point
+ * (bit for bit); and every moved point is a pattern point. */
+static void check_moved_points(const int l[3])
+{
+    core_grid g, r;
+    assert_int_equal(core_grid_adaptive(l, &g), 0);
+    const int M = l[0] > l[1] ? (l[0] > l[2] ? l[0] : l[2]) : (l[1] > l[2] ? l[1] : l[2]);
+    assert_int_equal(core_grid_make(CORE_GRID_REGULAR, (float)M, &r), 0);
+    float3 *p = malloc(r.n_points * sizeof *p);
+    assert_non_null(p);
+    assert_int_equal(core_grid_adaptive_points(l, p), M);
+    for (size_t k = 0; k < r.n_points; k++) {
+        bool found = false;
+        for (size_t q = 0; q < g.n_points && !found; q++) found = memcmp(&p[k], &g.bary[q], sizeof p[k]) == 0;
+        assert_true(found);
+    }
+    size_t t = 0;
+    for (size_t q = 0; q < r.n_triangles; q++) {
+        const float3 *a = &p[r.idx[3 * q]], *b = &p[r.idx[3 * q + 1]], *c = &p[r.idx[3 * q + 2]];
+        if (!memcmp(a, b, sizeof *a) || !memcmp(b, c, sizeof *b) || !memcmp(c, a, sizeof *c)) continue;
+        assert_true(t < g.n_triangles);
+        assert_memory_equal(a, &g.bary[g.idx[3 * t]], sizeof *a);
+        assert_memory_equal(b, &g.bary[g.idx[3 * t + 1]], sizeof *b);
+        assert_memory_equal(c, &g.bary[g.idx[3 * t + 2]], sizeof *c);
+        t++;
+    }
+    assert_int_equal(t, g.n_triangles);
+    free(p);
+    core_grid_free(&g), core_grid_free(&r);
+}
+
+static void test_pattern_as_regular_grid(void **state)
+{
+    long n = 0;
+    for (int c = 1; c <= CORE_LOD_MAX_LEVEL; c++)
+        for (int b = 1; b <= c; b++)
+            for (int a = 1; a <= b; a++) {
+                if (c > 12 && !((a == 1 || a % 7 == 0 || a == b) && (b == 1 || b % 5 == 0 || b == c))) continue;
+                check_moved_points((const int[3]){a, b, c}), n++;
+            }
+    static const int unsorted[][3] = {{3, 2, 1}, {64, 2, 7}, {9, 5, 5}, {40, 13, 33}};
+    for (size_t k = 0; k < sizeof unsorted / sizeof *unsorted; k++) check_moved_points(unsorted[k]), n++;
+    float3 pt[3];
+    assert_int_equal(core_grid_adaptive_points((const int[3]){1, 0, 1}, pt), -1);
+    assert_int_equal(core_grid_adaptive_points((const int[3]){1, 65, 1}, pt), -1);
+    assert_int_equal(core_grid_adaptive_points(NULL, pt), -1);
+    assert_int_equal(core_grid_adaptive_points((const int[3]){1, 1, 1}, NULL), -1);
+    print_message("%ld patterns drawn as the regular grid of moved points\n", n);
+}
+
 /* Bad levels are refused. */
 static void test_bad_levels(void **state)
 {
@@ -217,6 +270,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_levels),
         cmocka_unit_test(test_uniform_is_regular),
+        cmocka_unit_test(test_pattern_as_regular_grid),
         cmocka_unit_test(test_lod_order),
         cmocka_unit_test(test_cache),
         cmocka_unit_test(test_unsorted_patterns_tile),

@@ -45,6 +45,21 @@ static void test_regular(void **state)
     assert_int_equal(core_grid_regular_level(idx, 4, SIZE_MAX), 0);
     assert_int_equal(core_grid_regular_level(idx, 4, 7), 0);
     assert_int_equal(core_grid_regular_level(idx, 3, 6), 0);
+    /* core_grid_regular_level_mirrored: the same inputs give 0; the list mirrored is level 2 for it alone */
+    assert_int_equal(core_grid_regular_level_mirrored(idx, 4, 6), 0);
+    assert_int_equal(core_grid_regular_level_mirrored(NULL, 4, 6), 0);
+    assert_int_equal(core_grid_regular_level_mirrored(idx, SIZE_MAX, 6), 0);
+    assert_int_equal(core_grid_regular_level_mirrored(idx, 4, SIZE_MAX), 0);
+    for (int t = 0; t < 4; t++) {
+        const uint32_t k = idx[3 * t + 1];
+        idx[3 * t + 1] = idx[3 * t + 2], idx[3 * t + 2] = k;
+    }
+    assert_int_equal(core_grid_regular_level_mirrored(idx, 4, 6), 2);
+    assert_int_equal(core_grid_regular_level_mirrored(idx, 0, 6), 0);
+    assert_int_equal(core_grid_regular_level(idx, 4, 6), 0);
+    idx[11] ^= 1;
+    assert_int_equal(core_grid_regular_level_mirrored(idx, 4, 6), 0);
+    assert_int_equal(core_grid_regular(2, bary, idx), 6);
     idx[11] ^= 1;
     assert_int_equal(core_grid_regular_level(idx, 4, 6), 0);
 }
@@ -104,6 +119,14 @@ static void test_adaptive(void **state)
     }
     assert_int_equal(core_grid_adaptive(NULL, &g), -1);
     assert_int_equal(core_grid_adaptive((const int[3]){1, 2, 3}, NULL), -1);
+    /* core_grid_adaptive_points: the same bad levels and NULLs give -1 and write nothing */
+    float3 pts[10], canary = {-7.0f, -7.0f, -7.0f};   /* core_grid_points(3) */
+    for (size_t k = 0; k < sizeof pts / sizeof *pts; k++) pts[k] = canary;
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) assert_int_equal(core_grid_adaptive_points(bad[k], pts), -1);
+    assert_int_equal(core_grid_adaptive_points(NULL, pts), -1);
+    assert_int_equal(core_grid_adaptive_points((const int[3]){1, 2, 3}, NULL), -1);
+    for (size_t k = 0; k < sizeof pts / sizeof *pts; k++) assert_memory_equal(&pts[k], &canary, sizeof canary);
+    assert_int_equal(core_grid_adaptive_points((const int[3]){3, 1, 2}, pts), 3);
     int sorted[3] = {7, 7, 7}, perm[3] = {7, 7, 7};
     assert_false(core_lod_order(NULL, sorted, perm));
     assert_false(core_lod_order((const int[3]){3, 2, 1}, NULL, perm));
