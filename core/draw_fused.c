@@ -346,7 +346,7 @@ static void mark_buffers(is_device *dev)
  * the scene does not take it). */
 static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *cache, const uint32_t *list,
                             size_t n_prims, uint32_t first, uint32_t count, uint32_t per_piece, const cull_view *cv,
-                            uint32_t i0, uint32_t ni, int level)
+                            uint32_t i0, uint32_t ni, int level, bool mirrored)
 {
     fused_ctx *f = fused_record(dev, fp, cache, (size_t)count * fp->n_vert + 1, list, n_prims, first, count,
                                 per_piece, cv);
@@ -359,7 +359,7 @@ static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *
      * when the instance list is the regular grid of `level` over the instance's `count` vertices (fused_produce
      * puts kept instance k's vertices at k * count), it may set them up from the grid's rows */
     rs_source src = {(ni + per_piece - 1) / per_piece, (size_t)ni * n_prims, f->slot_verts, fused_produce, f, n_prims,
-                     (size_t)level};
+                     (size_t)level, mirrored};
     rs_state st = dev_rs_state(dev);
     rs_stats s = {0};
     dev->shaded += (uint64_t)ni * count;   /* the instances culled are taken off at the flush */
@@ -367,7 +367,8 @@ static is_result fused_pass(is_device *dev, const fetch_plan *fp, const float4 *
 }
 
 /* The fused draw of n_prims triangles per instance (see above); list = instance 0's index list, compared once
- * per draw with the regular grid's (core_grid_regular_level: 0 when it is another list). */
+ * per draw with the regular grid's, as it is or mirrored (core_grid_regular_level and _mirrored: 0 when it is
+ * another list). */
 is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint32_t first, uint32_t count,
                      const uint32_t *list)
 {
@@ -381,11 +382,12 @@ is_result draw_fused(is_device *dev, const fetch_plan *fp, size_t n_prims, uint3
     cull_view cv = {0};
     cull_prepare(dev, fp, cache, list, n_prims, &cv);
     mark_buffers(dev);
-    const int level = core_grid_regular_level(list, n_prims, count);
+    int level = core_grid_regular_level(list, n_prims, count);
+    const bool mirrored = !level && (level = core_grid_regular_level_mirrored(list, n_prims, count)) > 0;
     is_result r = IS_OK;
     for (uint32_t i0 = 0; r == IS_OK && i0 < n_inst; i0 += (uint32_t)per_pass)
         r = fused_pass(dev, fp, cache, list, n_prims, first, count, per_piece, &cv, i0,
-                       n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass, level);
+                       n_inst - i0 < per_pass ? n_inst - i0 : (uint32_t)per_pass, level, mirrored);
     return r;
 }
 

@@ -913,6 +913,7 @@ int rs_draw_source(rs_context *rs, const rs_state *st, rs_target *rt, const rs_s
     if (src->n_pieces == 0 || src->n_prims == 0) return RS_OK;
     rs_job j;
     make_job(&j, rs, st, rt, RS_PRIM_TRIANGLES, NULL, NULL);
+    j.grid_mirrored = src->grid_level && src->grid_mirrored;
     int nt = thread_count(rs);
     const bool queued = scene_takes(rs, &j, src->n_pieces, src->n_prims);
     const size_t c0 = queued ? rs->q_chunks : 0;   /* not queued: the queue is empty */

@@ -362,6 +362,10 @@ typedef struct rs_source {
                              (r_k[i+1], r_k+1[i+1], r_k+1[i]) for i = 0..L-k-1.  The rasterizer may then set such
                              groups up from the vertex rows without reading their indices (the same bytes; a
                              piece that breaks the promise draws something else, never out of its vertices) */
+    bool grid_mirrored;   /* with grid_level: the promise is of that list mirrored, each triangle's second and third
+                             index swapped (core_grid_regular_level_mirrored): the same triangles wound the other
+                             way, so the row set-up culls the other sign (a triangle's vertices end up in the same
+                             clockwise order either way) */
 } rs_source;
 /* The largest rs_source.grid_level (core_grid_regular's limit). */
 #define RS_GRID_MAX_LEVEL 16384

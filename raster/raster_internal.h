@@ -106,6 +106,7 @@ typedef struct rs_job {
     bool ext;                   /* a state of pixel.c is on (rs_state_ext): the reference walk's rs_frag_ext */
     unsigned clip_mask;         /* the clip planes that clip (rs_outcode's bits): near, far, guard band and the
                                    enabled user planes; the guard band alone with CLIPPING FALSE */
+    bool grid_mirrored;         /* rs_source.grid_mirrored of a grid source: the row set-up culls the other sign */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 

@@ -723,16 +723,17 @@ typedef struct grid_consts {
     __m256i cull_sign;                    /* -1: negative areas are culled (CCW), 1: positive ones (CW), 0: none */
 } grid_consts;
 
-/* grid_consts of job j (box_consts_of asserts tri_box's ranges). */
+/* grid_consts of job j (box_consts_of asserts tri_box's ranges).  The rows' triangles are the regular list's; a
+ * mirrored source's list winds each the other way, so its areas have the other sign: its cull sign is negated. */
 static grid_consts grid_consts_of(const rs_job *j)
 {
     (void)box_consts_of(j);
     const int32_t cx = (int32_t)j->cx, cy = (int32_t)j->cy;
+    const int32_t cull = j->st->cull_mode == RS_CULL_CCW ? -1 : j->st->cull_mode == RS_CULL_CW;
     return (grid_consts){ _mm256_set1_epi32(cx - j->omax), _mm256_set1_epi32(cy - j->omax),
                           _mm256_set1_epi32(cx + j->omax), _mm256_set1_epi32(cy + j->omax),
                           _mm256_set1_epi32(j->sx0), _mm256_set1_epi32(j->sy0), _mm256_set1_epi32(j->sx1 - 1),
-                          _mm256_set1_epi32(j->sy1 - 1),
-                          _mm256_set1_epi32(j->st->cull_mode == RS_CULL_CCW ? -1 : j->st->cull_mode == RS_CULL_CW) };
+                          _mm256_set1_epi32(j->sy1 - 1), _mm256_set1_epi32(j->grid_mirrored ? -cull : cull) };
 }
 
 /* tri_box's pixel range of coordinates [mn, mx] (offsets o0, o1) clamped to [lo, hi]: ceil((mn + o0) / 256) and

@@ -6,8 +6,10 @@
  * mode) or a row collapsed onto the one below (degenerate triangles), a few pieces needing clipping -- under random
  * states must give the reference path's bytes and counters with the grid level told, untold and on the reference
  * path, 1 and 2 threads, scene on and off, every instruction set the CPU has; and the row path must be taken (the
- * chunks' grid_groups count).  core_grid_regular_level, which the device asks once per draw, must tell the regular
- * list from others.  Deterministic: fixed seeds. */
+ * chunks' grid_groups count).  The same frames with every index list mirrored (each triangle's second and third
+ * index swapped, rs_source.grid_mirrored: the adaptive buckets' odd ranges) too.  core_grid_regular_level and
+ * core_grid_regular_level_mirrored, which the device asks once per draw, must tell the regular list and its mirror
+ * from others.  Deterministic: fixed seeds. */
 #include <fenv.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -33,6 +35,7 @@ typedef struct draw_def {
     size_t points, prims;           /* per instance */
     rs_vertex *v[PIECES];           /* INST * points each */
     uint32_t *idx;                  /* INST instances: core_grid_regular's list moved by k * points */
+    uint32_t *idx_m;                /* the same mirrored: each triangle's second and third index swapped */
 } draw_def;
 typedef struct frame { draw_def d[DRAWS]; } frame;
 
@@ -43,6 +46,15 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     (void)slot;
     *verts = d->v[piece], *n_verts = (size_t)d->inst * d->points, *idx = d->idx;
     return (size_t)d->inst * d->prims - d->cut;
+}
+
+/* rs_produce_fn: piece p of draw d with its mirrored list. */
+static size_t produce_mirrored(void *ctx, size_t piece, int slot, rs_vertex **verts, size_t *n_verts,
+                               const uint32_t **idx)
+{
+    const size_t n = produce(ctx, piece, slot, verts, n_verts, idx);
+    *idx = ((const draw_def *)ctx)->idx_m;
+    return n;
 }
 
 /* Random states on the fast path: cull, depth function and writes, depth bias, blending, scissor, viewport
@@ -106,6 +118,10 @@ static void make_draw(uint64_t *s, draw_def *d, int L, float rlo, float rhi)
     d->st = random_state(s);
     d->level = L, d->inst = INST, d->cut = 0, d->points = core_grid_points(L), d->prims = core_grid_triangles(L);
     d->idx = test_grid_instances(L, INST);
+    d->idx_m = malloc(3 * INST * d->prims * sizeof *d->idx_m);
+    assert_non_null(d->idx_m);
+    for (size_t t = 0; t < INST * d->prims; t++)
+        d->idx_m[3 * t] = d->idx[3 * t], d->idx_m[3 * t + 1] = d->idx[3 * t + 2], d->idx_m[3 * t + 2] = d->idx[3 * t + 1];
     for (int p = 0; p < PIECES; p++) {
         d->v[p] = malloc(INST * d->points * sizeof *d->v[p]);
         assert_non_null(d->v[p]);
@@ -117,7 +133,7 @@ static void make_draw(uint64_t *s, draw_def *d, int L, float rlo, float rhi)
 static void free_frame(frame *f)
 {
     for (int d = 0; d < DRAWS; d++) {
-        free(f->d[d].idx);
+        free(f->d[d].idx), free(f->d[d].idx_m);
         for (int p = 0; p < PIECES; p++) free(f->d[d].v[p]);
     }
 }
@@ -143,8 +159,8 @@ typedef struct result {
     uint64_t grid_direct;           /* the row path's triangles rs_tri_run took straight to span.c's small walks */
 } result;
 
-/* How a frame is drawn: scene on, reference path, threads, instruction set, grid level told. */
-typedef struct how { bool scene, reference; int threads, isa; bool tell; } how;
+/* How a frame is drawn: scene on, reference path, threads, instruction set, grid level told, lists mirrored. */
+typedef struct how { bool scene, reference; int threads, isa; bool tell, mirror; } how;
 
 /* The row path's grid groups of the last draw's chunks on rs (rs_draw_source without the scene). */
 static uint64_t grid_groups(const rs_context *rs, size_t n_pieces)
@@ -180,8 +196,9 @@ static void draw_frame(const frame *f, how h, result *out)
     for (int d = 0; d < DRAWS; d++) {
         const draw_def *dd = &f->d[d];
         rs_source src = {.n_pieces = PIECES, .n_prims = PIECES * INST * dd->prims, .max_verts = INST * dd->points,
-                         .produce = produce, .ctx = (void *)dd, .group_prims = dd->prims,
-                         .grid_level = h.tell ? (size_t)dd->level : 0};
+                         .produce = h.mirror ? produce_mirrored : produce, .ctx = (void *)dd,
+                         .group_prims = dd->prims, .grid_level = h.tell ? (size_t)dd->level : 0,
+                         .grid_mirrored = h.tell && h.mirror};
         assert_int_equal(rs_draw_source(rs, &dd->st, &rt, &src, &s), RS_OK);
         test_rs_stats_add(&out->sum, &s);
         if (!h.scene) out->grid_groups += grid_groups(rs, PIECES), out->grid_direct += grid_direct(rs, PIECES);
@@ -205,20 +222,20 @@ static void test_grid_same_bytes(void **state)
     assert_true(f && ref && r);
     for (uint64_t seed = 1; seed <= 3; seed++) {
         make_frame(f, 0x2545f4914f6cdd1dull * seed);
-        draw_frame(f, (how){ false, true, 1, RS_ISA_AVX2, false }, ref);
+        draw_frame(f, (how){ false, true, 1, RS_ISA_AVX2, false, false }, ref);
         assert_true(ref->sum.samples_written > 0 && ref->sum.prims_culled > 0 && ref->sum.prims_degenerate > 0);
         for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
             if (!rs_isa_supported(isa)) continue;
             for (int threads = 1; threads <= 2; threads++) {
-                draw_frame(f, (how){ false, false, threads, isa, true }, r);
+                draw_frame(f, (how){ false, false, threads, isa, true, false }, r);
                 same(ref, r);
                 assert_true(r->grid_groups >= 20);   /* many instances: the row path */
                 assert_true(r->grid_groups < DRAWS * PIECES * INST);        /* the large ones: not */
                 /* most of the row path's triangles go straight to the small walks, not all (boxes over 8 wide) */
                 assert_true(r->grid_direct >= 1000 && r->grid_direct < r->sum.prims_drawn);
-                draw_frame(f, (how){ true, false, threads, isa, true }, r);
+                draw_frame(f, (how){ true, false, threads, isa, true, false }, r);
                 same(ref, r);
-                draw_frame(f, (how){ false, false, threads, isa, false }, r);
+                draw_frame(f, (how){ false, false, threads, isa, false, false }, r);
                 same(ref, r);
                 assert_int_equal(r->grid_groups, 0);
                 assert_int_equal(r->grid_direct, 0);
@@ -227,6 +244,35 @@ static void test_grid_same_bytes(void **state)
         free_frame(f);
     }
     free(f), free(ref), free(r);
+}
+
+/* The same with every list mirrored (rs_source.grid_mirrored): the reference path's bytes and counters of the
+ * mirrored lists -- under the random cull modes the other triangles are culled -- with the row path taken. */
+static void test_grid_mirrored_same_bytes(void **state)
+{
+    (void)state;
+    frame *f = calloc(1, sizeof *f);
+    result *ref = malloc(sizeof *ref), *r = malloc(sizeof *r), *plain = malloc(sizeof *plain);
+    assert_true(f && ref && r && plain);
+    for (uint64_t seed = 4; seed <= 5; seed++) {
+        make_frame(f, 0x2545f4914f6cdd1dull * seed);
+        draw_frame(f, (how){ false, true, 1, RS_ISA_AVX2, false, true }, ref);
+        draw_frame(f, (how){ false, true, 1, RS_ISA_AVX2, false, false }, plain);
+        assert_true(ref->sum.samples_written > 0 && ref->sum.prims_culled > 0);
+        assert_true(ref->sum.prims_culled != plain->sum.prims_culled);   /* the cull modes see the other winding */
+        for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
+            if (!rs_isa_supported(isa)) continue;
+            for (int threads = 1; threads <= 2; threads++) {
+                draw_frame(f, (how){ false, false, threads, isa, true, true }, r);
+                same(ref, r);
+                assert_true(r->grid_groups >= 20);
+                draw_frame(f, (how){ true, false, threads, isa, true, true }, r);
+                same(ref, r);
+            }
+        }
+        free_frame(f);
+    }
+    free(f), free(ref), free(r), free(plain);
 }
 
 /* Draw d (one group of level d->level, its points in d->v[0]) into a fresh W x H target on pass `pass` of the
@@ -364,8 +410,9 @@ static void test_grid_step_boxes(void **state)
     free(v), free(idx), free(bary), free(ref), free(r);
 }
 
-/* A grid level the source cannot hold is RS_EINVAL (group_prims not its square, past RS_GRID_MAX_LEVEL), and
- * core_grid_regular_level tells the regular list from lists that are not it: one triangle's vertices rotated (the
+/* A grid level the source cannot hold is RS_EINVAL (group_prims not its square, past RS_GRID_MAX_LEVEL);
+ * core_grid_regular_level_mirrored tells the mirrored list (and only it, with its point count, every triangle
+ * mirrored); and core_grid_regular_level tells the regular list from lists that are not it: one triangle's vertices rotated (the
  * same triangle), two triangles swapped, an adaptive pattern of unequal levels, a primitive-generator grid --
  * while the adaptive pattern of equal levels is the regular grid. */
 static void test_grid_level_checks(void **state)
@@ -374,10 +421,18 @@ static void test_grid_level_checks(void **state)
     enum { L = 5, P = (L + 1) * (L + 2) / 2 };
     rs_vertex v[P];
     memset(v, 0, sizeof v);
-    uint32_t idx[3 * L * L];
+    uint32_t idx[3 * L * L], t0;
     float3 bary[P];
     assert_int_equal(core_grid_regular(L, bary, idx), P);
     assert_int_equal(core_grid_regular_level(idx, L * L, P), L);
+    assert_int_equal(core_grid_regular_level_mirrored(idx, L * L, P), 0);
+    uint32_t mir[3 * L * L];
+    for (int k = 0; k < L * L; k++) mir[3 * k] = idx[3 * k], mir[3 * k + 1] = idx[3 * k + 2], mir[3 * k + 2] = idx[3 * k + 1];
+    assert_int_equal(core_grid_regular_level_mirrored(mir, L * L, P), L);
+    assert_int_equal(core_grid_regular_level(mir, L * L, P), 0);
+    assert_int_equal(core_grid_regular_level_mirrored(mir, L * L, P + 1), 0);   /* not its point count */
+    t0 = mir[3 * (L * L - 1) + 1], mir[3 * (L * L - 1) + 1] = mir[3 * (L * L - 1) + 2], mir[3 * (L * L - 1) + 2] = t0;
+    assert_int_equal(core_grid_regular_level_mirrored(mir, L * L, P), 0);      /* its last triangle unmirrored */
     draw_def d = { .level = L, .inst = 1, .points = P, .prims = L * L, .v = { v }, .idx = idx };
     d.st = (rs_state){.cull_mode = RS_CULL_NONE, .fill_mode = RS_FILL_SOLID, .shade_mode = RS_SHADE_GOURAUD,
                       .z_enable = true, .z_write = true, .z_func = RS_CMP_LESSEQUAL, .src_blend = RS_BLEND_ONE,
@@ -420,6 +475,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_grid_same_bytes),
+        cmocka_unit_test(test_grid_mirrored_same_bytes),
         cmocka_unit_test(test_grid_over_tiles),
         cmocka_unit_test(test_grid_step_boxes),
         cmocka_unit_test(test_grid_level_checks),
