@@ -86,11 +86,14 @@ void tess_adaptive_free(tess_adaptive *a)
 _Static_assert((CORE_LOD_MAX_LEVEL + 1) * (CORE_LOD_MAX_LEVEL + 2) / 2 <= 65536, "pattern indices beyond 16 bits");
 
 /* Patterns' points and indices gathered on the host before the buffers are created, sized once per bind from an
- * upper bound (a pattern of largest level M has at most the regular level-M grid's points and triangles). */
+ * upper bound (a pattern of largest level M takes the regular level-M grid's points and triangles); a scratch for
+ * core_grid_regular's output at the largest level. */
 typedef struct pattern_pool {
     float3 *pts;
     uint16_t *idx;
     size_t n_pts, n_idx, cap_pts, cap_idx;
+    float3 *grid_pts;
+    uint32_t *grid_idx;
 } pattern_pool;
 
 /* Bucket keys: ((s0 - 1) * L + s1 - 1) * L + s2 - 1, then the parity, below 2^KEY_BITS (L = CORE_LOD_MAX_LEVEL). */
@@ -98,22 +101,27 @@ enum { KEY_BITS = 19, RADIX_BITS = 10 };
 _Static_assert((uint64_t)CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL * 2 <= (1u << KEY_BITS) &&
                KEY_BITS <= 2 * RADIX_BITS, "bucket keys beyond two radix passes");
 
-/* Append pattern g (its triangles, then the same with indices 1 and 2 swapped) to the pool; bucket b gets its base
- * vertex, point count, start index (of the unflipped range) and triangle count.  False (nothing written) when the
- * pool's room, reserved from pool_bounds, would not hold it. */
-static bool pool_add(pattern_pool *pool, const core_grid *g, tess_bucket *b)
+/* Append the pattern of bucket b's levels as the regular grid of its largest level M (core_grid_adaptive_points'
+ * points; core_grid_regular(M)'s triangles, then the same with indices 1 and 2 swapped) to the pool; b gets its
+ * base vertex, point count, start index (of the unflipped range) and triangle count.  False (nothing written)
+ * when the pool's room, reserved from pool_bounds, would not hold it. */
+static bool pool_add(pattern_pool *pool, tess_bucket *b)
 {
-    if (g->n_points > pool->cap_pts - pool->n_pts || g->n_triangles > (pool->cap_idx - pool->n_idx) / 6) return false;
-    b->base_vertex = (int)pool->n_pts, b->n_points = (unsigned)g->n_points;
-    b->start_index = (unsigned)pool->n_idx, b->n_prims = (unsigned)g->n_triangles;
-    memcpy(pool->pts + pool->n_pts, g->bary, g->n_points * sizeof(float3));
-    uint16_t *d = pool->idx + pool->n_idx, *f = d + 3 * g->n_triangles;
-    const uint32_t *s = g->idx;
-    for (size_t t = 0; t < 3 * g->n_triangles; t += 3) {
+    const int M = b->level[2];   /* the largest: the levels are sorted */
+    const size_t np = core_grid_points(M), nt = core_grid_triangles(M);
+    if (np > pool->cap_pts - pool->n_pts || nt > (pool->cap_idx - pool->n_idx) / 6) return false;
+    if (core_grid_adaptive_points(b->level, pool->pts + pool->n_pts) != M ||
+        core_grid_regular(M, pool->grid_pts, pool->grid_idx) != np)
+        return false;
+    b->base_vertex = (int)pool->n_pts, b->n_points = (unsigned)np;
+    b->start_index = (unsigned)pool->n_idx, b->n_prims = (unsigned)nt;
+    uint16_t *d = pool->idx + pool->n_idx, *f = d + 3 * nt;
+    const uint32_t *s = pool->grid_idx;
+    for (size_t t = 0; t < 3 * nt; t += 3) {
         d[t] = (uint16_t)s[t], d[t + 1] = (uint16_t)s[t + 1], d[t + 2] = (uint16_t)s[t + 2];
         f[t] = (uint16_t)s[t], f[t + 1] = (uint16_t)s[t + 2], f[t + 2] = (uint16_t)s[t + 1];
     }
-    pool->n_pts += g->n_points, pool->n_idx += 6 * g->n_triangles;
+    pool->n_pts += np, pool->n_idx += 6 * nt;
     return true;
 }
 
@@ -186,16 +194,17 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
         if (pk != pattern_key) {
             const core_grid *g = core_pattern_get(cache, b->level[0], b->level[1], b->level[2]);
             if (!g) return IS_ERR_OUTOFMEMORY;
-            if (!pool_add(pool, g, b)) return IS_ERR_INVALIDCALL;   /* a pattern beyond its bound: never */
+            if (!pool_add(pool, b)) return IS_ERR_INVALIDCALL;   /* a pattern beyond its bound: never */
+            b->n_tessellated = (unsigned)g->n_triangles;
             pattern_key = pk, a->n_patterns++;
         } else {
             b->base_vertex = last.base_vertex, b->n_points = last.n_points;
-            b->start_index = last.start_index, b->n_prims = last.n_prims;
+            b->start_index = last.start_index, b->n_prims = last.n_prims, b->n_tessellated = last.n_tessellated;
         }
         last = *b;
     }
     for (size_t k = 0; k < a->n_buckets; k++) {
-        a->n_triangles += (size_t)a->buckets[k].count * a->buckets[k].n_prims;
+        a->n_triangles += (size_t)a->buckets[k].count * a->buckets[k].n_tessellated;
         if (a->buckets[k].odd) a->buckets[k].start_index += 3 * a->buckets[k].n_prims;
     }
     return IS_OK;
@@ -234,12 +243,14 @@ static is_result bind_sorted(is_device *dev, const is_mesh *m, const uint64_t *k
     const size_t n = m->n_triangles;
     size_t nb, np, ni;
     pool_bounds(keys, n, &nb, &np, &ni);
-    pattern_pool pool = {malloc(np * sizeof *pool.pts), malloc(ni * sizeof *pool.idx), 0, 0, np, ni};
+    pattern_pool pool = {malloc(np * sizeof *pool.pts), malloc(ni * sizeof *pool.idx), 0, 0, np, ni,
+                         malloc(core_grid_points(CORE_LOD_MAX_LEVEL) * sizeof(float3)),
+                         malloc(3 * core_grid_triangles(CORE_LOD_MAX_LEVEL) * sizeof(uint32_t))};
     a->buckets = malloc(nb * sizeof *a->buckets);
-    is_result r = pool.pts && pool.idx && a->buckets ? IS_OK : IS_ERR_OUTOFMEMORY;
+    is_result r = pool.pts && pool.idx && pool.grid_pts && pool.grid_idx && a->buckets ? IS_OK : IS_ERR_OUTOFMEMORY;
     if (r == IS_OK) r = make_buckets(keys, n, tperm, cache, a, &pool);
     if (r == IS_OK) r = upload_adaptive(dev, m, &pool, a);
-    free(pool.pts), free(pool.idx);
+    free(pool.pts), free(pool.idx), free(pool.grid_pts), free(pool.grid_idx);
     return r;
 }
 

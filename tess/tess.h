@@ -115,15 +115,19 @@ typedef struct tess_bucket {
     bool odd;                   /* instances renumbered by an odd permutation: the flipped index range */
     unsigned first, count;      /* its instances in stream 1 (and 2) */
     int base_vertex;            /* the pattern's points in stream 0 (BaseVertexIndex) */
-    unsigned n_points, start_index, n_prims;
+    unsigned n_points, start_index, n_prims;   /* the regular grid of level[2] drawn: its points and triangles */
+    unsigned n_tessellated;     /* the pattern's own triangles: n_prims less the merged ones (zero area) */
 } tess_bucket;
-/* The buffers of an adaptive draw: every pattern in use in stream 0 (16-bit indices local to the pattern, each
- * pattern's triangles then the same with two indices swapped), the instances renumbered (core_lod_order) and
- * sorted by bucket in stream 1. */
+/* The buffers of an adaptive draw: every pattern in use in stream 0 as the regular grid of its largest level whose
+ * edge points are moved where the pattern puts them (core_grid_adaptive_points: 16-bit indices local to the
+ * pattern, core_grid_regular's triangles then the same with two indices swapped; the triangles the pattern merges
+ * have zero area and draw nothing), the instances renumbered (core_lod_order) and sorted by bucket in stream 1.
+ * Every bucket's draw is then a regular grid (mirrored for the odd ones), which the device's rasterizer sets up from
+ * the grid's rows. */
 typedef struct tess_adaptive {
     tess_resources r;
     tess_bucket *buckets;
-    size_t n_buckets, n_patterns, n_triangles;  /* n_triangles: tessellated, over all buckets */
+    size_t n_buckets, n_patterns, n_triangles;  /* n_triangles: tessellated (n_tessellated), over all buckets */
     uint32_t *tri;              /* per instance: the mesh triangle */
     uint8_t (*perm)[3];         /* per instance: the renumbering */
 } tess_adaptive;

@@ -1,7 +1,9 @@
 /* tests/test_adaptive_bind.c -- tess_bind_adaptive's buckets and buffers against their definition, written out
  * here the plain way: each triangle's key (core_lod_order's sorted levels and parity), the triangles sorted by
- * (key, triangle) with qsort, one bucket per key, each distinct pattern's points then its triangles then the same
- * with indices 1 and 2 swapped, 16-bit, and the instances renumbered in bucket order.  The bind sorts by radix
+ * (key, triangle) with qsort, one bucket per key, each distinct pattern as the regular grid of its largest level M
+ * -- each grid point moved to the pattern's point it snaps to (an edge point to the nearest of its edge's points,
+ * ties to the farther one, found among the pattern's points), then the regular grid's triangles, then the same
+ * with indices 1 and 2 swapped, 16-bit -- and the instances renumbered in bucket order.  The bind sorts by radix
  * passes and sizes its pool from upper bounds (tess/instancing.c); the buckets, the renumbering, stream 0, the
  * index buffer and stream 1 must be the same bytes, for edge levels drawn at random from narrow and wide ranges
  * (up to CORE_LOD_MAX_LEVEL, so keys use every radix digit), a single level, and one triangle. */
@@ -11,6 +13,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,21 +46,58 @@ static int cmp_u64(const void *x, const void *y)
     return a < b ? -1 : a > b;
 }
 
-/* Append pattern g's points and indices (straight, then 1 and 2 swapped) to r; its bucket fields into b. */
-static void ref_pattern(ref_bind *r, const core_grid *g, tess_bucket *b)
+/* Where grid point (i, j) of level M goes in pattern g of edge levels l: an interior point stays (it is one of g's
+ * points); a point on edge e (from v_e to v_(e+1)), s of M segments from v_e, goes to the point of g on that edge
+ * whose k of l[e] segments is nearest s / M, the farther one on a tie. */
+static float3 ref_moved(const core_grid *g, const int l[3], int M, int i, int j)
 {
-    r->pts = realloc(r->pts, (r->n_pts + g->n_points) * sizeof *r->pts);
-    r->idx = realloc(r->idx, (r->n_idx + 6 * g->n_triangles) * sizeof *r->idx);
-    assert_true(r->pts && r->idx);
-    b->base_vertex = (int)r->n_pts, b->n_points = (unsigned)g->n_points;
-    b->start_index = (unsigned)r->n_idx, b->n_prims = (unsigned)g->n_triangles;
-    memcpy(r->pts + r->n_pts, g->bary, g->n_points * sizeof *r->pts);
-    for (size_t k = 0; k < 3 * g->n_triangles; k++) r->idx[r->n_idx + k] = (uint16_t)g->idx[k];
-    for (size_t t = 0; t < g->n_triangles; t++) {
-        uint16_t *f = &r->idx[r->n_idx + 3 * g->n_triangles + 3 * t];
-        f[0] = (uint16_t)g->idx[3 * t], f[1] = (uint16_t)g->idx[3 * t + 2], f[2] = (uint16_t)g->idx[3 * t + 1];
+    const int e = j == 0 && i < M ? 0 : i + j == M && j < M ? 1 : i == 0 ? 2 : -1;
+    const int s = e == 0 ? i : e == 1 ? j : M - j;
+    const float3 r = {(float)(M - i - j) / (float)M, (float)i / (float)M, (float)j / (float)M};
+    long best = -1, bd = 0, bk = 0;
+    for (size_t q = 0; q < g->n_points; q++) {
+        const float *c = &g->bary[q].x;
+        if (e < 0) {
+            if (!memcmp(&g->bary[q], &r, sizeof r)) return g->bary[q];
+            continue;
+        }
+        if (c[(e + 2) % 3] != 0.0f) continue;   /* not on edge e */
+        const long k = lrintf(c[(e + 1) % 3] * (float)l[e]), d = labs(k * M - (long)s * l[e]);
+        if (best < 0 || d < bd || (d == bd && k > bk)) best = (long)q, bd = d, bk = k;
     }
-    r->n_pts += g->n_points, r->n_idx += 6 * g->n_triangles;
+    assert_true(best >= 0);
+    return g->bary[best];
+}
+
+/* Append pattern g of levels l (sorted) as the regular grid of level l[2] -- its points moved (ref_moved), its
+ * triangles straight, then with indices 1 and 2 swapped -- to r; its bucket fields into b. */
+static void ref_pattern(ref_bind *r, const core_grid *g, const int l[3], tess_bucket *b)
+{
+    const int M = l[2];
+    const size_t np = (size_t)(M + 1) * (size_t)(M + 2) / 2, nt = (size_t)M * (size_t)M;
+    r->pts = realloc(r->pts, (r->n_pts + np) * sizeof *r->pts);
+    r->idx = realloc(r->idx, (r->n_idx + 6 * nt) * sizeof *r->idx);
+    assert_true(r->pts && r->idx);
+    b->base_vertex = (int)r->n_pts, b->n_points = (unsigned)np;
+    b->start_index = (unsigned)r->n_idx, b->n_prims = (unsigned)nt, b->n_tessellated = (unsigned)g->n_triangles;
+    for (int j = 0; j <= M; j++)
+        for (int i = 0; i + j <= M; i++) r->pts[r->n_pts + core_grid_index(M, i, j)] = ref_moved(g, l, M, i, j);
+    uint16_t *d = &r->idx[r->n_idx], *f = d + 3 * nt;
+    size_t t = 0;
+    for (int j = 0; j < M; j++)   /* row j's cells: the upright triangle, then the inverted one before the next */
+        for (int i = 0; i + j < M; i++) {
+            const uint16_t up[3] = {(uint16_t)core_grid_index(M, i, j), (uint16_t)core_grid_index(M, i + 1, j),
+                                    (uint16_t)core_grid_index(M, i, j + 1)};
+            const uint16_t dn[3] = {(uint16_t)core_grid_index(M, i + 1, j), (uint16_t)core_grid_index(M, i + 1, j + 1),
+                                    (uint16_t)core_grid_index(M, i, j + 1)};
+            for (int h = 0; h < (i + j + 1 < M ? 2 : 1); h++, t++) {
+                const uint16_t *v = h ? dn : up;
+                d[3 * t] = v[0], d[3 * t + 1] = v[1], d[3 * t + 2] = v[2];
+                f[3 * t] = v[0], f[3 * t + 1] = v[2], f[3 * t + 2] = v[1];
+            }
+        }
+    assert_int_equal(t, nt);
+    r->n_pts += np, r->n_idx += 6 * nt;
 }
 
 /* The definition for mesh m with levels e, patterns from cache. */
@@ -94,16 +134,16 @@ static void ref_build(const is_mesh *m, const tess_lod_edges *e, core_pattern_ca
                            .odd = keys[i] >> 32 & 1, .first = (unsigned)i, .count = 1};
         if (i > 0 && pk == keys[i - 1] >> 33) {   /* the same pattern in the other parity */
             b->base_vertex = b[-1].base_vertex, b->n_points = b[-1].n_points;
-            b->start_index = b[-1].start_index, b->n_prims = b[-1].n_prims;
+            b->start_index = b[-1].start_index, b->n_prims = b[-1].n_prims, b->n_tessellated = b[-1].n_tessellated;
             continue;
         }
         const core_grid *g = core_pattern_get(cache, b->level[0], b->level[1], b->level[2]);
         assert_non_null(g);
-        ref_pattern(r, g, b);
+        ref_pattern(r, g, b->level, b);
         r->n_patterns++;
     }
     for (size_t k = 0; k < r->n_buckets; k++) {
-        r->n_triangles += (size_t)r->b[k].count * r->b[k].n_prims;
+        r->n_triangles += (size_t)r->b[k].count * r->b[k].n_tessellated;
         if (r->b[k].odd) r->b[k].start_index += 3 * r->b[k].n_prims;
     }
     free(keys), free(tp), free(plain);
