@@ -1279,6 +1279,26 @@ typedef struct edges8 { __m256i a0, a1, a2, b0, b1, b2, c0, c1, c2; } edges8;
 /* The low 32 bits of the int64 lanes of e (the even lanes' values) and of o (the odd lanes'), as eight int32 lanes. */
 static inline __m256i lo32_pair(__m256i e, __m256i o) { return _mm256_blend_epi32(e, _mm256_slli_epi64(o, 32), 0xaa); }
 
+/* The coverage's edge vectors of step o alone (grid_edges8's *ev, nothing stored): per edge i -> k ea = -dy, eb = dx
+ * and ec's low 32 bits, ~(ea * x_i + eb * y_i) + 1 on a top-left edge, all modulo 2^32 (the same bits as edge8's
+ * int64 values' low halves). */
+static inline __attribute__((always_inline)) void grid_edge_vals8(const step8 *o, edges8 *ev)
+{
+    const __m256i zero = _mm256_setzero_si256(), ones = _mm256_set1_epi32(-1);
+    __m256i a[3], b[3], c[3];
+#pragma GCC unroll 3
+    for (int e = 0; e < 3; e++) {
+        const int k = e == 2 ? 0 : e + 1;
+        const __m256i dx = _mm256_sub_epi32(o->x[k], o->x[e]), dy = _mm256_sub_epi32(o->y[k], o->y[e]);
+        const __m256i tl = _mm256_or_si256(_mm256_cmpgt_epi32(zero, dy),
+                                           _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(dx, zero)));
+        a[e] = _mm256_sub_epi32(zero, dy), b[e] = dx;
+        const __m256i sv = _mm256_add_epi32(_mm256_mullo_epi32(a[e], o->x[e]), _mm256_mullo_epi32(dx, o->y[e]));
+        c[e] = _mm256_sub_epi32(_mm256_xor_si256(sv, ones), tl);
+    }
+    *ev = (edges8){ a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2] };
+}
+
 /* finish4_edges for the eight lanes of step o into the rs_tri of sp[0..8) (every lane: the stores of lanes not
  * drawn or not in the tile are not read), and the same edges as vectors into *ev (grid_cov8's). */
 static inline __attribute__((always_inline)) void grid_edges8(const step8 *o, rs_prim *sp, edges8 *ev)
@@ -1471,8 +1491,6 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
             if (!m) continue;
             _mm256_store_si256((__m256i *)rs.cb[0], cx0), _mm256_store_si256((__m256i *)rs.cb[1], cy0);
             _mm256_store_si256((__m256i *)rs.cb[2], cx1), _mm256_store_si256((__m256i *)rs.cb[3], cy1);
-            edges8 ev;
-            grid_edges8(&o, sp, &ev);
             /* coef_small per lane: the edges' ea, eb are the vertices' differences, all within 2^13 when the
              * vertices' spans in x and in y are */
             const __m256i spx = _mm256_sub_epi32(_mm256_max_epi32(_mm256_max_epi32(o.x[0], o.x[1]), o.x[2]),
@@ -1490,6 +1508,11 @@ static void grid_tile(const rs_job *j, rs_tile *t, const rs_chunk *c, const rs_p
                                               _mm256_cmpgt_epi32(eight, _mm256_sub_epi32(cy1, cy0)))))
                                         : _mm256_setzero_si256();
             unsigned stamp = mask8(sv);
+            /* the edges: stored into the scratch's rs_tri for the walks that read them; a step whose live lanes are
+             * all stamp lanes needs them only as the coverage's vectors, its stamp passes read the planes alone */
+            edges8 ev;
+            if (m & ~stamp) grid_edges8(&o, sp, &ev);
+            else grid_edge_vals8(&o, &ev);
             if (stamp) {
                 const __m256i cov = grid_cov8(&ev, cx0, cy0, cx1, cy1, sv, vcx, vcy);
                 _mm256_store_si256((__m256i *)rs.covm, cov);
