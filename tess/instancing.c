@@ -186,7 +186,8 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
         const uint64_t key = keys[i] >> 32;
         if (i > 0 && key == keys[i - 1] >> 32) { a->buckets[a->n_buckets - 1].count++; continue; }
         tess_bucket *b = &a->buckets[a->n_buckets++];
-        *b = (tess_bucket){.odd = key & 1, .first = (unsigned)i, .count = 1};
+        memset(b, 0, sizeof *b);   /* (padding too: two binds of the same levels are the same bytes) */
+        b->odd = key & 1, b->first = (unsigned)i, b->count = 1;
         const uint64_t pk = key >> 1;
         b->level[0] = (int)(pk / (CORE_LOD_MAX_LEVEL * CORE_LOD_MAX_LEVEL)) + 1;
         b->level[1] = (int)(pk / CORE_LOD_MAX_LEVEL % CORE_LOD_MAX_LEVEL) + 1;

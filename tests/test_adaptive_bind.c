@@ -154,6 +154,20 @@ static void ref_free(ref_bind *r)
     free(r->b), free(r->tri), free(r->perm), free(r->pts), free(r->idx), free(r->inst);
 }
 
+/* Bucket a is b, field by field (not by memcmp: the bytes after `odd` are padding, whatever a copy leaves there). */
+static void same_bucket(const tess_bucket *a, const tess_bucket *b)
+{
+    assert_memory_equal(a->level, b->level, sizeof a->level);
+    assert_int_equal(a->odd, b->odd);
+    assert_int_equal(a->first, b->first);
+    assert_int_equal(a->count, b->count);
+    assert_int_equal(a->base_vertex, b->base_vertex);
+    assert_int_equal(a->n_points, b->n_points);
+    assert_int_equal(a->start_index, b->start_index);
+    assert_int_equal(a->n_prims, b->n_prims);
+    assert_int_equal(a->n_tessellated, b->n_tessellated);
+}
+
 /* Bind m with e's levels and compare everything with the definition. */
 static void check_bind(const is_mesh *m, tess_lod_edges *e)
 {
@@ -167,7 +181,7 @@ static void check_bind(const is_mesh *m, tess_lod_edges *e)
     assert_int_equal(a.n_buckets, r.n_buckets);
     assert_int_equal(a.n_patterns, r.n_patterns);
     assert_int_equal(a.n_triangles, r.n_triangles);
-    assert_memory_equal(a.buckets, r.b, r.n_buckets * sizeof *r.b);
+    for (size_t k = 0; k < r.n_buckets; k++) same_bucket(&a.buckets[k], &r.b[k]);
     assert_memory_equal(a.tri, r.tri, m->n_triangles * sizeof *r.tri);
     assert_memory_equal(a.perm, r.perm, m->n_triangles * sizeof *r.perm);
     assert_int_equal(vb_size(a.r.vb0), r.n_pts * sizeof *r.pts);
