@@ -102,21 +102,34 @@ static void check_tiling(const core_grid *g, const int l[3])
     free(de);
 }
 
-/* Every sorted triple up to 24, and every triple with its largest level in 25..64 and the others from a spread. */
-static void test_patterns_tile(void **state)
+/* fn on every sorted triple whose largest level is at most `all`, and on those with a larger largest level whose
+ * others come from a spread (1, multiples of 7 or equal to the next, and 1, multiples of 5 or equal to the
+ * largest); returns how many. */
+static long each_sorted_triple(int all, void (*fn)(const int l[3]))
 {
     long n = 0;
     for (int c = 1; c <= CORE_LOD_MAX_LEVEL; c++)
         for (int b = 1; b <= c; b++)
             for (int a = 1; a <= b; a++) {
-                if (c > 24 && !((a == 1 || a % 7 == 0 || a == b) && (b == 1 || b % 5 == 0 || b == c))) continue;
-                int l[3] = {a, b, c};
-                core_grid g;
-                assert_int_equal(core_grid_adaptive(l, &g), 0);
-                check_tiling(&g, l);
-                core_grid_free(&g);
-                n++;
+                if (c > all && !((a == 1 || a % 7 == 0 || a == b) && (b == 1 || b % 5 == 0 || b == c))) continue;
+                fn((const int[3]){a, b, c}), n++;
             }
+    return n;
+}
+
+/* The pattern of levels l tiles its triangle (check_tiling). */
+static void check_pattern_tiles(const int l[3])
+{
+    core_grid g;
+    assert_int_equal(core_grid_adaptive(l, &g), 0);
+    check_tiling(&g, l);
+    core_grid_free(&g);
+}
+
+/* Every sorted triple up to 24, and every triple with its largest level in 25..64 and the others from a spread. */
+static void test_patterns_tile(void **state)
+{
+    const long n = each_sorted_triple(24, check_pattern_tiles);
     print_message("%ld sorted patterns tile the triangle\n", n);
     assert_true(n > 2600);
 }
@@ -186,13 +199,7 @@ static void check_moved_points(const int l[3])
 
 static void test_pattern_as_regular_grid(void **state)
 {
-    long n = 0;
-    for (int c = 1; c <= CORE_LOD_MAX_LEVEL; c++)
-        for (int b = 1; b <= c; b++)
-            for (int a = 1; a <= b; a++) {
-                if (c > 12 && !((a == 1 || a % 7 == 0 || a == b) && (b == 1 || b % 5 == 0 || b == c))) continue;
-                check_moved_points((const int[3]){a, b, c}), n++;
-            }
+    long n = each_sorted_triple(12, check_moved_points);
     static const int unsorted[][3] = {{3, 2, 1}, {64, 2, 7}, {9, 5, 5}, {40, 13, 33}};
     for (size_t k = 0; k < sizeof unsorted / sizeof *unsorted; k++) check_moved_points(unsorted[k]), n++;
     float3 pt[3];
