@@ -7,8 +7,9 @@
  *
  * A frame (each ending with the present, dev_present): uniform -- Clear + one instanced DrawIndexedPrimitive
  * (buffers bound once); adaptive -- the per-edge
- * levels for the camera, the buckets and their buffers (tess_bind_adaptive, patterns from a cache kept across
- * frames), Clear + one instanced draw per bucket: everything a view-dependent LOD pays per frame.
+ * levels for the camera, the buckets and their buffers (tess_rebind_adaptive, which rewrites the last frame's
+ * buffers and scratch, patterns from a cache kept across frames), Clear + one instanced draw per bucket: everything
+ * a view-dependent LOD pays per frame.
  * Deviation: both surfaces are piecewise linear over each mesh triangle's parameter domain (the vertices as the
  * patch shader computes them, projected to pixels); they are compared at the points of the level-2M grid (the
  * level-M vertices and the midpoints of their edges), each surface interpolated linearly in screen space inside
@@ -228,9 +229,8 @@ typedef struct d_adaptive {
 static is_result d_adaptive_frame(void *ctx)
 {
     d_adaptive *s = ctx;
-    tess_adaptive_free(&s->a);
     tess_lod_levels(&s->p, s->m, s->e, s->hist);
-    is_result r = tess_bind_adaptive(s->dev, s->m, s->e, s->cache, &s->a);
+    is_result r = tess_rebind_adaptive(s->dev, s->m, s->e, s->cache, &s->a);   /* (a's buffers kept) */
     if (r == IS_OK) r = dev_clear(s->dev, IS_CLEAR_TARGET | IS_CLEAR_ZBUFFER, IS_COLOR_ARGB(255, 46, 52, 64), 1.0f);
     for (size_t k = 0; k < s->a.n_buckets && r == IS_OK; k++) r = tess_draw_bucket(s->dev, &s->a, k);
     if (r == IS_OK && !dev_present(s->dev)) r = IS_ERR_INVALIDCALL;   /* the present: every pixel's colour written */

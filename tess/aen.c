@@ -62,6 +62,7 @@ static int permuted_adjacent_normals(const is_mesh *m, const tess_adaptive *a, f
 is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *m, tess_resources *r, const tess_adaptive *a)
 {
     if (!dev || !m || !r || !m->n_triangles) return IS_ERR_INVALIDCALL;
+    vb_release(r->vb2), r->vb2 = NULL;   /* (a second call: the first one's stream 2 replaced) */
     is_result e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(float3[3][2]), &r->vb2);
     if (e != IS_OK) return e;
     if (a ? permuted_adjacent_normals(m, a, vb_lock(r->vb2)) : tess_adjacent_normals(m, vb_lock(r->vb2))) return IS_ERR_OUTOFMEMORY;

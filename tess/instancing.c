@@ -73,12 +73,44 @@ void tess_permute_instance(const is_patch_instance *in, const uint8_t perm[3], i
     out->instance_id = in->instance_id;
 }
 
+/* What an adaptive bind keeps for the next (tess_rebind_adaptive): its host scratch and the device its buffers
+ * belong to, each array at the largest size a bind asked of it, so that a frame's rebind allocates nothing once the
+ * levels have settled (a fresh allocation per frame cost scene D's 8 px mode ~9 ms of a 27 ms frame in page faults
+ * of new memory, bench/README.md). */
+struct tess_adaptive_keep {
+    const is_device *dev;       /* a->r's buffers' device */
+    size_t n_tri;               /* room of keys (2 n_tri), tperm, inst, a->tri and a->perm */
+    uint64_t *keys;
+    uint8_t (*tperm)[3];
+    is_patch_instance *inst;
+    size_t n_buckets;           /* room of a->buckets */
+    float3 *pts, *grid_pts;     /* the pattern pool (room cap_pts) and core_grid_regular's scratch (the largest */
+    uint16_t *idx;              /* level's grid); (room cap_idx) */
+    uint32_t *grid_idx;
+    size_t cap_pts, cap_idx;
+};
+
 void tess_adaptive_free(tess_adaptive *a)
 {
     if (!a) return;
     tess_resources_free(&a->r);
     free(a->buckets), free(a->tri), free(a->perm);
+    tess_adaptive_keep *k = a->keep;
+    if (k) free(k->keys), free(k->tperm), free(k->inst), free(k->pts), free(k->grid_pts), free(k->idx), free(k->grid_idx);
+    free(k);
     memset(a, 0, sizeof *a);
+}
+
+/* *p with room for at least n elements of `size` bytes (*cap: its room, grown to n); false when out of memory (*p
+ * and *cap as they were).  The old contents are not kept. */
+static bool room(void **p, size_t *cap, size_t n, size_t size)
+{
+    if (n <= *cap && *p) return true;
+    if (n > SIZE_MAX / size) return false;
+    void *q = malloc(n * size);
+    if (!q) return false;
+    free(*p), *p = q, *cap = n;
+    return true;
 }
 
 /* Every pattern's points fit 16-bit indices (level 64: 2,145 points), so the pool holds them as the index buffer
@@ -211,47 +243,64 @@ static is_result make_buckets(const uint64_t *keys, size_t n, const uint8_t (*tp
     return IS_OK;
 }
 
-/* The pool and the sorted instances into device buffers, bound with Listing 1.1.2's declaration. */
+/* *vb holding at least `bytes` (created, or kept when large enough: its old bytes are rewritten by the caller) on
+ * dev.  IS_OK or dev_create_vertex_buffer's error (*vb then NULL). */
+static is_result vb_room(is_device *dev, size_t bytes, is_vertex_buffer **vb)
+{
+    if (*vb && vb_size(*vb) >= bytes) return IS_OK;
+    vb_release(*vb), *vb = NULL;
+    return dev_create_vertex_buffer(dev, bytes, vb);
+}
+
+/* The same for a 16-bit index buffer. */
+static is_result ib_room(is_device *dev, size_t bytes, is_index_buffer **ib)
+{
+    if (*ib && ib_size(*ib) >= bytes) return IS_OK;
+    ib_release(*ib), *ib = NULL;
+    return dev_create_index_buffer(dev, bytes, IS_FMT_INDEX16, ib);
+}
+
+/* The pool and the sorted instances into device buffers (a's, kept when large enough), bound with Listing 1.1.2's
+ * declaration (made again when PN-AEN's stream 2 replaced it: a rebind's instances are in a new order, so
+ * tess_bind_adjacent_normals must come again). */
 static is_result upload_adaptive(is_device *dev, const is_mesh *m, const pattern_pool *pool, tess_adaptive *a)
 {
     tess_resources *r = &a->r;
-    is_patch_instance *inst = malloc(m->n_triangles * sizeof *inst);
-    if (!inst) return IS_ERR_OUTOFMEMORY;
-    is_result e = dev_create_vertex_buffer(dev, pool->n_pts * sizeof(float3), &r->vb0);
-    if (e == IS_OK) e = dev_create_vertex_buffer(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
-    if (e == IS_OK) e = dev_create_index_buffer(dev, pool->n_idx * sizeof *pool->idx, IS_FMT_INDEX16, &r->ib);
-    if (e == IS_OK) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
-    if (e == IS_OK) {
-        memcpy(vb_lock(r->vb0), pool->pts, pool->n_pts * sizeof(float3));
-        memcpy(ib_lock(r->ib), pool->idx, pool->n_idx * sizeof *pool->idx);
-        ib_unlock(r->ib);
-        mesh_build_instances(m, inst);
-        is_patch_instance *out = vb_lock(r->vb1);
-        for (size_t i = 0; i < m->n_triangles; i++) tess_permute_instance(&inst[a->tri[i]], a->perm[i], &out[i]);
-        dev_set_vertex_declaration(dev, r->decl);
-        dev_set_stream_source(dev, 0, r->vb0, 0, sizeof(float3));
-        dev_set_indices(dev, r->ib);
-        dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
-    }
-    free(inst);
-    return e;
+    if (r->vb2) vb_release(r->vb2), decl_release(r->decl), r->vb2 = NULL, r->decl = NULL;
+    is_result e = vb_room(dev, pool->n_pts * sizeof(float3), &r->vb0);
+    if (e == IS_OK) e = vb_room(dev, m->n_triangles * sizeof(is_patch_instance), &r->vb1);
+    if (e == IS_OK) e = ib_room(dev, pool->n_idx * sizeof *pool->idx, &r->ib);
+    if (e == IS_OK && !r->decl) e = dev_create_vertex_declaration(dev, mesh_patch_declaration, &r->decl);
+    if (e != IS_OK) return e;
+    memcpy(vb_lock(r->vb0), pool->pts, pool->n_pts * sizeof(float3));
+    memcpy(ib_lock(r->ib), pool->idx, pool->n_idx * sizeof *pool->idx);
+    ib_unlock(r->ib);
+    is_patch_instance *inst = a->keep->inst;
+    mesh_build_instances(m, inst);
+    is_patch_instance *out = vb_lock(r->vb1);
+    for (size_t i = 0; i < m->n_triangles; i++) tess_permute_instance(&inst[a->tri[i]], a->perm[i], &out[i]);
+    dev_set_vertex_declaration(dev, r->decl);
+    dev_set_stream_source(dev, 0, r->vb0, 0, sizeof(float3));
+    dev_set_indices(dev, r->ib);
+    dev_set_stream_source_freq(dev, 1, IS_STREAMSOURCE_INSTANCEDATA | 1u);
+    return IS_OK;
 }
 
-/* Keys sorted in: the buckets, the pool and the buffers.  IS_OK or an error. */
+/* Keys sorted in: the buckets, the pool (a->keep's arrays, grown to its bounds) and the buffers.  IS_OK or an
+ * error. */
 static is_result bind_sorted(is_device *dev, const is_mesh *m, const uint64_t *keys, const uint8_t (*tperm)[3],
                              core_pattern_cache *cache, tess_adaptive *a)
 {
+    tess_adaptive_keep *k = a->keep;
     const size_t n = m->n_triangles;
     size_t nb, np, ni;
     pool_bounds(keys, n, &nb, &np, &ni);
-    pattern_pool pool = {malloc(np * sizeof *pool.pts), malloc(ni * sizeof *pool.idx), 0, 0, np, ni,
-                         malloc(core_grid_points(CORE_LOD_MAX_LEVEL) * sizeof(float3)),
-                         malloc(3 * core_grid_triangles(CORE_LOD_MAX_LEVEL) * sizeof(uint32_t))};
-    a->buckets = malloc(nb * sizeof *a->buckets);
-    is_result r = pool.pts && pool.idx && pool.grid_pts && pool.grid_idx && a->buckets ? IS_OK : IS_ERR_OUTOFMEMORY;
-    if (r == IS_OK) r = make_buckets(keys, n, tperm, cache, a, &pool);
+    if (!room((void **)&a->buckets, &k->n_buckets, nb, sizeof *a->buckets) ||
+        !room((void **)&k->pts, &k->cap_pts, np, sizeof *k->pts) || !room((void **)&k->idx, &k->cap_idx, ni, sizeof *k->idx))
+        return IS_ERR_OUTOFMEMORY;
+    pattern_pool pool = {k->pts, k->idx, 0, 0, k->cap_pts, k->cap_idx, k->grid_pts, k->grid_idx};
+    is_result r = make_buckets(keys, n, tperm, cache, a, &pool);
     if (r == IS_OK) r = upload_adaptive(dev, m, &pool, a);
-    free(pool.pts), free(pool.idx), free(pool.grid_pts), free(pool.grid_idx);
     return r;
 }
 
@@ -260,20 +309,34 @@ is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_ed
 {
     if (!a) return IS_ERR_INVALIDCALL;
     memset(a, 0, sizeof *a);
+    return tess_rebind_adaptive(dev, m, e, cache, a);
+}
+
+is_result tess_rebind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
+                               tess_adaptive *a)
+{
+    if (!a) return IS_ERR_INVALIDCALL;
+    a->n_buckets = a->n_patterns = a->n_triangles = 0;   /* (no draw of a failed rebind draws anything) */
     if (!dev || !m || !e || !cache || !m->n_triangles || e->n_edges == 0) return IS_ERR_INVALIDCALL;
     const size_t n = m->n_triangles;
     if (n > UINT32_MAX) return IS_ERR_INVALIDCALL;   /* triangles are 32-bit in the keys and in stream 1's counts */
-    uint64_t *keys = malloc(2 * n * sizeof *keys);
-    uint8_t (*tperm)[3] = malloc(n * sizeof *tperm);
-    a->tri = malloc(n * sizeof *a->tri), a->perm = malloc(n * sizeof *a->perm);
-    is_result r = keys && tperm && a->tri && a->perm ? IS_OK : IS_ERR_OUTOFMEMORY;
-    if (r == IS_OK) {
-        triangle_keys(m, e, keys, tperm);
-        sort_keys(keys, keys + n, n);
-        r = bind_sorted(dev, m, keys, (const uint8_t (*)[3])tperm, cache, a);
+    if (!a->keep && !(a->keep = calloc(1, sizeof *a->keep))) return IS_ERR_OUTOFMEMORY;
+    tess_adaptive_keep *k = a->keep;
+    if (!k->grid_pts) k->grid_pts = malloc(core_grid_points(CORE_LOD_MAX_LEVEL) * sizeof *k->grid_pts);
+    if (!k->grid_idx) k->grid_idx = malloc(3 * core_grid_triangles(CORE_LOD_MAX_LEVEL) * sizeof *k->grid_idx);
+    if (!k->grid_pts || !k->grid_idx) return IS_ERR_OUTOFMEMORY;
+    if (k->dev != dev) tess_resources_free(&a->r), k->dev = dev;   /* another device's buffers: made again */
+    if (n > k->n_tri) {   /* (all five arrays at once: n_tri is the room of each) */
+        free(k->keys), free(k->tperm), free(k->inst), free(a->tri), free(a->perm);
+        k->keys = malloc(2 * n * sizeof *k->keys), k->tperm = malloc(n * sizeof *k->tperm);
+        k->inst = malloc(n * sizeof *k->inst);
+        a->tri = malloc(n * sizeof *a->tri), a->perm = malloc(n * sizeof *a->perm);
+        k->n_tri = k->keys && k->tperm && k->inst && a->tri && a->perm ? n : 0;
+        if (!k->n_tri) return IS_ERR_OUTOFMEMORY;
     }
-    free(keys), free(tperm);
-    return r;
+    triangle_keys(m, e, k->keys, k->tperm);
+    sort_keys(k->keys, k->keys + n, n);
+    return bind_sorted(dev, m, k->keys, (const uint8_t (*)[3])k->tperm, cache, a);
 }
 
 is_result tess_draw_bucket(is_device *dev, const tess_adaptive *a, size_t k)

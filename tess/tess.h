@@ -130,12 +130,23 @@ typedef struct tess_adaptive {
     size_t n_buckets, n_patterns, n_triangles;  /* n_triangles: tessellated (n_tessellated), over all buckets */
     uint32_t *tri;              /* per instance: the mesh triangle */
     uint8_t (*perm)[3];         /* per instance: the renumbering */
+    struct tess_adaptive_keep *keep;   /* private: what a rebind reuses (host scratch, the buffers' device) */
 } tess_adaptive;
+typedef struct tess_adaptive_keep tess_adaptive_keep;
 INSTESS_API void tess_adaptive_free(tess_adaptive *a);
 /* Bucket m's triangles by the patterns of the levels in e, fill and bind the buffers (stream 0, 1, the index
- * buffer, Listing 1.1.2's declaration) in a; patterns from cache.  IS_OK or an error. */
+ * buffer, Listing 1.1.2's declaration) in a (whatever a held: it is overwritten, not freed); patterns from cache.
+ * IS_OK or an error; free a with tess_adaptive_free either way. */
 INSTESS_API is_result tess_bind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e, core_pattern_cache *cache,
                               tess_adaptive *a);
+/* The same for a bound before (by tess_bind_adaptive or tess_rebind_adaptive, or zeroed), as a view-dependent LOD
+ * does every frame: the new levels' buckets, written into a's buffers and host scratch when they are large enough
+ * (a's buffers grow when they are not; a frame of settled levels allocates nothing), and bound.  The same buckets
+ * and buffer contents as tess_bind_adaptive; buffers of another device than a's are made again on dev.  PN-AEN's
+ * stream 2 is dropped (the instances' order changed): call tess_bind_adjacent_normals again.  IS_OK or an error;
+ * after an error a draws nothing (n_buckets 0) and is still freed with tess_adaptive_free. */
+INSTESS_API is_result tess_rebind_adaptive(is_device *dev, const is_mesh *m, const tess_lod_edges *e,
+                                           core_pattern_cache *cache, tess_adaptive *a);
 /* PN-AEN's third stream: the neighbours' normals at each edge's ends (INSTANCEDATA | 1) and the declaration with
  * them, replacing r's; with a (an adaptive draw) in a's order and renumbering.  IS_OK or an error. */
 INSTESS_API is_result tess_bind_adjacent_normals(is_device *dev, const is_mesh *m, tess_resources *r, const tess_adaptive *a);

@@ -168,6 +168,25 @@ static void same_bucket(const tess_bucket *a, const tess_bucket *b)
     assert_int_equal(a->n_tessellated, b->n_tessellated);
 }
 
+/* a (bound for m) holds the definition r: buckets, renumbering, and the buffers' used bytes (exact: the buffers
+ * no larger; else at least as large, as a rebind keeps them). */
+static void same_bind(const tess_adaptive *a, const ref_bind *r, const is_mesh *m, bool exact)
+{
+    assert_int_equal(a->n_buckets, r->n_buckets);
+    assert_int_equal(a->n_patterns, r->n_patterns);
+    assert_int_equal(a->n_triangles, r->n_triangles);
+    for (size_t k = 0; k < r->n_buckets; k++) same_bucket(&a->buckets[k], &r->b[k]);
+    assert_memory_equal(a->tri, r->tri, m->n_triangles * sizeof *r->tri);
+    assert_memory_equal(a->perm, r->perm, m->n_triangles * sizeof *r->perm);
+    const size_t pts = r->n_pts * sizeof *r->pts, idx = r->n_idx * sizeof *r->idx, inst = m->n_triangles * sizeof *r->inst;
+    assert_true(exact ? vb_size(a->r.vb0) == pts : vb_size(a->r.vb0) >= pts);
+    assert_memory_equal(vb_lock(a->r.vb0), r->pts, pts);
+    assert_true(exact ? ib_size(a->r.ib) == idx : ib_size(a->r.ib) >= idx);
+    assert_memory_equal(ib_lock(a->r.ib), r->idx, idx);
+    assert_true(exact ? vb_size(a->r.vb1) == inst : vb_size(a->r.vb1) >= inst);
+    assert_memory_equal(vb_lock(a->r.vb1), r->inst, inst);
+}
+
 /* Bind m with e's levels and compare everything with the definition. */
 static void check_bind(const is_mesh *m, tess_lod_edges *e)
 {
@@ -178,18 +197,7 @@ static void check_bind(const is_mesh *m, tess_lod_edges *e)
     ref_build(m, e, cache, &r);
     tess_adaptive a;
     assert_int_equal(tess_bind_adaptive(dev, m, e, cache, &a), IS_OK);
-    assert_int_equal(a.n_buckets, r.n_buckets);
-    assert_int_equal(a.n_patterns, r.n_patterns);
-    assert_int_equal(a.n_triangles, r.n_triangles);
-    for (size_t k = 0; k < r.n_buckets; k++) same_bucket(&a.buckets[k], &r.b[k]);
-    assert_memory_equal(a.tri, r.tri, m->n_triangles * sizeof *r.tri);
-    assert_memory_equal(a.perm, r.perm, m->n_triangles * sizeof *r.perm);
-    assert_int_equal(vb_size(a.r.vb0), r.n_pts * sizeof *r.pts);
-    assert_memory_equal(vb_lock(a.r.vb0), r.pts, r.n_pts * sizeof *r.pts);
-    assert_int_equal(ib_size(a.r.ib), r.n_idx * sizeof *r.idx);
-    assert_memory_equal(ib_lock(a.r.ib), r.idx, r.n_idx * sizeof *r.idx);
-    assert_int_equal(vb_size(a.r.vb1), m->n_triangles * sizeof *r.inst);
-    assert_memory_equal(vb_lock(a.r.vb1), r.inst, m->n_triangles * sizeof *r.inst);
+    same_bind(&a, &r, m, true);
     tess_adaptive_free(&a);
     ref_free(&r);
     dev_destroy(dev);
@@ -247,11 +255,65 @@ static void test_bind_one_triangle(void **state)
     mesh_free(&m);
 }
 
+/* A view-dependent LOD's frames: one tess_adaptive rebound (tess_rebind_adaptive) with levels that grow, shrink
+ * and repeat -- each rebind the definition's bytes; a rebind whose buffers are large enough keeps them (the same
+ * handles: nothing allocated); one onto another device makes them there; one after PN-AEN's stream 2 drops it. */
+static void test_rebind_frames(void **state)
+{
+    (void)state;
+    is_mesh m;
+    tess_lod_edges e;
+    sphere(&m, &e, false);
+    core_pattern_cache *cache = core_pattern_cache_create(0);
+    is_device *dev = dev_create(8, 8, 1, NULL, 0), *other = dev_create(8, 8, 1, NULL, 0);
+    assert_true(cache && dev && other);
+    static const int ranges[][2] = {{1, 3}, {1, 16}, {5, 9}, {1, 3}, {1, CORE_LOD_MAX_LEVEL}, {7, 7}, {1, 16}};
+    tess_adaptive a = {0};
+    uint64_t s = 31;
+    for (size_t f = 0; f < 2 * sizeof ranges / sizeof *ranges; f++) {
+        const size_t k = f % (sizeof ranges / sizeof *ranges);
+        if (f == sizeof ranges / sizeof *ranges) s = 31;   /* the second round: the same levels again */
+        for (size_t q = 0; q < e.n_edges; q++) e.level[q] = (uint8_t)lcg_int(&s, ranges[k][0], ranges[k][1]);
+        ref_bind r;
+        ref_build(&m, &e, cache, &r);
+        const is_vertex_buffer *vb0 = a.r.vb0, *vb1 = a.r.vb1;
+        const is_index_buffer *ib = a.r.ib;
+        const bool fits = vb0 && vb_size(vb0) >= r.n_pts * sizeof *r.pts && ib_size(ib) >= r.n_idx * sizeof *r.idx;
+        assert_int_equal(tess_rebind_adaptive(dev, &m, &e, cache, &a), IS_OK);
+        same_bind(&a, &r, &m, f == 0);
+        if (fits) assert_true(a.r.vb0 == vb0 && a.r.ib == ib && a.r.vb1 == vb1);   /* kept */
+        if (k == 4) {   /* the largest levels: from now on every rebind fits */
+            assert_int_equal(tess_bind_adjacent_normals(dev, &m, &a.r, &a), IS_OK);
+            assert_non_null(a.r.vb2);
+        }
+        if (k == 5) assert_null(a.r.vb2);   /* dropped by the rebind after it */
+        ref_free(&r);
+    }
+    /* another device: its own buffers, the same bytes */
+    ref_bind r;
+    ref_build(&m, &e, cache, &r);
+    const is_vertex_buffer *vb0 = a.r.vb0;
+    assert_int_equal(tess_rebind_adaptive(other, &m, &e, cache, &a), IS_OK);
+    assert_true(a.r.vb0 != vb0);
+    same_bind(&a, &r, &m, true);
+    /* a failed rebind draws nothing and is still freed */
+    assert_int_equal(tess_rebind_adaptive(other, &m, NULL, cache, &a), IS_ERR_INVALIDCALL);
+    assert_int_equal(a.n_buckets, 0);
+    assert_int_equal(tess_draw_bucket(other, &a, 0), IS_ERR_INVALIDCALL);
+    ref_free(&r);
+    tess_adaptive_free(&a);
+    dev_destroy(other), dev_destroy(dev);
+    core_pattern_cache_destroy(cache);
+    tess_lod_edges_free(&e);
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bind_random_levels),
         cmocka_unit_test(test_bind_one_triangle),
+        cmocka_unit_test(test_rebind_frames),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

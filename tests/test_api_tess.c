@@ -81,6 +81,12 @@ static void test_null(void **state)
     assert_int_equal(tess_bind_adaptive(dev, &m, NULL, cache, &a), IS_ERR_INVALIDCALL);
     assert_int_equal(tess_bind_adaptive(dev, &m, &e, NULL, &a), IS_ERR_INVALIDCALL);
     assert_int_equal(tess_bind_adaptive(dev, &m, &e, cache, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(tess_rebind_adaptive(NULL, &m, &e, cache, &a), IS_ERR_INVALIDCALL);
+    assert_int_equal(tess_rebind_adaptive(dev, NULL, &e, cache, &a), IS_ERR_INVALIDCALL);
+    assert_int_equal(tess_rebind_adaptive(dev, &m, NULL, cache, &a), IS_ERR_INVALIDCALL);
+    assert_int_equal(tess_rebind_adaptive(dev, &m, &e, NULL, &a), IS_ERR_INVALIDCALL);
+    assert_int_equal(tess_rebind_adaptive(dev, &m, &e, cache, NULL), IS_ERR_INVALIDCALL);
+    assert_int_equal(a.n_buckets, 0);
     assert_int_equal(tess_bind_adjacent_normals(NULL, &m, &r, NULL), IS_ERR_INVALIDCALL);
     assert_int_equal(tess_bind_adjacent_normals(dev, NULL, &r, NULL), IS_ERR_INVALIDCALL);
     assert_int_equal(tess_bind_adjacent_normals(dev, &m, NULL, NULL), IS_ERR_INVALIDCALL);
