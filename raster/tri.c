@@ -3,7 +3,8 @@
  * the float depth plane, and perspective-correct shading once per pixel (at the pixel centre, D3D9 without
  * centroid sampling).  Shading and writes happen only for samples that pass the depth test.
  * This per-sample walk (tri_block, tri_pixel) is the reference: 1-sample targets off the reference path take
- * span.c's 8-lane walks instead, which write the same bytes.  A job with pixel.c's states (alpha test, stencil,
+ * span.c's 8-lane walks instead, and 4-sample targets in plain states (no blending, AOV planes or pixel.c state)
+ * tri_tile_msaa4, a pixel's four samples in lanes -- both write the same bytes.  A job with pixel.c's states (alpha test, stencil,
  * colour write mask...) takes tri_tile_ext, the same coverage and interpolation through rs_frag_ext; one with a
  * pixel shader takes tri_tile_quads, one shader call per 2x2 quad for all its covered pixels (tri_quad_ps), or per
  * pixel (tri_pixel_ps) where the quad would differ. */
@@ -342,6 +343,99 @@ static __attribute__((noinline)) void tri_tile_ext(const rs_job *j, rs_tile *t, 
         }
 }
 
+#ifdef __AVX2__
+#include <immintrin.h>
+
+/* The depth test rs_zpass(f, z, d) in four float lanes: its C comparisons as ordered, quiet compares (NaN: false,
+ * but != true), NEVER and ALWAYS as constants. */
+static inline __m128 zpass4(int f, __m128 z, __m128 d)
+{
+    switch (f) {
+    case RS_CMP_NEVER: return _mm_setzero_ps();
+    case RS_CMP_LESS: return _mm_cmp_ps(z, d, _CMP_LT_OQ);
+    case RS_CMP_EQUAL: return _mm_cmp_ps(z, d, _CMP_EQ_OQ);
+    case RS_CMP_LESSEQUAL: return _mm_cmp_ps(z, d, _CMP_LE_OQ);
+    case RS_CMP_GREATER: return _mm_cmp_ps(z, d, _CMP_GT_OQ);
+    case RS_CMP_NOTEQUAL: return _mm_cmp_ps(z, d, _CMP_NEQ_UQ);
+    case RS_CMP_GREATEREQUAL: return _mm_cmp_ps(z, d, _CMP_GE_OQ);
+    default: return _mm_castsi128_ps(_mm_set1_epi32(-1));
+    }
+}
+
+/* rs_zclamp in four lanes: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
+static inline __m128 zclamp4(__m128 z, __m128 lo, __m128 hi)
+{
+    const __m128 in_hi = _mm_blendv_ps(hi, z, _mm_cmp_ps(z, hi, _CMP_LE_OQ));
+    return _mm_blendv_ps(lo, in_hi, _mm_cmp_ps(z, lo, _CMP_GE_OQ));
+}
+
+/* The 4-sample walk (rs_msaa4_ok): tri_tile_ref's bytes and counters with a pixel's four samples in lanes -- its
+ * coverage from the int64 edge values at the centre plus each sample's offset (the same integers as coverage()),
+ * the four depths of the pixel as one load, rs_zclamp's and rs_zpass's float operations per lane in tri_pixel's
+ * order, the passing samples' depth and colour by masked stores -- pixel by pixel over the box in rows (a
+ * triangle's pixels are distinct: their order does not matter); the colour once per pixel as tri_pixel shades it.
+ * Plain states only: no blending, no AOV planes, no pixel.c state. */
+static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
+                                                     int x0, int y0, int x1, int y1)
+{
+    const rs_tri *tr = &p->u.t;
+    const rs_state *st = j->st;
+    const float k = 1.0f / RS_SUB;
+    __m256i eo[3];
+    int64_t sa[3];
+    for (int i = 0; i < 3; i++) {
+        int64_t o[4];
+        for (int s = 0; s < 4; s++) o[s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
+        eo[i] = _mm256_setr_epi64x(o[0], o[1], o[2], o[3]);
+        sa[i] = (int64_t)tr->ea[i] * RS_SUB;
+    }
+    const __m128 sxo = _mm_setr_ps((float)j->sox[0] * k, (float)j->sox[1] * k, (float)j->sox[2] * k, (float)j->sox[3] * k);
+    const __m128 syo = _mm_setr_ps((float)j->soy[0] * k, (float)j->soy[1] * k, (float)j->soy[2] * k, (float)j->soy[3] * k);
+    const __m128 z0 = _mm_set1_ps(tr->z[0]), z1 = _mm_set1_ps(tr->z[1]), z2 = _mm_set1_ps(tr->z[2]);
+    const __m128 lo = _mm_set1_ps(j->zlo), hi = _mm_set1_ps(j->zhi);
+    const int64_t X0 = (int64_t)x0 * RS_SUB - j->cx;
+    uint64_t tested = 0, written = 0;
+    for (int y = y0; y <= y1; y++) {
+        const int64_t Y = (int64_t)y * RS_SUB - j->cy;
+        int64_t e[3];
+        for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X0 + tr->eb[i] * Y + tr->ec[i];
+        RS_ASSERT(rs_within(Y - tr->vy, 24));
+        const float fy = (float)(Y - tr->vy) * k;
+        const __m128 zy = _mm_mul_ps(z1, _mm_add_ps(_mm_set1_ps(fy), syo));   /* z[1] * sy */
+        size_t base = rs_tile_index(t, x0, y) * 4u;
+        for (int x = x0; x <= x1; x++, base += 4) {
+            const __m256i v0 = _mm256_add_epi64(_mm256_set1_epi64x(e[0]), eo[0]);
+            const __m256i v1 = _mm256_add_epi64(_mm256_set1_epi64x(e[1]), eo[1]);
+            const __m256i v2 = _mm256_add_epi64(_mm256_set1_epi64x(e[2]), eo[2]);
+            const unsigned cov = ~(unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_or_si256(v0, v1), v2))) & 15u;
+            for (int i = 0; i < 3; i++) e[i] += sa[i];
+            if (!cov) continue;
+            const int64_t X = (int64_t)x * RS_SUB - j->cx;
+            RS_ASSERT(rs_within(X - tr->vx, 24));
+            const float fx = (float)(X - tr->vx) * k;
+            const __m128i lanes = _mm_setr_epi32(-(int)(cov & 1), -(int)(cov >> 1 & 1), -(int)(cov >> 2 & 1), -(int)(cov >> 3 & 1));
+            unsigned pass = cov;
+            if (st->z_enable) {
+                float *dep = t->depth + base;
+                const __m128 sx = _mm_add_ps(_mm_set1_ps(fx), sxo);
+                const __m128 z = zclamp4(_mm_add_ps(_mm_add_ps(z2, _mm_mul_ps(z0, sx)), zy), lo, hi);
+                const __m128 ok = _mm_and_ps(zpass4(st->z_func, z, _mm_loadu_ps(dep)), _mm_castsi128_ps(lanes));
+                pass = (unsigned)_mm_movemask_ps(ok);
+                if (st->z_write) _mm_maskstore_ps(dep, _mm_castps_si128(ok), z);
+            }
+            tested += (uint64_t)__builtin_popcount(cov);
+            if (!pass) continue;
+            written += (uint64_t)__builtin_popcount(pass);
+            float b1, b2;
+            tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
+            const __m128i m = _mm_cmpgt_epi32(_mm_and_si128(_mm_set1_epi32((int)pass), _mm_setr_epi32(1, 2, 4, 8)), _mm_setzero_si128());
+            _mm_maskstore_epi32((int *)(t->color + base), m, _mm_set1_epi32((int)rs_shade_color(j, a, b1, b2)));
+        }
+    }
+    t->tested += tested, t->written += written;
+}
+#endif
+
 void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
 {
     int x0 = p->x0 > t->x0 ? p->x0 : t->x0, x1 = p->x1 < t->x1 - 1 ? p->x1 : t->x1 - 1;
@@ -350,5 +444,9 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     if (rs_span_ok(j)) j->kern->tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
     else if (j->ext && j->st->ps) tri_tile_quads(j, t, p, a, x0, y0, x1, y1);   /* a pixel shader */
     else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's other states */
+#ifdef __AVX2__
+    else if (j->samples == 4 && !j->reference && !j->st->blend_enable && j->rt->n_aov == 0)
+        tri_tile_msaa4(j, t, p, a, x0, y0, x1, y1);   /* 4 samples, plain states: the same bytes in lanes */
+#endif
     else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }

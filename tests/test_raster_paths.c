@@ -42,8 +42,9 @@ static rs_state random_state(uint64_t *s, int w, int h)
     return st;
 }
 
-/* n random triangles (3n vertices) of one size class around random centres, some with w != 1. */
-static rs_vertex *random_triangles(uint64_t *s, int n)
+/* n random triangles (3n vertices) of one size class around random centres, some with w != 1 (deep: also w from
+ * 0.002 to 60 in a quarter of the vertices: steep planes of 1/w). */
+static rs_vertex *random_triangles(uint64_t *s, int n, bool deep)
 {
     rs_vertex *v = calloc((size_t)n * 3, sizeof *v);
     assert_non_null(v);
@@ -53,6 +54,7 @@ static rs_vertex *random_triangles(uint64_t *s, int n)
         for (int k = 0; k < 3; k++) {
             rs_vertex *q = &v[3 * i + k];
             float w = test_rnd(s) % 4 == 0 ? test_frnd(s, 0.2f, 3.0f) : 1.0f;
+            if (deep && test_rnd(s) % 4 == 0) w = test_rnd(s) % 2 ? test_frnd(s, 0.002f, 0.05f) : test_frnd(s, 5.0f, 60.0f);
             q->pos = (rs_vec4){(cx + test_frnd(s, -scale, scale)) * w, (cy + test_frnd(s, -scale, scale)) * w,
                                test_frnd(s, -0.1f, 1.1f) * w, w};
             for (int a = 0; a < RS_MAX_ATTR; a++)
@@ -63,21 +65,22 @@ static rs_vertex *random_triangles(uint64_t *s, int n)
     return v;
 }
 
-/* One random case: the same draw (twice) on the reference and the fast path; fails on any differing byte. */
-static void one_case(uint64_t *s, int it)
+/* One random case on targets of `samples` (1 or 4) samples per pixel: the same draw (twice) on the reference and the
+ * fast path; fails on any differing byte. */
+static void one_case(uint64_t *s, int it, int samples)
 {
     int w = 1 + (int)(test_rnd(s) % 300), h = 1 + (int)(test_rnd(s) % 300);
     if (test_rnd(s) % 4 == 0) w = 8 * (1 + (int)(test_rnd(s) % 40));
-    int n_aov = test_rnd(s) % 6 == 0 ? 1 + (int)(test_rnd(s) % 2) : 0;
+    int n_aov = samples == 1 && test_rnd(s) % 6 == 0 ? 1 + (int)(test_rnd(s) % 2) : 0;   /* (AOV planes: 1 sample only) */
     rs_target rt[2];
     for (int k = 0; k < 2; k++) {
-        assert_int_equal(rs_target_init(&rt[k], w, h, 1), RS_OK);
+        assert_int_equal(rs_target_init(&rt[k], w, h, samples), RS_OK);
         for (int q = 0; q < n_aov; q++)
             assert_int_equal(rs_target_add_aov(&rt[k], RS_ATTR_TEXCOORD0 + q, 1 + q), RS_OK);
     }
     rs_state st = random_state(s, w, h);
     int n = 1 + (int)(test_rnd(s) % 400), threads = 1 + (int)(test_rnd(s) % 2);
-    rs_vertex *v = random_triangles(s, n);
+    rs_vertex *v = random_triangles(s, n, samples > 1);
     float clear_z = st.z_func == RS_CMP_GREATER || st.z_func == RS_CMP_GREATEREQUAL ? 0.0f : 1.0f;
     rs_stats stats[2];
     for (int k = 0; k < 2; k++) { /* k = 0: reference, 1: fast */
@@ -90,10 +93,10 @@ static void one_case(uint64_t *s, int it)
                              RS_OK);
         rs_destroy(rs);
     }
-    size_t np = (size_t)w * (size_t)h;
-    if (memcmp(rt[0].color, rt[1].color, np * 4) || memcmp(rt[0].depth, rt[1].depth, np * 4))
-        fail_msg("case %d (%dx%d, %d triangles, z %d/%d/%d, blend %d): colour or depth differ", it, w, h, n,
-                 st.z_enable, st.z_func, st.z_write, st.blend_enable);
+    size_t np = (size_t)w * (size_t)h, ns = np * (size_t)samples;
+    if (memcmp(rt[0].color, rt[1].color, ns * 4) || memcmp(rt[0].depth, rt[1].depth, ns * 4))
+        fail_msg("case %d (%dx%d x %d samples, %d triangles, z %d/%d/%d, blend %d): colour or depth differ", it, w, h,
+                 samples, n, st.z_enable, st.z_func, st.z_write, st.blend_enable);
     for (int q = 0; q < n_aov; q++)
         if (memcmp(rt[0].aov[q].data, rt[1].aov[q].data, np * sizeof(float) * (size_t)(1 + q)))
             fail_msg("case %d: AOV plane %d differs", it, q);
@@ -107,7 +110,18 @@ static void test_random_draws(void **state)
 {
     (void)state;
     uint64_t s = 88172645463325252ull;
-    for (int it = 0; it < 300; it++) one_case(&s, it);
+    for (int it = 0; it < 300; it++) one_case(&s, it, 1);
+}
+
+/* 200 random draws on 4-sample targets (tri.c's 4-sample walk against tri_tile_ref), some triangles deep in w.
+ * (Not reached here, nor by test_reference_path: a depth outside the viewport's range after clipping, for the
+ * clamp, and a pixel covered by a sample whose centre has a plane of 1/w not positive, which both walks shade
+ * through the same tri_bary.) */
+static void test_random_draws_msaa4(void **state)
+{
+    (void)state;
+    uint64_t s = 0x9e3779b97f4a7c15ull;
+    for (int it = 0; it < 200; it++) one_case(&s, it, 4);
 }
 
 /* The same with indexed draws whose vertices are shared (the shared projection pass of tessellated meshes):
@@ -121,7 +135,7 @@ static void test_shared_vertices(void **state)
         rs_state st = random_state(&s, w, h);
         st.cull_mode = test_rnd(&s) % 2 ? RS_CULL_CCW : RS_CULL_NONE;
         size_t nv = 2 * (size_t)cols, nt = 2 * (size_t)(cols - 1);
-        rs_vertex *v = random_triangles(&s, cols); /* 3 * cols vertices: the first 2 * cols are used */
+        rs_vertex *v = random_triangles(&s, cols, false); /* 3 * cols vertices: the first 2 * cols are used */
         float x0 = test_frnd(&s, -1.0f, 0.5f), y0 = test_frnd(&s, -1.0f, 0.8f), dx = test_frnd(&s, 0.001f, 0.05f);
         for (size_t i = 0; i < nv; i++) {
             float wv = v[i].pos.w;
@@ -158,6 +172,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_draws),
+        cmocka_unit_test(test_random_draws_msaa4),
         cmocka_unit_test(test_shared_vertices),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -213,6 +213,72 @@ static void test_offset_mesh(void **state)
     mesh_free(&m);
 }
 
+/* A 4-sample frame on a fresh device (reference path or not, instruction set isa): o drawn with the default depth
+ * state, then the same scene again with cull none (its front faces at the same depths, its back faces behind) with
+ * depth function zf, depth test ze and depth write zw -- every depth state of the 4-sample walk (tri.c's tri_tile_msaa4)
+ * against samples the first scene wrote. */
+static is_device *render_msaa_states(const scene_opts *o, const is_mesh *m, bool reference, int isa, uint32_t zf,
+                                     uint32_t ze, uint32_t zw)
+{
+    char err[256];
+    is_device *dev = dev_create(o->width, o->height, 4, err, sizeof err);
+    assert_non_null(dev);
+    dev_set_threads(dev, o->threads);
+    dev_set_reference_path(dev, reference);
+    if (!reference) assert_int_equal(dev_set_isa(dev, isa), 0);
+    assert_int_equal(clear_and_draw(dev, o, m), 0);
+    scene_opts o2 = *o;
+    o2.cull = IS_CULL_NONE;   /* (the same surface again: equal depths where it faces the camera) */
+    core_grid g;
+    assert_int_equal(core_grid_make(o2.grid, o2.level, &g), 0);
+    dev_set_render_state(dev, IS_RS_ZFUNC, zf);
+    dev_set_render_state(dev, IS_RS_ZENABLE, ze);
+    dev_set_render_state(dev, IS_RS_ZWRITEENABLE, zw);
+    assert_int_equal(scene_draw(dev, &o2, m, &g, NULL), 0);
+    core_grid_free(&g);
+    return dev;
+}
+
+/* 4 samples off the reference path (tri_tile_msaa4): the reference's colour, depth and statistics for every depth
+ * function, with the depth test or its writes off, 1 and 2 threads, on each instruction set; a near camera
+ * (clipping, pixels whose centre lies outside a triangle covered by samples); the written samples differ between
+ * the functions (the state reaches the walk). */
+static void test_msaa4_states(void **state)
+{
+    (void)state;
+    is_mesh m;
+    make_cubes(2, &m);
+    for (int near = 0; near < 2; near++) {
+        uint64_t written[IS_CMP_ALWAYS + 1] = {0};   /* per function, with the test and writes on */
+        for (uint32_t zf = IS_CMP_NEVER; zf <= IS_CMP_ALWAYS; zf++)
+            for (int zs = 0; zs < 3; zs++) {   /* test and writes, test alone, no test */
+                scene_opts o = scene(6, 67, 53, near ? 1.2f : 3.0f);
+                o.msaa = 4, o.threads = 1 + (int)(zf & 1), o.patch = VS_PATCH_SMOOTH;
+                const uint32_t ze = zs < 2, zw = zs == 0;
+                is_device *ref = render_msaa_states(&o, &m, true, 0, zf, ze, zw);
+                const rs_stats *sa = dev_stats(ref);
+                for (int isa = 0; isa < RS_ISA_COUNT; isa++) {
+                    if (!rs_isa_supported(isa)) continue;
+                    is_device *fast = render_msaa_states(&o, &m, false, isa, zf, ze, zw);
+                    const rs_target *a = dev_render_target(ref), *b = dev_render_target(fast);
+                    const size_t n = (size_t)a->width * (size_t)a->height * 4;
+                    assert_memory_equal(a->color, b->color, n * sizeof *a->color);
+                    assert_memory_equal(a->depth, b->depth, n * sizeof *a->depth);
+                    assert_memory_equal(sa, dev_stats(fast), sizeof *sa);
+                    dev_destroy(fast);
+                }
+                if (zs == 0) written[zf] = sa->samples_written;
+                dev_destroy(ref);
+            }
+        /* NEVER: the first scene's alone; LESS: nothing more (the front faces' depths are equal, the back faces'
+         * greater); LESSEQUAL and EQUAL: the front faces again; ALWAYS: every covered sample of both */
+        assert_true(written[IS_CMP_NEVER] > 0 && written[IS_CMP_LESS] == written[IS_CMP_NEVER]);
+        assert_true(written[IS_CMP_EQUAL] > written[IS_CMP_LESS] && written[IS_CMP_LESSEQUAL] == written[IS_CMP_EQUAL]);
+        assert_true(written[IS_CMP_ALWAYS] > written[IS_CMP_LESSEQUAL] && written[IS_CMP_GREATER] > written[IS_CMP_NEVER]);
+    }
+    mesh_free(&m);
+}
+
 /* The cases off the fast paths or at their edges, with the smoothed patch. */
 static void test_edge_cases(void **state)
 {
@@ -223,7 +289,7 @@ static void test_edge_cases(void **state)
     o.threads = 2;
     check_same(&o, &m, 0);
     o = scene(8, 133, 101, 3.2f);
-    o.msaa = 4; /* 4 samples: reference rasterizer on both, batched shading on one */
+    o.msaa = 4; /* 4 samples: the 4-sample walk and batched shading on one */
     assert_true(check_same(&o, &m, 0) > 0);
     o.msaa = 1;
     o.normals = VS_NORMALS_QUADRATIC;
@@ -429,6 +495,7 @@ int main(void)
         cmocka_unit_test(test_scene_c),
         cmocka_unit_test(test_scene_d),
         cmocka_unit_test(test_edge_cases),
+        cmocka_unit_test(test_msaa4_states),
         cmocka_unit_test(test_fused_limits),
         cmocka_unit_test(test_large_targets),
         cmocka_unit_test(test_offset_mesh),
