@@ -343,56 +343,59 @@ static __attribute__((noinline)) void tri_tile_ext(const rs_job *j, rs_tile *t, 
         }
 }
 
-#ifdef __AVX2__
-#include <immintrin.h>
+/* Four lanes of int64, float and int32 (GCC's vector extensions: AVX2 on x86, SIMD128 or plain code in the
+ * browser's build; comparisons give -1 / 0 per lane with C's semantics -- NaN compares false but for != --, so
+ * rs_zpass's and rs_zclamp's results per lane). */
+typedef int64_t q4 __attribute__((vector_size(32)));
+typedef float f4 __attribute__((vector_size(16)));
+typedef int32_t i4 __attribute__((vector_size(16)));
 
-/* The depth test rs_zpass(f, z, d) in four float lanes: its C comparisons as ordered, quiet compares (NaN: false,
- * but != true), NEVER and ALWAYS as constants. */
-static inline __m128 zpass4(int f, __m128 z, __m128 d)
+/* Lanes of a where m is -1, of b where 0. */
+static inline f4 sel4(i4 m, f4 a, f4 b) { return (f4)((m & (i4)a) | (~m & (i4)b)); }
+
+/* rs_zpass(f, z, d) per lane (-1: passes). */
+static inline i4 zpass4(int f, f4 z, f4 d)
 {
     switch (f) {
-    case RS_CMP_NEVER: return _mm_setzero_ps();
-    case RS_CMP_LESS: return _mm_cmp_ps(z, d, _CMP_LT_OQ);
-    case RS_CMP_EQUAL: return _mm_cmp_ps(z, d, _CMP_EQ_OQ);
-    case RS_CMP_LESSEQUAL: return _mm_cmp_ps(z, d, _CMP_LE_OQ);
-    case RS_CMP_GREATER: return _mm_cmp_ps(z, d, _CMP_GT_OQ);
-    case RS_CMP_NOTEQUAL: return _mm_cmp_ps(z, d, _CMP_NEQ_UQ);
-    case RS_CMP_GREATEREQUAL: return _mm_cmp_ps(z, d, _CMP_GE_OQ);
-    default: return _mm_castsi128_ps(_mm_set1_epi32(-1));
+    case RS_CMP_NEVER: return (i4){0, 0, 0, 0};
+    case RS_CMP_LESS: return z < d;
+    case RS_CMP_EQUAL: return z == d;
+    case RS_CMP_LESSEQUAL: return z <= d;
+    case RS_CMP_GREATER: return z > d;
+    case RS_CMP_NOTEQUAL: return z != d;
+    case RS_CMP_GREATEREQUAL: return z >= d;
+    default: return (i4){-1, -1, -1, -1};
     }
 }
 
-/* rs_zclamp in four lanes: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
-static inline __m128 zclamp4(__m128 z, __m128 lo, __m128 hi)
-{
-    const __m128 in_hi = _mm_blendv_ps(hi, z, _mm_cmp_ps(z, hi, _CMP_LE_OQ));
-    return _mm_blendv_ps(lo, in_hi, _mm_cmp_ps(z, lo, _CMP_GE_OQ));
-}
+/* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
+static inline f4 zclamp4(f4 z, f4 lo, f4 hi) { return sel4(z >= lo, sel4(z <= hi, z, hi), lo); }
 
-/* The 4-sample walk (rs_msaa4_ok): tri_tile_ref's bytes and counters with a pixel's four samples in lanes -- its
- * coverage from the int64 edge values at the centre plus each sample's offset (the same integers as coverage()),
- * the four depths of the pixel as one load, rs_zclamp's and rs_zpass's float operations per lane in tri_pixel's
- * order, the passing samples' depth and colour by masked stores -- pixel by pixel over the box in rows (a
- * triangle's pixels are distinct: their order does not matter); the colour once per pixel as tri_pixel shades it.
- * Plain states only: no blending, no AOV planes, no pixel.c state. */
+/* The 4-sample walk (rs_tri_tile: 4 samples, plain states -- no blending, AOV planes or pixel.c state -- off the
+ * reference path): tri_tile_ref's bytes and counters with a pixel's four samples in lanes -- its coverage from the
+ * int64 edge values at the centre plus each sample's offset (coverage()'s integers), the pixel's four depths as
+ * one load with rs_zclamp's and rs_zpass's float operations per lane in tri_pixel's order, the four depths and
+ * colours stored back with the passing samples' new values (the others' own bytes) -- pixel by pixel over the box
+ * in rows (a triangle's pixels are distinct: their order does not matter); the colour once per pixel as tri_pixel
+ * shades it. */
 static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
                                                      int x0, int y0, int x1, int y1)
 {
     const rs_tri *tr = &p->u.t;
     const rs_state *st = j->st;
     const float k = 1.0f / RS_SUB;
-    __m256i eo[3];
+    q4 eo[3];
     int64_t sa[3];
     for (int i = 0; i < 3; i++) {
-        int64_t o[4];
-        for (int s = 0; s < 4; s++) o[s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
-        eo[i] = _mm256_setr_epi64x(o[0], o[1], o[2], o[3]);
+        for (int s = 0; s < 4; s++) eo[i][s] = (int64_t)tr->ea[i] * j->sox[s] + (int64_t)tr->eb[i] * j->soy[s];
         sa[i] = (int64_t)tr->ea[i] * RS_SUB;
     }
-    const __m128 sxo = _mm_setr_ps((float)j->sox[0] * k, (float)j->sox[1] * k, (float)j->sox[2] * k, (float)j->sox[3] * k);
-    const __m128 syo = _mm_setr_ps((float)j->soy[0] * k, (float)j->soy[1] * k, (float)j->soy[2] * k, (float)j->soy[3] * k);
-    const __m128 z0 = _mm_set1_ps(tr->z[0]), z1 = _mm_set1_ps(tr->z[1]), z2 = _mm_set1_ps(tr->z[2]);
-    const __m128 lo = _mm_set1_ps(j->zlo), hi = _mm_set1_ps(j->zhi);
+    f4 sxo, syo;
+    for (int s = 0; s < 4; s++) sxo[s] = (float)j->sox[s] * k, syo[s] = (float)j->soy[s] * k;
+    const f4 z0 = {tr->z[0], tr->z[0], tr->z[0], tr->z[0]}, z1 = {tr->z[1], tr->z[1], tr->z[1], tr->z[1]};
+    const f4 z2 = {tr->z[2], tr->z[2], tr->z[2], tr->z[2]};
+    const f4 lo = {j->zlo, j->zlo, j->zlo, j->zlo}, hi = {j->zhi, j->zhi, j->zhi, j->zhi};
+    const i4 bit = {1, 2, 4, 8};
     const int64_t X0 = (int64_t)x0 * RS_SUB - j->cx;
     uint64_t tested = 0, written = 0;
     for (int y = y0; y <= y1; y++) {
@@ -401,40 +404,47 @@ static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t
         for (int i = 0; i < 3; i++) e[i] = tr->ea[i] * X0 + tr->eb[i] * Y + tr->ec[i];
         RS_ASSERT(rs_within(Y - tr->vy, 24));
         const float fy = (float)(Y - tr->vy) * k;
-        const __m128 zy = _mm_mul_ps(z1, _mm_add_ps(_mm_set1_ps(fy), syo));   /* z[1] * sy */
+        const f4 zy = z1 * (fy + syo);   /* z[1] * sy */
         size_t base = rs_tile_index(t, x0, y) * 4u;
         for (int x = x0; x <= x1; x++, base += 4) {
-            const __m256i v0 = _mm256_add_epi64(_mm256_set1_epi64x(e[0]), eo[0]);
-            const __m256i v1 = _mm256_add_epi64(_mm256_set1_epi64x(e[1]), eo[1]);
-            const __m256i v2 = _mm256_add_epi64(_mm256_set1_epi64x(e[2]), eo[2]);
-            const unsigned cov = ~(unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_or_si256(_mm256_or_si256(v0, v1), v2))) & 15u;
+            const q4 o = ((e[0] + eo[0]) | (e[1] + eo[1])) | (e[2] + eo[2]);   /* sign: some edge < 0 */
             for (int i = 0; i < 3; i++) e[i] += sa[i];
-            if (!cov) continue;
+            const i4 in = {o[0] >= 0 ? -1 : 0, o[1] >= 0 ? -1 : 0, o[2] >= 0 ? -1 : 0, o[3] >= 0 ? -1 : 0};
+            if (!(in[0] | in[1] | in[2] | in[3])) continue;
+            const i4 cm = in & bit;
+            const unsigned cov = (unsigned)(cm[0] | cm[1] | cm[2] | cm[3]);
             const int64_t X = (int64_t)x * RS_SUB - j->cx;
             RS_ASSERT(rs_within(X - tr->vx, 24));
             const float fx = (float)(X - tr->vx) * k;
-            const __m128i lanes = _mm_setr_epi32(-(int)(cov & 1), -(int)(cov >> 1 & 1), -(int)(cov >> 2 & 1), -(int)(cov >> 3 & 1));
-            unsigned pass = cov;
+            i4 ok = in;
             if (st->z_enable) {
                 float *dep = t->depth + base;
-                const __m128 sx = _mm_add_ps(_mm_set1_ps(fx), sxo);
-                const __m128 z = zclamp4(_mm_add_ps(_mm_add_ps(z2, _mm_mul_ps(z0, sx)), zy), lo, hi);
-                const __m128 ok = _mm_and_ps(zpass4(st->z_func, z, _mm_loadu_ps(dep)), _mm_castsi128_ps(lanes));
-                pass = (unsigned)_mm_movemask_ps(ok);
-                if (st->z_write) _mm_maskstore_ps(dep, _mm_castps_si128(ok), z);
+                f4 d;
+                memcpy(&d, dep, sizeof d);
+                const f4 z = zclamp4((z2 + z0 * (fx + sxo)) + zy, lo, hi);
+                ok &= zpass4(st->z_func, z, d);
+                if (st->z_write) {
+                    const f4 nd = sel4(ok, z, d);
+                    memcpy(dep, &nd, sizeof nd);
+                }
             }
             tested += (uint64_t)__builtin_popcount(cov);
+            const i4 pm = ok & bit;
+            const unsigned pass = (unsigned)(pm[0] | pm[1] | pm[2] | pm[3]);
             if (!pass) continue;
             written += (uint64_t)__builtin_popcount(pass);
             float b1, b2;
             tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
-            const __m128i m = _mm_cmpgt_epi32(_mm_and_si128(_mm_set1_epi32((int)pass), _mm_setr_epi32(1, 2, 4, 8)), _mm_setzero_si128());
-            _mm_maskstore_epi32((int *)(t->color + base), m, _mm_set1_epi32((int)rs_shade_color(j, a, b1, b2)));
+            const int32_t c = (int32_t)rs_shade_color(j, a, b1, b2);
+            uint32_t *col = t->color + base;
+            i4 old;
+            memcpy(&old, col, sizeof old);
+            const i4 nc = (ok & (i4){c, c, c, c}) | (~ok & old);
+            memcpy(col, &nc, sizeof nc);
         }
     }
     t->tested += tested, t->written += written;
 }
-#endif
 
 void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
 {
@@ -444,9 +454,7 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     if (rs_span_ok(j)) j->kern->tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
     else if (j->ext && j->st->ps) tri_tile_quads(j, t, p, a, x0, y0, x1, y1);   /* a pixel shader */
     else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's other states */
-#ifdef __AVX2__
     else if (j->samples == 4 && !j->reference && !j->st->blend_enable && j->rt->n_aov == 0)
         tri_tile_msaa4(j, t, p, a, x0, y0, x1, y1);   /* 4 samples, plain states: the same bytes in lanes */
-#endif
     else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }
