@@ -543,6 +543,24 @@ static inline bool rs_zpass(int f, float z, float d)
     }
 }
 
+/* rs_zpass per lane of vectors z, d of any width (GCC's vector extensions: a comparison gives -1 / 0 per lane
+ * with C's semantics, NaN false but for !=), as mask type T (span_lanes.h's 8 lanes, tri.c's 4). */
+#define RS_ZPASS_LANES(T, f, z, d)                                  \
+    __extension__({                                                 \
+        T m_;                                                       \
+        switch (f) {                                                \
+        case RS_CMP_NEVER: m_ = (T){0}; break;                      \
+        case RS_CMP_LESS: m_ = (z) < (d); break;                    \
+        case RS_CMP_EQUAL: m_ = (z) == (d); break;                  \
+        case RS_CMP_LESSEQUAL: m_ = (z) <= (d); break;              \
+        case RS_CMP_GREATER: m_ = (z) > (d); break;                 \
+        case RS_CMP_NOTEQUAL: m_ = (z) != (d); break;               \
+        case RS_CMP_GREATEREQUAL: m_ = (z) >= (d); break;           \
+        default: m_ = ((z) == (z)) | ((z) != (z)); break;           \
+        }                                                           \
+        m_;                                                         \
+    })
+
 /* Clamp depth z to the viewport's range [lo, hi] (NaN -> lo). */
 static inline float rs_zclamp(float z, float lo, float hi) { return z >= lo ? (z <= hi ? z : hi) : lo; }
 

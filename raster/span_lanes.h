@@ -81,19 +81,7 @@ static inline v8f zclamp8(v8f z, v8f lo, v8f hi)
 }
 
 /* rs_zpass per lane for compare function f. */
-ALWAYS_INLINE v8i zpass8(int f, v8f z, v8f d)
-{
-    switch (f) {
-    case RS_CMP_NEVER: return bi(0);
-    case RS_CMP_LESS: return z < d;
-    case RS_CMP_EQUAL: return z == d;
-    case RS_CMP_LESSEQUAL: return z <= d;
-    case RS_CMP_GREATER: return z > d;
-    case RS_CMP_NOTEQUAL: return z != d;
-    case RS_CMP_GREATEREQUAL: return z >= d;
-    default: return bi(-1);
-    }
-}
+ALWAYS_INLINE v8i zpass8(int f, v8f z, v8f d) { return RS_ZPASS_LANES(v8i, f, z, d); }
 
 /* rs_to8 per lane: saturate (NaN -> 0), * 255 + 0.5, truncate.  max(c, 0) is c > 0 ? c : 0 (NaN -> +0, as the
  * reference's 0.0f), then min(., 1) is . < 1 ? . : 1: the reference's c > 0 ? (c < 1 ? c : 1) : 0 exactly. */

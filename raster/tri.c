@@ -343,6 +343,10 @@ static __attribute__((noinline)) void tri_tile_ext(const rs_job *j, rs_tile *t, 
         }
 }
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
 /* Four lanes of int64, float and int32 (GCC's vector extensions: AVX2 on x86, SIMD128 or plain code in the
  * browser's build; comparisons give -1 / 0 per lane with C's semantics -- NaN compares false but for != --, so
  * rs_zpass's and rs_zclamp's results per lane). */
@@ -353,20 +357,20 @@ typedef int32_t i4 __attribute__((vector_size(16)));
 /* Lanes of a where m is -1, of b where 0. */
 static inline f4 sel4(i4 m, f4 a, f4 b) { return (f4)((m & (i4)a) | (~m & (i4)b)); }
 
-/* rs_zpass(f, z, d) per lane (-1: passes). */
-static inline i4 zpass4(int f, f4 z, f4 d)
+/* The lanes of v where m is -1 stored to p[0..4), the others' memory untouched (a masked store; per lane without
+ * AVX2), so that the walk writes exactly the samples the reference writes. */
+static inline void store4_masked(void *p, i4 m, i4 v)
 {
-    switch (f) {
-    case RS_CMP_NEVER: return (i4){0, 0, 0, 0};
-    case RS_CMP_LESS: return z < d;
-    case RS_CMP_EQUAL: return z == d;
-    case RS_CMP_LESSEQUAL: return z <= d;
-    case RS_CMP_GREATER: return z > d;
-    case RS_CMP_NOTEQUAL: return z != d;
-    case RS_CMP_GREATEREQUAL: return z >= d;
-    default: return (i4){-1, -1, -1, -1};
-    }
+#ifdef __AVX2__
+    _mm_maskstore_epi32((int *)p, (__m128i)m, (__m128i)v);
+#else
+    for (int s = 0; s < 4; s++)
+        if (m[s]) memcpy((char *)p + 4 * s, &v[s], 4);
+#endif
 }
+
+/* rs_zpass(f, z, d) per lane (-1: passes). */
+static inline i4 zpass4(int f, f4 z, f4 d) { return RS_ZPASS_LANES(i4, f, z, d); }
 
 /* rs_zclamp per lane: z >= lo ? (z <= hi ? z : hi) : lo (NaN -> lo). */
 static inline f4 zclamp4(f4 z, f4 lo, f4 hi) { return sel4(z >= lo, sel4(z <= hi, z, hi), lo); }
@@ -374,8 +378,8 @@ static inline f4 zclamp4(f4 z, f4 lo, f4 hi) { return sel4(z >= lo, sel4(z <= hi
 /* The 4-sample walk (rs_tri_tile: 4 samples, plain states -- no blending, AOV planes or pixel.c state -- off the
  * reference path): tri_tile_ref's bytes and counters with a pixel's four samples in lanes -- its coverage from the
  * int64 edge values at the centre plus each sample's offset (coverage()'s integers), the pixel's four depths as
- * one load with rs_zclamp's and rs_zpass's float operations per lane in tri_pixel's order, the four depths and
- * colours stored back with the passing samples' new values (the others' own bytes) -- pixel by pixel over the box
+ * one load with rs_zclamp's and rs_zpass's float operations per lane in tri_pixel's order, the passing samples'
+ * depth and colour by masked stores (store4_masked: no other byte written) -- pixel by pixel over the box
  * in rows (a triangle's pixels are distinct: their order does not matter); the colour once per pixel as tri_pixel
  * shades it. */
 static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a,
@@ -423,10 +427,7 @@ static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t
                 memcpy(&d, dep, sizeof d);
                 const f4 z = zclamp4((z2 + z0 * (fx + sxo)) + zy, lo, hi);
                 ok &= zpass4(st->z_func, z, d);
-                if (st->z_write) {
-                    const f4 nd = sel4(ok, z, d);
-                    memcpy(dep, &nd, sizeof nd);
-                }
+                if (st->z_write) store4_masked(dep, ok, (i4)z);
             }
             tested += (uint64_t)__builtin_popcount(cov);
             const i4 pm = ok & bit;
@@ -436,11 +437,7 @@ static __attribute__((noinline)) void tri_tile_msaa4(const rs_job *j, rs_tile *t
             float b1, b2;
             tri_bary(j, tr, fx, fy, __builtin_ctz(cov), &b1, &b2);
             const int32_t c = (int32_t)rs_shade_color(j, a, b1, b2);
-            uint32_t *col = t->color + base;
-            i4 old;
-            memcpy(&old, col, sizeof old);
-            const i4 nc = (ok & (i4){c, c, c, c}) | (~ok & old);
-            memcpy(col, &nc, sizeof nc);
+            store4_masked(t->color + base, ok, (i4){c, c, c, c});
         }
     }
     t->tested += tested, t->written += written;
