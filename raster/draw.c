@@ -115,7 +115,7 @@ void rs_destroy(rs_context *rs)
 
 void rs_set_reference_path(rs_context *rs, bool on)
 {
-    if (rs) rs->reference = on || RS_ONLY_REFERENCE;
+    if (rs) rs->reference = on || RS_ONLY_REFERENCE, rs->reference_asked = on;
 }
 
 void rs_set_timing(rs_context *rs, bool on)
@@ -257,6 +257,7 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     j->zhi = vp->min_z < vp->max_z ? vp->max_z : vp->min_z;
     j->ext = rs_state_ext(st, rt);
     j->reference |= j->ext;   /* pixel.c's states live on the reference path only */
+    j->walk4 = !rs->reference_asked && !j->ext && rt->samples == 4 && !st->blend_enable && rt->n_aov == 0;
     j->clip_mask = rs_clip_mask(st);
     if (st->pretransformed) { /* screen pixels: x/w and y/w are pixels from the centre, depth is z/w itself */
         j->sx_scale = j->sy_scale = RS_SUB;

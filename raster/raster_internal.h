@@ -104,6 +104,9 @@ typedef struct rs_job {
     const rs_kernels *kern;     /* the fast-path kernels of the context's instruction set (rs_set_isa) */
     int span_mode;              /* span.c's walk instance for the depth state (rs_span_mode) */
     bool ext;                   /* a state of pixel.c is on (rs_state_ext): the reference walk's rs_frag_ext */
+    bool walk4;                 /* tri.c's 4-sample walk (tri_tile_msaa4): 4 samples, plain states (no blending, no
+                                   pixel.c state), the reference path not asked for -- no kernels needed, so the
+                                   browser build, always on the reference path otherwise, takes it too */
     unsigned clip_mask;         /* the clip planes that clip (rs_outcode's bits): near, far, guard band and the
                                    enabled user planes; the guard band alone with CLIPPING FALSE */
     bool grid_mirrored;         /* rs_source.grid_mirrored of a grid source: the row set-up culls the other sign */
@@ -225,7 +228,8 @@ struct rs_context {
     int threads;
     uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
     bool frame;                  /* a deferred clear started a frame (else each draw's work counts alone) */
-    bool reference;              /* rs_set_reference_path */
+    bool reference;              /* rs_set_reference_path (always, without kernels: RS_ONLY_REFERENCE) */
+    bool reference_asked;        /* rs_set_reference_path's own argument */
     bool timing;                 /* rs_set_timing: phase times into rs_stats */
     int isa;                     /* RS_ISA_*: the fast paths' instruction set (rs_set_isa) */
     rs_chunk *chunks;

@@ -365,7 +365,10 @@ static inline void store4_masked(void *p, i4 m, i4 v)
     _mm_maskstore_epi32((int *)p, (__m128i)m, (__m128i)v);
 #else
     for (int s = 0; s < 4; s++)
-        if (m[s]) memcpy((char *)p + 4 * s, &v[s], 4);
+        if (m[s]) {
+            const int32_t x = v[s];   /* (no address of a vector's element in clang) */
+            memcpy((char *)p + 4 * s, &x, 4);
+        }
 #endif
 }
 
@@ -451,7 +454,6 @@ void rs_tri_tile(const rs_job *j, rs_tile *t, const rs_prim *p, const float *a)
     if (rs_span_ok(j)) j->kern->tri_fast(j, t, p, a, x0, y0, x1, y1); /* 1-sample targets: span.c, same bytes */
     else if (j->ext && j->st->ps) tri_tile_quads(j, t, p, a, x0, y0, x1, y1);   /* a pixel shader */
     else if (j->ext) tri_tile_ext(j, t, p, a, x0, y0, x1, y1);   /* pixel.c's other states */
-    else if (j->samples == 4 && !j->reference && !j->st->blend_enable && j->rt->n_aov == 0)
-        tri_tile_msaa4(j, t, p, a, x0, y0, x1, y1);   /* 4 samples, plain states: the same bytes in lanes */
+    else if (j->walk4) tri_tile_msaa4(j, t, p, a, x0, y0, x1, y1);   /* 4 samples, plain states: in lanes */
     else tri_tile_ref(j, t, p, a, x0, y0, x1, y1);
 }
