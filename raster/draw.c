@@ -81,7 +81,6 @@ rs_context *rs_create(int threads)
     if (!rs) return NULL;
     rs->threads = threads > 0 ? threads : 0;
     rs->isa = rs_isa_best();
-    if (RS_ONLY_REFERENCE) rs->reference = true;
     return rs;
 }
 
@@ -115,7 +114,7 @@ void rs_destroy(rs_context *rs)
 
 void rs_set_reference_path(rs_context *rs, bool on)
 {
-    if (rs) rs->reference = on || RS_ONLY_REFERENCE, rs->reference_asked = on;
+    if (rs) rs->reference = on;
 }
 
 void rs_set_timing(rs_context *rs, bool on)
@@ -228,7 +227,7 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
 {
     static const int32_t pat[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } }; /* 1/16 px */
     memset(j, 0, sizeof *j);
-    j->reference = rs->reference;
+    j->reference = rs->reference || RS_ONLY_REFERENCE;   /* (without kernels, always) */
     j->kern = rs_kernels_of(rs->isa);
     j->st = st;
     j->rt = rt;
@@ -257,7 +256,7 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     j->zhi = vp->min_z < vp->max_z ? vp->max_z : vp->min_z;
     j->ext = rs_state_ext(st, rt);
     j->reference |= j->ext;   /* pixel.c's states live on the reference path only */
-    j->walk4 = !rs->reference_asked && !j->ext && rt->samples == 4 && !st->blend_enable && rt->n_aov == 0;
+    j->walk4 = !rs->reference && !j->ext && rt->samples == 4 && !st->blend_enable && rt->n_aov == 0;
     j->clip_mask = rs_clip_mask(st);
     if (st->pretransformed) { /* screen pixels: x/w and y/w are pixels from the centre, depth is z/w itself */
         j->sx_scale = j->sy_scale = RS_SUB;

@@ -42,7 +42,8 @@
 
 /* RS_NO_KERNELS (the browser build, `make web`: WebAssembly has neither instruction set): span.c and setup_simd.c
  * are not compiled, the kernel table has no functions (draw.c), and every draw takes the reference path, which
- * writes the same bytes (rs_create, rs_set_reference_path).  RS_ONLY_REFERENCE says so at compile time. */
+ * writes the same bytes (make_job), but for tri.c's 4-sample walk, which needs no kernels (rs_job.walk4).
+ * RS_ONLY_REFERENCE says so at compile time. */
 #ifdef RS_NO_KERNELS
 #define RS_ONLY_REFERENCE true
 #else
@@ -228,8 +229,8 @@ struct rs_context {
     int threads;
     uint64_t work;               /* RS_WORK_UNIT covered by the draws since the last deferred clear (RS_MAX_OVERDRAW) */
     bool frame;                  /* a deferred clear started a frame (else each draw's work counts alone) */
-    bool reference;              /* rs_set_reference_path (always, without kernels: RS_ONLY_REFERENCE) */
-    bool reference_asked;        /* rs_set_reference_path's own argument */
+    bool reference;              /* rs_set_reference_path's argument (a job is on the reference path also without
+                                    kernels: RS_ONLY_REFERENCE, make_job) */
     bool timing;                 /* rs_set_timing: phase times into rs_stats */
     int isa;                     /* RS_ISA_*: the fast paths' instruction set (rs_set_isa) */
     rs_chunk *chunks;
