@@ -1,4 +1,4 @@
-/* raster/bin.c -- binning: a chunk's set-up primitives into the lists of the 64x64 tiles their boxes touch
+/* raster/bin.c -- binning: a chunk's set-up primitives into the lists of the tiles their boxes touch
  * (CSR: rs_chunk.bin_off / bin_idx), in primitive order, so the tile pass walks each tile's primitives in
  * submission order.
  *

@@ -1,5 +1,5 @@
 /* raster/draw.c -- the rasterizer context and rs_draw: validation, the per-draw job, parallel setup and
- * binning over chunks of primitives, then parallel rasterization over 64x64 tiles (a flush of the frame's
+ * binning over chunks of primitives, then parallel rasterization over RS_TILE x RS_TILE tiles (a flush of the frame's
  * recorded draws does both in one parallel region: rs_flush_fill).
  *
  * Determinism: chunk boundaries depend only on the primitive count and the target size, each chunk keeps its

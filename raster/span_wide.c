@@ -9,9 +9,9 @@
  * of the lane arithmetic) and the shading is specialised for a constant alpha.  Medium triangles (box at most 32
  * wide, edge coefficients at most 2^13: rs_tri_fast's walks 1 and 2) take groups from each row's first covered
  * column, so a short row is one group, and two rows of at most 4 pixels one 4x2 group; the others
- * (walk 3) 8-aligned groups, no loads across cache lines, in bands of 64 rows.  It replaced a span walk (per row
- * the coverage of a window of 2 or 4 groups, 32-bit edge values) and a block walk (8x8 blocks with trivial
- * accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.  Then (issue
+ * (walk 3) 8-aligned groups, no loads across cache lines, in bands of 64 x 64 pixels (BAND).  It replaced a span
+ * walk (per row the coverage of a window of 2 or 4 groups, 32-bit edge values) and a block walk (8x8 blocks with
+ * trivial accept / reject tests): scene A 25.2 -> 20.4 M and scene C 43.3 -> 34.1 M instructions per frame.  Then (issue
  * 29, wave 3) A 20.42 -> 19.56 M, C 34.30 -> 32.84 M: the packs do the channels' lower saturation (to8_8p), the
  * depth clamp in three instructions (zclamp8), the edges permuted into starts and ends for row_spans (no caps),
  * the medium walk's groups kept inside the box (x parts of its columns only), any two rows of at most 4 pixels
@@ -55,6 +55,11 @@
  * The walk is instantiated per depth-state mode (span_lanes.h's INSTANCES). */
 #include "span_lanes.h"
 
+/* The interval walk's boxes are at most BAND x BAND pixels (row_spans' exactness argument and the x parts' table
+ * are for 64 columns); larger boxes, in a tile of RS_TILE, go in bands of it (walk_span, walk_big). */
+#define BAND 64
+_Static_assert(RS_TILE % BAND == 0, "a tile is whole bands: the 8-aligned groups never cross a band");
+
 #ifdef __AVX2__
 
 /* ---- the interval walk ---- */
@@ -85,11 +90,11 @@ static inline v4d exact_pd(__m256i v)
 /* row_spans' answer, per row i of the box (4 more: the last vector's rows past nr); r, u, p only for the medium
  * walk (n <= 32, w >= 9; row_spans_any, for degenerate triangles, stores them always). */
 typedef struct spans {
-    int32_t l[RS_TILE + 4]; /* the first covered column, relative to x0 */
-    int32_t n[RS_TILE + 4]; /* how many from it (<= 0: none) */
-    int32_t r[RS_TILE + 4]; /* n * RUNW - l: the row's run in runs_tab (from its entry 8) */
-    int32_t u[RS_TILE + 4]; /* min(l, w - 4): the row's 4 columns in a 4x2 pair, inside the box */
-    int32_t p[RS_TILE + 4]; /* r + u: their lanes in the row's run */
+    int32_t l[BAND + 4];  /* the first covered column, relative to x0 */
+    int32_t n[BAND + 4];  /* how many from it (<= 0: none) */
+    int32_t r[BAND + 4];  /* n * RUNW - l: the row's run in runs_tab (from its entry 8) */
+    int32_t u[BAND + 4];  /* min(l, w - 4): the row's 4 columns in a 4x2 pair, inside the box */
+    int32_t p[BAND + 4];  /* r + u: their lanes in the row's run */
 } spans;
 
 /* Store rows i .. i + 3 of row_spans' answer from their starts st and ends en (columns, exact integers): st in
@@ -359,7 +364,7 @@ ALWAYS_INLINE void frag_w(fctx *c, const wconst *w, zmode m, bool a8c, bool spli
     store_lanes(cp, cp1, split, (__m256i)blend_sign(pass, (v8f)src, (v8f)load_lanes(cp, cp1, split)));
 }
 
-/* The x parts of the planes per column: column bx + i at index i, for up to 72 columns (a tile's 64 and the 8
+/* The x parts of the planes per column: column bx + i at index i, for up to 72 columns (a band's 64 and the 8
  * past a group that starts at its last one). */
 #define XCOLS 72
 typedef struct xcols {
@@ -387,10 +392,10 @@ static inline void xcols_fill(xcols *xc, const rs_job *j, const rs_tri *tr, int 
     }
 }
 
-/* The y parts of the planes per row: row y0 + i at index i (64 rows and the rest of a vector of 8; 8 more that
- * rows2's load may read and then ignore). */
+/* The y parts of the planes per row: row y0 + i at index i (a band's 64 rows and the rest of a vector of 8; 8 more
+ * that rows2's load may read and then ignore). */
 typedef struct yrows {
-    float zy[RS_TILE + 8], sy[RS_TILE + 8], q1y[RS_TILE + 8], q2y[RS_TILE + 8];
+    float zy[BAND + 8], sy[BAND + 8], q1y[BAND + 8], q2y[BAND + 8];
 } yrows;
 
 /* Fill rows 0 .. nr - 1 of yr from row y0: per row the values ypart_at gives it, 8 rows per vector, without its
@@ -437,8 +442,8 @@ ALWAYS_INLINE void group_w(fctx *c, const wconst *w, zmode m, bool aligned, bool
     }
 }
 
-/* The interval walk of the box [x0, x1] x [y0, y1] (at most 64 x 64, inside tile t): per row the covered interval
- * (row_spans), then groups of 8 columns over it, lanes masked to it (the full ones between without a mask):
+/* The interval walk of the box [x0, x1] x [y0, y1] (at most BAND x BAND, inside tile t): per row the covered
+ * interval (row_spans), then groups of 8 columns over it, lanes masked to it (the full ones between without a mask):
  * aligned, 8-aligned groups (no loads across cache lines; groups past the target's right end through span8); else
  * groups from the interval's first column, moved left to stay in the tile (tile at least 8 wide), so that a short
  * row is one group.  a8c: c has a colour slot with a constant alpha (frag_w). */
@@ -447,7 +452,7 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
 {
     const rs_tri *tr = c->tr;
     const int nr = y1 - y0 + 1;
-    RS_ASSERT(nr <= RS_TILE && x1 - x0 < RS_TILE && x0 >= t->x0 && x1 < t->x1);
+    RS_ASSERT(nr <= BAND && x1 - x0 < BAND && x0 >= t->x0 && x1 < t->x1);
     spans sp;
     row_spans(j, tr, !aligned, x0, y0, x1 - x0 + 1, nr, &sp);
     const int32_t *const l = sp.l, *const n = sp.n;
@@ -571,7 +576,7 @@ ALWAYS_INLINE void walk_iv(fctx *c, zmode m, bool aligned, bool a8c, const rs_jo
 /* ---- the instances ---- */
 
 /* Triangle p's box [x0, x1] x [y0, y1] of tile t through the interval walk from each row's first column (box at
- * most 64 wide, tile at least 8 wide). */
+ * most 32 wide and, coef_small, at most 33 tall; tile at least 8 wide). */
 ALWAYS_INLINE void walk_span(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0,
                              int y0, int x1, int y1)
 {
@@ -583,16 +588,19 @@ ALWAYS_INLINE void walk_span(zmode m, const rs_job *j, rs_tile *t, const rs_prim
     t->written += c.written;
 }
 
-/* The same with 8-aligned groups, in bands of 64 rows (any box inside tile t). */
+/* The same with 8-aligned groups, in bands of BAND x BAND aligned to the tile's grid (any box inside tile t). */
 ALWAYS_INLINE void walk_big(zmode m, const rs_job *j, rs_tile *t, const rs_prim *p, const float *a, int x0, int y0,
                             int x1, int y1)
 {
     fctx c;
     fctx_make(&c, j, t, p, a);
-    for (int b = y0; b <= y1; b += RS_TILE) { /* a tile has at most 64 rows; any box in bands of 64 */
-        const int b1 = y1 - b < RS_TILE ? y1 : b + RS_TILE - 1;
-        if (c.pc && c.a8 >= 0) walk_iv(&c, m, true, true, j, t, p, a, x0, b, x1, b1);
-        else walk_iv(&c, m, true, false, j, t, p, a, x0, b, x1, b1);
+    for (int b = y0; b <= y1; b += BAND) { /* rows in bands, each in column bands of the tile's 64-grid */
+        const int b1 = y1 - b < BAND ? y1 : b + BAND - 1;
+        for (int u = x0; u <= x1; u = (u | (BAND - 1)) + 1) {
+            const int u1 = (u | (BAND - 1)) < x1 ? (u | (BAND - 1)) : x1;
+            if (c.pc && c.a8 >= 0) walk_iv(&c, m, true, true, j, t, p, a, u, b, u1, b1);
+            else walk_iv(&c, m, true, false, j, t, p, a, u, b, u1, b1);
+        }
     }
     t->tested += c.tested;
     t->written += c.written;

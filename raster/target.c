@@ -1,4 +1,4 @@
-/* raster/target.c -- render targets: allocation, AOV planes, clear (immediate, or deferred per 64x64 tile), the
+/* raster/target.c -- render targets: allocation, AOV planes, clear (immediate, or deferred per tile), the
  * tile pass's tile buffers, and multisample resolve.
  *
  * Deferred clear: dev_clear records the clear; the tile pass writes each tile's clear when a draw first touches the
@@ -263,7 +263,7 @@ static void clear_aov_row(rs_target *rt, int x0, int x1, int y)
     }
 }
 
-/* Tiles of rt (64x64, the tile pass's grid). */
+/* Tiles of rt (RS_TILE squares, the tile pass's grid). */
 static int tile_count(const rs_target *rt)
 {
     return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
@@ -279,7 +279,7 @@ static bool clean_for(const rs_context *rs, const rs_target *rt)
 }
 
 /* Write the planes `planes` (RS_CLEAR_COLOR: colour and AOV planes, RS_CLEAR_DEPTH) of rt's deferred clear (as
- * rs_target_clear with rs's pending values) into 64x64 tile (tx, ty); streaming stores on the planes the tile
+ * rs_target_clear with rs's pending values) into tile (tx, ty); streaming stores on the planes the tile
  * copy-out streams into (the present's tiles no draw touched: on a 2048x2048 target most of its 32 MB, which
  * plain stores would first read). */
 static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsigned planes)

@@ -302,16 +302,19 @@ static void one_group_pass(draw_def *d, int pass, bool fe, result *o)
     rs_destroy(rs);
 }
 
-/* One level-40 instance of ~70 x 70 pixels over the four tiles around (64, 64) -- 1,600 triangles, many on the
- * tile borders -- then the same at 120 pixels over nine tiles (the per-triangle path) and at 150 pixels (past the
- * row path's budget, and nine tiles): the reference path's bytes and counters on each, the row path taken only on
- * the first.  Cull CCW with every tenth column folded: rows partly culled. */
+/* One level-40 instance of ~70 x 70 pixels over the four tiles around (T, T) (T = RS_TILE_SIZE) -- 1,600
+ * triangles, many on the tile borders -- then the same at 120 pixels from (40, 40) (with 64-pixel tiles over nine
+ * tiles: the per-triangle path; with 128-pixel ones over four: the row path) and at 150 pixels (past the row path's
+ * budget of 128 pixels: per triangle): the reference path's bytes and counters on each, the row path taken where
+ * said.  Cull CCW with every tenth column folded: rows partly culled. */
 static void test_grid_over_tiles(void **state)
 {
     (void)state;
     enum { L = 40, P = (L + 1) * (L + 2) / 2 };
     static const struct { float x0, y0, size; uint64_t grid; } cases[] = {
-        { 30.0f, 28.0f, 70.0f, 1 }, { 40.0f, 40.0f, 120.0f, 0 }, { 10.0f, 20.0f, 150.0f, 0 } };
+        { RS_TILE_SIZE - 34.0f, RS_TILE_SIZE - 36.0f, 70.0f, 1 }, { 40.0f, 40.0f, 120.0f, RS_TILE_SIZE >= 128 },
+        { 10.0f, 20.0f, 150.0f, 0 } };
+    _Static_assert(RS_TILE_SIZE + 36 < W && RS_TILE_SIZE + 36 < H, "the first instance inside the target");
     rs_vertex *v = malloc(P * sizeof *v);
     uint32_t *idx = malloc(3 * L * L * sizeof *idx);
     float3 *bary = malloc(P * sizeof *bary);

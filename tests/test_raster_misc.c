@@ -610,17 +610,18 @@ static float depth_at(const rs_target *rt, int x, int y) { return rt->depth[((si
 /* rs_target_flush_planes: a present's flush of the colour alone writes every tile's colour and leaves the depth of
  * the tiles no draw touched as it was (the deferred clear still deferred); a draw into such a tile afterwards sees
  * the deferred clear's depth; rs_target_flush writes it; the next frame's clear of both planes replaces it without
- * writing it; a clear of the colour alone writes the deferred depth first.  192x128: six tiles; the triangle
- * drawn first lies in tile 0, the second in tile 5 (pixels 128..191 x 64..127). */
+ * writing it; a clear of the colour alone writes the deferred depth first.  3 x 2 tiles (T = RS_TILE_SIZE); the
+ * triangle drawn first lies in tile 0, the second in tile 5 (pixels 2T..3T-1 x T..2T-1); (X, Y): pixel (x, y) of
+ * tile 0's geometry moved by whole tiles. */
 static void test_flush_planes(void **state)
 {
     (void)state;
-    enum { W = 192, H = 128 };
+    enum { T = RS_TILE_SIZE, W = 3 * T, H = 2 * T };
     const uint32_t bg = 0xff102030u, old = 0x11111111u;
     rs_state st = def_state(W, H);
     const rs_vertex a[3] = { sv(4, 4, 0.5f, WHITE, W, H), sv(40, 4, 0.5f, WHITE, W, H), sv(4, 40, 0.5f, WHITE, W, H) };
-    const rs_vertex b[3] = { sv(140, 70, 0.75f, WHITE, W, H), sv(180, 70, 0.75f, WHITE, W, H),
-                             sv(140, 110, 0.75f, WHITE, W, H) };
+    const rs_vertex b[3] = { sv(2 * T + 12, T + 6, 0.75f, WHITE, W, H), sv(2 * T + 52, T + 6, 0.75f, WHITE, W, H),
+                             sv(2 * T + 12, T + 46, 0.75f, WHITE, W, H) };
     for (int threads = 1; threads <= 2; threads++) {
         rs_target rt;
         assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
@@ -634,7 +635,7 @@ static void test_flush_planes(void **state)
         assert_int_equal(rt.color[(size_t)50 * W + 50], bg);            /* tile 0, not covered: cleared */
         assert_true(depth_at(&rt, 50, 50) == 1.0f);                     /* tile 0 was drawn: both planes written */
         for (int y = 0; y < H; y += 9)
-            for (int x = 64; x < W; x += 7) {
+            for (int x = T; x < W; x += 7) {
                 assert_int_equal(rt.color[(size_t)y * W + x], bg);      /* untouched tiles: the colour cleared ... */
                 assert_true(depth_at(&rt, x, y) == 0.25f);              /* ... their depth not yet written */
             }
@@ -642,23 +643,24 @@ static void test_flush_planes(void **state)
         assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, b, 3, NULL, 1, &s), RS_OK);
         rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
         assert_int_equal(s.samples_written, s.samples_tested);
-        assert_int_equal(red(&rt, 145, 75, 0), 255);
-        assert_true(depth_at(&rt, 145, 75) == 0.75f && depth_at(&rt, 190, 126) == 1.0f);
-        assert_true(depth_at(&rt, 100, 100) == 0.25f);                  /* tile 4: still deferred */
+        assert_int_equal(red(&rt, 2 * T + 17, T + 11, 0), 255);
+        assert_true(depth_at(&rt, 2 * T + 17, T + 11) == 0.75f && depth_at(&rt, 3 * T - 2, 2 * T - 2) == 1.0f);
+        assert_true(depth_at(&rt, T + 36, T + 36) == 0.25f);             /* tile 4: still deferred */
         /* the next frame's clear of both planes: the deferred depth is replaced, never written */
         rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 0.5f);
         rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
-        assert_true(depth_at(&rt, 100, 100) == 0.25f);
-        assert_true(depth_at(&rt, 145, 75) == 0.75f);                   /* written last frame, deferred again */
+        assert_true(depth_at(&rt, T + 36, T + 36) == 0.25f);
+        assert_true(depth_at(&rt, 2 * T + 17, T + 11) == 0.75f);        /* written last frame, deferred again */
         rs_target_flush(rs, &rt);                                       /* and now written: the new frame's */
-        assert_true(depth_at(&rt, 100, 100) == 0.5f && depth_at(&rt, 145, 75) == 0.5f && depth_at(&rt, 8, 8) == 0.5f);
+        assert_true(depth_at(&rt, T + 36, T + 36) == 0.5f && depth_at(&rt, 2 * T + 17, T + 11) == 0.5f &&
+                    depth_at(&rt, 8, 8) == 0.5f);
         /* a clear of the colour alone keeps the depth: a deferred depth clear is written first */
         rs_target_clear(&rt, RS_CLEAR_DEPTH, 0, 0.25f);
         rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, bg, 1.0f);
         rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
         rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR, old, 0.0f);
         rs_target_flush(rs, &rt);
-        assert_true(depth_at(&rt, 100, 100) == 1.0f && rt.color[(size_t)100 * W + 100] == old);
+        assert_true(depth_at(&rt, T + 36, T + 36) == 1.0f && rt.color[(size_t)(T + 36) * W + T + 36] == old);
         rs_destroy(rs);
         rs_target_free(&rt);
     }

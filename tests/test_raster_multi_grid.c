@@ -3,10 +3,10 @@
  * small grid instances (triangles of ~1 to ~6 pixels, so that a step's triangles can share a group of 8 lanes),
  * each instance folded -- a column moved past its neighbour, so that triangles of one step cover the same pixels
  * -- with the fold in front and behind, with equal depths (flat instances: LESSEQUAL lets the later triangle win,
- * LESS the earlier), tall thin instances (boxes of 4 x 8 pixels with more than 8 covered pixels), centred on the
- * 64-pixel tile borders, depth LESSEQUAL and LESS with writes: every byte of colour and depth and every counter
- * must equal the reference path's, on 1 and 2 threads, scene on and off, every instruction set the CPU has, and
- * the stamp lanes must be taken (the chunks' grid_direct count).  Deterministic: fixed seeds. */
+ * LESS the earlier), tall thin instances (boxes of 4 x 8 pixels with more than 8 covered pixels), centred on the tile
+ * borders, depth LESSEQUAL and LESS with writes: every byte of colour and depth and every counter must equal the
+ * reference path's, on 1 and 2 threads, scene on and off, every instruction set the CPU has, and the stamp lanes must
+ * be taken (the chunks' grid_direct count).  Deterministic: fixed seeds. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -41,12 +41,14 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     return (size_t)INST * d->prims;
 }
 
-/* A pixel coordinate near a tile border (a multiple of 64 inside the target of size n) or anywhere. */
+/* A pixel coordinate near a tile border (a multiple of RS_TILE inside the target of size n) or anywhere. */
 static float near_border(uint64_t *s, int n)
 {
-    return test_rnd(s) % 2 ? (float)(64 * (1 + (int)(test_rnd(s) % (unsigned)(n / 64)))) + test_frnd(s, -6.0f, 6.0f)
-                      : test_frnd(s, 4.0f, (float)n - 4.0f);
+    return test_rnd(s) % 2 ? (float)(RS_TILE * (1 + (int)(test_rnd(s) % (unsigned)(n / RS_TILE)))) +
+                                 test_frnd(s, -6.0f, 6.0f)
+                           : test_frnd(s, 4.0f, (float)n - 4.0f);
 }
+_Static_assert(W >= RS_TILE && H >= RS_TILE, "a tile border inside the target");
 
 /* One level-L instance into v: edges e1, e2 of ~size pixels (tall: e1 short, e2 long and near vertical: boxes of
  * 4 x 8 pixels) around a pixel near a tile border; column `fold` moved past its neighbours by `by` columns (its row

@@ -247,22 +247,27 @@ static void test_flush_fills_untouched_tiles(void **state)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
                 size_t p = (size_t)y * (size_t)w + (size_t)x;
-                if (x < 64 && y < 64) continue;   /* the triangle's tile */
+                if (x < RS_TILE_SIZE && y < RS_TILE_SIZE) continue;   /* the triangle's tile */
                 if (rt.color[p] != 0xff402010u || rt.depth[p] != 1.0f)
                     fail_msg("%dx%d: pixel (%d, %d) holds %08x, depth %g", w, h, x, y, rt.color[p], rt.depth[p]);
                 cleared++;
             }
-        assert_int_equal(cleared, (size_t)w * (size_t)h - 64 * 64);
+        assert_int_equal(cleared, (size_t)w * (size_t)h - RS_TILE_SIZE * RS_TILE_SIZE);
         rs_destroy(rs);
         rs_target_free(&rt);
     }
 }
 
+/* The tiles the frames' draws can touch (viewports inside W x H): x < DRAWN_X, y < DRAWN_Y. */
+enum { DRAWN_X = (W + RS_TILE_SIZE - 1) / RS_TILE_SIZE * RS_TILE_SIZE,
+       DRAWN_Y = (H + RS_TILE_SIZE - 1) / RS_TILE_SIZE * RS_TILE_SIZE };
+_Static_assert(DRAWN_X < 448 && DRAWN_Y < 320, "draw_present's target has tiles no draw touches");
+
 /* Frame f's draws (no lines, no second target) into a fresh 448x320 target whose planes held colour `old` and
  * depth 0.25 before the frame's clear, on `threads` threads, scene on or off; present: the colour flushed alone
  * first (rs_target_flush_planes: with the scene on, the tiles no draw touched are filled in the draws' tile pass),
- * and then the tiles outside the draws' viewports (x >= 256 or y >= 192) must hold the clear colour and the old
- * depth.  The planes after rs_target_flush into color / depth (448 x 320 each). */
+ * and then the tiles outside the draws' viewports (x >= DRAWN_X or y >= DRAWN_Y) must hold the clear colour and
+ * the old depth.  The planes after rs_target_flush into color / depth (448 x 320 each). */
 static void draw_present(const frame *f, bool scene, unsigned clear, unsigned present, int threads, uint32_t *color,
                          float *depth)
 {
@@ -288,7 +293,7 @@ static void draw_present(const frame *f, bool scene, unsigned clear, unsigned pr
         for (int y = 0; y < PH && clear == (RS_CLEAR_COLOR | RS_CLEAR_DEPTH); y += 3)
             for (int x = 0; x < PW; x += 5) {
                 const size_t p = (size_t)y * PW + (size_t)x;
-                if (x < 256 && y < 192) continue;
+                if (x < DRAWN_X && y < DRAWN_Y) continue;
                 if (rt.color[p] != bg || rt.depth[p] != 0.25f)
                     fail_msg("pixel (%d, %d) after the present: %08x, depth %g", x, y, rt.color[p], rt.depth[p]);
             }
@@ -388,8 +393,8 @@ static void frame_into(rs_context *rs, rs_target *rt, const frame *f, int d0, in
  * (filled again), another clear colour, a flush without RS_PRESENT after which the caller writes the planes, a
  * discarding present -- gives, after each present, the colour of the same frame drawn on a fresh target; 1 and 2
  * threads, scene on and off, and on the reference path, which draws in the target after the tile's fill (a frame of
- * one draw, whose tiles are drawn once each, then one of none).  (The draws touch only the 12 tiles at x < 256,
- * y < 192 of the 35.) */
+ * one draw, whose tiles are drawn once each, then one of none).  (The draws touch only the tiles at x < DRAWN_X,
+ * y < DRAWN_Y.) */
 static void test_present_clean_tiles(void **state)
 {
     (void)state;

@@ -2,9 +2,9 @@
  * a tile is at most 8 pixels wide, drawn in a plain mode (no blending, no AOV planes), have their coverage found
  * first and their covered pixels packed into the lanes.  Every triangle here has such a box (they are made in pixel
  * units, at most 7.5 pixels wide; some up to 30 rows tall, so that boxes take two bands and more than 8 covered
- * pixels take a second pass), placed around the 64-pixel tile borders and the target's right and bottom edges
- * (widths and heights that are not multiples of 4, 8 or 64), with every depth function, depth writes on and off and
- * depth off; they are drawn with a deferred clear (the tile buffers) and with an immediate one (the target's
+ * pixels take a second pass), placed around multiples of 64 (tile borders among them) and the target's right and bottom
+ * edges (widths and heights that are not multiples of 4, 8 or 64), with every depth function, depth writes on and off
+ * and depth off; they are drawn with a deferred clear (the tile buffers) and with an immediate one (the target's
  * planes), on 1 and 2 threads, with each instruction set the CPU has; and a deferred clear of one plane only (the
  * tile buffer takes the other from the target).  Every byte of colour and depth and every counter must equal the
  * reference path's.  Deterministic: a fixed xorshift seed. */

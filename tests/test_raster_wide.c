@@ -3,8 +3,8 @@
  * of 8 lanes over it: from the row's first column for medium triangles (box at most 32 wide, moved left at a tile's
  * right end), 8-aligned for larger ones (through span8 past the target's right end), the groups between a row's
  * first and last without a lane mask.  The triangles here: medium (9 to 32 pixels wide) and large (up to several
- * tiles, some past the guard band), placed around the 64-pixel tile borders and the target's right and bottom
- * edges (sizes that are not multiples of 8 or 64), some with their vertices on pixel centres and half pixels and
+ * tiles, some past the guard band), placed around multiples of 64 (tile and band borders) and the target's right and
+ * bottom edges (sizes that are not multiples of 8 or 64), some with their vertices on pixel centres and half pixels and
  * axis-aligned edges (crossings exactly at a pixel: the top-left rule and row_spans' integer case; horizontal
  * edges: its A = 0 case); vertex colours with a constant alpha (the walk's specialised shading) or a varying one,
  * or no COLOR0 (white); every depth function, depth writes off, depth off, blending (span8's per-pixel path);

@@ -10,8 +10,9 @@
 uint32_t test_rnd(uint64_t *s);
 /* A uniform float in [lo, hi) from test_rnd. */
 float test_frnd(uint64_t *s, float lo, float hi);
-/* A pixel coordinate near a place the walks must get right -- a tile border (multiples of 64), the last pixels of a
- * target of size n, or anywhere in it -- moved by a uniform offset in [lo, hi). */
+/* A pixel coordinate near a place the walks must get right -- a tile border or a border of the interval walk's
+ * 64-pixel bands (multiples of 64; RS_TILE_SIZE is a multiple), the last pixels of a target of size n, or anywhere
+ * in it -- moved by a uniform offset in [lo, hi). */
 float test_near_edge(uint64_t *s, int n, float lo, float hi);
 
 /* The index list of `inst` instances of the level-L regular grid (core_grid_regular), instance k's indices offset by
