@@ -27,24 +27,26 @@ bool rs_reserve(void **buf, size_t *cap, size_t n, size_t size)
 /* Add 1 to cnt[t] for every tile t that primitive p's box touches (a primitive over several tiles). */
 static void count_tiles(const rs_job *j, const rs_prim *p, uint32_t *cnt)
 {
-    for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
-        for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
+    const int b = j->tile_bits;
+    for (int ty = p->y0 >> b; ty <= p->y1 >> b; ty++)
+        for (int tx = p->x0 >> b; tx <= p->x1 >> b; tx++)
             cnt[(size_t)ty * (size_t)j->tiles_x + (size_t)tx]++;
 }
 
 /* Append primitive k (box of p) to the bin of every tile it touches; cur[t]: tile t's fill cursor. */
 static void fill_tiles(const rs_job *j, const rs_prim *p, uint32_t k, uint32_t *cur, uint32_t *idx)
 {
-    for (int ty = p->y0 >> RS_TILE_BITS; ty <= p->y1 >> RS_TILE_BITS; ty++)
-        for (int tx = p->x0 >> RS_TILE_BITS; tx <= p->x1 >> RS_TILE_BITS; tx++)
+    const int b = j->tile_bits;
+    for (int ty = p->y0 >> b; ty <= p->y1 >> b; ty++)
+        for (int tx = p->x0 >> b; tx <= p->x1 >> b; tx++)
             idx[cur[(size_t)ty * (size_t)j->tiles_x + (size_t)tx]++] = k;
 }
 
-/* The number of tiles primitive p's box touches. */
-static size_t tiles_of(const rs_prim *p)
+/* The number of job j's tiles primitive p's box touches. */
+static size_t tiles_of(const rs_job *j, const rs_prim *p)
 {
-    return (size_t)((p->x1 >> RS_TILE_BITS) - (p->x0 >> RS_TILE_BITS) + 1) *
-           (size_t)((p->y1 >> RS_TILE_BITS) - (p->y0 >> RS_TILE_BITS) + 1);
+    const int b = j->tile_bits;
+    return (size_t)((p->x1 >> b) - (p->x0 >> b) + 1) * (size_t)((p->y1 >> b) - (p->y0 >> b) + 1);
 }
 
 /* Count chunk c's bin entries into cnt[t + 1] (zeroed by the caller); returns their total, or more than
@@ -55,7 +57,7 @@ static size_t count_bins(const rs_job *j, const rs_chunk *c, uint32_t *cnt)
     for (size_t k = 0; k < c->n; k++) {
         uint32_t t = c->ptile[k];
         if (t != RS_MULTI_TILE) { cnt[t + 1]++; continue; }
-        total += tiles_of(&c->prims[k]) - 1;
+        total += tiles_of(j, &c->prims[k]) - 1;
         if (total > UINT32_MAX) return total;
         count_tiles(j, &c->prims[k], cnt + 1);
     }

@@ -1,6 +1,6 @@
 /* raster/draw.c -- the rasterizer context and rs_draw: validation, the per-draw job, parallel setup and
- * binning over chunks of primitives, then parallel rasterization over RS_TILE x RS_TILE tiles (a flush of the frame's
- * recorded draws does both in one parallel region: rs_flush_fill).
+ * binning over chunks of primitives, then parallel rasterization over tiles (128 or 64 pixels square:
+ * rs_tile_bits; a flush of the frame's recorded draws does both in one parallel region: rs_flush_fill).
  *
  * Determinism: chunk boundaries depend only on the primitive count and the target size, each chunk keeps its
  * primitives in submission order, and each tile (owned by one thread) walks the chunks in order and each bin
@@ -265,8 +265,9 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     }
     j->flat = st->shade_mode == RS_SHADE_FLAT;
     j->span_mode = rs_span_mode(st, rt);
-    j->tiles_x = (rt->width + RS_TILE - 1) / RS_TILE;
-    j->tiles_y = (rt->height + RS_TILE - 1) / RS_TILE;
+    j->tile_bits = rs_tile_bits(rt), j->tile = 1 << j->tile_bits;
+    j->tiles_x = (rt->width + j->tile - 1) / j->tile;
+    j->tiles_y = (rt->height + j->tile - 1) / j->tile;
     j->n_tiles = j->tiles_x * j->tiles_y;
     job_slots(j);
 }
@@ -299,7 +300,8 @@ int rs_threads(const rs_context *rs) { return rs ? thread_count(rs) : 1; }
 size_t rs_max_pieces(const rs_target *rt)
 {
     if (!rs_target_valid(rt)) return 0;
-    size_t tiles = (size_t)((rt->width + RS_TILE - 1) / RS_TILE) * (size_t)((rt->height + RS_TILE - 1) / RS_TILE);
+    const int ts = 1 << rs_tile_bits(rt);
+    size_t tiles = (size_t)((rt->width + ts - 1) / ts) * (size_t)((rt->height + ts - 1) / ts);
     size_t cap = BIN_OFFSETS_BUDGET / (tiles + 1);
     return cap < 1 ? 1 : (cap > CHUNK_MAX_COUNT ? CHUNK_MAX_COUNT : cap);
 }
@@ -434,11 +436,11 @@ static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i
 static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int tile, rs_tile *t)
 {
     const rs_job *j = &d->j;
-    int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
-    t->x0 = tx * RS_TILE > j->sx0 ? tx * RS_TILE : j->sx0;
-    t->y0 = ty * RS_TILE > j->sy0 ? ty * RS_TILE : j->sy0;
-    t->x1 = (tx + 1) * RS_TILE < j->sx1 ? (tx + 1) * RS_TILE : j->sx1;
-    t->y1 = (ty + 1) * RS_TILE < j->sy1 ? (ty + 1) * RS_TILE : j->sy1;
+    const int tx = tile % j->tiles_x * j->tile, ty = tile / j->tiles_x * j->tile, ts = j->tile;
+    t->x0 = tx > j->sx0 ? tx : j->sx0;
+    t->y0 = ty > j->sy0 ? ty : j->sy0;
+    t->x1 = tx + ts < j->sx1 ? tx + ts : j->sx1;
+    t->y1 = ty + ts < j->sy1 ? ty + ts : j->sy1;
     for (size_t c = d->c0; c < d->c0 + d->nc && t->x0 < t->x1 && t->y0 < t->y1; c++) {
         const rs_chunk *ch = &rs->chunks[c];
         for (uint32_t k = ch->bin_off[tile], end = ch->bin_off[tile + 1]; k < end; k++) {

@@ -101,7 +101,8 @@ enum { RS_PRIM_POINTS = 1, RS_PRIM_LINES = 2, RS_PRIM_TRIANGLES = 4 };
 #define RS_SUB (1 << RS_SUB_BITS) /* ... and steps per pixel (256); the device's culling snaps as the rasterizer */
 #define RS_GUARD_BAND 16384.0f /* pixels from the viewport centre; see setup.c for the bit budget */
 #define RS_MAX_SIZE 16384      /* largest render target side */
-#define RS_TILE_SIZE 128       /* the tile pass's square tiles, from the target's origin: the deferred clear's unit */
+#define RS_TILE_SIZE 128       /* the tile pass's square tiles on 1-sample targets (multisampled: 64), from the
+                                * target's origin: the deferred clear's unit */
 
 typedef struct rs_viewport { int x, y, width, height; float min_z, max_z; } rs_viewport;
 /* A rectangle of pixels x0 <= x < x1, y0 <= y < y1 (the scissor). */
@@ -298,9 +299,10 @@ INSTESS_API void rs_target_clear(rs_target *rt, unsigned flags, uint32_t rgba, f
  * pending (rs_target_flush first). */
 INSTESS_API void rs_target_clear_rect(rs_target *rt, int x0, int y0, int x1, int y1, unsigned flags, uint32_t rgba,
                                       float z);
-/* rs_target_clear deferred, and a new frame on rs (its work count restarts): each tile of rt (RS_TILE_SIZE) is written
- * (in cache) when a draw on rs first touches it, or by rs_target_flush.  Until rs_target_flush, rt's planes must
- * only be drawn into through rs.  Nothing happens without flags (or without rs, rt or its planes). */
+/* rs_target_clear deferred, and a new frame on rs (its work count restarts): each tile of rt (RS_TILE_SIZE, 64 when
+ * multisampled) is written (in cache) when a draw on rs first touches it, or by rs_target_flush.  Until
+ * rs_target_flush, rt's planes must only be drawn into through rs.  Nothing happens without flags (or without rs, rt
+ * or its planes). */
 INSTESS_API void rs_target_clear_deferred(rs_context *rs, rs_target *rt, unsigned flags, uint32_t rgba, float z);
 /* Write every tile of rt whose clear is still deferred on rs (call before anything else reads or writes rt's
  * planes). */

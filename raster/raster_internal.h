@@ -5,7 +5,7 @@
  *   1. validate, build the job (per-draw constants);
  *   2. in parallel over chunks of input primitives (clip.c, setup.c, setup_simd.c): clip, project, snap, cull,
  *      set up triangles / lines / points into the chunk's own arrays (submission order inside the chunk), then
- *      bin them to RS_TILE x RS_TILE tiles (bin.c; per chunk, so no locks);
+ *      bin them to the target's tiles (rs_tile_bits; bin.c; per chunk, so no locks);
  *   3. in parallel over tiles (tri.c, span.c, line.c): walk the chunks in order and each chunk's bin in order, so
  *      every sample sees the primitives in submission order whatever the thread count.
  * rs_draw_source (raster.h; the device's fused path) is the same with step 2 fed piece by piece: each chunk's
@@ -62,9 +62,12 @@
 /* |v| <= 2^n: the bit budgets' claims (setup.c), for RS_ASSERT. */
 static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) && v <= (int64_t)1 << n; }
 
-#define RS_TILE_BITS 7
-#define RS_TILE (1 << RS_TILE_BITS)   /* tile side in pixels (128); see docs/performance-history.md for 64 */
-_Static_assert(RS_TILE == RS_TILE_SIZE, "raster.h's tile side");
+/* Tile sides by the target's samples (raster.h's RS_TILE_SIZE): 128 pixels on 1-sample targets (fewer tiles per
+ * grid instance: fewer step set-ups repeated on tile borders), 64 on multisampled ones (a 4-sample tile of 128
+ * would take 512 KB a thread: the viewer's frame was 4 % slower).  docs/performance-history.md, tenth round. */
+#define RS_TILE_MIN 64
+static inline int rs_tile_bits(const rs_target *rt) { return rt->samples > 1 ? 6 : 7; }
+_Static_assert(RS_TILE_SIZE == 128, "raster.h's tile side of 1-sample targets: rs_tile_bits");
 /* Planes of at least this many bytes (rows of whole cache lines) get the tile copy-out's streaming stores (a
  * 1024x1024 target's two planes, 8 MB, do not stay in a core's L2 cache; measured on scenes A and B, 2 threads:
  * the tile pass 5-8% faster). */
@@ -112,6 +115,7 @@ typedef struct rs_job {
     unsigned clip_mask;         /* the clip planes that clip (rs_outcode's bits): near, far, guard band and the
                                    enabled user planes; the guard band alone with CLIPPING FALSE */
     bool grid_mirrored;         /* rs_source.grid_mirrored of a grid source: the row set-up culls the other sign */
+    int tile_bits, tile;        /* the target's tiles: rs_tile_bits, and their side 1 << tile_bits */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 
@@ -278,7 +282,8 @@ struct rs_context {
 /* A tile being rasterized by one thread: its pixel rectangle (inside the scissor), where its samples live and its
  * counters.  Sample s of pixel (x, y) is color / depth [rs_tile_index(t, x, y) * samples + s]: the target's planes
  * themselves (origin (0, 0), pitch = the target's width), or the thread's tile buffer (origin = the tile's
- * corner, pitch RS_TILE) that the tile pass fills with a deferred clear and writes back when the tile is done. */
+ * corner, pitch the tile's side) that the tile pass fills with a deferred clear and writes back when the tile is
+ * done. */
 typedef struct rs_tile {
     int x0, y0, x1, y1;          /* half-open */
     uint64_t tested, written;
@@ -387,7 +392,7 @@ void rs_target_clear_threads(rs_target *rt, unsigned flags, uint32_t rgba, float
 /* The tile pass: write the planes `planes` (RS_CLEAR_*) of tile `tile` of the job's target whose clear is deferred
  * on rs (and mark them written). */
 void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned planes);
-/* Bytes of one tile buffer for the job's target (RS_TILE x RS_TILE pixels of colour and depth samples). */
+/* Bytes of one tile buffer for the job's target (a tile's pixels of colour and depth samples). */
 size_t rs_tile_buffer_size(const rs_job *j);
 /* The tile pass, when tile `tile`'s clear is deferred: fill buffer `buf` (rs_tile_buffer_size bytes, 32-byte
  * aligned) with the clear (planes the clear keeps are copied from the target), clear its AOV pixels in the target,

@@ -48,8 +48,9 @@ void rs_setup_triangle(const rs_job *j, rs_chunk *c, const rs_vertex *const *v);
 /* The ptile entry of a primitive with pixel box [x0, x1] x [y0, y1]. */
 static inline uint32_t rs_tile_entry(const rs_job *j, int32_t x0, int32_t y0, int32_t x1, int32_t y1)
 {
-    bool one = ((x0 ^ x1) | (y0 ^ y1)) >> RS_TILE_BITS == 0;
-    return one ? (uint32_t)(y0 >> RS_TILE_BITS) * (uint32_t)j->tiles_x + (uint32_t)(x0 >> RS_TILE_BITS) : RS_MULTI_TILE;
+    const int b = j->tile_bits;
+    bool one = ((x0 ^ x1) | (y0 ^ y1)) >> b == 0;
+    return one ? (uint32_t)(y0 >> b) * (uint32_t)j->tiles_x + (uint32_t)(x0 >> b) : RS_MULTI_TILE;
 }
 
 /* Append one primitive to chunk c, its box and ptile entry left to the caller; returns it (and its attribute

@@ -597,11 +597,11 @@ static bool group_push(const rs_job *j, rs_chunk *c, const int32_t u[4], size_t 
  * +16 % instructions per frame when every instance was grouped). */
 #define GROUP_MAX_TILES 4
 
-/* The tiles pixel box u meets. */
-static inline size_t box_tiles(const int32_t u[4])
+/* The tiles of job j pixel box u meets. */
+static inline size_t box_tiles(const rs_job *j, const int32_t u[4])
 {
-    return (size_t)((u[2] >> RS_TILE_BITS) - (u[0] >> RS_TILE_BITS) + 1) *
-           (size_t)((u[3] >> RS_TILE_BITS) - (u[1] >> RS_TILE_BITS) + 1);
+    const int b = j->tile_bits;
+    return (size_t)((u[2] >> b) - (u[0] >> b) + 1) * (size_t)((u[3] >> b) - (u[1] >> b) + 1);
 }
 
 /* Culled, degenerate and drawn triangles, counted. */
@@ -1065,7 +1065,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
             const bool any = grid_group_setup(&gc, &gk, c, level, vb, &tc, c->grow + ng, u);
             culled += tc.culled, degenerate += tc.degenerate, drawn += tc.drawn;
             if (!any) continue;   /* no pixel of the group: no entry */
-            if (box_tiles(u) <= GROUP_MAX_TILES) {
+            if (box_tiles(j, u) <= GROUP_MAX_TILES) {
                 if (!group_push(j, c, u, ng, gboxes, level, vb)) break;
                 ng += gboxes, c->grid_groups++;
                 continue;
@@ -1100,7 +1100,7 @@ bool RS_KERNEL(rs_setup_groups)(const rs_job *j, rs_chunk *c, const rs_vertex *v
                 u[0] = box[0] < u[0] ? box[0] : u[0], u[1] = box[1] < u[1] ? box[1] : u[1];
                 u[2] = box[2] > u[2] ? box[2] : u[2], u[3] = box[3] > u[3] ? box[3] : u[3];
             }
-            big = nt > first && box_tiles(u) > GROUP_MAX_TILES;   /* it goes per triangle: stop here */
+            big = nt > first && box_tiles(j, u) > GROUP_MAX_TILES;   /* it goes per triangle: stop here */
         }
         if (nt == first) continue;   /* no pixel of the group: no entry */
         if (!big) {
@@ -1588,7 +1588,7 @@ void RS_KERNEL(rs_group_tile)(const rs_job *j, rs_tile *t, const rs_chunk *c, co
     const size_t ns = (size_t)j->n_slots;
     const tile_rect tr = tile_rect_of(t->x0, t->y0, t->x1 - 1, t->y1 - 1);
     /* a group in one tile: each of its boxes (inside the scissor) meets the tile's rectangle */
-    const bool all = ((g->x0 ^ g->x1) | (g->y0 ^ g->y1)) >> RS_TILE_BITS == 0;
+    const bool all = ((g->x0 ^ g->x1) | (g->y0 ^ g->y1)) >> j->tile_bits == 0;
     _Alignas(64) rs_prim sp[4];                                   /* the scratch: ~2.5 KB, in L1 */
     _Alignas(64) float sa[4][RS_MAX_ATTR * RS_ATTR_STRIDE];
     queued q[4];

@@ -9,7 +9,7 @@
  *    computed once per group of lanes, and a y part (z1 * sy, s1 * fy, ...), computed once per row; each lane adds
  *    the two, as tri_pixel does.  Coverage is exact integer arithmetic (int64, or int32 where the values provably
  *    fit: coef_small);
- *  - lanes lie inside one tile (RS_TILE square, one thread), so loading and storing back untouched lanes is safe,
+ *  - lanes lie inside one tile (one thread), so loading and storing back untouched lanes is safe,
  *    except past the right end of the target, where span8 copies only the pixels that exist in and out;
  *  - a walk's arguments are rs_tri_fast's: job j, tile t, triangle p, attribute block a, box [x0, x1] x [y0, y1]
  *    clipped to the tile; its counters go to t->tested / t->written.
@@ -22,7 +22,7 @@
 #include <string.h>
 
 _Static_assert(RS_BLOCK == 8, "a block row is one group of 8 lanes");
-_Static_assert(RS_TILE % 8 == 0, "a tile row is whole groups of 8 lanes");
+_Static_assert(RS_TILE_MIN % 8 == 0, "a tile row is whole groups of 8 lanes");
 
 #ifdef __AVX2__
 #include <immintrin.h>

@@ -56,9 +56,9 @@
 #include "span_lanes.h"
 
 /* The interval walk's boxes are at most BAND x BAND pixels (row_spans' exactness argument and the x parts' table
- * are for 64 columns); larger boxes, in a tile of RS_TILE, go in bands of it (walk_span, walk_big). */
+ * are for 64 columns); larger boxes, in a tile of 128, go in bands of it (walk_big). */
 #define BAND 64
-_Static_assert(RS_TILE % BAND == 0, "a tile is whole bands: the 8-aligned groups never cross a band");
+_Static_assert(RS_TILE_MIN % BAND == 0, "a tile is whole bands: the 8-aligned groups never cross a band");
 
 #ifdef __AVX2__
 

@@ -263,10 +263,11 @@ static void clear_aov_row(rs_target *rt, int x0, int x1, int y)
     }
 }
 
-/* Tiles of rt (RS_TILE squares, the tile pass's grid). */
+/* Tiles of rt (squares of 1 << rs_tile_bits(rt) pixels, the tile pass's grid). */
 static int tile_count(const rs_target *rt)
 {
-    return ((rt->width + RS_TILE - 1) / RS_TILE) * ((rt->height + RS_TILE - 1) / RS_TILE);
+    const int ts = 1 << rs_tile_bits(rt);
+    return ((rt->width + ts - 1) / ts) * ((rt->height + ts - 1) / ts);
 }
 
 /* Do rs's clean marks (rs->clean) hold for rt now: armed by the deferred clear, rt the same target with the same
@@ -285,14 +286,16 @@ static bool clean_for(const rs_context *rs, const rs_target *rt)
 static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsigned planes)
 {
     if ((planes & RS_CLEAR_COLOR) && clean_for(rs, rt)) {   /* the colour: not again where the last fill holds */
-        uint8_t *c = &rs->clean[(size_t)ty * (size_t)((rt->width + RS_TILE - 1) / RS_TILE) + (size_t)tx];
+        const int ts = 1 << rs_tile_bits(rt);
+        uint8_t *c = &rs->clean[(size_t)ty * (size_t)((rt->width + ts - 1) / ts) + (size_t)tx];
         if (*c) planes &= ~(unsigned)RS_CLEAR_COLOR;
         *c = 1;
         if (!planes) return;
     }
-    int x0 = tx * RS_TILE, y0 = ty * RS_TILE;
-    int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
-    int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
+    const int ts = 1 << rs_tile_bits(rt);
+    int x0 = tx * ts, y0 = ty * ts;
+    int x1 = x0 + ts < rt->width ? x0 + ts : rt->width;
+    int y1 = y0 + ts < rt->height ? y0 + ts : rt->height;
     size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns;
     const size_t row_bytes = (size_t)rt->width * ns * 4u;
     const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= COPY_STREAM_BYTES;
@@ -328,7 +331,8 @@ void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
     }
-    int n = rs->pend_tiles, tx = (rt->width + RS_TILE - 1) / RS_TILE, left = 0;
+    const int ts = 1 << rs_tile_bits(rt);
+    int n = rs->pend_tiles, tx = (rt->width + ts - 1) / ts, left = 0;
     if (planes & RS_DISCARD_DEPTH)   /* the frame's depth dropped: the clear deferred again, however it was drawn */
         for (int t = 0; t < n; t++) rs->pend[t] |= (uint8_t)(rs->pend[t] & PEND_FRAME_DEPTH ? RS_CLEAR_DEPTH : 0);
     planes &= PEND_PLANES;
@@ -396,18 +400,18 @@ void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned pla
 
 size_t rs_tile_buffer_size(const rs_job *j)
 {
-    return (size_t)RS_TILE * RS_TILE * (size_t)j->samples * (sizeof(uint32_t) + sizeof(float));
+    return (size_t)j->tile * (size_t)j->tile * (size_t)j->samples * (sizeof(uint32_t) + sizeof(float));
 }
 
 bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf)
 {
     rs_target *rt = j->rt;
     if (!buf || !pending_on(rs, rt) || !(rs->pend[tile] & PEND_PLANES)) return false;
-    const int x0 = tile % j->tiles_x * RS_TILE, y0 = tile / j->tiles_x * RS_TILE;
-    const int x1 = x0 + RS_TILE < rt->width ? x0 + RS_TILE : rt->width;
-    const int y1 = y0 + RS_TILE < rt->height ? y0 + RS_TILE : rt->height;
-    const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)RS_TILE * ns;
-    uint32_t *col = buf, *dep = col + row * RS_TILE, zb;
+    const int ts = j->tile, x0 = tile % j->tiles_x * ts, y0 = tile / j->tiles_x * ts;
+    const int x1 = x0 + ts < rt->width ? x0 + ts : rt->width;
+    const int y1 = y0 + ts < rt->height ? y0 + ts : rt->height;
+    const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)ts * ns;
+    uint32_t *col = buf, *dep = col + row * (size_t)ts, zb;
     const unsigned pf = rs->pend[tile] & PEND_PLANES;   /* the planes still deferred here; the others from the target */
     memcpy(&zb, &rs->pend_z, 4);
     /* a cleared plane is filled whole, its rows at once (the columns past the target's right edge too, which
@@ -424,7 +428,7 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
         if (pf & RS_CLEAR_COLOR) clear_aov_row(rt, x0, x1, y);
     }
     t->color = col, t->depth = (float *)dep;
-    t->ox = x0, t->oy = y0, t->pitch = RS_TILE;
+    t->ox = x0, t->oy = y0, t->pitch = ts;
     return true;
 }
 
@@ -432,8 +436,8 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
 void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t, unsigned keep)
 {
     rs_target *rt = j->rt;
-    const int x1 = t->ox + RS_TILE < rt->width ? t->ox + RS_TILE : rt->width;
-    const int y1 = t->oy + RS_TILE < rt->height ? t->oy + RS_TILE : rt->height;
+    const int x1 = t->ox + j->tile < rt->width ? t->ox + j->tile : rt->width;
+    const int y1 = t->oy + j->tile < rt->height ? t->oy + j->tile : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - t->ox) * ns;
     const size_t row_bytes = (size_t)rt->width * ns * 4u;
     const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= COPY_STREAM_BYTES;

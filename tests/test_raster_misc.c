@@ -610,21 +610,23 @@ static float depth_at(const rs_target *rt, int x, int y) { return rt->depth[((si
 /* rs_target_flush_planes: a present's flush of the colour alone writes every tile's colour and leaves the depth of
  * the tiles no draw touched as it was (the deferred clear still deferred); a draw into such a tile afterwards sees
  * the deferred clear's depth; rs_target_flush writes it; the next frame's clear of both planes replaces it without
- * writing it; a clear of the colour alone writes the deferred depth first.  3 x 2 tiles (T = RS_TILE_SIZE); the
- * triangle drawn first lies in tile 0, the second in tile 5 (pixels 2T..3T-1 x T..2T-1); (X, Y): pixel (x, y) of
- * tile 0's geometry moved by whole tiles. */
+ * writing it; a clear of the colour alone writes the deferred depth first.  3 x 2 tiles (T = RS_TILE_SIZE on a
+ * 1-sample target, half of it on a 4-sample one); the triangle drawn first lies in tile 0, the second in tile 5
+ * (pixels 2T..3T-1 x T..2T-1). */
 static void test_flush_planes(void **state)
 {
     (void)state;
-    enum { T = RS_TILE_SIZE, W = 3 * T, H = 2 * T };
     const uint32_t bg = 0xff102030u, old = 0x11111111u;
-    rs_state st = def_state(W, H);
-    const rs_vertex a[3] = { sv(4, 4, 0.5f, WHITE, W, H), sv(40, 4, 0.5f, WHITE, W, H), sv(4, 40, 0.5f, WHITE, W, H) };
-    const rs_vertex b[3] = { sv(2 * T + 12, T + 6, 0.75f, WHITE, W, H), sv(2 * T + 52, T + 6, 0.75f, WHITE, W, H),
-                             sv(2 * T + 12, T + 46, 0.75f, WHITE, W, H) };
-    for (int threads = 1; threads <= 2; threads++) {
+    for (int run = 0; run < 4; run++) {   /* 1 and 2 threads, 1 and 4 samples */
+        const int threads = 1 + run % 2, ns = run < 2 ? 1 : 4, T = ns > 1 ? RS_TILE_SIZE / 2 : RS_TILE_SIZE;
+        const int W = 3 * T, H = 2 * T;
+        rs_state st = def_state(W, H);
+        const rs_vertex a[3] = { sv(4, 4, 0.5f, WHITE, W, H), sv(40, 4, 0.5f, WHITE, W, H),
+                                 sv(4, 40, 0.5f, WHITE, W, H) };
+        const rs_vertex b[3] = { sv(2 * T + 12, T + 6, 0.75f, WHITE, W, H), sv(2 * T + 52, T + 6, 0.75f, WHITE, W, H),
+                                 sv(2 * T + 12, T + 46, 0.75f, WHITE, W, H) };
         rs_target rt;
-        assert_int_equal(rs_target_init(&rt, W, H, 1), RS_OK);
+        assert_int_equal(rs_target_init(&rt, W, H, ns), RS_OK);
         rs_target_clear(&rt, RS_CLEAR_COLOR | RS_CLEAR_DEPTH, old, 0.25f);   /* what a flush must not keep */
         rs_context *rs = rs_create(threads);
         rs_stats s;
@@ -632,11 +634,11 @@ static void test_flush_planes(void **state)
         assert_int_equal(rs_draw(rs, &st, &rt, RS_PRIM_TRIANGLES, a, 3, NULL, 1, &s), RS_OK);
         rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
         assert_int_equal(red(&rt, 8, 8, 0), 255);                      /* drawn */
-        assert_int_equal(rt.color[(size_t)50 * W + 50], bg);            /* tile 0, not covered: cleared */
+        assert_int_equal(rt.color[((size_t)50 * W + 50) * ns], bg);     /* tile 0, not covered: cleared */
         assert_true(depth_at(&rt, 50, 50) == 1.0f);                     /* tile 0 was drawn: both planes written */
         for (int y = 0; y < H; y += 9)
             for (int x = T; x < W; x += 7) {
-                assert_int_equal(rt.color[(size_t)y * W + x], bg);      /* untouched tiles: the colour cleared ... */
+                assert_int_equal(rt.color[((size_t)y * W + x) * ns], bg);   /* untouched tiles: colour cleared ... */
                 assert_true(depth_at(&rt, x, y) == 0.25f);              /* ... their depth not yet written */
             }
         /* a draw into tile 5 now: its depth test meets the deferred clear's 1.0, not the 0.25 left in the plane */
@@ -660,7 +662,7 @@ static void test_flush_planes(void **state)
         rs_target_flush_planes(rs, &rt, RS_CLEAR_COLOR);
         rs_target_clear_deferred(rs, &rt, RS_CLEAR_COLOR, old, 0.0f);
         rs_target_flush(rs, &rt);
-        assert_true(depth_at(&rt, T + 36, T + 36) == 1.0f && rt.color[(size_t)(T + 36) * W + T + 36] == old);
+        assert_true(depth_at(&rt, T + 36, T + 36) == 1.0f && rt.color[((size_t)(T + 36) * W + T + 36) * ns] == old);
         rs_destroy(rs);
         rs_target_free(&rt);
     }

@@ -41,14 +41,14 @@ static size_t produce(void *ctx, size_t piece, int slot, rs_vertex **verts, size
     return (size_t)INST * d->prims;
 }
 
-/* A pixel coordinate near a tile border (a multiple of RS_TILE inside the target of size n) or anywhere. */
+/* A pixel coordinate near a tile border (a multiple of RS_TILE_SIZE inside the target of size n) or anywhere. */
 static float near_border(uint64_t *s, int n)
 {
-    return test_rnd(s) % 2 ? (float)(RS_TILE * (1 + (int)(test_rnd(s) % (unsigned)(n / RS_TILE)))) +
+    return test_rnd(s) % 2 ? (float)(RS_TILE_SIZE * (1 + (int)(test_rnd(s) % (unsigned)(n / RS_TILE_SIZE)))) +
                                  test_frnd(s, -6.0f, 6.0f)
                            : test_frnd(s, 4.0f, (float)n - 4.0f);
 }
-_Static_assert(W >= RS_TILE && H >= RS_TILE, "a tile border inside the target");
+_Static_assert(W >= RS_TILE_SIZE && H >= RS_TILE_SIZE, "a tile border inside the target");
 
 /* One level-L instance into v: edges e1, e2 of ~size pixels (tall: e1 short, e2 long and near vertical: boxes of
  * 4 x 8 pixels) around a pixel near a tile border; column `fold` moved past its neighbours by `by` columns (its row
