@@ -265,9 +265,9 @@ static void make_job(rs_job *j, const rs_context *rs, const rs_state *st, rs_tar
     }
     j->flat = st->shade_mode == RS_SHADE_FLAT;
     j->span_mode = rs_span_mode(st, rt);
-    j->tile_bits = rs_tile_bits(rt), j->tile = 1 << j->tile_bits;
-    j->tiles_x = (rt->width + j->tile - 1) / j->tile;
-    j->tiles_y = (rt->height + j->tile - 1) / j->tile;
+    j->tile_bits = rs_tile_bits(rt);
+    j->tiles_x = rs_tiles_across(rt->width, j->tile_bits);
+    j->tiles_y = rs_tiles_across(rt->height, j->tile_bits);
     j->n_tiles = j->tiles_x * j->tiles_y;
     job_slots(j);
 }
@@ -300,8 +300,8 @@ int rs_threads(const rs_context *rs) { return rs ? thread_count(rs) : 1; }
 size_t rs_max_pieces(const rs_target *rt)
 {
     if (!rs_target_valid(rt)) return 0;
-    const int ts = 1 << rs_tile_bits(rt);
-    size_t tiles = (size_t)((rt->width + ts - 1) / ts) * (size_t)((rt->height + ts - 1) / ts);
+    const int b = rs_tile_bits(rt);
+    size_t tiles = (size_t)rs_tiles_across(rt->width, b) * (size_t)rs_tiles_across(rt->height, b);
     size_t cap = BIN_OFFSETS_BUDGET / (tiles + 1);
     return cap < 1 ? 1 : (cap > CHUNK_MAX_COUNT ? CHUNK_MAX_COUNT : cap);
 }
@@ -436,7 +436,7 @@ static inline void prefetch_prim(const rs_job *j, const rs_chunk *ch, uint32_t i
 static void raster_tile_draw(const rs_context *rs, const rs_scene_draw *d, int tile, rs_tile *t)
 {
     const rs_job *j = &d->j;
-    const int tx = tile % j->tiles_x * j->tile, ty = tile / j->tiles_x * j->tile, ts = j->tile;
+    const int ts = 1 << j->tile_bits, tx = tile % j->tiles_x * ts, ty = tile / j->tiles_x * ts;
     t->x0 = tx > j->sx0 ? tx : j->sx0;
     t->y0 = ty > j->sy0 ? ty : j->sy0;
     t->x1 = tx + ts < j->sx1 ? tx + ts : j->sx1;

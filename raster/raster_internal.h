@@ -67,6 +67,8 @@ static inline bool rs_within(int64_t v, int n) { return v >= -((int64_t)1 << n) 
  * would take 512 KB a thread: the viewer's frame was 4 % slower).  docs/performance-history.md, tenth round. */
 #define RS_TILE_MIN 64
 static inline int rs_tile_bits(const rs_target *rt) { return rt->samples > 1 ? 6 : 7; }
+/* Tiles of side 1 << bits across n pixels. */
+static inline int rs_tiles_across(int n, int bits) { return (n + (1 << bits) - 1) >> bits; }
 _Static_assert(RS_TILE_SIZE == 128, "raster.h's tile side of 1-sample targets: rs_tile_bits");
 /* Planes of at least this many bytes (rows of whole cache lines) get the tile copy-out's streaming stores (a
  * 1024x1024 target's two planes, 8 MB, do not stay in a core's L2 cache; measured on scenes A and B, 2 threads:
@@ -115,7 +117,7 @@ typedef struct rs_job {
     unsigned clip_mask;         /* the clip planes that clip (rs_outcode's bits): near, far, guard band and the
                                    enabled user planes; the guard band alone with CLIPPING FALSE */
     bool grid_mirrored;         /* rs_source.grid_mirrored of a grid source: the row set-up culls the other sign */
-    int tile_bits, tile;        /* the target's tiles: rs_tile_bits, and their side 1 << tile_bits */
+    int tile_bits;              /* the target's tiles: side 1 << tile_bits (rs_tile_bits) */
     int tiles_x, tiles_y, n_tiles;
 } rs_job;
 

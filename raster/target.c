@@ -266,8 +266,8 @@ static void clear_aov_row(rs_target *rt, int x0, int x1, int y)
 /* Tiles of rt (squares of 1 << rs_tile_bits(rt) pixels, the tile pass's grid). */
 static int tile_count(const rs_target *rt)
 {
-    const int ts = 1 << rs_tile_bits(rt);
-    return ((rt->width + ts - 1) / ts) * ((rt->height + ts - 1) / ts);
+    const int b = rs_tile_bits(rt);
+    return rs_tiles_across(rt->width, b) * rs_tiles_across(rt->height, b);
 }
 
 /* Do rs's clean marks (rs->clean) hold for rt now: armed by the deferred clear, rt the same target with the same
@@ -285,14 +285,13 @@ static bool clean_for(const rs_context *rs, const rs_target *rt)
  * plain stores would first read). */
 static void fill_tile(const rs_context *rs, rs_target *rt, int tx, int ty, unsigned planes)
 {
+    const int b = rs_tile_bits(rt), ts = 1 << b;
     if ((planes & RS_CLEAR_COLOR) && clean_for(rs, rt)) {   /* the colour: not again where the last fill holds */
-        const int ts = 1 << rs_tile_bits(rt);
-        uint8_t *c = &rs->clean[(size_t)ty * (size_t)((rt->width + ts - 1) / ts) + (size_t)tx];
+        uint8_t *c = &rs->clean[(size_t)ty * (size_t)rs_tiles_across(rt->width, b) + (size_t)tx];
         if (*c) planes &= ~(unsigned)RS_CLEAR_COLOR;
         *c = 1;
         if (!planes) return;
     }
-    const int ts = 1 << rs_tile_bits(rt);
     int x0 = tx * ts, y0 = ty * ts;
     int x1 = x0 + ts < rt->width ? x0 + ts : rt->width;
     int y1 = y0 + ts < rt->height ? y0 + ts : rt->height;
@@ -331,8 +330,7 @@ void rs_target_flush_planes(rs_context *rs, rs_target *rt, unsigned planes)
         if (rs && rs->pend_rt == rt) rs->pend_tiles = 0;
         return;
     }
-    const int ts = 1 << rs_tile_bits(rt);
-    int n = rs->pend_tiles, tx = (rt->width + ts - 1) / ts, left = 0;
+    int n = rs->pend_tiles, tx = rs_tiles_across(rt->width, rs_tile_bits(rt)), left = 0;
     if (planes & RS_DISCARD_DEPTH)   /* the frame's depth dropped: the clear deferred again, however it was drawn */
         for (int t = 0; t < n; t++) rs->pend[t] |= (uint8_t)(rs->pend[t] & PEND_FRAME_DEPTH ? RS_CLEAR_DEPTH : 0);
     planes &= PEND_PLANES;
@@ -400,14 +398,14 @@ void rs_tile_flush(const rs_context *rs, const rs_job *j, int tile, unsigned pla
 
 size_t rs_tile_buffer_size(const rs_job *j)
 {
-    return (size_t)j->tile * (size_t)j->tile * (size_t)j->samples * (sizeof(uint32_t) + sizeof(float));
+    return ((size_t)1 << 2 * j->tile_bits) * (size_t)j->samples * (sizeof(uint32_t) + sizeof(float));
 }
 
 bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_tile *t, void *buf)
 {
     rs_target *rt = j->rt;
     if (!buf || !pending_on(rs, rt) || !(rs->pend[tile] & PEND_PLANES)) return false;
-    const int ts = j->tile, x0 = tile % j->tiles_x * ts, y0 = tile / j->tiles_x * ts;
+    const int ts = 1 << j->tile_bits, x0 = tile % j->tiles_x * ts, y0 = tile / j->tiles_x * ts;
     const int x1 = x0 + ts < rt->width ? x0 + ts : rt->width;
     const int y1 = y0 + ts < rt->height ? y0 + ts : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - x0) * ns, row = (size_t)ts * ns;
@@ -436,8 +434,9 @@ bool rs_tile_buffer_begin(const rs_context *rs, const rs_job *j, int tile, rs_ti
 void rs_tile_buffer_end(const rs_context *rs, const rs_job *j, int tile, const rs_tile *t, unsigned keep)
 {
     rs_target *rt = j->rt;
-    const int x1 = t->ox + j->tile < rt->width ? t->ox + j->tile : rt->width;
-    const int y1 = t->oy + j->tile < rt->height ? t->oy + j->tile : rt->height;
+    const int ts = 1 << j->tile_bits;
+    const int x1 = t->ox + ts < rt->width ? t->ox + ts : rt->width;
+    const int y1 = t->oy + ts < rt->height ? t->oy + ts : rt->height;
     const size_t ns = (size_t)rt->samples, n = (size_t)(x1 - t->ox) * ns;
     const size_t row_bytes = (size_t)rt->width * ns * 4u;
     const bool stream = row_bytes % 64u == 0 && row_bytes * (size_t)rt->height >= COPY_STREAM_BYTES;
